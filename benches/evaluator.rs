@@ -1,0 +1,70 @@
+//! Evaluations per second, beside spade's bare bulk load of the same points (the yardstick).
+//!
+//! Reads `jacksboro_65x65` and `camera_257x257` from `../shared/data` (or `$PARETOMESH_DATA`);
+//! says so and skips a grid when it is absent.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use paretomesh::{evaluator::Evaluator, heightfield};
+use rand::{RngExt, SeedableRng};
+use spade::{DelaunayTriangulation, Point2, Triangulation};
+use std::hint::black_box;
+use std::path::PathBuf;
+
+fn data_dir() -> PathBuf {
+    std::env::var_os("PARETOMESH_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"))
+}
+
+/// `fraction` of the grid's points, chosen at random with a fixed seed.
+fn kept_subset(n: usize, fraction: f64, seed: u64) -> Vec<u32> {
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+    (0..n as u32)
+        .filter(|_| rng.random::<f64>() < fraction)
+        .collect()
+}
+
+fn bench(c: &mut Criterion) {
+    for name in ["jacksboro_65x65", "camera_257x257"] {
+        let path = data_dir().join(format!("{name}.f32"));
+        let hf = match heightfield::load(&path) {
+            Ok(hf) => hf,
+            Err(e) => {
+                eprintln!("skipping {name}: {e} (shared data absent?)");
+                continue;
+            }
+        };
+        let mut group = c.benchmark_group(name);
+        for percent in [2u32, 10, 30] {
+            let mut kept = kept_subset(hf.len(), percent as f64 / 100.0, 7);
+            kept.extend(hf.corners());
+            kept.sort_unstable();
+            kept.dedup();
+            let w = hf.width() as u32;
+            let points: Vec<Point2<f64>> = kept
+                .iter()
+                .map(|&i| Point2::new((i % w) as f64, (i / w) as f64))
+                .collect();
+            group.bench_with_input(
+                BenchmarkId::new("spade_bulk_load", percent),
+                &points,
+                |b, p| {
+                    b.iter(|| {
+                        let t =
+                            DelaunayTriangulation::<Point2<f64>>::bulk_load(black_box(p.clone()))
+                                .unwrap();
+                        black_box(t.num_inner_faces())
+                    })
+                },
+            );
+            let mut ev = Evaluator::new(&hf);
+            group.bench_with_input(BenchmarkId::new("evaluate", percent), &kept, |b, k| {
+                b.iter(|| black_box(ev.score(black_box(k)).unwrap()))
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

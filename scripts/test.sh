@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Runs every test: formatting, clippy (native and wasm32), native tests, and the
+# wasm-bindgen-test tests in headless Chromium. Needs the wasm32 target, wasm-bindgen-cli
+# matching Cargo.lock, chromium and chromedriver (`.ci/run` installs them).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== cargo fmt --check"
+cargo fmt --all -- --check
+
+echo "== clippy (native)"
+cargo clippy --all-targets -- -D warnings
+
+echo "== clippy (wasm32)"
+cargo clippy --target wasm32-unknown-unknown --lib --tests -- -D warnings
+
+echo "== native tests"
+cargo test --all-targets
+cargo test --doc
+
+echo "== wasm tests (headless Chromium)"
+CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
+  cargo test --target wasm32-unknown-unknown --test web

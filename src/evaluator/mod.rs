@@ -1,0 +1,263 @@
+//! The evaluator, ruler of the whole project: the Delaunay triangulation of a kept set of grid
+//! points, and the error E = Σ over all N grid points of |z − z̃| (the source paper's eq. 2–4).
+//!
+//! Contract:
+//! - The four grid corners are always kept, whether or not the caller lists them; duplicates are
+//!   ignored.
+//! - The triangulation is the canonical Delaunay triangulation of the kept points (one per point
+//!   set; ties settled by the rule in [`predicates`]).
+//! - Every grid point is counted exactly once: kept points contribute 0; every other point is
+//!   interpolated linearly on the one triangle that owns it (see [`raster`]).
+//! - `rms = sqrt(Σ (z − z̃)² / N)` over all N grid points.
+//!
+//! ```
+//! use paretomesh::{evaluator::Evaluator, heightfield::Heightfield};
+//! // A 3×3 grid, flat but for a bump of 4 in the middle.
+//! let mut z = vec![0.0; 9];
+//! z[4] = 4.0;
+//! let hf = Heightfield::new(3, 3, z).unwrap();
+//! let mut ev = Evaluator::new(&hf);
+//! let corners_only = ev.evaluate(&[]).unwrap();
+//! assert_eq!((corners_only.score.e_sum, corners_only.score.t), (4.0, 2));
+//! let with_bump = ev.evaluate(&[4]).unwrap();
+//! assert_eq!((with_bump.score.e_sum, with_bump.score.t), (0.0, 4));
+//! ```
+
+pub mod predicates;
+pub mod raster;
+pub mod reference;
+pub mod triangulation;
+
+use crate::heightfield::Heightfield;
+use raster::Grid;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use triangulation::Triangulation;
+
+/// The error numbers of one mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Score {
+    /// E = Σ |z − z̃| over all grid points.
+    #[serde(rename = "E_sum")]
+    pub e_sum: f64,
+    /// max |z − z̃|.
+    #[serde(rename = "E_max")]
+    pub e_max: f64,
+    /// sqrt(Σ (z − z̃)² / N).
+    pub rms: f64,
+    /// Number of triangles.
+    #[serde(rename = "T")]
+    pub t: usize,
+}
+
+/// A score and the triangles it was measured on (grid-index triples, counter-clockwise).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Evaluation {
+    /// The numbers.
+    #[serde(flatten)]
+    pub score: Score,
+    /// The triangles as grid indices (y·W + x).
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Why a kept set or a triangulation could not be scored.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EvaluateError {
+    /// A grid index is not below N.
+    IndexOutOfRange { index: u64, len: usize },
+    /// A triangle has two equal or three collinear vertices.
+    DegenerateTriangle { triangle: [u32; 3] },
+    /// An edge is used twice in the same direction: triangles overlap or are duplicated.
+    OverlappingEdge { from: u32, to: u32 },
+    /// An edge is used by one triangle only but does not lie on the grid border: a hole or a
+    /// T-junction.
+    OpenEdge { from: u32, to: u32 },
+    /// The triangles do not cover the grid rectangle exactly once.
+    WrongArea { found: i64, expected: i64 },
+}
+
+impl fmt::Display for EvaluateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::IndexOutOfRange { index, len } => {
+                write!(
+                    f,
+                    "grid index {index} is out of range: the grid has {len} points"
+                )
+            }
+            Self::DegenerateTriangle { triangle } => {
+                write!(
+                    f,
+                    "triangle {triangle:?} is degenerate (repeated or collinear vertices)"
+                )
+            }
+            Self::OverlappingEdge { from, to } => write!(
+                f,
+                "edge {from}→{to} is used twice in the same direction: triangles overlap"
+            ),
+            Self::OpenEdge { from, to } => write!(
+                f,
+                "edge {from}–{to} belongs to one triangle only but is not on the grid border (a hole or a T-junction)"
+            ),
+            Self::WrongArea { found, expected } => write!(
+                f,
+                "the triangles cover an area of {} cells, the grid has {} (they must cover it exactly once)",
+                *found as f64 / 2.0,
+                *expected as f64 / 2.0
+            ),
+        }
+    }
+}
+
+impl std::error::Error for EvaluateError {}
+
+/// Scores kept sets (or whole triangulations) on one height field. Reuses its buffers between
+/// calls, so keep one per thread.
+pub struct Evaluator<'a> {
+    hf: &'a Heightfield,
+    kept_mark: Vec<bool>,
+    kept: Vec<u32>,
+    mesh: Triangulation,
+}
+
+impl<'a> Evaluator<'a> {
+    /// An evaluator for `hf`.
+    pub fn new(hf: &'a Heightfield) -> Self {
+        Self {
+            hf,
+            kept_mark: vec![false; hf.len()],
+            kept: Vec::new(),
+            mesh: Triangulation::default(),
+        }
+    }
+
+    /// The height field this evaluator scores on.
+    pub fn heightfield(&self) -> &'a Heightfield {
+        self.hf
+    }
+
+    /// Triangulates `kept` (plus the corners) and scores it, with the triangles.
+    pub fn evaluate(&mut self, kept: &[u32]) -> Result<Evaluation, EvaluateError> {
+        let score = self.score(kept)?;
+        Ok(Evaluation {
+            score,
+            triangles: self.mesh.triangles(),
+        })
+    }
+
+    /// Triangulates `kept` (plus the corners) and scores it.
+    pub fn score(&mut self, kept: &[u32]) -> Result<Score, EvaluateError> {
+        let n = self.hf.len();
+        if let Some(&bad) = kept.iter().find(|&&i| i as usize >= n) {
+            return Err(EvaluateError::IndexOutOfRange {
+                index: bad as u64,
+                len: n,
+            });
+        }
+        for &i in kept.iter().chain(self.hf.corners().iter()) {
+            self.kept_mark[i as usize] = true;
+        }
+        // Collect in increasing order and clear the marks in the same pass.
+        self.kept.clear();
+        for &i in kept.iter().chain(self.hf.corners().iter()) {
+            if std::mem::replace(&mut self.kept_mark[i as usize], false) {
+                self.kept.push(i);
+            }
+        }
+        self.kept.sort_unstable();
+        self.mesh.rebuild_delaunay(self.hf.width(), &self.kept);
+        Ok(self.score_mesh())
+    }
+
+    /// The kept points of the last [`score`](Self::score) call, increasing, corners included.
+    pub fn kept(&self) -> &[u32] {
+        &self.kept
+    }
+
+    /// The triangles of the last scored mesh.
+    pub fn triangles(&self) -> Vec<[u32; 3]> {
+        self.mesh.triangles()
+    }
+
+    /// Scores any valid triangulation of grid points, Delaunay or not, so that meshes from other
+    /// tools are compared on equal terms. The triangles must cover the grid rectangle exactly
+    /// once, edge to edge (no overlaps, holes or T-junctions); either orientation is accepted.
+    pub fn score_triangulation(&mut self, triangles: &[[u32; 3]]) -> Result<Score, EvaluateError> {
+        let n = self.hf.len();
+        let w = self.hf.width() as i64;
+        let h = self.hf.height() as i64;
+        let point = |i: u32| [i as i64 % w, i as i64 / w];
+        let mut oriented = Vec::with_capacity(triangles.len());
+        let mut area = 0i64;
+        for &tri in triangles {
+            if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
+                return Err(EvaluateError::IndexOutOfRange {
+                    index: bad as u64,
+                    len: n,
+                });
+            }
+            let o = predicates::orient(point(tri[0]), point(tri[1]), point(tri[2]));
+            if o == 0 {
+                return Err(EvaluateError::DegenerateTriangle { triangle: tri });
+            }
+            area += o.abs();
+            oriented.push(if o > 0 { tri } else { [tri[0], tri[2], tri[1]] });
+        }
+        let expected = 2 * (w - 1) * (h - 1);
+        let mut edges: Vec<(u32, u32)> = oriented
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .collect();
+        edges.sort_unstable();
+        if let Some(pair) = edges.windows(2).find(|p| p[0] == p[1]) {
+            return Err(EvaluateError::OverlappingEdge {
+                from: pair[0].0,
+                to: pair[0].1,
+            });
+        }
+        for &(a, b) in &edges {
+            let reverse_exists = edges.binary_search(&(b, a)).is_ok();
+            let (pa, pb) = (point(a), point(b));
+            let on_border = (pa[0] == pb[0] && (pa[0] == 0 || pa[0] == w - 1))
+                || (pa[1] == pb[1] && (pa[1] == 0 || pa[1] == h - 1));
+            if !reverse_exists && !on_border {
+                return Err(EvaluateError::OpenEdge { from: a, to: b });
+            }
+        }
+        if area != expected {
+            return Err(EvaluateError::WrongArea {
+                found: area,
+                expected,
+            });
+        }
+        self.mesh.vertices.clear();
+        self.mesh.twin.clear();
+        for t in &oriented {
+            self.mesh.vertices.extend_from_slice(t);
+        }
+        Ok(self.score_mesh())
+    }
+
+    fn score_mesh(&self) -> Score {
+        let w = self.hf.width() as i64;
+        let grid = Grid {
+            width: w,
+            height: self.hf.height() as i64,
+            z: self.hf.z(),
+        };
+        let (mut sum, mut sum_sq, mut max) = (0.0f64, 0.0f64, 0.0f64);
+        for t in 0..self.mesh.len() {
+            let tri = self.mesh.triangle(t).map(|i| [i as i64 % w, i as i64 / w]);
+            let e = grid.triangle_error(tri);
+            sum += e.sum;
+            sum_sq += e.sum_sq;
+            max = max.max(e.max);
+        }
+        Score {
+            e_sum: sum,
+            e_max: max,
+            rms: (sum_sq / self.hf.len() as f64).sqrt(),
+            t: self.mesh.len(),
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! Exact geometric predicates on grid points, and the project's Delaunay tie rule.
+//!
+//! Grid points have integer coordinates below [`MAX_SIDE`](crate::heightfield::MAX_SIDE) = 2¹⁴,
+//! so every predicate here is exact in `i64`: coordinate differences are < 2¹⁴, lifted heights
+//! < 2²⁹, the in-circle determinant < 2⁶⁰.
+//!
+//! # The tie rule
+//! Subsets of a grid are full of co-circular quadruples (every grid square is one), so their
+//! Delaunay triangulation is not unique. ParetoMesh makes it unique by *Simulation of Simplicity*
+//! (Edelsbrunner & Mücke 1990) on the lifting map: point `i` is lifted to height
+//! `x² + y² + δᵢ`, where the δ are positive infinitesimals with `δᵢ ≫ δⱼ` whenever index `i <
+//! j`. The triangulation is then the projection of the lower convex hull of generic lifted points:
+//! one triangulation per point set, whatever the insertion order, and Delaunay in the ordinary
+//! sense (only co-circular ties are decided by the perturbation).
+
+/// A grid point as integer (column, row) coordinates.
+pub type GridPoint = [i64; 2];
+
+/// Twice the signed area of triangle (a, b, c): positive when a → b → c turns counter-clockwise
+/// (x to the right, y up), zero when collinear.
+#[inline]
+pub fn orient(a: GridPoint, b: GridPoint, c: GridPoint) -> i64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+/// The coefficients of the in-circle determinant as a linear function of the lifted heights.
+///
+/// Returns `(det, [ca, cb, cc, cd])`: `det > 0` iff `d` lies strictly inside the circle through
+/// the counter-clockwise triangle `(a, b, c)`, and `cᵢ` is how `det` changes per unit of extra
+/// height on point `i` (so `cd = −orient(a, b, c)`, never zero for a proper triangle).
+#[inline]
+fn incircle_terms(a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> (i64, [i64; 4]) {
+    let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
+    let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
+    let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
+    let ma = bdx * cdy - bdy * cdx;
+    let mb = adx * cdy - ady * cdx;
+    let mc = adx * bdy - ady * bdx;
+    let la = adx * adx + ady * ady;
+    let lb = bdx * bdx + bdy * bdy;
+    let lc = cdx * cdx + cdy * cdy;
+    let det = la * ma - lb * mb + lc * mc;
+    (det, [ma, -mb, mc, -(ma - mb + mc)])
+}
+
+/// Is `d` inside the circle through the counter-clockwise triangle `(a, b, c)`, with exact
+/// co-circular ties broken by the project's tie rule (see the module docs)?
+///
+/// `ia..id` are the points' grid indices, which rank their perturbations. The answer is the same
+/// for every labelling of the same quadrilateral: for an edge `(a, b)` shared by triangles
+/// `(a, b, c)` and `(b, a, d)`, `incircle(a, b, c, d)` and `incircle(b, a, d, c)` agree.
+#[inline]
+pub fn in_circle(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
+    let (det, coef) = incircle_terms(pts[0], pts[1], pts[2], pts[3]);
+    if det != 0 {
+        return det > 0;
+    }
+    // Co-circular: the most significant perturbation (smallest index) with a non-zero
+    // coefficient decides. `cd` is never zero, so this always returns.
+    let mut order = [0usize, 1, 2, 3];
+    order.sort_unstable_by_key(|&k| ids[k]);
+    for k in order {
+        if coef[k] != 0 {
+            return coef[k] > 0;
+        }
+    }
+    unreachable!("the coefficient of d is -orient(a, b, c), non-zero for a proper triangle")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orient_signs() {
+        assert!(orient([0, 0], [1, 0], [0, 1]) > 0);
+        assert!(orient([0, 0], [0, 1], [1, 0]) < 0);
+        assert_eq!(orient([0, 0], [1, 1], [2, 2]), 0);
+    }
+
+    #[test]
+    fn strict_inside_and_outside() {
+        let (a, b, c) = ([0, 0], [4, 0], [0, 4]);
+        assert!(in_circle([a, b, c, [1, 1]], [0, 1, 2, 3]));
+        assert!(!in_circle([a, b, c, [9, 9]], [0, 1, 2, 3]));
+    }
+
+    #[test]
+    fn unit_square_tie_is_decided_the_same_from_both_sides() {
+        // The four corners of a grid square are co-circular: exactly one diagonal must win, and
+        // both triangles of the quadrilateral must agree on which.
+        let p = [[0, 0], [1, 0], [1, 1], [0, 1]];
+        let id = [0, 1, 11, 10];
+        for diag in [(0usize, 2usize), (1, 3)] {
+            let (a, b) = diag;
+            let (c, d) = ((a + 1) % 4, (a + 3) % 4);
+            // Triangle (a, c, b) is counter-clockwise ... edge a-b, opposite points c and d.
+            let t1 = in_circle([p[b], p[a], p[c], p[d]], [id[b], id[a], id[c], id[d]]);
+            let t2 = in_circle([p[a], p[b], p[d], p[c]], [id[a], id[b], id[d], id[c]]);
+            assert_eq!(t1, t2, "diagonal {diag:?}");
+        }
+        // And the two diagonals disagree: one is legal, the other is not.
+        let keep_02 = !in_circle([p[2], p[0], p[1], p[3]], [id[2], id[0], id[1], id[3]]);
+        let keep_13 = !in_circle([p[3], p[1], p[2], p[0]], [id[3], id[1], id[2], id[0]]);
+        assert_ne!(keep_02, keep_13);
+    }
+}

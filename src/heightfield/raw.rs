@@ -1,0 +1,69 @@
+//! The raw grid format of the shared data: little-endian f32, row-major, index = y·W + x, with a
+//! JSON sidecar that holds at least `width` and `height`.
+
+use super::{Heightfield, import::ImportError};
+use serde::Deserialize;
+
+#[derive(Deserialize)]
+struct Sidecar {
+    width: usize,
+    height: usize,
+    #[serde(default)]
+    source: Option<String>,
+    #[serde(default)]
+    units: Option<String>,
+    #[serde(default)]
+    derivation: Option<String>,
+    #[serde(default)]
+    spacing: Option<[f64; 2]>,
+}
+
+fn malformed(message: impl Into<String>) -> ImportError {
+    ImportError::Malformed {
+        format: "raw f32 grid",
+        message: message.into(),
+    }
+}
+
+/// Parses `data` (the .f32 bytes) with its sidecar `json`; `name` goes into the source note.
+pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, ImportError> {
+    let meta: Sidecar =
+        serde_json::from_slice(json).map_err(|e| malformed(format!("sidecar JSON: {e}")))?;
+    super::check_size(meta.width, meta.height)?;
+    let expected = meta.width * meta.height * 4;
+    if data.len() != expected {
+        return Err(malformed(format!(
+            "{}×{} grid needs {} bytes, the file has {}{}",
+            meta.width,
+            meta.height,
+            expected,
+            data.len(),
+            if data.len() < expected {
+                " (truncated?)"
+            } else {
+                ""
+            }
+        )));
+    }
+    let z: Vec<f64> = data
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
+        .collect();
+    let mut note = format!("raw f32 grid {name}");
+    for part in [
+        &meta.source,
+        &meta.units.as_ref().map(|u| format!("units: {u}")),
+        &meta.derivation,
+    ]
+    .into_iter()
+    .flatten()
+    {
+        note.push_str("; ");
+        note.push_str(part);
+    }
+    let hf = Heightfield::new(meta.width, meta.height, z)?.with_source(note);
+    Ok(match meta.spacing {
+        Some(s) => hf.with_geometry([0.0, 0.0], s)?,
+        None => hf,
+    })
+}

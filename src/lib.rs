@@ -1,0 +1,27 @@
+//! # ParetoMesh
+//!
+//! Simplifies an open surface given as a height field by finding the whole Pareto front of
+//! (error, triangle count) meshes, after the source paper's NSGA-II with orthogonal-array
+//! crossover and its baselines.
+//!
+//! - [`heightfield`]: the height field z = f(x, y) on a W×H grid and its import (raw f32, PNG,
+//!   PLY, OBJ, STL).
+//! - [`evaluator`]: the ruler: Delaunay triangulation of a kept set of grid points and the exact
+//!   error E = Σ|z − z̃| over every grid point, counted once.
+//! - [`front`]: solutions and the non-dominated front of (E, T).
+//! - [`optimizer`]: the steppable interface every algorithm implements.
+//! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA.
+//! - [`baselines`]: greedy insertion and edge decimation.
+//! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
+//! - `web` (wasm32 only): the browser app over this core.
+
+pub mod baselines;
+pub mod evaluator;
+pub mod evolution;
+pub mod front;
+pub mod heightfield;
+pub mod metrics;
+pub mod optimizer;
+
+#[cfg(target_arch = "wasm32")]
+pub mod web;

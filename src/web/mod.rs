@@ -1,0 +1,15 @@
+//! The browser layer (wasm32 only): a thin shell over the core.
+
+use crate::{evaluator::Evaluator, heightfield::raw};
+use wasm_bindgen::prelude::*;
+
+/// Loads a raw f32 grid with its JSON sidecar, scores the kept indices, and returns the
+/// evaluation as a JS object `{E_sum, E_max, rms, T, triangles}`.
+#[wasm_bindgen(js_name = evaluateRaw)]
+pub fn evaluate_raw(grid: &[u8], sidecar: &[u8], kept: &[u32]) -> Result<JsValue, JsError> {
+    let hf = raw::parse(grid, sidecar, "upload").map_err(|e| JsError::new(&e.to_string()))?;
+    let evaluation = Evaluator::new(&hf)
+        .evaluate(kept)
+        .map_err(|e| JsError::new(&e.to_string()))?;
+    serde_wasm_bindgen::to_value(&evaluation).map_err(|e| JsError::new(&e.to_string()))
+}

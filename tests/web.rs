@@ -1,0 +1,39 @@
+//! The web layer in a real headless browser (wasm-bindgen-test, Chromium).
+#![cfg(target_arch = "wasm32")]
+
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
+const SIDECAR: &[u8] = include_bytes!("data/volcano_33x33.json");
+
+#[wasm_bindgen_test]
+fn the_core_evaluates_in_the_browser_like_natively() {
+    // The same kept set scored natively in tests/evaluator.rs' sense: corners only is 2 triangles.
+    let value = paretomesh::web::evaluate_raw(GRID, SIDECAR, &[]).unwrap();
+    let t = js_sys::Reflect::get(&value, &"T".into())
+        .unwrap()
+        .as_f64()
+        .unwrap();
+    assert_eq!(t, 2.0);
+    let e = js_sys::Reflect::get(&value, &"E_sum".into())
+        .unwrap()
+        .as_f64()
+        .unwrap();
+    let native = {
+        let hf = paretomesh::heightfield::raw::parse(GRID, SIDECAR, "t").unwrap();
+        paretomesh::evaluator::Evaluator::new(&hf)
+            .score(&[])
+            .unwrap()
+            .e_sum
+    };
+    assert_eq!(e, native);
+    assert!(e > 0.0);
+}
+
+#[wasm_bindgen_test]
+fn bad_input_is_an_error_not_a_panic() {
+    let err = paretomesh::web::evaluate_raw(&GRID[..100], SIDECAR, &[]);
+    assert!(err.is_err());
+}
