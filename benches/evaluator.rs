@@ -57,7 +57,7 @@ fn bench(c: &mut Criterion) {
                     })
                 },
             );
-            let mut ev = Evaluator::new(&hf);
+            let mut ev = Evaluator::new(std::sync::Arc::new(hf.clone()));
             group.bench_with_input(BenchmarkId::new("evaluate", percent), &kept, |b, k| {
                 b.iter(|| black_box(ev.score(black_box(k)).unwrap()))
             });

@@ -1,8 +1,11 @@
 //! The interface every algorithm implements so it can run one slice at a time.
 //!
-//! An optimizer advances by at most `max_evaluations` evaluations per [`Optimizer::step`] call and
-//! can report its front at any moment. How the work is sliced never changes the result: one call
-//! with a large budget and many calls with small ones reach the identical state.
+//! An optimizer advances in *units* of work (one individual, one crossover with all its children,
+//! one insertion or removal...). [`Optimizer::step`] does units until it has spent at least
+//! `max_evaluations` evaluations or finished, so it overshoots by less than one unit. Every
+//! algorithm documents its unit. How the work is sliced never changes the result: one call with a
+//! large budget and many calls with small ones reach the identical state, because the state
+//! only ever changes a whole unit at a time.
 
 use crate::front::Front;
 
@@ -19,7 +22,8 @@ pub struct Progress {
 
 /// An algorithm that produces a front of (E, T), advanced in bounded slices.
 pub trait Optimizer {
-    /// Does at most `max_evaluations` evaluations (at least one unless done) and reports.
+    /// Does whole units of work until at least `max_evaluations` evaluations were spent in this
+    /// call (at least one unit unless done), and reports.
     fn step(&mut self, max_evaluations: u64) -> Progress;
     /// The best front found so far.
     fn front(&self) -> &Front;

@@ -4,6 +4,7 @@ use paretomesh::evaluator::{EvaluateError, Evaluator, reference, triangulation::
 use paretomesh::heightfield::{self, Heightfield};
 use rand::{RngExt, SeedableRng};
 use std::path::Path;
+use std::sync::Arc;
 
 fn fixture(name: &str) -> Heightfield {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -36,7 +37,7 @@ fn matches_brute_force_on_random_subsets_of_real_data() {
         "volcano_33x33",
     ] {
         let hf = fixture(name);
-        let mut ev = Evaluator::new(&hf);
+        let mut ev = Evaluator::new(Arc::new(hf.clone()));
         for fraction in [0.0, 0.02, 0.1, 0.3, 0.7] {
             for _ in 0..4 {
                 let kept = random_subset(hf.len(), fraction, &mut rng);
@@ -56,7 +57,7 @@ fn matches_brute_force_on_random_subsets_of_real_data() {
 fn every_point_is_counted_exactly_once() {
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
     let hf = fixture("volcano_33x33");
-    let mut ev = Evaluator::new(&hf);
+    let mut ev = Evaluator::new(Arc::new(hf.clone()));
     for fraction in [0.0, 0.05, 0.3, 0.9] {
         let kept = random_subset(hf.len(), fraction, &mut rng);
         let e = ev.evaluate(&kept).unwrap();
@@ -124,7 +125,7 @@ fn rotate_min_first(t: [u32; 3]) -> [u32; 3] {
 #[test]
 fn triangle_count_follows_euler() {
     let hf = fixture("camera_33x33");
-    let mut ev = Evaluator::new(&hf);
+    let mut ev = Evaluator::new(Arc::new(hf.clone()));
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
     let kept = random_subset(hf.len(), 0.2, &mut rng);
     let e = ev.evaluate(&kept).unwrap();
@@ -150,7 +151,7 @@ fn a_flat_or_tilted_plane_has_no_error() {
         plane(7, 5, |_, _| 3.0),
         plane(7, 5, |x, y| 0.25 * x - 1.5 * y + 2.0),
     ] {
-        let mut ev = Evaluator::new(&hf);
+        let mut ev = Evaluator::new(Arc::new(hf.clone()));
         for kept in [vec![], vec![8, 16, 20], (0..35).collect()] {
             let s = ev.score(&kept).unwrap();
             assert!(s.e_sum.abs() < 1e-12 && s.e_max < 1e-12, "{s:?}");
@@ -162,7 +163,7 @@ fn a_flat_or_tilted_plane_has_no_error() {
 fn a_two_by_two_grid_is_two_triangles_and_exact() {
     // Only the corners: nothing left to interpolate.
     let hf = Heightfield::new(2, 2, vec![1.0, 5.0, -2.0, 7.0]).unwrap();
-    let e = Evaluator::new(&hf).evaluate(&[]).unwrap();
+    let e = Evaluator::new(Arc::new(hf.clone())).evaluate(&[]).unwrap();
     assert_eq!((e.score.e_sum, e.score.t), (0.0, 2));
 }
 
@@ -172,7 +173,7 @@ fn a_single_bump_costs_its_height_until_kept() {
     let mut z = vec![0.0; 25];
     z[12] = 10.0;
     let hf = Heightfield::new(5, 5, z).unwrap();
-    let mut ev = Evaluator::new(&hf);
+    let mut ev = Evaluator::new(Arc::new(hf.clone()));
     let s = ev.score(&[]).unwrap();
     assert_eq!((s.e_sum, s.e_max, s.t), (10.0, 10.0, 2));
     assert_eq!(s.rms, (100.0f64 / 25.0).sqrt());
@@ -189,7 +190,7 @@ fn a_single_bump_costs_its_height_until_kept() {
 fn collinear_rows_are_triangulated_without_slivers() {
     // Keep a whole middle row: many collinear points, each must become a proper vertex.
     let hf = plane(9, 3, |x, y| (x * 0.7).sin() + y);
-    let mut ev = Evaluator::new(&hf);
+    let mut ev = Evaluator::new(Arc::new(hf.clone()));
     let row: Vec<u32> = (9..18).collect();
     let e = ev.evaluate(&row).unwrap();
     // 13 points: the 4 corners and the row's two ends lie on the hull (h = 6), the other 7 row
@@ -200,7 +201,9 @@ fn collinear_rows_are_triangulated_without_slivers() {
 #[test]
 fn out_of_range_indices_are_rejected() {
     let hf = plane(3, 3, |_, _| 0.0);
-    let err = Evaluator::new(&hf).score(&[9]).unwrap_err();
+    let err = Evaluator::new(Arc::new(hf.clone()))
+        .score(&[9])
+        .unwrap_err();
     assert_eq!(err, EvaluateError::IndexOutOfRange { index: 9, len: 9 });
 }
 
@@ -208,7 +211,7 @@ fn out_of_range_indices_are_rejected() {
 fn any_valid_triangulation_can_be_scored() {
     // The other diagonal of a 2×2 cell: Delaunay would choose one, an outside tool the other.
     let hf = Heightfield::new(3, 3, vec![0.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
-    let mut ev = Evaluator::new(&hf);
+    let mut ev = Evaluator::new(Arc::new(hf.clone()));
     let s = ev.score_triangulation(&[[0, 2, 8], [0, 8, 6]]).unwrap();
     // The centre lies on the diagonal 0–8: interpolated 0, error 4.
     assert_eq!((s.e_sum, s.t), (4.0, 2));
@@ -219,7 +222,7 @@ fn any_valid_triangulation_can_be_scored() {
 #[test]
 fn invalid_triangulations_are_rejected_with_a_reason() {
     let hf = plane(3, 3, |_, _| 0.0);
-    let mut ev = Evaluator::new(&hf);
+    let mut ev = Evaluator::new(Arc::new(hf.clone()));
     // Only half the square.
     assert!(matches!(
         ev.score_triangulation(&[[0, 2, 8]]),

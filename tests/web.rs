@@ -23,7 +23,7 @@ fn the_core_evaluates_in_the_browser_like_natively() {
         .unwrap();
     let native = {
         let hf = paretomesh::heightfield::raw::parse(GRID, SIDECAR, "t").unwrap();
-        paretomesh::evaluator::Evaluator::new(&hf)
+        paretomesh::evaluator::Evaluator::new(std::sync::Arc::new(hf))
             .score(&[])
             .unwrap()
             .e_sum

@@ -17,7 +17,7 @@ pub fn run(path: &Path, keep: &str) -> Result<(), String> {
     };
     let kept: Vec<u32> = serde_json::from_str(&text)
         .map_err(|e| format!("--keep must be a JSON array of grid indices: {e}"))?;
-    let evaluation = Evaluator::new(&hf)
+    let evaluation = Evaluator::new(std::sync::Arc::new(hf))
         .evaluate(&kept)
         .map_err(|e| e.to_string())?;
     println!(

@@ -16,7 +16,7 @@
 //! let mut z = vec![0.0; 9];
 //! z[4] = 4.0;
 //! let hf = Heightfield::new(3, 3, z).unwrap();
-//! let mut ev = Evaluator::new(&hf);
+//! let mut ev = Evaluator::new(std::sync::Arc::new(hf));
 //! let corners_only = ev.evaluate(&[]).unwrap();
 //! assert_eq!((corners_only.score.e_sum, corners_only.score.t), (4.0, 2));
 //! let with_bump = ev.evaluate(&[4]).unwrap();
@@ -32,6 +32,7 @@ use crate::heightfield::Heightfield;
 use raster::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
+use std::sync::Arc;
 use triangulation::Triangulation;
 
 /// The error numbers of one mesh.
@@ -113,27 +114,27 @@ impl std::error::Error for EvaluateError {}
 
 /// Scores kept sets (or whole triangulations) on one height field. Reuses its buffers between
 /// calls, so keep one per thread.
-pub struct Evaluator<'a> {
-    hf: &'a Heightfield,
+pub struct Evaluator {
+    hf: Arc<Heightfield>,
     kept_mark: Vec<bool>,
     kept: Vec<u32>,
     mesh: Triangulation,
 }
 
-impl<'a> Evaluator<'a> {
+impl Evaluator {
     /// An evaluator for `hf`.
-    pub fn new(hf: &'a Heightfield) -> Self {
+    pub fn new(hf: Arc<Heightfield>) -> Self {
         Self {
-            hf,
             kept_mark: vec![false; hf.len()],
+            hf,
             kept: Vec::new(),
             mesh: Triangulation::default(),
         }
     }
 
     /// The height field this evaluator scores on.
-    pub fn heightfield(&self) -> &'a Heightfield {
-        self.hf
+    pub fn heightfield(&self) -> &Arc<Heightfield> {
+        &self.hf
     }
 
     /// Triangulates `kept` (plus the corners) and scores it, with the triangles.
