@@ -85,6 +85,8 @@ fn greedy_mesh_is_the_evaluators_canonical_delaunay_after_every_insertion() {
                 canonical(&evaluation.triangles),
                 "{rule:?}: mesh differs after {k} insertions"
             );
+            // The queue's top is the mesh's true largest error.
+            assert_eq!(run.current_max_error(), evaluation.score.e_max);
             let inc = run.incremental_e_sum();
             assert!(
                 (inc - evaluation.score.e_sum).abs() <= 1e-9 * evaluation.score.e_sum.max(1.0),
