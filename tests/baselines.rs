@@ -184,33 +184,29 @@ fn both_rules_insert_the_apex_of_a_pyramid_first() {
 
 #[test]
 fn sum_reduction_prefers_the_broad_feature_over_the_tall_spike() {
-    // A 9×9 flat grid with a tall single spike (height 5 at (2, 2)) and a broad plateau of
-    // height 2 around (6, 6) (a 3×3 block). The spike has the largest vertical error, so the
-    // classic rule takes it first; removing the plateau's error reduces E_sum more
-    // (9 points × 2 partly), so the E_sum rule starts there.
-    let (w, h) = (9, 9);
-    let mut z = vec![0.0; w * h];
-    z[2 * w + 2] = 5.0;
-    for y in 5..=7 {
-        for x in 5..=7 {
-            z[y * w + x] = 2.0;
-        }
-    }
+    // A pyramid over the whole 9×7 grid (zero on the border, apex 1 at (3, 4)) plus a lone spike
+    // of 3 at (7, 1). The spike has the largest vertical error, so the classic rule takes it
+    // first; but inserting the apex removes the pyramid's whole error (E drops by Σ pyramid),
+    // while inserting the spike tilts big triangles towards it, so the E_sum rule takes the apex.
+    let (w, h) = (9usize, 7usize);
+    let mut z: Vec<f64> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f64, (i / w) as f64);
+            (x / 3.0)
+                .min((8.0 - x) / 5.0)
+                .min(y / 4.0)
+                .min((6.0 - y) / 2.0)
+        })
+        .collect();
+    z[w + 7] += 3.0;
     let hf = Arc::new(Heightfield::new(w, h, z).unwrap());
     let mut classic = greedy(&hf, InsertionRule::MaxError, GreedyStop::Points(5));
     classic.run_to_end();
-    assert!(classic.kept().contains(&(2 * 9 + 2)));
+    assert_eq!(classic.kept(), vec![0, 8, 9 + 7, 54, 62]);
     let mut by_sum = greedy(&hf, InsertionRule::SumReduction, GreedyStop::Points(5));
     by_sum.run_to_end();
-    let fifth = by_sum
-        .kept()
-        .into_iter()
-        .find(|&i| ![0, 8, 72, 80].contains(&i));
-    let (x, y) = hf.coords(fifth.unwrap());
-    assert!(
-        (5..=7).contains(&x) && (5..=7).contains(&y),
-        "took ({x}, {y})"
-    );
+    assert_eq!(by_sum.kept(), vec![0, 8, 4 * 9 + 3, 54, 62]);
+    assert_eq!(by_sum.recorded().last().unwrap().e_sum, 3.0);
 }
 
 #[test]
