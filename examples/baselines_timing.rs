@@ -1,7 +1,7 @@
 //! Times the classical baselines on one height field (release build recommended):
 //!
 //! ```text
-//! cargo run --release --example baselines_timing -- greedy GRID.f32 [FRACTION] [RECORDS] [RULE]
+//! cargo run --release --example baselines_timing -- greedy GRID.f32 [FRACTION] [RECORDS] [RULE] [SHORTLIST]
 //! cargo run --release --example baselines_timing -- decimation GRID.f32
 //! cargo run --release --example baselines_timing -- score GRID.f32 TRIANGLES.json
 //! ```
@@ -10,7 +10,8 @@
 //! with the project's evaluator, so both meshes are measured with the same ruler.
 //!
 //! `greedy` inserts points until E_max ≤ FRACTION (default 0.01) of the z range, recording
-//! RECORDS solutions (default 64) with RULE `max-error` (default) or `sum-reduction`.
+//! RECORDS solutions (default 64) with RULE `max-error` (default) or `sum-reduction` (whose
+//! exact shortlist is SHORTLIST long, default 8). With `PRINT_FRONT=1` it prints the front.
 
 use paretomesh::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
@@ -46,8 +47,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 Some("sum-reduction") => InsertionRule::SumReduction,
                 Some(other) => return Err(format!("unknown rule {other}").into()),
             };
+            let shortlist: usize = args.get(5).map_or(Ok(8), |s| s.parse())?;
             let params = GreedyParams {
                 rule,
+                shortlist,
                 stop: GreedyStop::MaxErrorFraction(fraction),
                 records,
                 ..GreedyParams::default()
@@ -70,6 +73,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 run.recorded().len(),
                 run.front().len()
             );
+            if std::env::var_os("PRINT_FRONT").is_some() {
+                for s in run.front().solutions() {
+                    println!("  T {} E_sum {} E_max {}", s.t, s.e_sum, s.e_max);
+                }
+            }
         }
         "decimation" => {
             let start = Instant::now();

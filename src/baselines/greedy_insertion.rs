@@ -47,6 +47,10 @@ pub enum InsertionRule {
     ///    under the tie rule, which are exactly those its insertion replaces) is re-rasterised as
     ///    the fan of new triangles, and the point with the largest true E_sum reduction is
     ///    inserted (ties to the smaller grid index).
+    ///
+    /// The rule is myopic: inserting a point into large triangles often *raises* E_sum for now
+    /// (the new fan tilts towards it), so on terrain it can prefer many tiny safe reductions to
+    /// the big features the classic rule takes, and its front can be worse.
     SumReduction,
 }
 
