@@ -115,6 +115,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 score.e_sum,
                 score.e_max
             );
+            // The same points under the project's canonical Delaunay triangulation.
+            let canonical = ev.evaluate(&points)?;
+            let as_set = |tris: &[[u32; 3]]| -> std::collections::BTreeSet<[u32; 3]> {
+                tris.iter()
+                    .map(|t| {
+                        let mut t = *t;
+                        t.sort_unstable();
+                        t
+                    })
+                    .collect()
+            };
+            let shared = as_set(&triangles)
+                .intersection(&as_set(&canonical.triangles))
+                .count();
+            println!(
+                "  its points, canonical Delaunay: T {}, E_sum {}, E_max {}; {shared} triangles \
+                 in common",
+                canonical.score.t, canonical.score.e_sum, canonical.score.e_max
+            );
         }
         _ => return Err(usage.into()),
     }

@@ -151,7 +151,8 @@ impl EdgeDecimation {
     }
 
     /// Every recorded solution with the reduction it was recorded for, in order (a solution
-    /// appears once per reduction, so it may repeat on tiny grids).
+    /// appears once per reduction, so it may repeat on tiny grids; reductions that cannot be
+    /// reached because only the corners are left, as on a 2×2 grid, are missing).
     pub fn recorded(&self) -> &[(f64, Solution)] {
         &self.recorded
     }
