@@ -414,3 +414,31 @@ fn thin_and_tiny_grids_work() {
     let p = dec.run_to_end();
     assert!(p.done && dec.recorded().is_empty() && dec.front().is_empty());
 }
+
+#[test]
+fn params_round_trip_through_json() {
+    // The CLI stores the parameters in front.json: they must read back identically, and an
+    // empty object must mean the defaults.
+    let greedy_params = GreedyParams {
+        rule: InsertionRule::SumReduction,
+        stop: GreedyStop::MaxErrorFraction(0.01),
+        ..GreedyParams::default()
+    };
+    let text = serde_json::to_string(&greedy_params).unwrap();
+    assert!(text.contains("\"sum-reduction\""), "{text}");
+    assert_eq!(
+        serde_json::from_str::<GreedyParams>(&text).unwrap(),
+        greedy_params
+    );
+    assert_eq!(
+        serde_json::from_str::<GreedyParams>("{}").unwrap(),
+        GreedyParams::default()
+    );
+    let decimation = DecimationParams::default();
+    let text = serde_json::to_string(&decimation).unwrap();
+    assert_eq!(
+        serde_json::from_str::<DecimationParams>(&text).unwrap(),
+        decimation
+    );
+    assert_eq!(decimation.reductions.len(), 10);
+}
