@@ -36,9 +36,7 @@ pub struct InputArgs {
 /// Parses `WxH` (also `W×H` or `WXH`) into two whole numbers.
 fn parse_grid_size(text: &str) -> Result<(usize, usize), String> {
     let bad = || format!("grid size must look like 129x129, got {text:?}");
-    let (w, h) = text
-        .split_once(['x', 'X', '×'])
-        .ok_or_else(bad)?;
+    let (w, h) = text.split_once(['x', 'X', '×']).ok_or_else(bad)?;
     Ok((
         w.trim().parse().map_err(|_| bad())?,
         h.trim().parse().map_err(|_| bad())?,

@@ -100,7 +100,6 @@ pub fn parse(bytes: &[u8], name: &str, terrain_rgb: bool) -> Result<Heightfield,
     } else {
         format!("{}-bit grayscale PNG", depth as u8)
     };
-    Ok(Heightfield::new(width, height, z)?.with_source(format!(
-        "{kind} {name}; image row 0 is grid row 0"
-    )))
+    Ok(Heightfield::new(width, height, z)?
+        .with_source(format!("{kind} {name}; image row 0 is grid row 0")))
 }

@@ -118,7 +118,10 @@ impl fmt::Display for ImportError {
                 write!(f, "the {format} file is truncated: {message}")
             }
             Self::WrongCount { format, message } => {
-                write!(f, "the {format} file has the wrong number of elements: {message}")
+                write!(
+                    f,
+                    "the {format} file has the wrong number of elements: {message}"
+                )
             }
             Self::NotFinite { format, message } => write!(
                 f,
@@ -151,7 +154,9 @@ impl fmt::Display for ImportError {
                             projection.name(),
                             share * 100.0
                         )?,
-                        None => write!(f, "{sep}{}: the projection has no area", projection.name())?,
+                        None => {
+                            write!(f, "{sep}{}: the projection has no area", projection.name())?
+                        }
                     }
                 }
                 write!(

@@ -110,11 +110,13 @@ fn parse_header(bytes: &[u8]) -> Result<(Encoding, Vec<Element>, usize), ImportE
                 message: "the header has no end_header line".into(),
             }
         } else {
-            malformed(format!("no end_header line in the first {MAX_HEADER} bytes"))
+            malformed(format!(
+                "no end_header line in the first {MAX_HEADER} bytes"
+            ))
         }
     })?;
-    let text = std::str::from_utf8(&bytes[..end])
-        .map_err(|_| malformed("the header is not text"))?;
+    let text =
+        std::str::from_utf8(&bytes[..end]).map_err(|_| malformed("the header is not text"))?;
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
     for (number, line) in text.lines().enumerate().skip(1) {
@@ -200,7 +202,10 @@ enum Body<'a> {
 enum ReadError {
     Truncated,
     /// ASCII: the line does not hold the values the element's properties need.
-    Tokens { line: usize, message: String },
+    Tokens {
+        line: usize,
+        message: String,
+    },
     /// A value is out of its type's range or not a number.
     Value(String),
 }
@@ -265,7 +270,9 @@ impl<'a> Body<'a> {
                 big_endian,
             } => {
                 let mut next = |t: Scalar| -> Result<f64, ReadError> {
-                    let bytes = data.get(*pos..*pos + t.size()).ok_or(ReadError::Truncated)?;
+                    let bytes = data
+                        .get(*pos..*pos + t.size())
+                        .ok_or(ReadError::Truncated)?;
                     *pos += t.size();
                     let v = decode(bytes, t, *big_endian);
                     Ok(v)
@@ -307,7 +314,9 @@ impl<'a> Body<'a> {
 
 fn list_length(v: f64) -> Result<usize, ReadError> {
     if v < 0.0 {
-        return Err(ReadError::Value(format!("a list has a negative length {v}")));
+        return Err(ReadError::Value(format!(
+            "a list has a negative length {v}"
+        )));
     }
     Ok(v as usize)
 }
@@ -383,7 +392,9 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
                 .properties
                 .iter()
                 .position(|p| p.name == *name && matches!(p.kind, Kind::Scalar(_)))
-                .ok_or_else(|| malformed(format!("the vertex element has no scalar property {name}")))
+                .ok_or_else(|| {
+                    malformed(format!("the vertex element has no scalar property {name}"))
+                })
         })
         .collect::<Result<_, _>>()?;
     let index_list = match face_at {
@@ -464,7 +475,8 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
                     }
                 })?;
             if e == vertex_at {
-                mesh.vertices.push([scalars[xyz[0]], scalars[xyz[1]], scalars[xyz[2]]]);
+                mesh.vertices
+                    .push([scalars[xyz[0]], scalars[xyz[1]], scalars[xyz[2]]]);
             } else if Some(e) == face_at {
                 add_face(&mut mesh.triangles, &list, i, vertex_count)?;
             }
@@ -543,7 +555,11 @@ mod tests {
         let text = b"ply\nformat binary_little_endian 1.0\nelement vertex 16777217\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
         assert!(matches!(
             parse(text),
-            Err(ImportError::OverLimit { what: "vertices", claimed: 16_777_217, .. })
+            Err(ImportError::OverLimit {
+                what: "vertices",
+                claimed: 16_777_217,
+                ..
+            })
         ));
     }
 }

@@ -32,7 +32,10 @@ pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, Import
     super::check_size(meta.width, meta.height)?;
     // check_size bounds width·height by MAX_POINTS, so this cannot overflow.
     let expected = meta.width * meta.height * 4;
-    let grid = format!("a {}×{} grid needs {expected} bytes", meta.width, meta.height);
+    let grid = format!(
+        "a {}×{} grid needs {expected} bytes",
+        meta.width, meta.height
+    );
     if data.len() < expected {
         return Err(ImportError::Truncated {
             format: "raw f32 grid",

@@ -6,8 +6,10 @@
 //! - **Frame.** Principal component analysis of the vertices (mean and covariance, each vertex
 //!   weighted equally) gives axes e₀, e₁, e₂ by decreasing variance, each signed so that its
 //!   largest component is positive.
-//! - **Planar.** u = e₀, n = e₂ turned to the side most of the surface faces (area-weighted
-//!   triangle normals), v = n × u. Grid coordinates are (d·u, d·v), height d·n, d = p − mean.
+//! - **Planar.** The best-fit plane's normal n is whichever of the area-weighted mean triangle
+//!   normal, the PCA normal e₂ and the most consistently faced coordinate axis folds least (see
+//!   [`planar_normals`]); u = the coordinate axis most orthogonal to n, made orthogonal to it;
+//!   v = n × u. Grid coordinates are (d·u, d·v), height d·n, d = p − mean.
 //! - **Cylindrical.** Axis e₀ through the mean (the longest extent: a face scan's vertical axis, a
 //!   tube's axis), reference direction e₁. Grid x is the angle θ from the reference (radians), grid
 //!   y the position ζ along the axis, height the distance ρ from the axis. The seam is put in the
@@ -158,17 +160,69 @@ struct Projected {
     x_unit: f64,
 }
 
-fn project_planar(mesh: &TriangleMesh) -> Projected {
-    let (mean, [u, _, e2]) = principal_frame(&mesh.vertices);
-    let facing: f64 = mesh
-        .triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
-            dot(cross(sub(b, a), sub(c, a)), e2)
-        })
-        .sum();
-    let n = if facing < 0.0 { scale(e2, -1.0) } else { e2 };
+/// Candidate normals for the planar projection: the area-weighted mean of the triangle normals
+/// — the direction in which the surface's signed projected area is largest — when it is well
+/// defined (not for closed or inconsistently wound meshes); the PCA normal (smallest-variance
+/// axis) turned to the side most of the surface faces; and the coordinate axis along which the
+/// triangles face most consistently one way, because a steep terrain is a height field only
+/// along its own vertical axis.
+fn planar_normals(mesh: &TriangleMesh) -> Vec<[f64; 3]> {
+    let (_, [_, _, e2]) = principal_frame(&mesh.vertices);
+    let (mut sum, mut magnitude) = ([0.0; 3], [0.0; 3]);
+    let mut area = 0.0;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        let n = cross(sub(b, a), sub(c, a));
+        for k in 0..3 {
+            sum[k] += n[k];
+            magnitude[k] += n[k].abs();
+        }
+        area += dot(n, n).sqrt();
+    }
+    let length = dot(sum, sum).sqrt();
+    let pca = if dot(sum, e2) < 0.0 {
+        scale(e2, -1.0)
+    } else {
+        e2
+    };
+    let mut normals = Vec::new();
+    // Under 5 % of the area facing one way on balance: the mean normal is mostly cancellation.
+    if length > 0.05 * area && length.is_finite() {
+        normals.push(scale(sum, 1.0 / length));
+    }
+    normals.push(pca);
+    // The axis along which the triangles face most consistently one way: exactly 1 for a
+    // height field over that axis's plane, however steep.
+    let consistency = |k: usize| sum[k].abs() / magnitude[k].max(f64::MIN_POSITIVE);
+    let k = (0..3).fold(0, |m, i| {
+        if consistency(i) > consistency(m) {
+            i
+        } else {
+            m
+        }
+    });
+    let mut axis = [0.0; 3];
+    axis[k] = if sum[k] < 0.0 { -1.0 } else { 1.0 };
+    normals.push(axis);
+    // Drop repeats (a flat terrain gives the same normal three times).
+    let mut unique: Vec<[f64; 3]> = Vec::new();
+    for n in normals {
+        if unique.iter().all(|m| dot(*m, n) < 1.0 - 1e-12) {
+            unique.push(n);
+        }
+    }
+    unique
+}
+
+fn project_planar(mesh: &TriangleMesh, n: [f64; 3]) -> Projected {
+    let (mean, _) = principal_frame(&mesh.vertices);
+    // u: the coordinate axis most orthogonal to n, made orthogonal to it, so that a terrain's
+    // grid stays aligned with its x axis.
+    let k = (0..3).fold(0, |m, i| if n[i].abs() < n[m].abs() { i } else { m });
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let pick = sub(e, scale(n, dot(e, n)));
+    let u = scale(pick, 1.0 / dot(pick, pick).sqrt());
     let v = cross(n, u);
     let points = mesh
         .vertices
@@ -242,16 +296,50 @@ fn automatic_size(vertices: usize, world_x: f64, world_y: f64) -> (usize, usize)
 }
 
 /// Projects `mesh` (validated, with triangles) and rasterises it onto a grid of `size` (or the
-/// automatic size). Fails only on a grid size over the limits.
+/// automatic size). The planar projection tries each of [`planar_normals`] and keeps the one
+/// with the least overlap. Fails only on a grid size over the
+/// limits.
 pub fn resample(
     mesh: &TriangleMesh,
     projection: Projection,
     size: Option<(usize, usize)>,
 ) -> Result<Outcome, ImportError> {
-    let projected = match projection {
-        Projection::Cylindrical => project_cylindrical(mesh),
-        _ => project_planar(mesh),
+    let candidates: Vec<Projected> = match projection {
+        Projection::Cylindrical => vec![project_cylindrical(mesh)],
+        _ => planar_normals(mesh)
+            .into_iter()
+            .map(|n| project_planar(mesh, n))
+            .collect(),
     };
+    // Every candidate is tried; the one with the least overlap wins (the first on ties).
+    let mut best: Option<Resampled> = None;
+    let mut least: Option<f64> = None;
+    for projected in candidates {
+        match resample_projected(mesh, projected, size)? {
+            Outcome::Grid(grid) => {
+                if best.as_ref().is_none_or(|b| grid.overlap < b.overlap) {
+                    best = Some(grid);
+                }
+            }
+            Outcome::Folded { overlap } => {
+                least = match (least, overlap) {
+                    (Some(a), Some(b)) => Some(a.min(b)),
+                    (a, b) => a.or(b),
+                }
+            }
+        }
+    }
+    Ok(match best {
+        Some(grid) => Outcome::Grid(grid),
+        None => Outcome::Folded { overlap: least },
+    })
+}
+
+fn resample_projected(
+    mesh: &TriangleMesh,
+    projected: Projected,
+    size: Option<(usize, usize)>,
+) -> Result<Outcome, ImportError> {
     let points = &projected.points;
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in points {
@@ -266,11 +354,7 @@ pub fn resample(
     }
     let (width, height) = match size {
         Some(s) => s,
-        None => automatic_size(
-            mesh.vertices.len(),
-            extent[0] * projected.x_unit,
-            extent[1],
-        ),
+        None => automatic_size(mesh.vertices.len(), extent[0] * projected.x_unit, extent[1]),
     };
     super::check_size(width, height)?;
     let spacing = [
@@ -329,7 +413,13 @@ fn rasterise(
     let mut z = vec![f64::NAN; width * height];
     let mut inside = vec![0u8; width * height];
     // In grid units: x = column, y = row (fractional).
-    let to_grid = |p: [f64; 3]| [(p[0] - lo[0]) / spacing[0], (p[1] - lo[1]) / spacing[1], p[2]];
+    let to_grid = |p: [f64; 3]| {
+        [
+            (p[0] - lo[0]) / spacing[0],
+            (p[1] - lo[1]) / spacing[1],
+            p[2],
+        ]
+    };
     for t in &mesh.triangles {
         let mut corners = t.map(|i| to_grid(projected.points[i as usize]));
         let mut shifts = vec![0.0];
@@ -337,7 +427,10 @@ fn rasterise(
             // A triangle across the seam: bring its low-angle corners round, then draw it both at
             // the grid's far end and one period back at its near end.
             let xs = corners.map(|c| c[0] * spacing[0]);
-            let (min, max) = (xs.iter().copied().fold(f64::INFINITY, f64::min), xs.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+            let (min, max) = (
+                xs.iter().copied().fold(f64::INFINITY, f64::min),
+                xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            );
             if max - min > PI {
                 for c in &mut corners {
                     if c[0] * spacing[0] - min < PI {
@@ -435,7 +528,8 @@ mod tests {
     #[test]
     fn jacobi_finds_axis_aligned_eigenvectors() {
         // Variances 9, 4, 1 along z, x, y: the frame must come out as z, x, y.
-        let (values, vectors) = symmetric_eigen([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 9.0]]);
+        let (values, vectors) =
+            symmetric_eigen([[4.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 9.0]]);
         assert_eq!(values, [4.0, 1.0, 9.0]);
         assert_eq!(vectors, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     }
@@ -457,7 +551,16 @@ mod tests {
     #[test]
     fn fill_takes_the_nearest_covered_value() {
         // 4×1 row: covered at both ends; the inner points take their nearer end.
-        let mut z = [1.0, f64::NAN, f64::NAN, 5.0, f64::NAN, f64::NAN, f64::NAN, f64::NAN];
+        let mut z = [
+            1.0,
+            f64::NAN,
+            f64::NAN,
+            5.0,
+            f64::NAN,
+            f64::NAN,
+            f64::NAN,
+            f64::NAN,
+        ];
         let filled = fill_nearest(&mut z, 4, 2);
         assert_eq!(filled, 6);
         assert_eq!(z, [1.0, 1.0, 5.0, 5.0, 1.0, 1.0, 5.0, 5.0]);

@@ -128,18 +128,16 @@ fn parse_binary(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
             let o = 12 + 4 * k;
             f32::from_le_bytes([record[o], record[o + 1], record[o + 2], record[o + 3]]) as f64
         };
-        indexer.add([
-            [f(0), f(1), f(2)],
-            [f(3), f(4), f(5)],
-            [f(6), f(7), f(8)],
-        ])?;
+        indexer.add([[f(0), f(1), f(2)], [f(3), f(4), f(5)], [f(6), f(7), f(8)]])?;
     }
     Ok(indexer.mesh)
 }
 
 fn parse_ascii(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
     let text = std::str::from_utf8(bytes).map_err(|_| {
-        malformed("it begins with \"solid\" but is not text, and its size does not fit a binary STL")
+        malformed(
+            "it begins with \"solid\" but is not text, and its size does not fit a binary STL",
+        )
     })?;
     let mut indexer = Indexer::new(0);
     let mut corners: Vec<[f64; 3]> = Vec::with_capacity(3);
