@@ -8,8 +8,8 @@
 //!   largest component is positive.
 //! - **Planar.** The best-fit plane's normal n is whichever of the area-weighted mean triangle
 //!   normal, the PCA normal e₂ and the most consistently faced coordinate axis folds least (see
-//!   [`planar_normals`]); u = the coordinate axis most orthogonal to n, made orthogonal to it;
-//!   v = n × u. Grid coordinates are (d·u, d·v), height d·n, d = p − mean.
+//!   [`planar_normals`]); u = the coordinate axis most orthogonal to n or the principal axis
+//!   (made orthogonal to n), whichever gives the smaller bounding box; v = n × u. Grid coordinates are (d·u, d·v), height d·n, d = p − mean.
 //! - **Cylindrical.** Axis e₀ through the mean (the longest extent: a face scan's vertical axis, a
 //!   tube's axis), reference direction e₁. Grid x is the angle θ from the reference (radians), grid
 //!   y the position ζ along the axis, height the distance ρ from the axis. The seam is put in the
@@ -215,14 +215,37 @@ fn planar_normals(mesh: &TriangleMesh) -> Vec<[f64; 3]> {
 }
 
 fn project_planar(mesh: &TriangleMesh, n: [f64; 3]) -> Projected {
-    let (mean, _) = principal_frame(&mesh.vertices);
-    // u: the coordinate axis most orthogonal to n, made orthogonal to it, so that a terrain's
-    // grid stays aligned with its x axis.
+    let (mean, [e0, e1, _]) = principal_frame(&mesh.vertices);
+    // u: of the coordinate axis most orthogonal to n and the principal axis (each made orthogonal
+    // to n), the one whose grid has the smaller bounding box; so a terrain's grid stays aligned
+    // with its x axis and a rotated rectangle's with its sides.
     let k = (0..3).fold(0, |m, i| if n[i].abs() < n[m].abs() { i } else { m });
-    let mut e = [0.0; 3];
-    e[k] = 1.0;
-    let pick = sub(e, scale(n, dot(e, n)));
-    let u = scale(pick, 1.0 / dot(pick, pick).sqrt());
+    let mut axis = [0.0; 3];
+    axis[k] = 1.0;
+    let principal = if dot(e0, n).abs() < 0.9 { e0 } else { e1 };
+    let box_area = |u: [f64; 3]| {
+        let v = cross(n, u);
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in &mesh.vertices {
+            let d = sub(*p, mean);
+            let q = [dot(d, u), dot(d, v)];
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+        (hi[0] - lo[0]) * (hi[1] - lo[1])
+    };
+    let candidates = [axis, principal].map(|e| {
+        let w = sub(e, scale(n, dot(e, n)));
+        scale(w, 1.0 / dot(w, w).sqrt())
+    });
+    // Relative slack so that equal boxes (up to rounding) keep the coordinate axis.
+    let u = if box_area(candidates[1]) < box_area(candidates[0]) * (1.0 - 1e-9) {
+        candidates[1]
+    } else {
+        candidates[0]
+    };
     let v = cross(n, u);
     let points = mesh
         .vertices
