@@ -234,10 +234,18 @@ impl<'a> Body<'a> {
                 };
                 let mut tokens = line.split_whitespace();
                 let number = *line_number;
+                // A short last line is where a cut file ends; a short line inside is a mismatch.
+                let last = lines.clone().all(|l| l.trim().is_empty());
                 let mut next = |t: Scalar| -> Result<f64, ReadError> {
-                    let token = tokens.next().ok_or_else(|| ReadError::Tokens {
-                        line: number,
-                        message: format!("too few values for a {}", element.name),
+                    let token = tokens.next().ok_or_else(|| {
+                        if last {
+                            ReadError::Truncated
+                        } else {
+                            ReadError::Tokens {
+                                line: number,
+                                message: format!("too few values for a {}", element.name),
+                            }
+                        }
                     })?;
                     parse_token(token, t)
                 };
