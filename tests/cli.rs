@@ -53,7 +53,7 @@ fn info_takes_the_import_options() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(stdout.contains("size: 20×10 = 200 points"), "{stdout}");
-    assert!(stdout.contains("placement: planar"), "{stdout}");
+    assert!(stdout.contains("placement: planar projection"), "{stdout}");
     // A malformed grid size is refused by the argument parser.
     let out = paretomesh(&["info", ply.to_str().unwrap(), "--grid-size", "20by10"]);
     assert!(!out.status.success());

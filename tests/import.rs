@@ -263,6 +263,33 @@ fn grid_plys_are_used_exactly_and_match_the_raw_grid_bit_for_bit() {
     }
 }
 
+#[test]
+fn a_grid_ply_asked_for_another_size_is_resampled_in_its_own_plane() {
+    // 87×61 → 44×31 halves the resolution exactly (spacing 2), so every grid point is a vertex of
+    // the PLY and keeps its height; the placement maps it back onto that vertex.
+    let options = with(Projection::Auto, Some((44, 31)));
+    let hf = heightfield::load_with(&data("volcano_87x61.ply"), &options).unwrap();
+    let raw = heightfield::load(&data("volcano_87x61.f32")).unwrap();
+    assert_eq!(hf.spacing(), [2.0, 2.0]);
+    for y in 0..31 {
+        for x in 0..44 {
+            let (z, expected) = (hf.z_at(x, y), raw.z_at(2 * x, 2 * y));
+            assert!((z - expected).abs() < 1e-9, "({x},{y}): {z} vs {expected}");
+            let world = hf.to_world(hf.index(x, y), z);
+            let want = [2.0 * x as f64, 2.0 * y as f64, expected];
+            assert!(
+                (0..3).all(|k| (world[k] - want[k]).abs() < 1e-9),
+                "{world:?} vs {want:?}"
+            );
+        }
+    }
+    assert!(
+        hf.source().contains("exact 87×61 grid, resampled"),
+        "{}",
+        hf.source()
+    );
+}
+
 /// Writes a mesh as binary PLY (float x y z, uchar-counted int index lists).
 fn binary_ply(mesh: &TriangleMesh, big_endian: bool) -> Vec<u8> {
     let order = if big_endian {

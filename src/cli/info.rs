@@ -10,15 +10,19 @@ pub fn run(input: &InputArgs) -> Result<(), String> {
     println!("z range: {lo} .. {hi}");
     println!("origin: {:?}", hf.origin());
     println!("spacing: {:?}", hf.spacing());
-    println!(
-        "placement: {}",
-        match hf.placement() {
-            Placement::Grid => "grid (x, y, z) as given",
-            Placement::Planar { .. } => "planar projection onto the best-fit plane",
-            Placement::Cylindrical { .. } =>
-                "cylindrical unwrap (x = angle in radians, y = along the axis, z = radius)",
-        }
-    );
+    match hf.placement() {
+        Placement::Grid => println!("placement: grid, world = (x, y, z) as given"),
+        Placement::Planar { origin, u, v, n } => println!(
+            "placement: planar projection, world = {origin:?} + x·{u:?} + y·{v:?} + z·{n:?}"
+        ),
+        Placement::Cylindrical {
+            origin,
+            axis,
+            reference,
+        } => println!(
+            "placement: cylindrical unwrap around axis {axis:?} through {origin:?} (x = angle from {reference:?} in radians, y = along the axis, z = radius)"
+        ),
+    }
     println!("full mesh: {} triangles", hf.full_triangles());
     println!(
         "filled: {} grid points had no triangle and took their nearest value",

@@ -13,8 +13,9 @@ use std::path::Path;
 /// How a mesh that is not already a regular grid is turned into one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Projection {
-    /// Use the mesh's own vertices when they form an exact regular grid in (x, y); otherwise a
-    /// planar projection, and when that folds over itself, a cylindrical unwrap.
+    /// Use the mesh's own vertices when they form an exact regular grid in (x, y) (resampled in
+    /// that plane when another grid size is asked for); otherwise a planar projection, and when
+    /// that folds over itself, a cylindrical unwrap.
     #[default]
     Auto,
     /// Project onto the best-fit plane (principal component analysis of the vertices); the height
@@ -44,8 +45,8 @@ pub struct ImportOptions {
     pub projection: Projection,
     /// Grid size `(width, height)` for resampling a mesh. `None`: about as many grid points as
     /// the mesh has vertices, with the aspect ratio of the projected surface, each side capped at
-    /// [`mesh::DEFAULT_MAX_SIDE`]. A mesh whose vertices already form a grid is used as is unless
-    /// a different size is asked for.
+    /// [`mesh::DEFAULT_MAX_SIDE`]. With [`Projection::Auto`], a mesh whose vertices already form
+    /// a grid is used as is unless a different size is asked for.
     pub grid_size: Option<(usize, usize)>,
     /// Read an RGB PNG as Mapbox terrain-RGB: h = −10000 + (R·65536 + G·256 + B)·0.1.
     pub terrain_rgb: bool,

@@ -160,20 +160,42 @@ pub fn to_heightfield(
         mesh.vertices.len(),
         mesh.triangles.len()
     );
-    if options.projection == Projection::Auto
-        && let Some(grid) = lattice(&mesh.vertices)
-        && options
-            .grid_size
-            .is_none_or(|size| size == (grid.width, grid.height))
-    {
-        let note = format!(
-            "{summary}: the vertices form an exact {}×{} grid, used as is",
+    let grid = match options.projection {
+        Projection::Auto => lattice(&mesh.vertices),
+        _ => None,
+    };
+    if let Some(grid) = grid {
+        let found = format!(
+            "{summary}: the vertices form an exact {}×{} grid",
             grid.width, grid.height
         );
-        return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
-            .with_geometry(grid.origin, grid.spacing)?
-            .with_placement(Placement::Grid)
-            .with_source(note));
+        if options
+            .grid_size
+            .is_none_or(|size| size == (grid.width, grid.height))
+        {
+            return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
+                .with_geometry(grid.origin, grid.spacing)?
+                .with_placement(Placement::Grid)
+                .with_source(format!("{found}, used as is")));
+        }
+        // Another size: resample in the grid's own (x, y) plane, heights stay z.
+        if mesh.triangles.is_empty() {
+            return Err(ImportError::EmptyMesh { format });
+        }
+        if let resample::Outcome::Grid(r) =
+            resample::resample_along(mesh, [0.0, 0.0, 1.0], options.grid_size)?
+        {
+            let note = format!(
+                "{found}, resampled in its (x, y) plane onto a {}×{} grid; {} grid points had no triangle and took their nearest value",
+                r.width, r.height, r.filled
+            );
+            return Ok(Heightfield::new(r.width, r.height, r.z)?
+                .with_geometry(r.origin, r.spacing)?
+                .with_placement(r.placement)
+                .with_filled(r.filled)
+                .with_source(note));
+        }
+        // A lattice whose triangles fold in (x, y) (unusual faces): the general path decides.
     }
     if mesh.triangles.is_empty() {
         return Err(ImportError::EmptyMesh { format });

@@ -245,22 +245,21 @@ fn project_planar(mesh: &TriangleMesh, n: [f64; 3]) -> Projected {
         candidates[0]
     };
     let v = cross(n, u);
+    // Along a coordinate axis the frame is the input's own (origin 0): a terrain keeps its
+    // coordinates and heights. Otherwise the frame sits at the mean, away from large offsets.
+    let along_axis = n.iter().filter(|c| **c != 0.0).count() == 1;
+    let origin = if along_axis { [0.0; 3] } else { mean };
     let points = mesh
         .vertices
         .iter()
         .map(|p| {
-            let d = sub(*p, mean);
+            let d = sub(*p, origin);
             [dot(d, u), dot(d, v), dot(d, n)]
         })
         .collect();
     Projected {
         points,
-        placement: Placement::Planar {
-            origin: mean,
-            u,
-            v,
-            n,
-        },
+        placement: Placement::Planar { origin, u, v, n },
         period: None,
         x_unit: 1.0,
     }
@@ -354,6 +353,16 @@ pub fn resample(
         Some(grid) => Outcome::Grid(grid),
         None => Outcome::Folded { overlap: least },
     })
+}
+
+/// Resamples `mesh` (validated, with triangles) by planar projection along the unit normal `n`
+/// — used for a mesh that is already a grid in its own (x, y) plane, to give it another size.
+pub fn resample_along(
+    mesh: &TriangleMesh,
+    n: [f64; 3],
+    size: Option<(usize, usize)>,
+) -> Result<Outcome, ImportError> {
+    resample_projected(mesh, project_planar(mesh, n), size)
 }
 
 fn resample_projected(
