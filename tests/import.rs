@@ -718,6 +718,11 @@ fn a_closed_sphere_has_no_planar_projection_but_unwraps_cylindrically() {
     let hf = resampled(&sphere, &with(Projection::Auto, Some((48, 24)))).unwrap();
     assert!(matches!(hf.placement(), Placement::Cylindrical { .. }));
     assert!(hf.source().contains("cylindrical"));
+    assert!(
+        hf.source().contains("the planar projection folds"),
+        "{}",
+        hf.source()
+    );
     // Every radius is at most the sphere's.
     assert!(hf.z().iter().all(|&z| z <= 2.0 + 1e-9));
 }

@@ -207,7 +207,7 @@ pub fn to_heightfield(
             _ => &Projection::Cylindrical,
         }),
     };
-    let mut tried = Vec::new();
+    let mut tried: Vec<(Projection, Option<f64>)> = Vec::new();
     for &projection in tries {
         match resample::resample(mesh, projection, options.grid_size)? {
             resample::Outcome::Grid(grid) => {
@@ -222,6 +222,18 @@ pub fn to_heightfield(
                     grid.overlap * 100.0,
                     grid.filled
                 );
+                // Say why an earlier projection was passed over.
+                let note = match tried.first() {
+                    Some((first, Some(share))) => format!(
+                        "{note} (the {} projection folds: {:.0} % covered more than once)",
+                        first.name(),
+                        share * 100.0
+                    ),
+                    Some((first, None)) => {
+                        format!("{note} (the {} projection has no area)", first.name())
+                    }
+                    None => note,
+                };
                 return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
                     .with_geometry(grid.origin, grid.spacing)?
                     .with_placement(grid.placement)

@@ -7,9 +7,11 @@
 //!   weighted equally) gives axes e₀, e₁, e₂ by decreasing variance, each signed so that its
 //!   largest component is positive.
 //! - **Planar.** The best-fit plane's normal n is whichever of the area-weighted mean triangle
-//!   normal, the PCA normal e₂ and the most consistently faced coordinate axis folds least (see
-//!   [`planar_normals`]); u = the coordinate axis most orthogonal to n or the principal axis
-//!   (made orthogonal to n), whichever gives the smaller bounding box; v = n × u. Grid coordinates are (d·u, d·v), height d·n, d = p − mean.
+//!   normal, the PCA normal e₂ and the most consistently faced coordinate axis folds least, the
+//!   first of them on ties (see `planar_normals`); u = the coordinate axis most orthogonal to n
+//!   or the principal axis (made orthogonal to n), whichever gives the smaller bounding box;
+//!   v = n × u. Grid coordinates are (d·u, d·v), height d·n, with d = p − origin and the origin
+//!   at the mean, or at 0 when n is a coordinate axis (so a terrain keeps its own x, y, z).
 //! - **Cylindrical.** Axis e₀ through the mean (the longest extent: a face scan's vertical axis, a
 //!   tube's axis), reference direction e₁. Grid x is the angle θ from the reference (radians), grid
 //!   y the position ζ along the axis, height the distance ρ from the axis. The seam is put in the
@@ -316,7 +318,7 @@ fn automatic_size(vertices: usize, world_x: f64, world_y: f64) -> (usize, usize)
 }
 
 /// Projects `mesh` (validated, with triangles) and rasterises it onto a grid of `size` (or the
-/// automatic size). The planar projection tries each of [`planar_normals`] and keeps the one
+/// automatic size). The planar projection tries each candidate normal (`planar_normals`) and keeps the one
 /// with the least overlap. Fails only on a grid size over the
 /// limits.
 pub fn resample(
