@@ -78,7 +78,7 @@ pub fn rank_sum_test(sample1: &[f64], sample2: &[f64]) -> Result<RankSumTest, Me
 /// - Normal: z = (U1 − n1·n2/2 − c) / σ with the continuity correction c = ±0.5 towards the mean
 ///   (c = 0 when U1 = n1·n2/2), and the tie-corrected variance
 ///   σ² = n1·n2/12 · ((N+1) − Σ(t³ − t) / (N(N−1))), N = n1 + n2, t the size of each group of
-///   tied values; p = 2·(1 − Φ(|z|)) = erfc(|z|/√2), computed with `statrs`' erfc. Same as R's
+///   tied values; p = 2·(1 − Φ(|z|)) = erfc(|z|/√2), computed with the `libm` crate's erfc. Same as R's
 ///   `wilcox.test(correct = TRUE)` and SciPy's default asymptotic method. If every value is
 ///   equal, σ = 0 and there is no evidence of any difference: p = 1.
 ///
@@ -130,7 +130,7 @@ pub fn rank_sum_test_with(
     } else {
         let correction = 0.5 * deviation.signum() * f64::from(deviation != 0.0);
         let z = (deviation - correction) / variance.sqrt();
-        let p = statrs::function::erf::erfc(z.abs() / std::f64::consts::SQRT_2);
+        let p = libm::erfc(z.abs() / std::f64::consts::SQRT_2);
         (z, p.min(1.0))
     };
     Ok(RankSumTest {
