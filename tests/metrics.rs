@@ -602,6 +602,26 @@ fn rank_sum_completely_separated_samples() {
 }
 
 #[test]
+fn rank_sum_verdict_gives_the_direction_of_a_significant_difference() {
+    use std::cmp::Ordering;
+    // p = 2/252 = 0.0079: significant at 0.05 and at 0.01, not at 0.005.
+    let low = [1.0, 2.0, 3.0, 4.0, 5.0];
+    let high = [6.0, 7.0, 8.0, 9.0, 10.0];
+    let t = rank_sum_test(&low, &high).unwrap();
+    assert_eq!(t.verdict(0.05), Ordering::Less);
+    assert_eq!(t.verdict(0.01), Ordering::Less);
+    assert_eq!(t.verdict(0.005), Ordering::Equal);
+    assert_eq!(
+        rank_sum_test(&high, &low).unwrap().verdict(0.05),
+        Ordering::Greater
+    );
+    // p = 0.1111 (the SciPy example): not significant at 0.05.
+    let t = rank_sum_test(&[19.0, 22.0, 16.0, 29.0, 24.0], &[20.0, 11.0, 17.0, 12.0]).unwrap();
+    assert_eq!(t.verdict(0.05), Ordering::Equal);
+    assert_eq!(t.verdict(f64::NAN), Ordering::Equal);
+}
+
+#[test]
 fn rank_sum_normal_approximation_with_heavy_ties() {
     // x = 1,1,1,2,2 and y = 2,2,3,3,3. Tie groups: three 1s (ranks 1–3, midrank 2), four 2s
     // (ranks 4–7, midrank 5.5), three 3s (ranks 8–10, midrank 9).

@@ -10,8 +10,9 @@ use crate::front::dominates;
 ///
 /// Equivalently the mean, over the points a of A, of the fraction of B that a dominates. Strict
 /// dominance: equal points do not count, so P(A, A) = 0 for a mutually non-dominated A, and
-/// P(A, B) + P(B, A) ≤ 1 always (a ≺ b and b ≺ a cannot both hold). The experiment averages this
-/// over run pairs and marks significance with the rank-sum test; that averaging is not done here.
+/// P(A, B) + P(B, A) ≤ 1 always (a ≺ b and b ≺ a cannot both hold). Averaging it over runs (or
+/// pairs of runs) for a table, and testing the difference with
+/// [`rank_sum_test`](super::rank_sum_test), is left to the caller.
 ///
 /// Errors: [`MetricsError::Empty`] if either set is empty; [`MetricsError::NonFinite`] for NaN
 /// or infinite coordinates.

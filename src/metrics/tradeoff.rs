@@ -4,13 +4,14 @@
 use super::{MetricsError, Point, check_non_empty};
 use rand::{Rng, RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use serde::Serialize;
 use std::cmp::Ordering;
 
 /// The number of random weights of the paper's trade-off pick.
 pub const TRADE_OFF_WEIGHTS: usize = 1000;
 
 /// The result of [`trade_off_pick`]: which point won, and the numbers it won with.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct TradeOffPick {
     /// Index of the picked point in the slice given.
     pub index: usize,

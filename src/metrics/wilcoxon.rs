@@ -1,6 +1,7 @@
 //! The two-sided Wilcoxon rank-sum (Mann–Whitney U) test for two independent samples.
 
 use super::MetricsError;
+use serde::Serialize;
 use std::cmp::Ordering;
 
 /// [`RankSumMethod::Auto`] uses the exact distribution when both samples have fewer than this
@@ -13,7 +14,7 @@ pub const EXACT_SAMPLE_LIMIT: usize = 50;
 pub(super) const EXACT_TABLE_LIMIT: usize = 10_000;
 
 /// How the p-value of [`rank_sum_test_with`] is computed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub enum RankSumMethod {
     /// Exact if there are no ties and both samples have fewer than [`EXACT_SAMPLE_LIMIT`]
     /// values, normal approximation otherwise.
@@ -25,7 +26,7 @@ pub enum RankSumMethod {
 }
 
 /// The outcome of a two-sided rank-sum test of sample 1 against sample 2.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct RankSumTest {
     /// Size of sample 1.
     pub n1: usize,
@@ -50,6 +51,18 @@ impl RankSumTest {
     /// sample 2 (ties count half). Above 0.5 means sample 1 tends to be larger.
     pub fn prob_first_larger(&self) -> f64 {
         self.u1 / (self.n1 as f64 * self.n2 as f64)
+    }
+
+    /// The verdict at significance level `alpha` (e.g. 0.05): `Greater` if sample 1 is
+    /// significantly larger (p ≤ `alpha` and U1 > n1·n2/2), `Less` if significantly smaller,
+    /// `Equal` if the difference is not significant. A table's +/−/= mark is this, read in the
+    /// direction in which larger values are better or worse. A NaN `alpha` gives `Equal`.
+    pub fn verdict(&self, alpha: f64) -> Ordering {
+        let significant = self.p_value <= alpha; // false for a NaN alpha
+        if !significant {
+            return Ordering::Equal;
+        }
+        self.u1.partial_cmp(&self.u2).unwrap_or(Ordering::Equal)
     }
 }
 
