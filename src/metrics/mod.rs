@@ -10,6 +10,30 @@
 //!
 //! Every function checks its inputs: a NaN or infinite coordinate, or an empty set where the
 //! indicator is undefined, is a [`MetricsError`], never a panic.
+//!
+//! Coverage: [`coverage`] is Zitzler's C(A, B) with weak dominance, as published (C(A, A) = 1);
+//! [`strict_coverage`] is the strict-dominance variant (C(A, A) = 0 for a non-dominated A). They
+//! differ only on solutions both sets found.
+//!
+//! The paper's comparison of two methods on one dataset, in outline:
+//!
+//! ```
+//! use paretomesh::metrics::{self, DEFAULT_REFERENCE_POINT, Normalization};
+//! // Raw (E, T) fronts of two methods; E of the corner-only mesh 120, full grid 2048 triangles.
+//! let a_raw = [[120.0, 2.0], [40.0, 60.0], [10.0, 400.0]];
+//! let b_raw = [[120.0, 2.0], [50.0, 60.0], [5.0, 900.0]];
+//! let n = Normalization::new(120.0, 2048.0).unwrap();
+//! let (a, b) = (n.apply_all(&a_raw), n.apply_all(&b_raw));
+//! let reference_front = metrics::merge([&a[..], &b[..]]).unwrap();
+//! let hvr_a = metrics::hypervolume_ratio(&a, &reference_front, DEFAULT_REFERENCE_POINT).unwrap();
+//! let hvr_b = metrics::hypervolume_ratio(&b, &reference_front, DEFAULT_REFERENCE_POINT).unwrap();
+//! assert!(hvr_a < 1.0 && hvr_b < 1.0); // each misses a part of the merge
+//! let eps = metrics::additive_epsilon(&a, &b).unwrap();
+//! let c_ab = metrics::coverage(&a, &b).unwrap(); // (120, 2) shared, (50, 60) dominated: 2/3
+//! assert!((c_ab - 2.0 / 3.0).abs() < 1e-12 && eps > 0.0);
+//! let pick = metrics::trade_off_pick(&a, 1).unwrap();
+//! assert!(pick.index < a.len());
+//! ```
 
 mod coverage;
 mod dominance;
