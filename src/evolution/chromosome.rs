@@ -150,7 +150,7 @@ pub fn for_each_bernoulli(n: usize, p: f64, rng: &mut Pcg64Mcg, mut visit: impl 
     loop {
         let u = 1.0 - rng.random::<f64>(); // (0, 1]
         let gap = (u.ln() / log_q).floor();
-        if !(gap < (n - i) as f64) {
+        if gap >= (n - i) as f64 {
             return;
         }
         i += gap as usize;

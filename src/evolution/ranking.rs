@@ -61,7 +61,7 @@ pub fn crowding_distances(points: &[[f64; 2]], front: &[usize]) -> Vec<f64> {
         return vec![f64::INFINITY; n];
     }
     let mut order: Vec<usize> = (0..n).collect();
-    for m in 0..2 {
+    for m in [0, 1] {
         let value = |k: usize| points[front[k]][m];
         order.sort_by(|&a, &b| value(a).total_cmp(&value(b)).then(a.cmp(&b)));
         let (lo, hi) = (value(order[0]), value(order[n - 1]));
