@@ -145,11 +145,14 @@ pub fn for_each_bernoulli(n: usize, p: f64, rng: &mut Pcg64Mcg, mut visit: impl 
         return;
     }
     // Gap before the next hit ~ Geometric(p): floor(ln U / ln(1 − p)), U in (0, 1].
-    let log_q = (-p).ln_1p();
+    // `libm` rather than std's `ln`: std calls the platform's libm (glibc natively, a Rust port
+    // of musl on wasm32), which may differ in the last bit; one implementation everywhere keeps
+    // runs bit-identical natively and in the browser.
+    let log_q = libm::log1p(-p);
     let mut i = 0usize;
     loop {
         let u = 1.0 - rng.random::<f64>(); // (0, 1]
-        let gap = (u.ln() / log_q).floor();
+        let gap = (libm::log(u) / log_q).floor();
         if gap >= (n - i) as f64 {
             return;
         }

@@ -45,7 +45,8 @@ pub fn corners_only(hf: &Heightfield) -> Chromosome {
 pub fn initial_density(i: usize, count: usize, free: usize, rng: &mut Pcg64Mcg) -> f64 {
     let u = (i as f64 + rng.random::<f64>()) / count.max(1) as f64;
     let d_min = 1.0 / free.max(1) as f64;
-    d_min.powf(1.0 - u)
+    // `libm::pow`, not `powf`: the same bits natively and in wasm (see `for_each_bernoulli`).
+    libm::pow(d_min, 1.0 - u)
 }
 
 /// A random chromosome: the corners plus each free gene with probability `density`.
