@@ -3,6 +3,7 @@
 
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
+use serde::ser::{Serialize, SerializeStruct, Serializer};
 
 /// A kept set as a compact bitset over the grid indices `0..len`.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
@@ -133,6 +134,16 @@ impl Chromosome {
     }
 }
 
+/// Serialises as `{"len": N, "kept": [set indices…]}`, the form the browser draws.
+impl Serialize for Chromosome {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut st = serializer.serialize_struct("Chromosome", 2)?;
+        st.serialize_field("len", &self.len)?;
+        st.serialize_field("kept", &self.indices())?;
+        st.end()
+    }
+}
+
 /// Calls `visit(i)` for each `i` in `0..n` independently with probability `p`, drawing only one
 /// random number per hit (geometric gaps), so a mutation with p = 1/L costs O(1) draws instead of
 /// L. `p` is clamped to `[0, 1]`.
@@ -177,6 +188,15 @@ mod tests {
         let c = Chromosome::from_indices(200, &idx);
         assert_eq!(c.indices(), idx);
         assert_eq!(c.count_ones(), idx.len());
+    }
+
+    #[test]
+    fn serialises_as_its_kept_indices() {
+        let c = Chromosome::from_indices(70, &[0, 69, 5]);
+        assert_eq!(
+            serde_json::to_string(&c).unwrap(),
+            r#"{"len":70,"kept":[0,5,69]}"#
+        );
     }
 
     #[test]

@@ -37,10 +37,11 @@ use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use serde::Serialize;
 use std::sync::Arc;
 
 /// A member of the population.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Individual {
     /// Its kept set.
     pub genes: Chromosome,
@@ -48,7 +49,7 @@ pub struct Individual {
     pub objectives: Objectives,
     /// Non-domination rank in the population (0 = non-dominated).
     pub rank: usize,
-    /// Crowding distance within its rank (infinite at the ends of a front).
+    /// Crowding distance within its rank (infinite at the ends of a front; JSON writes `null`).
     pub crowding: f64,
 }
 

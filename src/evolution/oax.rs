@@ -129,7 +129,7 @@ fn copy_block(to: &mut Chromosome, from: &Chromosome, block: &Block, width: usiz
 }
 
 /// One child of a crossover, as the teaching view shows it.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct OaxChild {
     /// The level of each factor (0 = from parent A, 1 = from parent B).
     pub levels: Vec<u8>,
@@ -144,8 +144,8 @@ pub struct OaxChild {
     pub evaluated: bool,
 }
 
-/// The full record of one orthogonal-array crossover.
-#[derive(Clone, Debug, PartialEq)]
+/// The full record of one orthogonal-array crossover (serialisable for the browser).
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct OaxRecord {
     /// The array used.
     pub array: OrthogonalArray,
