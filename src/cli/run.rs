@@ -176,10 +176,14 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     loop {
         let p = optimizer.step(250);
         if terminal {
-            let fraction = if generations == 0 {
+            let by_generation = p.generation as f64 / generations.max(1) as f64;
+            let by_cap = args
+                .evals
+                .map_or(0.0, |cap| p.evaluations as f64 / cap.max(1) as f64);
+            let fraction = if p.done {
                 1.0
             } else {
-                (p.generation as f64 / generations as f64).min(1.0)
+                by_generation.max(by_cap).min(1.0)
             };
             let filled = (fraction * 30.0).round() as usize;
             eprint!(
