@@ -11,7 +11,7 @@
 //!   included, so it is the front of everything seen.
 //!
 //! OAX's factor analysis needs a scalar fitness. Here it is the normalised weighted sum
-//! F = w·E/E₀ + (1 − w)·T/T₀ ([`Scalarisation`]) with a fresh random w ~ U(0, 1) per crossover.
+//! F = w·E/E₀ + (1 − w)·T/T₀ ([`Scalarisation`](super::objectives::Scalarisation)) with a fresh random w ~ U(0, 1) per crossover.
 //! Why: the rank of a child among 8 siblings says little (most of them are mutually
 //! non-dominated, so ranks tie), and ranking against the whole population would make a
 //! crossover's outcome depend on the rest of the population. A random weight asks each
