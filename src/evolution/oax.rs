@@ -15,9 +15,12 @@
 //! middle half, until there are F blocks. Compact blocks of varying shape and position, so no
 //! block boundary is favoured over time.
 //!
-//! Row 0 of the array takes every factor from parent A: it *is* parent A, whose objectives are
-//! already known, so it is not evaluated again (and not counted). Every other child is evaluated
-//! once and counted by the caller's `evaluate`.
+//! A child identical to a parent or to an earlier child is not evaluated again (its objectives
+//! are known, so no evaluation is spent or counted): row 0 takes every factor from parent A and
+//! *is* parent A, and where the parents agree on a block (often: sparse parents share empty
+//! blocks) the rows that differ only in that factor coincide. Every other child is evaluated once
+//! through the caller's `evaluate`, which counts it. The two children returned are the two
+//! fittest with different genes (the same one twice only when all children are equal).
 
 use super::chromosome::Chromosome;
 use super::objectives::Objectives;
@@ -139,8 +142,8 @@ pub struct OaxChild {
     pub objectives: Objectives,
     /// Its scalar fitness (minimised).
     pub fitness: f64,
-    /// False when its objectives were known already (row 0 = parent A, or a best-levels child
-    /// equal to a row), so no evaluation was spent on it.
+    /// False when its objectives were known already (it equals a parent or an earlier child),
+    /// so no evaluation was spent on it.
     pub evaluated: bool,
 }
 
@@ -203,49 +206,50 @@ pub fn crossover(
         }
         child
     };
-    let mut rows = Vec::with_capacity(array.rows());
-    for row in 0..array.rows() {
-        let levels = array.row_levels(row, factors);
-        let genes = build(&levels);
-        let (objectives, evaluated) = if row == 0 {
-            (parent_a.1, false)
+    // A child identical to a parent or to an earlier child is not evaluated again.
+    let known = |genes: &Chromosome, rows: &[OaxChild]| {
+        if genes == parent_a.0 {
+            Some(parent_a.1)
+        } else if genes == parent_b.0 {
+            Some(parent_b.1)
         } else {
-            (evaluate(&genes), true)
+            rows.iter()
+                .find(|c| c.genes == *genes)
+                .map(|c| c.objectives)
+        }
+    };
+    let mut child = |levels: Vec<u8>, rows: &[OaxChild]| {
+        let genes = build(&levels);
+        let (objectives, evaluated) = match known(&genes, rows) {
+            Some(o) => (o, false),
+            None => (evaluate(&genes), true),
         };
-        rows.push(OaxChild {
+        OaxChild {
             fitness: fitness(&objectives),
             levels,
             genes,
             objectives,
             evaluated,
-        });
+        }
+    };
+    let mut rows = Vec::with_capacity(array.rows());
+    for row in 0..array.rows() {
+        let c = child(array.row_levels(row, factors), &rows);
+        rows.push(c);
     }
     let row_fitness: Vec<f64> = rows.iter().map(|c| c.fitness).collect();
     let (effects, best) = factor_analysis(&array, factors, &row_fitness);
-    let best_levels = match rows.iter().find(|c| c.levels == best) {
-        Some(same) => OaxChild {
-            evaluated: false,
-            ..same.clone()
-        },
-        None => {
-            let genes = build(&best);
-            let objectives = evaluate(&genes);
-            OaxChild {
-                fitness: fitness(&objectives),
-                levels: best,
-                genes,
-                objectives,
-                evaluated: true,
-            }
-        }
-    };
-    // The best two distinct children; the best-levels child is a candidate only when new.
-    let mut order: Vec<usize> = (0..rows.len()).collect();
-    if best_levels.evaluated {
-        order.push(rows.len());
-    }
-    let fit = |i: usize| rows.get(i).unwrap_or(&best_levels).fitness;
-    order.sort_by(|&i, &j| fit(i).total_cmp(&fit(j)).then(i.cmp(&j)));
+    let best_levels = child(best, &rows);
+    // The best two children with different genes (ties by row; the best-levels child last).
+    let mut order: Vec<usize> = (0..=rows.len()).collect();
+    let get = |i: usize| rows.get(i).unwrap_or(&best_levels);
+    order.sort_by(|&i, &j| get(i).fitness.total_cmp(&get(j).fitness).then(i.cmp(&j)));
+    let first = order[0];
+    let second = order
+        .iter()
+        .copied()
+        .find(|&i| get(i).genes != get(first).genes)
+        .unwrap_or(first);
     OaxRecord {
         array,
         blocks,
@@ -254,7 +258,7 @@ pub fn crossover(
             (parent_b.0.clone(), parent_b.1),
         ],
         weight,
-        chosen: [order[0], order[1.min(order.len() - 1)]],
+        chosen: [first, second],
         rows,
         effects,
         best_levels,
@@ -283,6 +287,39 @@ mod tests {
             }
             assert!(owner.iter().all(|&n| n == 1), "{w}×{h}, {f} factors");
         }
+    }
+
+    #[test]
+    fn children_equal_to_a_parent_or_sibling_are_not_evaluated() {
+        // Parents that differ only inside block 0: every row equals A (factor 0 at level 0) or
+        // B (level 1), so the crossover costs nothing and returns both parents.
+        let mut rng = Pcg64Mcg::seed_from_u64(5);
+        let blocks = spatial_blocks(8, 8, 7, &mut rng);
+        let a = Chromosome::from_indices(64, &[0, 7, 56, 63]);
+        let mut b = a.clone();
+        let b0 = blocks[0];
+        b.set(b0.y0 * 8 + b0.x0, true);
+        let score = |c: &Chromosome| Objectives {
+            e_sum: c.count_ones() as f64,
+            e_max: 0.0,
+            t: 0,
+        };
+        let mut evaluations = 0;
+        let record = crossover(
+            (&a, score(&a)),
+            (&b, score(&b)),
+            8,
+            blocks,
+            1.0,
+            |c| {
+                evaluations += 1;
+                score(c)
+            },
+            |o| o.e_sum,
+        );
+        assert_eq!((evaluations, record.evaluations()), (0, 0));
+        let chosen = record.chosen.map(|i| record.child(i).genes.clone());
+        assert_eq!(chosen, [a, b], "the two distinct children, fittest first");
     }
 
     #[test]
