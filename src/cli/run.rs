@@ -1,7 +1,8 @@
 //! `paretomesh run GRID --algo ALGO [...] --out front.json [--csv front.csv]`: runs one
 //! optimizer to the end, shows progress on stderr, writes front.json (and the (E_sum, T) CSV).
 //!
-//! Adding an algorithm = one variant of [`Algo`] and one arm in [`build`].
+//! Adding an algorithm = one variant of [`Algo`] and one arm in [`build`] (the variant's
+//! command-line name is the `algorithm` field of front.json).
 
 use clap::{Args, ValueEnum};
 use paretomesh::evaluator::Evaluator;
@@ -25,11 +26,12 @@ pub enum Algo {
 }
 
 impl Algo {
-    fn name(self) -> &'static str {
-        match self {
-            Algo::Nsga2 => "nsga2",
-            Algo::Weighted => "weighted",
-        }
+    /// The name on the command line, which front.json repeats.
+    fn name(self) -> String {
+        self.to_possible_value()
+            .expect("every algorithm has a command-line name")
+            .get_name()
+            .to_string()
     }
 }
 
@@ -215,7 +217,7 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     let mut evaluator = Evaluator::new(hf);
     let file = RunFile::new(
         &mut evaluator,
-        args.algo.name(),
+        &args.algo.name(),
         params,
         args.seed,
         p.evaluations,
