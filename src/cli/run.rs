@@ -1,14 +1,16 @@
-//! `paretomesh run GRID --algo ALGO [...] --out front.json [--csv front.csv]`: runs one
-//! optimizer to the end, shows progress on stderr, writes front.json (and the (E_sum, T) CSV).
+//! `paretomesh run GRID --algo ALGO [...] --out front.json [--csv front.csv] [import options]`:
+//! runs one optimizer to the end, shows progress on stderr, writes front.json (and the
+//! (E_sum, T) CSV).
 //!
 //! Adding an algorithm = one variant of [`Algo`] and one arm in [`build`] (the variant's
 //! command-line name is the `algorithm` field of front.json).
 
+use super::input::InputArgs;
 use clap::{Args, ValueEnum};
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
 use paretomesh::front::Front;
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::{Optimizer, Progress};
 use paretomesh::run_file::RunFile;
 use std::io::{IsTerminal, Write};
@@ -49,8 +51,9 @@ pub enum CrossoverArg {
 /// Options of `paretomesh run`.
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// Input: .f32 (with its .json sidecar), PNG, PLY, OBJ or STL.
-    grid: PathBuf,
+    /// The grid file and how to import it.
+    #[command(flatten)]
+    input: InputArgs,
     /// The algorithm.
     #[arg(long, value_enum)]
     algo: Algo,
@@ -164,7 +167,7 @@ fn status(p: &Progress, generations: u64, front: &Front, full_triangles: usize) 
 }
 
 pub fn run(args: &RunArgs) -> Result<(), String> {
-    let hf = Arc::new(heightfield::load(&args.grid).map_err(|e| e.to_string())?);
+    let hf = Arc::new(args.input.load()?);
     let Built {
         mut optimizer,
         params,
