@@ -131,3 +131,50 @@ pub fn offer(front: &mut Front, c: &Chromosome, o: &Objectives) -> bool {
         kept: c.indices(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    #[test]
+    fn normalisers_are_the_corner_mesh_error_and_the_full_grid_triangles() {
+        // 3×3 grid, flat but for a bump of 4 in the middle: E₀ = 4 (corners only), T₀ = 8.
+        let mut z = vec![0.0; 9];
+        z[4] = 4.0;
+        let hf = Arc::new(Heightfield::new(3, 3, z).unwrap());
+        let mut scorer = Scorer::new(hf);
+        let f = scorer.scalarisation(0.25);
+        assert_eq!((f.e0, f.t0), (4.0, 8.0));
+        let corners = Chromosome::from_indices(9, &[0, 2, 6, 8]);
+        let o = scorer.score(&corners);
+        assert_eq!((o.e_sum, o.t), (4.0, 2));
+        assert_eq!(f.value(&o), 0.25 * 1.0 + 0.75 * 2.0 / 8.0);
+        assert_eq!(scorer.evaluations(), 1, "E₀ itself is not counted");
+    }
+
+    #[test]
+    fn offer_agrees_with_the_front() {
+        // Random (E, T) pairs on a coarse lattice, so that ties in E, in T and in both occur:
+        // the shortcut must accept exactly what `Front::offer` accepts.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(8);
+        let (mut fast, mut plain) = (Front::default(), Front::default());
+        let c = Chromosome::from_indices(4, &[0, 1, 2, 3]);
+        for _ in 0..2000 {
+            let o = Objectives {
+                e_sum: rng.random_range(0..40) as f64,
+                e_max: 0.0,
+                t: rng.random_range(2..40),
+            };
+            let entered = offer(&mut fast, &c, &o);
+            let expected = plain.offer(Solution {
+                e_sum: o.e_sum,
+                e_max: o.e_max,
+                t: o.t,
+                kept: c.indices(),
+            });
+            assert_eq!(entered, expected, "{o:?}");
+        }
+        assert_eq!(fast, plain);
+    }
+}
