@@ -165,7 +165,10 @@ impl Evaluator {
                 self.kept.push(i);
             }
         }
-        self.kept.sort_unstable();
+        // The corners were appended last; callers usually pass increasing indices already.
+        if !self.kept.is_sorted() {
+            self.kept.sort_unstable();
+        }
         self.mesh.rebuild_delaunay(self.hf.width(), &self.kept);
         Ok(self.score_mesh())
     }
