@@ -163,7 +163,7 @@ impl Evaluator {
         self.kept.clear();
         let corners = self.hf.corners();
         let mut next_corner = 0;
-        let mut take = |i: u32, marks: &mut [bool], out: &mut Vec<u32>| {
+        let take = |i: u32, marks: &mut [bool], out: &mut Vec<u32>| {
             if std::mem::replace(&mut marks[i as usize], false) {
                 out.push(i);
             }
