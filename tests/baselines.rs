@@ -442,3 +442,60 @@ fn params_round_trip_through_json() {
     );
     assert_eq!(decimation.reductions.len(), 10);
 }
+
+#[test]
+fn cli_run_greedy_and_decimation_write_fronts_that_rescore() {
+    // `paretomesh run --algo greedy|decimation` must write a front.json naming the algorithm,
+    // whose every solution re-scores to its stated numbers; greedy's --max-error-fraction stop
+    // must hold on its last (largest-T) solution or on one before it.
+    let exe = env!("CARGO_BIN_EXE_paretomesh");
+    let grid = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/volcano_33x33.f32");
+    let hf = fixture("volcano_33x33");
+    let (lo, hi) = hf.z_range();
+    let runs: [(&str, &[&str]); 3] = [
+        ("greedy", &["--max-error-fraction", "0.01"]),
+        ("greedy", &["--rule", "sum-reduction", "--evals", "50"]),
+        ("decimation", &[]),
+    ];
+    for (k, (algo, extra)) in runs.into_iter().enumerate() {
+        let out = std::env::temp_dir().join(format!(
+            "paretomesh_baselines_cli_{k}_{}.json",
+            std::process::id()
+        ));
+        let output = std::process::Command::new(exe)
+            .arg("run")
+            .arg(&grid)
+            .args(["--algo", algo, "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            output.status.success(),
+            "{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let file: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+        std::fs::remove_file(&out).unwrap();
+        assert_eq!(file["algorithm"], algo);
+        let front: Vec<Solution> = serde_json::from_value(file["front"].clone()).unwrap();
+        assert!(!front.is_empty());
+        assert_rescores(&hf, &front);
+        match k {
+            0 => assert!(front.iter().any(|s| s.e_max <= 0.01 * (hi - lo))),
+            1 => assert_eq!(file["evaluations"], 50),
+            _ => assert!(front.len() <= 10),
+        }
+    }
+    // Decimation has no evaluation budget: asking for one is an error, not a silent no-op.
+    let refused = std::process::Command::new(exe)
+        .arg("run")
+        .arg(&grid)
+        .args(["--algo", "decimation", "--evals", "5", "--out"])
+        .arg(std::env::temp_dir().join("paretomesh_never_written.json"))
+        .output()
+        .unwrap();
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--evals"));
+}

@@ -7,6 +7,9 @@
 
 use super::input::InputArgs;
 use clap::{Args, ValueEnum};
+use paretomesh::baselines::{
+    DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
+};
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
 use paretomesh::front::Front;
@@ -25,6 +28,19 @@ pub enum Algo {
     Nsga2,
     /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
     Weighted,
+    /// Greedy insertion (Garland & Heckbert 1995) from the corners; one run records a front.
+    Greedy,
+    /// Edge decimation from the full grid to 5 %, 10 %, …, 50 % fewer triangles.
+    Decimation,
+}
+
+/// The greedy-insertion rules, as the command line spells them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RuleArg {
+    /// Insert the point of largest vertical error (classic).
+    MaxError,
+    /// Insert the point whose insertion reduces E_sum the most.
+    SumReduction,
 }
 
 impl Algo {
@@ -82,6 +98,13 @@ pub struct RunArgs {
     /// weighted-sum GA).
     #[arg(long)]
     evals: Option<u64>,
+    /// Greedy insertion: which point to insert next.
+    #[arg(long, value_enum, default_value = "max-error")]
+    rule: RuleArg,
+    /// Greedy insertion: stop once E_max ≤ this fraction of the z range (e.g. 0.01)
+    /// [default: insert every point, or stop after --evals insertions].
+    #[arg(long)]
+    max_error_fraction: Option<f64>,
     /// Where to write front.json.
     #[arg(long)]
     out: PathBuf,
@@ -136,6 +159,49 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
                 params: to_json(&p),
                 generations: (p.ga.generations * p.weights.len()) as u64,
                 optimizer: Box::new(WeightedSum::new(hf, p, args.seed).map_err(|e| e.to_string())?),
+            }
+        }
+        Algo::Greedy => {
+            let stop = match (args.max_error_fraction, args.evals) {
+                (Some(_), Some(_)) => {
+                    return Err(
+                        "greedy insertion stops on --max-error-fraction or on --evals, not both"
+                            .to_string(),
+                    );
+                }
+                (Some(f), None) => GreedyStop::MaxErrorFraction(f),
+                // One evaluation is one insertion, after the four corners.
+                (None, Some(n)) => GreedyStop::Points(
+                    4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)),
+                ),
+                (None, None) => GreedyStop::AllPoints,
+            };
+            let p = GreedyParams {
+                rule: match args.rule {
+                    RuleArg::MaxError => InsertionRule::MaxError,
+                    RuleArg::SumReduction => InsertionRule::SumReduction,
+                },
+                stop,
+                ..GreedyParams::default()
+            };
+            Built {
+                params: to_json(&p),
+                generations: p.records as u64,
+                optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| e.to_string())?),
+            }
+        }
+        Algo::Decimation => {
+            if args.evals.is_some() {
+                return Err(
+                    "edge decimation runs to its last reduction: --evals does not apply"
+                        .to_string(),
+                );
+            }
+            let p = DecimationParams::default();
+            Built {
+                params: to_json(&p),
+                generations: p.reductions.len() as u64,
+                optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| e.to_string())?),
             }
         }
     })
