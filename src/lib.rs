@@ -14,11 +14,13 @@
 //! - [`baselines`]: greedy insertion and edge decimation.
 //! - [`run_file`]: front.json, the self-contained result of a run.
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
+//! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - `web` (wasm32 only): the browser app over this core.
 
 pub mod baselines;
 pub mod evaluator;
 pub mod evolution;
+pub mod experiment;
 pub mod front;
 pub mod heightfield;
 pub mod metrics;

@@ -1,6 +1,7 @@
 //! Command-line parsing and dispatch. Each subcommand lives in its own file.
 
 mod eval;
+mod experiment;
 mod info;
 mod input;
 mod run;
@@ -32,6 +33,9 @@ enum Command {
     },
     /// Run an optimizer and write its front as front.json (and CSV).
     Run(run::RunArgs),
+    /// Run the paper's experiment on one or more grids: every method, the indicators and the
+    /// Wilcoxon tests; writes report.md, fronts-<name>.svg and results.json.
+    Experiment(experiment::ExperimentArgs),
 }
 
 /// Runs a parsed command line; the error is a message for the user.
@@ -40,5 +44,6 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Info { input } => info::run(&input),
         Command::Eval { input, keep } => eval::run(&input, &keep),
         Command::Run(args) => run::run(&args),
+        Command::Experiment(args) => experiment::run(&args),
     }
 }

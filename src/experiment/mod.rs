@@ -1,0 +1,95 @@
+//! The paper's experiment, reproducible: run every method on every dataset with the paper's
+//! protocol, compare the fronts with the [`metrics`](crate::metrics), and write the report.
+//!
+//! - [`method`]: the four methods by name; [`registry`]: a method + settings + seed → a boxed
+//!   [`Optimizer`](crate::optimizer::Optimizer).
+//! - [`protocol`]: the runs of an experiment ([`plan`], [`run_job`], [`assemble`],
+//!   [`run_all`]) — seeds, run counts, and why the weighted-sum GA is counted the way it is.
+//! - [`results`]: results.json, every run's front.
+//! - [`analysis`]: every table's numbers, from results.json alone.
+//! - [`report`]: report.md (the paper's Tables II–V); [`svg`]: the fronts figure.
+//!
+//! The library part is sequential and has no clock or file access (it builds for wasm32); the
+//! CLI (`paretomesh experiment`) runs the planned jobs on every core and writes the files.
+//! Results never depend on the thread count: each job is a pure function of its seed, and the
+//! records are put back in plan order.
+
+pub mod analysis;
+pub mod method;
+pub mod protocol;
+pub mod registry;
+pub mod report;
+pub mod results;
+pub mod stats;
+pub mod svg;
+
+pub use analysis::{
+    Analysis, DatasetAnalysis, Mark, MethodAnalysis, PairAnalysis, Pick, SIGNIFICANCE_LEVEL,
+};
+pub use method::Method;
+pub use protocol::{
+    Dataset, Job, Settings, assemble, check_methods, plan, run_all, run_job, run_seed,
+};
+pub use report::{format_significant, format_summary, report_markdown};
+pub use results::{
+    DatasetResults, GridSummary, MethodRuns, RESULTS_FORMAT, Results, RunRecord, RunTiming, Scales,
+    Timings,
+};
+pub use stats::Summary;
+pub use svg::fronts_svg;
+
+use crate::metrics::MetricsError;
+use std::fmt;
+
+/// Why an experiment could not run or be analysed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExperimentError {
+    /// The settings are inconsistent; the message says how.
+    Settings(String),
+    /// A method refused its parameters; the message is the method's.
+    Params {
+        /// The method.
+        method: Method,
+        /// Its reason.
+        message: String,
+    },
+    /// An indicator could not be computed on a dataset.
+    Metrics {
+        /// The dataset's name.
+        dataset: String,
+        /// The reason.
+        source: MetricsError,
+    },
+    /// A run produced no solution (or a method has no run), so nothing can be compared.
+    EmptyFront {
+        /// The dataset's name.
+        dataset: String,
+        /// The method.
+        method: Method,
+        /// The run number.
+        run: usize,
+    },
+}
+
+impl fmt::Display for ExperimentError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Settings(m) => write!(f, "experiment settings: {m}"),
+            Self::Params { method, message } => {
+                write!(f, "{}: {message}", method.label())
+            }
+            Self::Metrics { dataset, source } => write!(f, "data set {dataset}: {source}"),
+            Self::EmptyFront {
+                dataset,
+                method,
+                run,
+            } => write!(
+                f,
+                "data set {dataset}: run {run} of {} produced no solution",
+                method.label()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ExperimentError {}

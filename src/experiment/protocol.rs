@@ -1,0 +1,366 @@
+//! The paper's protocol: which runs make an experiment, with which seeds, and how their fronts
+//! are gathered into [`Results`].
+//!
+//! - NSGA-II is run [`Settings::runs`] times (paper: 10), run k with seed `seed + k`
+//!   ([`run_seed`]): run k is exactly `paretomesh run GRID --algo nsga2 --seed <seed + k>` with
+//!   the same population and generations.
+//! - The weighted-sum GA: one *run* is one sweep over all 11 weights w = 0, 0.1, …, 1 — 11 GA
+//!   runs inside one [`WeightedSum`](crate::evolution::WeightedSum) optimizer, whose 11 best
+//!   solutions make that run's front. The paper's protocol is one sweep ("once per weight"),
+//!   which is the default ([`Settings::weighted_runs`] = 1). It costs about 11 NSGA-II runs, so
+//!   repeating it as often as NSGA-II would make the experiment about 6 times longer; with
+//!   one sweep its HVR has no spread and the rank-sum test against it is not applicable (marked
+//!   `n/a`). [`Settings::weighted_runs`] = k > 1 runs k sweeps with seeds `seed`…`seed + k − 1`,
+//!   each one sample for the HVR mean ± std and the test, like NSGA-II's runs.
+//! - Deterministic methods (decimation at 5 %…50 %, greedy insertion) are run once: more runs
+//!   would repeat the same front.
+//!
+//! Every run is independent of every other, so [`plan`] lists them as [`Job`]s that any driver
+//! may run in any order or in parallel ([`run_job`] is a pure function of its job), then
+//! [`assemble`] puts the records back in plan order. [`run_all`] is the sequential driver; the
+//! CLI runs the same jobs on every core.
+
+use super::ExperimentError;
+use super::method::Method;
+use super::registry;
+use super::results::{
+    DatasetResults, GridSummary, MethodRuns, RESULTS_FORMAT, Results, RunRecord, Scales, Timings,
+};
+use crate::evaluator::Evaluator;
+use crate::heightfield::Heightfield;
+use crate::metrics::{DEFAULT_REFERENCE_POINT, Normalization};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// What to run: the methods, the number of runs, the seed, the GA budget, the reference point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// The methods to compare, in table order, each at most once.
+    pub methods: Vec<Method>,
+    /// Runs of NSGA-II. Paper: 10.
+    pub runs: usize,
+    /// Runs of the weighted-sum GA, each a sweep over its 11 weights. Paper: 1.
+    pub weighted_runs: usize,
+    /// Run k of a stochastic method uses seed `seed + k`; also seeds the trade-off picks.
+    pub seed: u64,
+    /// GA population (NSGA-II and each weighted-sum run). Paper: 100.
+    pub population: usize,
+    /// GA generations. Paper: 50.
+    pub generations: usize,
+    /// The hypervolume reference point in normalised (E, T). Default (1.1, 1.1).
+    pub reference_point: [f64; 2],
+}
+
+impl Default for Settings {
+    /// The paper's settings: every method, 10 NSGA-II runs, one weighted-sum sweep, seed 1,
+    /// population 100, 50 generations, reference point (1.1, 1.1).
+    fn default() -> Self {
+        Settings {
+            methods: Method::ALL.to_vec(),
+            runs: 10,
+            weighted_runs: 1,
+            seed: 1,
+            population: 100,
+            generations: 50,
+            reference_point: DEFAULT_REFERENCE_POINT,
+        }
+    }
+}
+
+impl Settings {
+    /// Checks the settings that do not depend on a method's own parameter checks.
+    pub fn validate(&self) -> Result<(), ExperimentError> {
+        let bad = |m: &str| Err(ExperimentError::Settings(m.to_string()));
+        if self.methods.is_empty() {
+            return bad("at least one method is needed");
+        }
+        for (i, m) in self.methods.iter().enumerate() {
+            if self.methods[..i].contains(m) {
+                return bad(&format!("method {m} is listed twice"));
+            }
+        }
+        if self.runs == 0 || self.weighted_runs == 0 {
+            return bad("the number of runs must be at least 1");
+        }
+        if !self
+            .reference_point
+            .iter()
+            .all(|v| v.is_finite() && *v > 0.0)
+        {
+            return bad(&format!(
+                "the reference point must be two positive finite numbers (normalised E and T), got {:?}",
+                self.reference_point
+            ));
+        }
+        Ok(())
+    }
+
+    /// How many runs `method` gets: [`Settings::runs`] for NSGA-II,
+    /// [`Settings::weighted_runs`] for the weighted-sum GA, 1 for a deterministic method.
+    pub fn runs_of(&self, method: Method) -> usize {
+        match method {
+            Method::Nsga2 => self.runs,
+            Method::Weighted => self.weighted_runs,
+            Method::Decimation | Method::Greedy => 1,
+        }
+    }
+}
+
+/// The seed of run `run` of a stochastic method: `base + run` (wrapping).
+pub fn run_seed(base: u64, run: usize) -> u64 {
+    base.wrapping_add(run as u64)
+}
+
+/// One input grid, ready to run on.
+#[derive(Clone, Debug)]
+pub struct Dataset {
+    /// A short name for tables and file names.
+    pub name: String,
+    /// The grid.
+    pub heightfield: Arc<Heightfield>,
+    /// The unit of z, e.g. "m"; "height units" when unknown.
+    pub e_units: String,
+    /// The paper's normalisation of this grid.
+    pub normalization: Normalization,
+}
+
+impl Dataset {
+    /// A dataset with the paper's normalisation (E by the corner-only mesh's E, T by the full
+    /// grid's triangle count).
+    ///
+    /// Errors: [`ExperimentError::Metrics`] when the corner-only mesh is already exact (a plane),
+    /// so that E cannot be normalised by it.
+    pub fn new(
+        name: impl Into<String>,
+        heightfield: Heightfield,
+        e_units: impl Into<String>,
+    ) -> Result<Dataset, ExperimentError> {
+        let name = name.into();
+        let heightfield = Arc::new(heightfield);
+        let normalization = Normalization::from_evaluator(&mut Evaluator::new(heightfield.clone()))
+            .map_err(|source| ExperimentError::Metrics {
+                dataset: name.clone(),
+                source,
+            })?;
+        Ok(Dataset {
+            name,
+            heightfield,
+            e_units: e_units.into(),
+            normalization,
+        })
+    }
+}
+
+/// One run to do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Job {
+    /// Index of the dataset.
+    pub dataset: usize,
+    /// The method.
+    pub method: Method,
+    /// Run number, from 0.
+    pub run: usize,
+    /// The seed (`None` for a deterministic method).
+    pub seed: Option<u64>,
+}
+
+/// Every run of the experiment on `datasets` datasets, ordered by dataset, then method (in
+/// settings order), then run number. [`assemble`] expects records in this order.
+pub fn plan(datasets: usize, settings: &Settings) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for dataset in 0..datasets {
+        for &method in &settings.methods {
+            for run in 0..settings.runs_of(method) {
+                let seed = method.is_stochastic().then(|| run_seed(settings.seed, run));
+                jobs.push(Job {
+                    dataset,
+                    method,
+                    run,
+                    seed,
+                });
+            }
+        }
+    }
+    jobs
+}
+
+/// Checks that every method of `settings` accepts its parameters on `dataset`, by building
+/// each optimizer once without running it (cheap: constructors evaluate nothing). Call it before
+/// the long part so that bad parameters fail at once.
+pub fn check_methods(settings: &Settings, dataset: &Dataset) -> Result<(), ExperimentError> {
+    settings.validate()?;
+    for &method in &settings.methods {
+        registry::params(method, settings)?;
+        let seed = method.is_stochastic().then_some(settings.seed);
+        registry::build(method, settings, dataset.heightfield.clone(), seed)?;
+    }
+    Ok(())
+}
+
+/// Runs one job to the end on `dataset` and records its front. A pure function of its inputs:
+/// the same job gives the same record on any thread.
+pub fn run_job(
+    job: &Job,
+    dataset: &Dataset,
+    settings: &Settings,
+) -> Result<RunRecord, ExperimentError> {
+    let mut optimizer =
+        registry::build(job.method, settings, dataset.heightfield.clone(), job.seed)?;
+    let progress = optimizer.run_to_end();
+    let front = optimizer.front().solutions().to_vec();
+    if front.is_empty() {
+        return Err(ExperimentError::EmptyFront {
+            dataset: dataset.name.clone(),
+            method: job.method,
+            run: job.run,
+        });
+    }
+    Ok(RunRecord {
+        run: job.run,
+        seed: job.seed,
+        evaluations: progress.evaluations,
+        front,
+    })
+}
+
+/// Puts the records of `jobs` (as [`plan`] made them, records in the same order) into
+/// [`Results`].
+///
+/// Errors: [`ExperimentError::Settings`] if `jobs` is not the plan of `datasets` and `settings`
+/// or the record count differs.
+pub fn assemble(
+    settings: &Settings,
+    datasets: &[Dataset],
+    jobs: &[Job],
+    records: Vec<RunRecord>,
+    timings: Option<Timings>,
+) -> Result<Results, ExperimentError> {
+    if jobs != plan(datasets.len(), settings).as_slice() || records.len() != jobs.len() {
+        return Err(ExperimentError::Settings(
+            "the run records do not match the experiment's plan".to_string(),
+        ));
+    }
+    let mut out: Vec<DatasetResults> = datasets
+        .iter()
+        .map(|d| {
+            let hf = &d.heightfield;
+            Ok(DatasetResults {
+                name: d.name.clone(),
+                grid: GridSummary {
+                    width: hf.width(),
+                    height: hf.height(),
+                    source: hf.source().to_string(),
+                },
+                e_units: d.e_units.clone(),
+                normalization: Scales {
+                    e_scale: d.normalization.e_scale(),
+                    t_scale: d.normalization.t_scale(),
+                },
+                methods: settings
+                    .methods
+                    .iter()
+                    .map(|&m| {
+                        Ok(MethodRuns {
+                            method: m,
+                            params: registry::params(m, settings)?,
+                            runs: Vec::new(),
+                        })
+                    })
+                    .collect::<Result<_, ExperimentError>>()?,
+            })
+        })
+        .collect::<Result<_, ExperimentError>>()?;
+    for (job, record) in jobs.iter().zip(records) {
+        let m = settings
+            .methods
+            .iter()
+            .position(|&m| m == job.method)
+            .expect("planned methods come from the settings");
+        out[job.dataset].methods[m].runs.push(record);
+    }
+    Ok(Results {
+        format: RESULTS_FORMAT.to_string(),
+        settings: settings.clone(),
+        datasets: out,
+        timings,
+    })
+}
+
+/// The sequential driver: checks the settings, runs every job in plan order, and assembles the
+/// results (without timings).
+pub fn run_all(datasets: &[Dataset], settings: &Settings) -> Result<Results, ExperimentError> {
+    settings.validate()?;
+    if let Some(first) = datasets.first() {
+        check_methods(settings, first)?;
+    }
+    let jobs = plan(datasets.len(), settings);
+    let records = jobs
+        .iter()
+        .map(|job| run_job(job, &datasets[job.dataset], settings))
+        .collect::<Result<Vec<_>, _>>()?;
+    assemble(settings, datasets, &jobs, records, None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plan_runs_stochastic_methods_per_seed_and_deterministic_ones_once() {
+        let settings = Settings {
+            runs: 3,
+            weighted_runs: 2,
+            seed: 7,
+            ..Settings::default()
+        };
+        let jobs = plan(2, &settings);
+        // Per dataset: 3 NSGA-II + 2 weighted-sum sweeps + 1 decimation + 1 greedy.
+        assert_eq!(jobs.len(), 14);
+        let seeds: Vec<_> = jobs[..7].iter().map(|j| (j.method, j.seed)).collect();
+        assert_eq!(
+            seeds,
+            vec![
+                (Method::Nsga2, Some(7)),
+                (Method::Nsga2, Some(8)),
+                (Method::Nsga2, Some(9)),
+                (Method::Weighted, Some(7)),
+                (Method::Weighted, Some(8)),
+                (Method::Decimation, None),
+                (Method::Greedy, None),
+            ]
+        );
+        assert!(jobs[7..].iter().all(|j| j.dataset == 1));
+        // The paper's protocol: 10 NSGA-II runs, one weighted-sum sweep.
+        assert_eq!(plan(1, &Settings::default()).len(), 13);
+    }
+
+    #[test]
+    fn bad_settings_are_refused_with_a_reason() {
+        let cases = [
+            Settings {
+                methods: vec![],
+                ..Settings::default()
+            },
+            Settings {
+                methods: vec![Method::Greedy, Method::Greedy],
+                ..Settings::default()
+            },
+            Settings {
+                runs: 0,
+                ..Settings::default()
+            },
+            Settings {
+                weighted_runs: 0,
+                ..Settings::default()
+            },
+            Settings {
+                reference_point: [f64::NAN, 1.1],
+                ..Settings::default()
+            },
+        ];
+        for s in cases {
+            assert!(matches!(s.validate(), Err(ExperimentError::Settings(_))));
+        }
+        assert_eq!(Settings::default().validate(), Ok(()));
+    }
+}

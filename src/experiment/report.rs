@@ -1,0 +1,355 @@
+//! report.md: the paper's Tables II–V, with a header that says what was run.
+//!
+//! Number formats (also what a reader or a test may parse): normalised quantities (HVR, I_ε+,
+//! C, P) with 4 decimals as `mean ± std`, `± n/a` when there is one value; E with 6 significant
+//! digits in the dataset's units; p-values in scientific notation with 2 decimals.
+
+use super::analysis::{Analysis, DatasetAnalysis, SIGNIFICANCE_LEVEL};
+use super::method::Method;
+use super::results::{DatasetResults, Results};
+use super::stats::Summary;
+use std::fmt::Write;
+
+/// `mean ± std` with 4 decimals, `± n/a` for a single value.
+pub fn format_summary(s: &Summary) -> String {
+    match s.std {
+        Some(std) => format!("{:.4} ± {:.4}", s.mean, std),
+        None => format!("{:.4} ± n/a", s.mean),
+    }
+}
+
+/// A value with 6 significant digits, without an exponent (E in the dataset's units).
+///
+/// ```
+/// use paretomesh::experiment::format_significant;
+/// assert_eq!(format_significant(12345.678), "12345.7");
+/// assert_eq!(format_significant(0.012345678), "0.0123457");
+/// assert_eq!(format_significant(0.0), "0");
+/// ```
+pub fn format_significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = (5 - x.abs().log10().floor() as i64).clamp(0, 17) as usize;
+    format!("{x:.digits$}")
+}
+
+fn label(m: Method) -> &'static str {
+    m.label()
+}
+
+/// The whole report.md text for `results` and its `analysis` (which must be
+/// [`Analysis::of`]`(results)`).
+pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
+    let mut out = String::new();
+    let s = &results.settings;
+    let w = &mut out;
+    let _ = writeln!(w, "# ParetoMesh experiment\n");
+    let _ = writeln!(
+        w,
+        "The protocol of the source paper, run by `paretomesh experiment`. Every run's front is in `results.json`; every number below can be recomputed from it.\n"
+    );
+
+    let _ = writeln!(w, "## Settings\n");
+    let _ = writeln!(
+        w,
+        "- Methods: {}.",
+        s.methods
+            .iter()
+            .map(|m| format!("{} (`{}`)", m.label(), m.name()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    if s.methods.contains(&Method::Nsga2) {
+        let _ = writeln!(
+            w,
+            "- NSGA-II: {} run{}, run k with seed {} + k.",
+            s.runs,
+            if s.runs == 1 { "" } else { "s" },
+            s.seed
+        );
+    }
+    if s.methods.contains(&Method::Weighted) {
+        let _ = writeln!(
+            w,
+            "- Weighted-sum GA: {} run{} (seed {} + k). One run is a sweep over all its weights w = 0, 0.1, …, 1, one GA run each (11 GA runs); the best solution of each weight makes that run's front.{}",
+            s.weighted_runs,
+            if s.weighted_runs == 1 { "" } else { "s" },
+            s.seed,
+            if s.weighted_runs == 1 {
+                " One sweep is the paper's protocol; it gives one HVR sample, so its std and rank-sum tests are n/a (use `--weighted-runs` for more)."
+            } else {
+                ""
+            }
+        );
+    }
+    let _ = writeln!(
+        w,
+        "- Deterministic methods (decimation, greedy insertion) run once."
+    );
+    let _ = writeln!(
+        w,
+        "- GA budget: population {}, {} generations (NSGA-II and each weighted-sum GA run).",
+        s.population, s.generations
+    );
+    if let Some(d) = results.datasets.first() {
+        let _ = writeln!(w, "- Parameters as run:");
+        for m in &d.methods {
+            let _ = writeln!(w, "  - {}: `{}`", m.method.label(), m.params);
+        }
+    }
+    let _ = writeln!(
+        w,
+        "- Normalisation, per dataset: E / E(corner-only mesh), T / 2(W−1)(H−1) (the full grid's triangle count). Hypervolume reference point (normalised E, T) = ({}, {}).",
+        s.reference_point[0], s.reference_point[1]
+    );
+    let _ = writeln!(
+        w,
+        "- Statistics: mean ± sample standard deviation (n − 1) over runs (Table II) or over every pair of runs of the two methods (Tables III, V); `± n/a` where there is a single value (a deterministic method has one run). Table V's mark: two-sided Wilcoxon rank-sum test of the row method's per-run HVRs against the column method's at α = {SIGNIFICANCE_LEVEL}: `+` row significantly higher HVR (better), `−` significantly lower, `=` no significant difference, `n/a` when either method has a single run (the test cannot reach significance with one value). The trade-off pick draws its 1 000 weights from seed {}.",
+        s.seed
+    );
+    match &results.timings {
+        Some(t) => {
+            let _ = writeln!(
+                w,
+                "- Wall time: {:.1} s for the whole experiment on {} worker thread{}.",
+                t.wall_seconds,
+                t.threads,
+                if t.threads == 1 { "" } else { "s" }
+            );
+        }
+        None => {
+            let _ = writeln!(w, "- Wall time: not measured.");
+        }
+    }
+
+    let _ = writeln!(w, "\n## Data sets\n");
+    let _ = writeln!(
+        w,
+        "| Data set | Grid | E unit | E of corner-only mesh | Full-grid triangles | Source |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|---|");
+    for d in &results.datasets {
+        let _ = writeln!(
+            w,
+            "| {} | {}×{} | {} | {} | {} | {} |",
+            d.name,
+            d.grid.width,
+            d.grid.height,
+            cell(&d.e_units),
+            format_significant(d.normalization.e_scale),
+            d.normalization.t_scale,
+            cell(&d.grid.source)
+        );
+    }
+
+    let _ = writeln!(w, "\n## Runs\n");
+    let _ = writeln!(
+        w,
+        "| Data set | Method | Runs | Evaluations per run (mean) | Merged front size |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|");
+    for (d, a) in results.datasets.iter().zip(&analysis.datasets) {
+        for (m, ma) in d.methods.iter().zip(&a.methods) {
+            let evals = m.runs.iter().map(|r| r.evaluations as f64).sum::<f64>()
+                / m.runs.len().max(1) as f64;
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {:.0} | {} |",
+                d.name,
+                label(m.method),
+                m.runs.len(),
+                evals,
+                ma.merged.len()
+            );
+        }
+    }
+
+    table_ii(w, results, analysis);
+    table_iii(w, analysis);
+    table_iv(w, results, analysis);
+    table_v(w, analysis);
+    out
+}
+
+/// Escapes a free-text table cell.
+fn cell(text: &str) -> String {
+    text.replace('|', "\\|").replace('\n', " ")
+}
+
+fn table_ii(w: &mut String, results: &Results, analysis: &Analysis) {
+    let methods = &results.settings.methods;
+    let _ = writeln!(
+        w,
+        "\n## Table II. Hypervolume ratio HVR (mean ± std over runs)\n"
+    );
+    let _ = writeln!(
+        w,
+        "| Data set | {} |",
+        methods
+            .iter()
+            .map(|m| m.label())
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    let _ = writeln!(w, "|---|{}", "---|".repeat(methods.len()));
+    for a in &analysis.datasets {
+        let _ = writeln!(
+            w,
+            "| {} | {} |",
+            a.name,
+            a.methods
+                .iter()
+                .map(|m| format_summary(&m.hvr))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+    }
+}
+
+fn table_iii(w: &mut String, analysis: &Analysis) {
+    let _ = writeln!(
+        w,
+        "\n## Table III. Additive epsilon I_ε+(A, B) (normalised) and coverage C(A, B) (mean ± std over pairs of runs)\n"
+    );
+    let _ = writeln!(
+        w,
+        "I_ε+(A, B): how far A must move (in normalised units) to weakly dominate all of B; ≤ 0 when it already does. C(A, B): the share of B weakly dominated by some member of A.\n"
+    );
+    for a in &analysis.datasets {
+        let _ = writeln!(w, "### {}\n", a.name);
+        let _ = writeln!(w, "| A | B | I_ε+(A, B) | C(A, B) |");
+        let _ = writeln!(w, "|---|---|---|---|");
+        for p in &a.pairs {
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {} |",
+                p.a.label(),
+                p.b.label(),
+                format_summary(&p.epsilon),
+                format_summary(&p.coverage)
+            );
+        }
+        let _ = writeln!(w);
+    }
+}
+
+fn table_iv(w: &mut String, results: &Results, analysis: &Analysis) {
+    let _ = writeln!(
+        w,
+        "## Table IV. Best-error, fewest-triangles and trade-off solutions of each merged front\n"
+    );
+    let _ = writeln!(
+        w,
+        "| Data set | Method | Best error: E | T | Fewest triangles: E | T | Trade-off: E | T |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|---|---|---|");
+    for (d, a) in results.datasets.iter().zip(&analysis.datasets) {
+        for m in &a.methods {
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {} | {} | {} | {} | {} |",
+                d.name,
+                m.method.label(),
+                format_significant(m.best_error.e),
+                m.best_error.t,
+                format_significant(m.fewest_triangles.e),
+                m.fewest_triangles.t,
+                format_significant(m.trade_off.e),
+                m.trade_off.t
+            );
+        }
+    }
+    let units: Vec<String> = results
+        .datasets
+        .iter()
+        .map(|d: &DatasetResults| format!("{}: {}", d.name, d.e_units))
+        .collect();
+    let _ = writeln!(w, "\nE units: {}.", units.join("; "));
+}
+
+fn table_v(w: &mut String, analysis: &Analysis) {
+    let _ = writeln!(
+        w,
+        "\n## Table V. Averaged dominance probability P(row ≺ column) with rank-sum mark (α = {SIGNIFICANCE_LEVEL})\n"
+    );
+    let _ = writeln!(
+        w,
+        "P(A ≺ B): the probability that a solution of a run of A Pareto-dominates a solution of a run of B, averaged over every pair of runs. Mark: per-run HVR of A against B (see Settings); p is the two-sided p-value.\n"
+    );
+    for a in &analysis.datasets {
+        table_v_dataset(w, a);
+    }
+}
+
+fn table_v_dataset(w: &mut String, a: &DatasetAnalysis) {
+    let methods: Vec<Method> = a.methods.iter().map(|m| m.method).collect();
+    let _ = writeln!(w, "### {}\n", a.name);
+    let _ = writeln!(
+        w,
+        "| P(row ≺ column) | {} |",
+        methods
+            .iter()
+            .map(|m| m.label())
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    let _ = writeln!(w, "|---|{}", "---|".repeat(methods.len()));
+    for &row in &methods {
+        let cells: Vec<String> = methods
+            .iter()
+            .map(|&col| {
+                if col == row {
+                    return "—".to_string();
+                }
+                let p = a
+                    .pairs
+                    .iter()
+                    .find(|p| p.a == row && p.b == col)
+                    .expect("every ordered pair is analysed");
+                match p.test {
+                    Some(t) => format!(
+                        "{:.4} {} (p = {:.2e})",
+                        p.dominance.mean,
+                        p.mark.symbol(),
+                        t.p_value
+                    ),
+                    None => format!("{:.4} {}", p.dominance.mean, p.mark.symbol()),
+                }
+            })
+            .collect();
+        let _ = writeln!(w, "| {} | {} |", row.label(), cells.join(" | "));
+    }
+    let _ = writeln!(w);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::analysis::tests::sample_results;
+
+    #[test]
+    fn report_has_the_four_tables_with_the_hand_computed_numbers() {
+        let results = sample_results();
+        let text = report_markdown(&results, &Analysis::of(&results).unwrap());
+        for heading in [
+            "## Table II.",
+            "## Table III.",
+            "## Table IV.",
+            "## Table V.",
+        ] {
+            assert!(text.contains(heading), "missing {heading}");
+        }
+        // HVR (0.8 + 0.709…)/2 with std 0.0643; greedy one run.
+        assert!(
+            text.contains("| toy | 0.7545 ± 0.0643 | 0.6000 ± n/a |"),
+            "{text}"
+        );
+        assert!(
+            text.contains("| NSGA-II | Greedy insertion | 0.2500 ± 0.0707 | 0.5000 ± 0.0000 |")
+        );
+        assert!(text.contains("| toy | Greedy insertion | 2.00000 | 8 | 10.0000 | 2 |"));
+        assert!(text.contains("| NSGA-II | — | 0.0000 n/a |"), "{text}");
+        assert!(text.contains("Wall time: not measured."));
+    }
+}

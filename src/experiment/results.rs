@@ -1,0 +1,129 @@
+//! results.json: every run's front with the settings, parameters and seeds that made it —
+//! enough to recompute every table of the report (see [`Analysis`](super::Analysis)).
+//!
+//! Wall-clock times live only in [`Results::timings`], so two runs of the same experiment can
+//! be compared byte for byte with that one field removed.
+
+use super::method::Method;
+use super::protocol::Settings;
+use crate::front::Solution;
+use serde::{Deserialize, Serialize};
+
+/// The identifier of this file format, written as `format`.
+pub const RESULTS_FORMAT: &str = "paretomesh-experiment/1";
+
+/// The whole experiment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Results {
+    /// Always [`RESULTS_FORMAT`].
+    pub format: String,
+    /// What was run.
+    pub settings: Settings,
+    /// One entry per input grid, in command-line order.
+    pub datasets: Vec<DatasetResults>,
+    /// Wall-clock times; `None` when not measured. Never part of a determinism comparison.
+    pub timings: Option<Timings>,
+}
+
+/// The grid a dataset was run on.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GridSummary {
+    /// W.
+    pub width: usize,
+    /// H.
+    pub height: usize,
+    /// How the grid was made (the height field's source note).
+    pub source: String,
+}
+
+/// The per-dataset divisors of E and T (see [`Normalization`](crate::metrics::Normalization)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Scales {
+    /// E is divided by this: the E of the corner-only mesh.
+    pub e_scale: f64,
+    /// T is divided by this: the full grid's triangle count 2(W−1)(H−1).
+    pub t_scale: f64,
+}
+
+/// Everything run on one input grid.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DatasetResults {
+    /// A short name (the file name without its extension), used in tables and file names.
+    pub name: String,
+    /// The grid.
+    pub grid: GridSummary,
+    /// The unit of z (and so of E), e.g. "m"; "height units" when the input does not say.
+    pub e_units: String,
+    /// The normalisation of the indicators.
+    pub normalization: Scales,
+    /// One entry per method, in the order of [`Settings::methods`].
+    pub methods: Vec<MethodRuns>,
+}
+
+/// Every run of one method on one dataset.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MethodRuns {
+    /// The method.
+    pub method: Method,
+    /// Its parameters, as its params type serialises them.
+    pub params: serde_json::Value,
+    /// Its runs, by run number.
+    pub runs: Vec<RunRecord>,
+}
+
+/// One run of one method.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Run number, from 0.
+    pub run: usize,
+    /// The seed of its random generator (`None` for a deterministic method).
+    pub seed: Option<u64>,
+    /// Evaluations spent.
+    pub evaluations: u64,
+    /// Its final front, by increasing T.
+    pub front: Vec<Solution>,
+}
+
+/// Wall-clock times of the experiment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Timings {
+    /// Wall time of the whole experiment (loading the grids, all runs, the analysis), in
+    /// seconds.
+    pub wall_seconds: f64,
+    /// Worker threads used for the runs.
+    pub threads: usize,
+    /// Each run's own wall time.
+    pub runs: Vec<RunTiming>,
+}
+
+/// The wall time of one run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunTiming {
+    /// The dataset's name.
+    pub dataset: String,
+    /// The method.
+    pub method: Method,
+    /// The run number.
+    pub run: usize,
+    /// Milliseconds.
+    pub millis: u64,
+}
+
+impl Results {
+    /// The JSON text of results.json (pretty-printed, keys in declaration order).
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("results hold only finite numbers and strings")
+    }
+
+    /// Parses results.json; the error is serde's message.
+    pub fn from_json(text: &str) -> Result<Results, String> {
+        let results: Results = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        if results.format != RESULTS_FORMAT {
+            return Err(format!(
+                "results.json has format {:?}, this version reads {RESULTS_FORMAT:?}",
+                results.format
+            ));
+        }
+        Ok(results)
+    }
+}

@@ -1,0 +1,384 @@
+//! `paretomesh experiment` end to end on a small grid with tiny budgets: every output file, the
+//! report's numbers against an independent recomputation from results.json with the metrics
+//! module, the figure's structure, determinism across thread counts, and bad input.
+
+use paretomesh::evaluator::Evaluator;
+use paretomesh::experiment::{Method, Results};
+use paretomesh::heightfield;
+use paretomesh::metrics::{self, Normalization, Point};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::Arc;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "paretomesh-experiment-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn paretomesh(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .args(args)
+        .output()
+        .expect("the paretomesh binary runs")
+}
+
+/// A 17×17 grid: every other row and column of volcano_33x33 (a real surface, small enough for
+/// a debug-build experiment), with a sidecar that names its unit.
+fn volcano_17x17(dir: &Path) -> PathBuf {
+    let bytes = std::fs::read(data("volcano_33x33.f32")).unwrap();
+    let z: Vec<f32> = bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    let mut out = Vec::new();
+    for y in (0..33).step_by(2) {
+        for x in (0..33).step_by(2) {
+            out.extend_from_slice(&z[y * 33 + x].to_le_bytes());
+        }
+    }
+    let path = dir.join("volcano_17x17.f32");
+    std::fs::write(&path, out).unwrap();
+    std::fs::write(
+        dir.join("volcano_17x17.json"),
+        r#"{"width":17,"height":17,"units":"m","source":"volcano_33x33, every other point"}"#,
+    )
+    .unwrap();
+    path
+}
+
+/// Runs the tiny experiment into `out` with `threads` workers.
+fn tiny_experiment(grid: &Path, out: &Path, threads: &str) -> Output {
+    paretomesh(&[
+        "experiment",
+        grid.to_str().unwrap(),
+        "--runs",
+        "3",
+        "--weighted-runs",
+        "2",
+        "--pop",
+        "8",
+        "--gens",
+        "3",
+        "--seed",
+        "5",
+        "--threads",
+        threads,
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
+/// The table rows (cells trimmed, outer pipes dropped) between `heading` and the next `## `,
+/// without header and separator rows (a row is a header when its first cell is in `headers`).
+fn rows(report: &str, heading: &str, headers: &[&str]) -> Vec<Vec<String>> {
+    let start = report
+        .find(heading)
+        .unwrap_or_else(|| panic!("no {heading}"));
+    let rest = &report[start + heading.len()..];
+    let end = rest.find("\n## ").unwrap_or(rest.len());
+    rest[..end]
+        .lines()
+        .filter(|l| l.starts_with('|') && !l.starts_with("|---"))
+        .map(|l| {
+            l.trim_matches('|')
+                .split(" | ")
+                .map(|c| c.trim().to_string())
+                .collect::<Vec<_>>()
+        })
+        .filter(|r| !headers.contains(&r[0].as_str()))
+        .collect()
+}
+
+/// Parses `mean ± std` (std `n/a` → None).
+fn summary(cell: &str) -> (f64, Option<f64>) {
+    let (m, s) = cell.split_once(" ± ").unwrap_or_else(|| panic!("{cell:?}"));
+    (m.parse().unwrap(), s.parse().ok())
+}
+
+fn mean_std(v: &[f64]) -> (f64, Option<f64>) {
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let std = (v.len() > 1)
+        .then(|| (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt());
+    (mean, std)
+}
+
+/// A 4-decimal cell against the recomputed value.
+fn assert_4dp(cell: (f64, Option<f64>), want: (f64, Option<f64>), what: &str) {
+    assert!(
+        (cell.0 - want.0).abs() <= 0.5e-4 + 1e-12,
+        "{what}: report {cell:?}, recomputed {want:?}"
+    );
+    match (cell.1, want.1) {
+        (Some(a), Some(b)) => assert!((a - b).abs() <= 0.5e-4 + 1e-12, "{what}: {a} vs {b}"),
+        (None, None) => {}
+        _ => panic!("{what}: report {cell:?}, recomputed {want:?}"),
+    }
+}
+
+#[test]
+fn tiny_experiment_writes_consistent_tables_figure_and_results() {
+    let dir = scratch("e2e");
+    let grid = volcano_17x17(&dir);
+    let out = dir.join("out");
+    let o = tiny_experiment(&grid, &out, "2");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let json = std::fs::read_to_string(out.join("results.json")).unwrap();
+    let svg = std::fs::read_to_string(out.join("fronts-volcano_17x17.svg")).unwrap();
+    let results = Results::from_json(&json).unwrap();
+    let labels: Vec<&str> = Method::ALL.iter().map(|m| m.label()).collect();
+
+    // results.json: the protocol's run counts and seeds, and real solutions.
+    assert_eq!(results.datasets.len(), 1);
+    let d = &results.datasets[0];
+    assert_eq!(
+        (d.grid.width, d.grid.height, d.e_units.as_str()),
+        (17, 17, "m")
+    );
+    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let mut evaluator = Evaluator::new(hf.clone());
+    let paper = Normalization::from_evaluator(&mut evaluator).unwrap();
+    assert_eq!(
+        (d.normalization.e_scale, d.normalization.t_scale),
+        (paper.e_scale(), paper.t_scale())
+    );
+    assert_eq!(paper.t_scale(), 512.0); // 2·16·16
+    let methods: Vec<Method> = d.methods.iter().map(|m| m.method).collect();
+    assert_eq!(methods, Method::ALL);
+    for m in &d.methods {
+        let seeds: Vec<_> = m.runs.iter().map(|r| r.seed).collect();
+        if m.method.is_stochastic() {
+            let want = match m.method {
+                Method::Nsga2 => vec![Some(5), Some(6), Some(7)],
+                _ => vec![Some(5), Some(6)],
+            };
+            assert_eq!(seeds, want, "{}", m.method);
+            assert_eq!(m.params["population"], 8);
+            assert_eq!(m.params["generations"], 3);
+        } else {
+            assert_eq!(seeds, vec![None], "{}", m.method);
+        }
+        for r in &m.runs {
+            assert!(!r.front.is_empty());
+            for s in &r.front {
+                let fresh = evaluator.score(&s.kept).unwrap();
+                assert_eq!(fresh.t, s.t);
+                assert!((fresh.e_sum - s.e_sum).abs() <= 1e-9 * s.e_sum.max(1.0));
+            }
+        }
+    }
+
+    // Independent recomputation with the metrics module.
+    let reference_point = results.settings.reference_point;
+    let runs: Vec<Vec<Vec<Point>>> = d
+        .methods
+        .iter()
+        .map(|m| m.runs.iter().map(|r| paper.solutions(&r.front)).collect())
+        .collect();
+    let merged: Vec<Vec<Point>> = runs
+        .iter()
+        .map(|r| metrics::merge(r.iter().map(Vec::as_slice)).unwrap())
+        .collect();
+    let reference = metrics::merge(merged.iter().map(Vec::as_slice)).unwrap();
+    let hvr: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|f| metrics::hypervolume_ratio(f, &reference, reference_point).unwrap())
+                .collect()
+        })
+        .collect();
+
+    // Table II.
+    let t2 = rows(&report, "## Table II.", &["Data set"]);
+    assert_eq!(t2.len(), 1);
+    assert_eq!(t2[0][0], "volcano_17x17");
+    for k in 0..4 {
+        assert_4dp(summary(&t2[0][k + 1]), mean_std(&hvr[k]), "HVR");
+    }
+
+    // Table III: every ordered pair.
+    let t3 = rows(&report, "## Table III.", &["A"]);
+    assert_eq!(t3.len(), 12);
+    for row in &t3 {
+        let a = labels.iter().position(|l| *l == row[0]).unwrap();
+        let b = labels.iter().position(|l| *l == row[1]).unwrap();
+        let (mut eps, mut cov) = (vec![], vec![]);
+        for fa in &runs[a] {
+            for fb in &runs[b] {
+                eps.push(metrics::additive_epsilon(fa, fb).unwrap());
+                cov.push(metrics::coverage(fa, fb).unwrap());
+            }
+        }
+        assert_4dp(summary(&row[2]), mean_std(&eps), "epsilon");
+        assert_4dp(summary(&row[3]), mean_std(&cov), "coverage");
+    }
+
+    // Table IV: picks from the merged fronts, in the grid's units.
+    let t4 = rows(&report, "## Table IV.", &["Data set"]);
+    assert_eq!(t4.len(), 4);
+    for (k, row) in t4.iter().enumerate() {
+        assert_eq!(row[1], labels[k]);
+        let picks = [
+            metrics::best_error_pick(&merged[k]).unwrap(),
+            metrics::fewest_triangles_pick(&merged[k]).unwrap(),
+            metrics::trade_off_pick(&merged[k], results.settings.seed)
+                .unwrap()
+                .index,
+        ];
+        for (j, &i) in picks.iter().enumerate() {
+            let [e, t] = paper.invert(merged[k][i]);
+            let cell_e: f64 = row[2 + 2 * j].parse().unwrap();
+            let cell_t: f64 = row[3 + 2 * j].parse().unwrap();
+            assert!((cell_e - e).abs() <= 1e-5 * e.max(1.0), "{row:?}: E {e}");
+            assert_eq!(cell_t, t.round(), "{row:?}");
+        }
+    }
+
+    // Table V: averaged dominance probability and the rank-sum mark on per-run HVRs.
+    let t5 = rows(&report, "## Table V.", &["P(row ≺ column)"]);
+    assert_eq!(t5.len(), 4);
+    for (a, row) in t5.iter().enumerate() {
+        assert_eq!(row[0], labels[a]);
+        for b in 0..4 {
+            let cell = &row[b + 1];
+            if a == b {
+                assert_eq!(cell, "—");
+                continue;
+            }
+            let mut dom = vec![];
+            for fa in &runs[a] {
+                for fb in &runs[b] {
+                    dom.push(metrics::dominance_probability(fa, fb).unwrap());
+                }
+            }
+            let mut parts = cell.split_whitespace();
+            let p: f64 = parts.next().unwrap().parse().unwrap();
+            assert!((p - mean_std(&dom).0).abs() <= 0.5e-4 + 1e-12, "{cell}");
+            let mark = parts.next().unwrap();
+            if hvr[a].len() > 1 && hvr[b].len() > 1 {
+                let t = metrics::rank_sum_test(&hvr[a], &hvr[b]).unwrap();
+                let want = match t.verdict(0.05) {
+                    std::cmp::Ordering::Greater => "+",
+                    std::cmp::Ordering::Less => "−",
+                    std::cmp::Ordering::Equal => "=",
+                };
+                assert_eq!(mark, want, "{cell}");
+                assert!(cell.contains(&format!("(p = {:.2e})", t.p_value)), "{cell}");
+            } else {
+                assert_eq!(mark, "n/a", "{cell}");
+            }
+        }
+    }
+    assert!(report.contains("Wall time: "));
+
+    // The figure: well-formed XML, one front group and one legend entry per method, with the
+    // merged front's points, and axis labels with units.
+    let doc = roxmltree::Document::parse(&svg).expect("the figure is well-formed XML");
+    let class = |n: &roxmltree::Node, c: &str| n.attribute("class") == Some(c);
+    let fronts: Vec<_> = doc.descendants().filter(|n| class(n, "front")).collect();
+    assert_eq!(fronts.len(), 4);
+    for (k, g) in fronts.iter().enumerate() {
+        assert_eq!(g.attribute("data-method"), Some(Method::ALL[k].name()));
+        let polyline = g.children().find(|c| c.has_tag_name("polyline")).unwrap();
+        let points = polyline.attribute("points").unwrap().split(' ').count();
+        assert_eq!(points, merged[k].len());
+        assert_eq!(
+            g.children().filter(|c| c.has_tag_name("circle")).count(),
+            merged[k].len()
+        );
+    }
+    let legend: Vec<String> = doc
+        .descendants()
+        .filter(|n| class(n, "legend-entry"))
+        .map(|n| n.descendants().filter_map(|t| t.text()).collect::<String>())
+        .collect();
+    assert_eq!(legend.len(), 4);
+    for (k, entry) in legend.iter().enumerate() {
+        assert!(entry.starts_with(labels[k]), "{entry}");
+    }
+    let axis: Vec<&str> = doc
+        .descendants()
+        .filter(|n| class(n, "axis-label"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert_eq!(axis, vec!["T (triangles)", "E = Σ|z − z̃| (m)"]);
+}
+
+/// results.json up to its timings, which are the only part allowed to differ.
+fn without_timings(json: &str) -> &str {
+    let at = json.find("\"timings\"").expect("results.json has timings");
+    &json[..at]
+}
+
+#[test]
+fn same_seed_gives_identical_results_on_one_or_two_threads() {
+    let dir = scratch("determinism");
+    let grid = volcano_17x17(&dir);
+    let (one, two) = (dir.join("one"), dir.join("two"));
+    assert!(tiny_experiment(&grid, &one, "1").status.success());
+    assert!(tiny_experiment(&grid, &two, "2").status.success());
+    let read = |d: &Path, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    let (a, b) = (read(&one, "results.json"), read(&two, "results.json"));
+    assert_eq!(without_timings(&a), without_timings(&b));
+    assert!(a.contains("\"threads\": 1") && b.contains("\"threads\": 2"));
+    // The report differs only in its wall-time line; the figure not at all.
+    let strip = |r: String| {
+        r.lines()
+            .filter(|l| !l.starts_with("- Wall time:"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(
+        strip(read(&one, "report.md")),
+        strip(read(&two, "report.md"))
+    );
+    assert_eq!(
+        read(&one, "fronts-volcano_17x17.svg"),
+        read(&two, "fronts-volcano_17x17.svg")
+    );
+}
+
+#[test]
+fn bad_options_are_refused_with_a_message() {
+    let dir = scratch("bad");
+    let grid = volcano_17x17(&dir);
+    let g = grid.to_str().unwrap();
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["--methods", "nsga2,simplex"],
+            "unknown method \"simplex\"",
+        ),
+        (&["--runs", "0"], "runs must be at least 1"),
+        (&["--weighted-runs", "0"], "runs must be at least 1"),
+        (&["--methods", "greedy,greedy"], "listed twice"),
+        (&["--reference", "1.1"], "reference point must look like"),
+        (&["--pop", "1"], "population"),
+    ];
+    for (extra, message) in cases {
+        let mut args = vec!["experiment", g, "--out", o];
+        args.extend_from_slice(extra);
+        let r = paretomesh(&args);
+        assert!(!r.status.success(), "{extra:?} was accepted");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(message), "{extra:?}: {err}");
+    }
+    // The same file twice would write one figure over the other.
+    let r = paretomesh(&["experiment", g, g, "--out", o]);
+    assert!(String::from_utf8_lossy(&r.stderr).contains("two inputs are named"));
+    assert!(!out.join("report.md").exists());
+}
