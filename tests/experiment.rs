@@ -201,12 +201,16 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
         })
         .collect();
 
-    // Table II.
+    // Table II: per-run HVR, then the merged fronts' HVR.
     let t2 = rows(&report, "## Table II.", &["Data set"]);
-    assert_eq!(t2.len(), 1);
+    assert_eq!(t2.len(), 2);
     assert_eq!(t2[0][0], "volcano_17x17");
     for k in 0..4 {
         assert_4dp(summary(&t2[0][k + 1]), mean_std(&hvr[k]), "HVR");
+        let merged_hvr =
+            metrics::hypervolume_ratio(&merged[k], &reference, reference_point).unwrap();
+        let cell: f64 = t2[1][k + 1].parse().unwrap();
+        assert!((cell - merged_hvr).abs() <= 0.5e-4 + 1e-12, "merged HVR");
     }
 
     // Table III: every ordered pair.
@@ -333,7 +337,7 @@ fn same_seed_gives_identical_results_on_one_or_two_threads() {
     let read = |d: &Path, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
     let (a, b) = (read(&one, "results.json"), read(&two, "results.json"));
     assert_eq!(without_timings(&a), without_timings(&b));
-    assert!(a.contains("\"threads\": 1") && b.contains("\"threads\": 2"));
+    assert!(a.contains("\"threads\":1") && b.contains("\"threads\":2"));
     // The report differs only in its wall-time line; the figure not at all.
     let strip = |r: String| {
         r.lines()

@@ -6,7 +6,9 @@
 //!   (equal (E, T)) kept once;
 //! - the **reference front**: the non-dominated merge of every method's merged front;
 //! - **HVR** (Table II): for each run, HV(run front) / HV(reference front) with the settings'
-//!   reference point; mean ± sample std over the method's runs;
+//!   reference point; mean ± sample std over the method's runs; also the HVR of the merged
+//!   front (all runs together, which for NSGA-II is the same budget as one weighted-sum sweep
+//!   of 11 GA runs, roughly);
 //! - **epsilon and coverage** (Table III), for every ordered pair (A, B): the additive epsilon
 //!   I_ε+(A_i, B_j) (normalised units) and Zitzler's coverage C(A_i, B_j) (weak dominance) over
 //!   every pair of a run i of A and a run j of B; mean ± sample std over those n_A·n_B pairs;
@@ -81,6 +83,8 @@ pub struct MethodAnalysis {
     pub hvr_runs: Vec<f64>,
     /// Their summary (Table II).
     pub hvr: Summary,
+    /// The HVR of the merged front.
+    pub merged_hvr: f64,
     /// The member of the merged front with the lowest E.
     pub best_error: Pick,
     /// The member with the fewest triangles.
@@ -200,6 +204,7 @@ fn analyse_dataset(
             .collect::<Result<Vec<_>, _>>()?;
         let hvr = Summary::of(&hvr_runs).expect("a method has at least one run");
         let points = &merged_points[k];
+        let merged_hvr = hypervolume_ratio(points, &reference_front, reference_point)?;
         let pick = |i: usize| Pick {
             e: merged[k][i].e_sum,
             t: merged[k][i].t,
@@ -212,6 +217,7 @@ fn analyse_dataset(
             merged: merged[k].clone(),
             hvr_runs,
             hvr,
+            merged_hvr,
         });
     }
 
@@ -344,6 +350,9 @@ pub(crate) mod tests {
             (0.8 - 0.39 / 0.55) / 2f64.sqrt()
         ));
         assert!(close(d.methods[1].hvr.mean, 0.6));
+        // NSGA-II's merged front {(1, .2), (.5, .4), (.4, .6)}: .1·.2 + .6·.2 + .7·.5 = .49.
+        assert!(close(d.methods[0].merged_hvr, 0.49 / 0.55));
+        assert!(close(d.methods[1].merged_hvr, 0.6));
         assert_eq!(d.methods[1].hvr.std, None);
         // NSGA-II's merged front keeps the shared corner mesh once.
         assert_eq!(d.methods[0].merged.len(), 3);

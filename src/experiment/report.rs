@@ -205,6 +205,32 @@ fn table_ii(w: &mut String, results: &Results, analysis: &Analysis) {
                 .join(" | ")
         );
     }
+    let _ = writeln!(
+        w,
+        "\nHVR of each method's merged front (all its runs together; a weighted-sum sweep is 11 GA runs, about the evaluations of 10 NSGA-II runs):\n"
+    );
+    let _ = writeln!(
+        w,
+        "| Data set | {} |",
+        methods
+            .iter()
+            .map(|m| m.label())
+            .collect::<Vec<_>>()
+            .join(" | ")
+    );
+    let _ = writeln!(w, "|---|{}", "---|".repeat(methods.len()));
+    for a in &analysis.datasets {
+        let _ = writeln!(
+            w,
+            "| {} | {} |",
+            a.name,
+            a.methods
+                .iter()
+                .map(|m| format!("{:.4}", m.merged_hvr))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+    }
 }
 
 fn table_iii(w: &mut String, analysis: &Analysis) {

@@ -110,9 +110,10 @@ pub struct RunTiming {
 }
 
 impl Results {
-    /// The JSON text of results.json (pretty-printed, keys in declaration order).
+    /// The JSON text of results.json: compact (the kept sets of every run's front make it
+    /// large; pretty-printing would put each index on its own line), keys in declaration order.
     pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).expect("results hold only finite numbers and strings")
+        serde_json::to_string(self).expect("results hold only numbers, strings and arrays")
     }
 
     /// Parses results.json; the error is serde's message.
