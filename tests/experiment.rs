@@ -1,6 +1,7 @@
 //! `paretomesh experiment` end to end on a small grid with tiny budgets: every output file, the
 //! report's numbers against an independent recomputation from results.json with the metrics
-//! module, the figure's structure, determinism across thread counts, and bad input.
+//! module, the figure's structure, `paretomesh report` reproducing both from results.json,
+//! determinism across thread counts, and bad input.
 
 use paretomesh::evaluator::Evaluator;
 use paretomesh::experiment::{Method, Results};
@@ -319,6 +320,24 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
         .filter_map(|n| n.text())
         .collect();
     assert_eq!(axis, vec!["T (triangles)", "E = Σ|z − z̃| (m)"]);
+
+    // `paretomesh report` recomputes the same report and figure from results.json alone.
+    let again = dir.join("again");
+    let r = paretomesh(&[
+        "report",
+        out.join("results.json").to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(
+        std::fs::read_to_string(again.join("report.md")).unwrap(),
+        report
+    );
+    assert_eq!(
+        std::fs::read_to_string(again.join("fronts-volcano_17x17.svg")).unwrap(),
+        svg
+    );
 }
 
 /// results.json up to its timings, which are the only part allowed to differ.

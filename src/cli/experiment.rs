@@ -1,12 +1,13 @@
 //! `paretomesh experiment GRID... [--runs 10] [--weighted-runs 1] [--seed S] [--pop 100 --gens 50]
 //! [--methods nsga2,weighted,decimation,greedy] [--reference E,T] [--threads N] --out DIR`:
 //! the paper's protocol on every input, on every core, then report.md, fronts-<name>.svg and
-//! results.json in DIR.
+//! results.json in DIR. And `paretomesh report RESULTS --out DIR`: the report and figures again
+//! from a results.json alone.
 
 use super::input::InputArgs;
 use clap::Args;
 use paretomesh::experiment::{
-    self, Analysis, Dataset, Method, RunRecord, RunTiming, Settings, Timings,
+    self, Analysis, Dataset, Method, Results, RunRecord, RunTiming, Settings, Timings,
 };
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -51,6 +52,16 @@ pub struct ExperimentArgs {
     #[arg(long)]
     threads: Option<usize>,
     /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// The options of `paretomesh report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// A results.json written by `paretomesh experiment`.
+    results: PathBuf,
+    /// Output directory for report.md and the figures (created if missing).
     #[arg(long)]
     out: PathBuf,
 }
@@ -203,28 +214,53 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
         runs: run_timings,
     });
 
-    let out = &args.out;
+    let out = write_outputs(&args.out, &results, &analysis, true)?;
+    println!(
+        "wrote {out} (report.md, results.json, {} figure(s)) in {:.1} s",
+        results.datasets.len(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// Writes report.md, the figures and (if `with_results`) results.json into `out`; returns
+/// `out` for messages.
+fn write_outputs(
+    out: &Path,
+    results: &Results,
+    analysis: &Analysis,
+    with_results: bool,
+) -> Result<String, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("cannot create {}: {e}", out.display()))?;
     let write = |name: &str, text: &str| {
         let path = out.join(name);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
-    write("results.json", &results.to_json())?;
-    write(
-        "report.md",
-        &experiment::report_markdown(&results, &analysis),
-    )?;
+    if with_results {
+        write("results.json", &results.to_json())?;
+    }
+    write("report.md", &experiment::report_markdown(results, analysis))?;
     for (d, a) in results.datasets.iter().zip(&analysis.datasets) {
         write(
             &format!("fronts-{}.svg", d.name),
             &experiment::fronts_svg(d, a),
         )?;
     }
+    Ok(out.display().to_string())
+}
+
+/// `paretomesh report`: recomputes every table and figure from a results.json.
+pub fn report(args: &ReportArgs) -> Result<(), String> {
+    let text = std::fs::read_to_string(&args.results)
+        .map_err(|e| format!("cannot read {}: {e}", args.results.display()))?;
+    let results =
+        Results::from_json(&text).map_err(|e| format!("{}: {e}", args.results.display()))?;
+    let analysis = Analysis::of(&results).map_err(|e| e.to_string())?;
+    let out = write_outputs(&args.out, &results, &analysis, false)?;
     println!(
-        "wrote {} (report.md, results.json, {} figure(s)) in {:.1} s",
-        out.display(),
+        "wrote {out} (report.md, {} figure(s)) from {}",
         results.datasets.len(),
-        start.elapsed().as_secs_f64()
+        args.results.display()
     );
     Ok(())
 }

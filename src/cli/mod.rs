@@ -36,6 +36,8 @@ enum Command {
     /// Run the paper's experiment on one or more grids: every method, the indicators and the
     /// Wilcoxon tests; writes report.md, fronts-<name>.svg and results.json.
     Experiment(experiment::ExperimentArgs),
+    /// Recompute report.md and the figures of an experiment from its results.json.
+    Report(experiment::ReportArgs),
 }
 
 /// Runs a parsed command line; the error is a message for the user.
@@ -45,5 +47,6 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Eval { input, keep } => eval::run(&input, &keep),
         Command::Run(args) => run::run(&args),
         Command::Experiment(args) => experiment::run(&args),
+        Command::Report(args) => experiment::report(&args),
     }
 }

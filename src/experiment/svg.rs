@@ -10,10 +10,10 @@ use super::method::Method;
 use super::results::DatasetResults;
 use std::fmt::Write;
 
-const WIDTH: f64 = 760.0;
+const WIDTH: f64 = 800.0;
 const HEIGHT: f64 = 480.0;
 const LEFT: f64 = 90.0;
-const RIGHT: f64 = 200.0;
+const RIGHT: f64 = 240.0;
 const TOP: f64 = 40.0;
 const BOTTOM: f64 = 60.0;
 
@@ -110,21 +110,7 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         dataset.grid.width,
         dataset.grid.height
     );
-    // Axes, grid lines and ticks.
-    let _ = writeln!(s, r##"<g class="axes" stroke="#444" stroke-width="1">"##);
-    let _ = writeln!(
-        s,
-        r#"<line x1="{LEFT}" y1="{}" x2="{}" y2="{}"/>"#,
-        TOP + plot_h,
-        LEFT + plot_w,
-        TOP + plot_h
-    );
-    let _ = writeln!(
-        s,
-        r#"<line x1="{LEFT}" y1="{TOP}" x2="{LEFT}" y2="{}"/>"#,
-        TOP + plot_h
-    );
-    let _ = writeln!(s, "</g>");
+    // Grid lines and ticks, then the axes over them.
     let _ = writeln!(s, r#"<g class="ticks">"#);
     for &t in &xt {
         let px = x(t);
@@ -147,6 +133,20 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
             tick_label(e)
         );
     }
+    let _ = writeln!(s, "</g>");
+    let _ = writeln!(s, r##"<g class="axes" stroke="#444" stroke-width="1">"##);
+    let _ = writeln!(
+        s,
+        r#"<line x1="{LEFT}" y1="{}" x2="{}" y2="{}"/>"#,
+        TOP + plot_h,
+        LEFT + plot_w,
+        TOP + plot_h
+    );
+    let _ = writeln!(
+        s,
+        r#"<line x1="{LEFT}" y1="{TOP}" x2="{LEFT}" y2="{}"/>"#,
+        TOP + plot_h
+    );
     let _ = writeln!(s, "</g>");
     let _ = writeln!(
         s,
