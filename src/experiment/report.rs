@@ -60,24 +60,20 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    let seeds = |runs: usize| match runs {
+        1 => format!("1 run, seed {}", s.seed),
+        n => format!("{n} runs, run k = 0…{} with seed {} + k", n - 1, s.seed),
+    };
     if s.methods.contains(&Method::Nsga2) {
-        let _ = writeln!(
-            w,
-            "- NSGA-II: {} run{}, run k with seed {} + k.",
-            s.runs,
-            if s.runs == 1 { "" } else { "s" },
-            s.seed
-        );
+        let _ = writeln!(w, "- NSGA-II: {}.", seeds(s.runs));
     }
     if s.methods.contains(&Method::Weighted) {
         let _ = writeln!(
             w,
-            "- Weighted-sum GA: {} run{} (seed {} + k). One run is a sweep over all its weights w = 0, 0.1, …, 1, one GA run each (11 GA runs); the best solution of each weight makes that run's front.{}",
-            s.weighted_runs,
-            if s.weighted_runs == 1 { "" } else { "s" },
-            s.seed,
+            "- Weighted-sum GA: {}. One run is a sweep over all its weights w = 0, 0.1, …, 1, one GA run each (11 GA runs); the best solution of each weight makes that run's front.{}",
+            seeds(s.weighted_runs),
             if s.weighted_runs == 1 {
-                " One sweep is the paper's protocol; it gives one HVR sample, so its std and rank-sum tests are n/a (use `--weighted-runs` for more)."
+                " One sweep is the paper's protocol; it gives one HVR sample, so its std and rank-sum tests are n/a (`--weighted-runs N` runs N sweeps)."
             } else {
                 ""
             }
