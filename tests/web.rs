@@ -37,3 +37,239 @@ fn bad_input_is_an_error_not_a_panic() {
     let err = paretomesh::web::evaluate_raw(&GRID[..100], SIDECAR, &[]);
     assert!(err.is_err());
 }
+
+mod plot_hit_testing {
+    use paretomesh::web::plot::{Layout, PlotPoint, hit_test, ticks};
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    fn pt(t: f64, e: f64) -> PlotPoint {
+        PlotPoint { t, e }
+    }
+
+    #[wasm_bindgen_test]
+    fn every_fitted_point_lies_inside_the_plotting_area() {
+        // A front from few triangles and large error to many triangles and small error.
+        let points = [pt(2.0, 900.0), pt(40.0, 120.0), pt(300.0, 3.5)];
+        let layout = Layout::fit(400.0, 300.0, &points);
+        let (l, t, r, b) = layout.area();
+        for p in points {
+            let (x, y) = layout.to_pixel(p);
+            assert!(x >= l && x <= r && y >= t && y <= b, "{p:?} at ({x}, {y})");
+        }
+        // More triangles is further right; more error is higher up (smaller y).
+        assert!(layout.to_pixel(points[0]).0 < layout.to_pixel(points[2]).0);
+        assert!(layout.to_pixel(points[0]).1 < layout.to_pixel(points[2]).1);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_click_selects_the_nearest_point_within_the_radius_only() {
+        let points = [pt(2.0, 900.0), pt(40.0, 120.0), pt(300.0, 3.5)];
+        let layout = Layout::fit(400.0, 300.0, &points);
+        let (x, y) = layout.to_pixel(points[1]);
+        assert_eq!(hit_test(&layout, &points, x + 3.0, y - 2.0, 8.0), Some(1));
+        // 20 px away from every point: no hit.
+        assert_eq!(hit_test(&layout, &points, x + 20.0, y + 20.0, 8.0), None);
+        assert_eq!(hit_test(&layout, &[], x, y, 8.0), None);
+    }
+
+    #[wasm_bindgen_test]
+    fn coincident_points_resolve_to_the_lower_index() {
+        // Two members drawn on the same pixel: the answer must not depend on float noise.
+        let points = [pt(10.0, 5.0), pt(10.0, 5.0)];
+        let layout = Layout::fit(200.0, 200.0, &points);
+        let (x, y) = layout.to_pixel(points[0]);
+        assert_eq!(hit_test(&layout, &points, x, y, 4.0), Some(0));
+    }
+
+    #[wasm_bindgen_test]
+    fn a_single_point_or_no_point_still_maps_to_finite_pixels() {
+        for points in [vec![pt(2.0, 0.0)], vec![]] {
+            let layout = Layout::fit(300.0, 200.0, &points);
+            let (x, y) = layout.to_pixel(pt(2.0, 0.0));
+            assert!(x.is_finite() && y.is_finite());
+        }
+    }
+
+    #[wasm_bindgen_test]
+    fn ticks_are_round_numbers_inside_the_range() {
+        assert_eq!(ticks(0.0, 10.0, 5), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        let t = ticks(13.0, 987.0, 6);
+        assert!(
+            t.iter()
+                .all(|v| (13.0..=987.0).contains(v) && v % 100.0 == 0.0),
+            "{t:?}"
+        );
+    }
+}
+
+mod views_and_exports {
+    use paretomesh::evaluator::Evaluator;
+    use paretomesh::heightfield::{Heightfield, Placement, raw};
+    use paretomesh::web::app::shown_mesh;
+    use paretomesh::web::export::{WorldMesh, front_csv};
+    use paretomesh::web::render::geometry::{ViewMapping, flat_mesh, wireframe};
+    use std::sync::Arc;
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    fn volcano() -> Arc<Heightfield> {
+        Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap())
+    }
+
+    // Kept points spread over the 33×33 grid (interior points of a few rows and columns).
+    const KEPT: [u32; 6] = [34, 200, 530, 545, 800, 1000];
+
+    #[wasm_bindgen_test]
+    fn per_point_errors_add_up_to_the_evaluators_error() {
+        let hf = volcano();
+        let mesh = shown_mesh(&hf, &KEPT).unwrap();
+        let sum: f64 = mesh.point_error.iter().sum();
+        let e = Evaluator::new(hf.clone()).score(&KEPT).unwrap().e_sum;
+        assert!((sum - e).abs() <= 1e-9 * e, "{sum} vs {e}");
+        assert_eq!(mesh.e_sum, e);
+        // Kept points (corners included) have no error.
+        for &k in mesh.kept.iter() {
+            assert_eq!(mesh.point_error[k as usize], 0.0);
+        }
+        assert_eq!(mesh.kept.len(), KEPT.len() + 4);
+    }
+
+    #[wasm_bindgen_test]
+    fn the_wireframe_draws_each_edge_once() {
+        // A triangulation of a convex region with V points and T triangles has V + T − 1 edges.
+        let hf = volcano();
+        let mesh = shown_mesh(&hf, &KEPT).unwrap();
+        let map = ViewMapping::new(&hf);
+        let lines = wireframe(&hf, &map, &mesh.triangles, [0.0; 4]);
+        assert_eq!(
+            lines.indices.len() / 2,
+            mesh.kept.len() + mesh.triangles.len() - 1
+        );
+        let fill = flat_mesh(&hf, &map, &mesh.triangles, [1.0; 4]);
+        assert_eq!(fill.vertices.len(), 3 * mesh.triangles.len());
+    }
+
+    #[wasm_bindgen_test]
+    fn exports_use_the_inputs_own_coordinates() {
+        // A 3×2 grid with spacing (2, 5) and origin (10, 20): point 5 is (x=2, y=1).
+        let hf = Heightfield::new(3, 2, vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0])
+            .unwrap()
+            .with_geometry([10.0, 20.0], [2.0, 5.0])
+            .unwrap();
+        // Kept: point 1 and the four corners (0, 2, 3, 5) = 5 vertices.
+        let mesh = shown_mesh(&Arc::new(hf.clone()), &[1]).unwrap();
+        let world = WorldMesh::new(&hf, &mesh.kept, &mesh.triangles).unwrap();
+        assert_eq!(world.vertices.last(), Some(&[14.0, 25.0, 5.0]));
+        let ply = world.to_ply("test");
+        assert!(ply.contains("element vertex 5\n"));
+        assert!(ply.contains(&format!("element face {}\n", mesh.triangles.len())));
+        assert!(ply.contains("\n14 25 5\n"));
+        let obj = world.to_obj("test");
+        assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 5);
+        assert!(
+            obj.lines()
+                .filter(|l| l.starts_with("f "))
+                .all(|l| !l.contains(" 0"))
+        );
+        let stl = world.to_stl("solid-looking header");
+        assert_eq!(stl.len(), 84 + 50 * mesh.triangles.len());
+        assert_ne!(&stl[..5], b"solid");
+    }
+
+    #[wasm_bindgen_test]
+    fn a_cylindrical_unwrap_exports_back_onto_the_cylinder() {
+        // θ along x, ζ along y, ρ = z = 2 everywhere: every exported vertex is 2 from the axis.
+        let hf = Heightfield::new(4, 3, vec![2.0; 12])
+            .unwrap()
+            .with_geometry([0.0, 0.0], [1.0, 1.0])
+            .unwrap()
+            .with_placement(Placement::Cylindrical {
+                origin: [0.0; 3],
+                axis: [0.0, 0.0, 1.0],
+                reference: [1.0, 0.0, 0.0],
+            });
+        let mesh = shown_mesh(&Arc::new(hf.clone()), &[5, 6]).unwrap();
+        let world = WorldMesh::new(&hf, &mesh.kept, &mesh.triangles).unwrap();
+        for v in &world.vertices {
+            assert!(
+                ((v[0] * v[0] + v[1] * v[1]).sqrt() - 2.0).abs() < 1e-12,
+                "{v:?}"
+            );
+        }
+    }
+
+    #[wasm_bindgen_test]
+    fn a_triangle_on_a_point_that_is_not_kept_is_an_error() {
+        let hf = Heightfield::new(2, 2, vec![0.0; 4]).unwrap();
+        assert!(WorldMesh::new(&hf, &[0, 1, 3], &[[0, 1, 2]]).is_err());
+    }
+
+    #[wasm_bindgen_test]
+    fn the_front_csv_has_one_row_per_member() {
+        use paretomesh::front::{Front, Solution};
+        let mut f = Front::default();
+        f.offer(Solution {
+            e_sum: 9.0,
+            e_max: 3.0,
+            t: 2,
+            kept: vec![0, 1, 2, 3],
+        });
+        f.offer(Solution {
+            e_sum: 1.5,
+            e_max: 1.0,
+            t: 4,
+            kept: vec![0, 1, 2, 3, 4],
+        });
+        assert_eq!(front_csv(&f), "T,E_sum,E_max,kept\n2,9,3,4\n4,1.5,1,5\n");
+    }
+}
+
+mod camera_and_loading {
+    use paretomesh::web::loader;
+    use paretomesh::web::render::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    #[wasm_bindgen_test]
+    fn orbiting_and_zooming_stay_within_limits() {
+        let mut c = OrbitCamera::default();
+        c.orbit(0.0, 1e6);
+        assert_eq!(c.pitch, MAX_PITCH);
+        c.zoom(1e-9);
+        assert_eq!(c.distance, MIN_DISTANCE);
+        c.zoom(f32::NAN);
+        assert_eq!(c.distance, MIN_DISTANCE);
+        let m = c.view_projection(1.5);
+        assert!(m.to_cols_array().iter().all(|v| v.is_finite()));
+    }
+
+    #[wasm_bindgen_test]
+    fn panning_moves_the_target_and_keeps_the_distance() {
+        let mut c = OrbitCamera::default();
+        let d = c.distance;
+        c.pan(50.0, 0.0, 500.0);
+        assert_ne!(c.target, [0.0; 3]);
+        assert_eq!(c.distance, d);
+    }
+
+    #[wasm_bindgen_test]
+    fn the_builtin_surface_is_a_real_grid_with_its_source_note() {
+        let hf = loader::builtin();
+        assert_eq!((hf.width(), hf.height()), (65, 65));
+        assert!(hf.source().contains("jacksboro"));
+        let (lo, hi) = hf.z_range();
+        assert!(hi > lo);
+    }
+
+    #[wasm_bindgen_test]
+    fn bad_files_get_messages_a_user_understands() {
+        let no_sidecar = loader::parse("dem.f32", super::GRID, None).unwrap_err();
+        assert!(no_sidecar.contains("sidecar"), "{no_sidecar}");
+        let truncated =
+            loader::parse("dem.f32", &super::GRID[..10], Some(super::SIDECAR)).unwrap_err();
+        assert!(
+            truncated.contains("dem.f32") && truncated.contains("truncated"),
+            "{truncated}"
+        );
+        let unknown = loader::parse("notes.txt", b"hello", None).unwrap_err();
+        assert!(unknown.contains("unknown file type"), "{unknown}");
+    }
+}
