@@ -52,7 +52,7 @@ struct Ui {
     front_points: Vec<PlotPoint>,
     hovered: Option<usize>,
     pointers: Vec<(i32, f64, f64)>,
-    frame_started: Option<f64>,
+    painted: bool,
 }
 
 fn performance_now() -> f64 {
@@ -295,7 +295,6 @@ impl Ui {
     }
 
     fn frame(&mut self, _now: f64) {
-        self.frame_started = Some(performance_now());
         let budget = self.app.config().budget_ms;
         let mut clock = performance_now;
         self.app.tick(budget, &mut clock);
@@ -311,6 +310,13 @@ impl Ui {
         {
             r.draw(&self.camera);
             self.redraw = false;
+            if !self.painted {
+                // Lets anyone (the end-to-end test, DevTools) read the time to first paint.
+                self.painted = true;
+                if let Some(p) = web_sys::window().and_then(|w| w.performance()) {
+                    let _ = p.mark("paretomesh-first-paint");
+                }
+            }
         }
     }
 
@@ -436,7 +442,7 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
         front_points: Vec::new(),
         hovered: None,
         pointers: Vec::new(),
-        frame_started: None,
+        painted: false,
     };
     dom::write_config(ui.app.config()).map_err(|e| JsValue::from_str(&e))?;
     ui.surface_info();
