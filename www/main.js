@@ -21,6 +21,33 @@ async function readWithProgress(file, onProgress) {
   return out;
 }
 
+// Parsing happens in a module Worker running the same wasm (www/worker.js); null when the
+// browser cannot start one.
+let worker = null;
+let nextId = 0;
+const pending = new Map();
+function parseInWorker(name, bytes, sidecar) {
+  try {
+    if (!worker) {
+      worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+      worker.onmessage = ({ data }) => { pending.get(data.id)?.(data); pending.delete(data.id); };
+      worker.onerror = (e) => {
+        for (const resolve of pending.values()) resolve({ ok: false, error: `the parser stopped: ${e.message}` });
+        pending.clear();
+        worker = null;
+      };
+    }
+  } catch {
+    return Promise.resolve(null);
+  }
+  const id = nextId++;
+  return new Promise((resolve) => {
+    pending.set(id, resolve);
+    const transfer = [bytes.buffer, ...(sidecar ? [sidecar.buffer] : [])];
+    worker.postMessage({ id, name, bytes, sidecar }, transfer);
+  });
+}
+
 async function loadFiles(files) {
   if (!app || files.length === 0) return;
   const list = [...files];
@@ -39,9 +66,16 @@ async function loadFiles(files) {
     const bytes = await readWithProgress(main, (f) => progress(f * main.size));
     const side = sidecar ? await readWithProgress(sidecar, (f) => progress(main.size + f * sidecar.size)) : undefined;
     app.showLoadMessage(`parsing ${main.name}…`, false);
-    // Let the message paint before parsing.
-    await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
-    app.loadFile(main.name, bytes, side);
+    const result = await parseInWorker(main.name, bytes, side);
+    if (result === null) {
+      // No Worker (very old browser): parse here, after the message has painted.
+      await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
+      app.loadFile(main.name, bytes, side);
+    } else if (result.ok) {
+      app.loadParsed(main.name, result.surface);
+    } else {
+      app.showLoadMessage(result.error, true);
+    }
   } catch (e) {
     app.showLoadMessage(`${main.name}: cannot read the file (${e})`, true);
   } finally {

@@ -17,6 +17,7 @@ pub mod export;
 pub mod loader;
 pub mod plot;
 pub mod render;
+pub mod transfer;
 pub mod ui;
 
 use crate::{evaluator::Evaluator, heightfield::raw};

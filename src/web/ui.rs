@@ -334,8 +334,12 @@ impl Ui {
         }
     }
 
-    fn load(&mut self, name: &str, bytes: &[u8], sidecar: Option<&[u8]>) -> bool {
-        match loader::parse(name, bytes, sidecar) {
+    fn load(
+        &mut self,
+        name: &str,
+        parsed: Result<crate::heightfield::Heightfield, String>,
+    ) -> bool {
+        match parsed {
             Ok(hf) => {
                 self.app.set_surface(Surface {
                     name: name.to_string(),
@@ -480,7 +484,16 @@ impl WebApp {
     /// next to the drop zone and the current surface stays. Returns whether it loaded.
     #[wasm_bindgen(js_name = loadFile)]
     pub fn load_file(&self, name: &str, bytes: &[u8], sidecar: Option<Vec<u8>>) -> bool {
-        self.ui.borrow_mut().load(name, bytes, sidecar.as_deref())
+        let parsed = loader::parse(name, bytes, sidecar.as_deref());
+        self.ui.borrow_mut().load(name, parsed)
+    }
+
+    /// Shows a surface the Worker parsed (see [`super::transfer`]); like [`WebApp::load_file`]
+    /// otherwise.
+    #[wasm_bindgen(js_name = loadParsed)]
+    pub fn load_parsed(&self, name: &str, parsed: JsValue) -> bool {
+        let parsed = super::transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
+        self.ui.borrow_mut().load(name, parsed)
     }
 
     /// Shows a loading message (`error` styles it as an error), for the JS file reader.
