@@ -1,11 +1,11 @@
-//! `paretomesh eval GRID --keep FILE|-`.
+//! `paretomesh eval GRID --keep FILE|- [import options]`.
 
-use paretomesh::{evaluator::Evaluator, heightfield};
+use super::input::InputArgs;
+use paretomesh::evaluator::Evaluator;
 use std::io::Read;
-use std::path::Path;
 
-pub fn run(path: &Path, keep: &str) -> Result<(), String> {
-    let hf = heightfield::load(path).map_err(|e| e.to_string())?;
+pub fn run(input: &InputArgs, keep: &str) -> Result<(), String> {
+    let hf = input.load()?;
     let text = if keep == "-" {
         let mut s = String::new();
         std::io::stdin()

@@ -1,21 +1,33 @@
-//! `paretomesh info GRID`.
+//! `paretomesh info GRID [import options]`.
 
-use paretomesh::heightfield;
-use std::path::Path;
+use super::input::InputArgs;
+use paretomesh::heightfield::Placement;
 
-pub fn run(path: &Path) -> Result<(), String> {
-    let hf = heightfield::load(path).map_err(|e| e.to_string())?;
+pub fn run(input: &InputArgs) -> Result<(), String> {
+    let hf = input.load()?;
     let (lo, hi) = hf.z_range();
     println!("size: {}×{} = {} points", hf.width(), hf.height(), hf.len());
     println!("z range: {lo} .. {hi}");
+    println!("origin: {:?}", hf.origin());
     println!("spacing: {:?}", hf.spacing());
-    println!("full mesh: {} triangles", hf.full_triangles());
-    if hf.filled() > 0 {
-        println!(
-            "filled: {} grid points had no triangle and took their nearest value",
-            hf.filled()
-        );
+    match hf.placement() {
+        Placement::Grid => println!("placement: grid, world = (x, y, z) as given"),
+        Placement::Planar { origin, u, v, n } => println!(
+            "placement: planar projection, world = {origin:?} + x·{u:?} + y·{v:?} + z·{n:?}"
+        ),
+        Placement::Cylindrical {
+            origin,
+            axis,
+            reference,
+        } => println!(
+            "placement: cylindrical unwrap around axis {axis:?} through {origin:?} (x = angle from {reference:?} in radians, y = along the axis, z = radius)"
+        ),
     }
+    println!("full mesh: {} triangles", hf.full_triangles());
+    println!(
+        "filled: {} grid points had no triangle and took their nearest value",
+        hf.filled()
+    );
     println!("source: {}", hf.source());
     Ok(())
 }

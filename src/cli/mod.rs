@@ -2,9 +2,9 @@
 
 mod eval;
 mod info;
+mod input;
 
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
 
 /// Simplify height fields by evolutionary multi-objective optimisation.
 #[derive(Parser, Debug)]
@@ -18,13 +18,13 @@ pub struct Cli {
 enum Command {
     /// Print the size, the z range and how the grid was made.
     Info {
-        /// Input: .f32 (with its .json sidecar), PNG, PLY, OBJ or STL.
-        grid: PathBuf,
+        #[command(flatten)]
+        input: input::InputArgs,
     },
     /// Triangulate a kept set and print its error as JSON.
     Eval {
-        /// Input: .f32 (with its .json sidecar), PNG, PLY, OBJ or STL.
-        grid: PathBuf,
+        #[command(flatten)]
+        input: input::InputArgs,
         /// JSON array of kept grid indices (y·W + x), or `-` for standard input.
         #[arg(long)]
         keep: String,
@@ -34,7 +34,7 @@ enum Command {
 /// Runs a parsed command line; the error is a message for the user.
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Info { grid } => info::run(&grid),
-        Command::Eval { grid, keep } => eval::run(&grid, &keep),
+        Command::Info { input } => info::run(&input),
+        Command::Eval { input, keep } => eval::run(&input, &keep),
     }
 }

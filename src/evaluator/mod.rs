@@ -247,8 +247,9 @@ impl Evaluator {
             z: self.hf.z(),
         };
         let (mut sum, mut sum_sq, mut max) = (0.0f64, 0.0f64, 0.0f64);
+        let lattice = predicates::Lattice::new(self.hf.width());
         for t in 0..self.mesh.len() {
-            let tri = self.mesh.triangle(t).map(|i| [i as i64 % w, i as i64 / w]);
+            let tri = self.mesh.triangle(t).map(|i| lattice.point(i));
             let e = grid.triangle_error(tri);
             sum += e.sum;
             sum_sq += e.sum_sq;

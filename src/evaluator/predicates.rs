@@ -16,6 +16,33 @@
 /// A grid point as integer (column, row) coordinates.
 pub type GridPoint = [i64; 2];
 
+/// Converts grid indices to coordinates without a division: `index / width` is computed as
+/// `(index · m) >> 40` with `m = ⌈2⁴⁰ / width⌉`, exact for every index below 2²² and width up
+/// to 2¹⁴ (the error term index·(m − 2⁴⁰/width)/2⁴⁰ < 2⁻¹⁸ stays below the 1/width gap).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Lattice {
+    width: u64,
+    magic: u64,
+}
+
+impl Lattice {
+    /// Coordinates on a grid `width` columns wide.
+    pub fn new(width: usize) -> Self {
+        let width = width.max(1) as u64;
+        Self {
+            width,
+            magic: (1u64 << 40).div_ceil(width),
+        }
+    }
+
+    /// (column, row) of a grid index.
+    #[inline]
+    pub fn point(&self, index: u32) -> GridPoint {
+        let row = (index as u64 * self.magic) >> 40;
+        [(index as u64 - row * self.width) as i64, row as i64]
+    }
+}
+
 /// Twice the signed area of triangle (a, b, c): positive when a → b → c turns counter-clockwise
 /// (x to the right, y up), zero when collinear.
 #[inline]
@@ -70,6 +97,23 @@ pub fn in_circle(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lattice_matches_division_at_the_limits() {
+        for width in [2usize, 3, 7, 65, 257, 1000, 4099, 16_384] {
+            let lattice = Lattice::new(width);
+            let n = (crate::heightfield::MAX_POINTS as u32)
+                .min((width * crate::heightfield::MAX_SIDE) as u32);
+            for i in (0..n).step_by(97).chain(n - 1000..n) {
+                let w = width as u32;
+                assert_eq!(
+                    lattice.point(i),
+                    [(i % w) as i64, (i / w) as i64],
+                    "width {width} index {i}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn orient_signs() {

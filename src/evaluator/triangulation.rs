@@ -8,8 +8,8 @@
 //! from `vertices[e]` to `vertices[next(e)]`; `twin[e]` is the opposite half-edge or [`NONE`] on
 //! the grid border. Triangles are counter-clockwise (x right, y up).
 
-use super::predicates::{self, GridPoint};
-use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation as _};
+use super::predicates::{self, GridPoint, Lattice};
+use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 
 /// "No half-edge": the twin of a border edge.
 pub const NONE: u32 = u32::MAX;
@@ -26,18 +26,6 @@ pub fn prev(e: u32) -> u32 {
     if e % 3 == 0 { e + 2 } else { e - 1 }
 }
 
-struct Vertex {
-    position: Point2<f64>,
-    index: u32,
-}
-
-impl HasPosition for Vertex {
-    type Scalar = f64;
-    fn position(&self) -> Point2<f64> {
-        self.position
-    }
-}
-
 /// A triangulation of grid points in half-edge form.
 #[derive(Clone, Debug, Default)]
 pub struct Triangulation {
@@ -45,8 +33,12 @@ pub struct Triangulation {
     pub vertices: Vec<u32>,
     /// Opposite half-edge, or [`NONE`].
     pub twin: Vec<u32>,
-    width: i64,
+    lattice: Lattice,
     stack: Vec<u32>,
+    /// Scratch: our half-edge for each of spade's directed edges.
+    slot: Vec<u32>,
+    /// Scratch: spade's reversed directed edge for each of our half-edges.
+    rev: Vec<u32>,
 }
 
 impl Triangulation {
@@ -76,44 +68,49 @@ impl Triangulation {
 
     #[inline]
     fn point(&self, index: u32) -> GridPoint {
-        let i = index as i64;
-        [i % self.width, i / self.width]
+        self.lattice.point(index)
     }
 
     /// Rebuilds `self` as the canonical Delaunay triangulation of `kept` (grid indices on a grid
     /// `width` wide, distinct, at least three of them not collinear).
     pub fn rebuild_delaunay(&mut self, width: usize, kept: &[u32]) {
-        self.width = width as i64;
-        let w = self.width;
-        let points: Vec<Vertex> = kept
+        self.lattice = Lattice::new(width);
+        // Plain points: a grid index is recovered exactly from its integer coordinates.
+        let points: Vec<Point2<f64>> = kept
             .iter()
-            .map(|&index| Vertex {
-                position: Point2::new((index as i64 % w) as f64, (index as i64 / w) as f64),
-                index,
+            .map(|&index| {
+                let [x, y] = self.lattice.point(index);
+                Point2::new(x as f64, y as f64)
             })
             .collect();
-        let dt = DelaunayTriangulation::<Vertex>::bulk_load(points)
+        let dt = DelaunayTriangulation::<Point2<f64>>::bulk_load(points)
             .expect("grid coordinates are small finite integers");
         let faces = dt.num_inner_faces();
         self.vertices.clear();
         self.twin.clear();
+        self.rev.clear();
+        self.slot.clear();
+        self.slot.resize(dt.num_directed_edges(), NONE);
         self.vertices.reserve(3 * faces);
-        self.twin.resize(3 * faces, NONE);
-        // Slot of every directed edge of spade's in our half-edge arrays.
-        let mut slot = vec![NONE; dt.num_directed_edges()];
-        for (t, face) in dt.inner_faces().enumerate() {
-            for (k, edge) in face.adjacent_edges().iter().enumerate() {
-                self.vertices.push(edge.from().data().index);
-                slot[edge.fix().index()] = (3 * t + k) as u32;
-            }
-        }
+        let w = width as u32;
+        // One pass over spade's faces records vertices, where each directed edge landed, and
+        // each half-edge's reverse; a second pass over plain arrays links the twins.
         for face in dt.inner_faces() {
             for edge in face.adjacent_edges() {
-                let here = slot[edge.fix().index()];
-                self.twin[here as usize] = slot[edge.rev().fix().index()];
+                let p = edge.from().position();
+                self.slot[edge.fix().index()] = self.vertices.len() as u32;
+                self.vertices.push(p.y as u32 * w + p.x as u32);
+                self.rev.push(edge.fix().rev().index() as u32);
             }
         }
+        let slot = &self.slot;
+        self.twin.extend(self.rev.iter().map(|&r| slot[r as usize]));
         self.legalize_all();
+    }
+
+    /// The coordinates of the grid the last rebuild was on.
+    pub fn lattice(&self) -> Lattice {
+        self.lattice
     }
 
     /// Flips every edge the tie rule calls illegal until none is left.

@@ -4,10 +4,17 @@
 //! in these indices. [`Placement`] remembers how the grid sits in the input's 3-D space so that a
 //! simplified mesh can be exported in the input's own coordinates.
 
+pub mod heightmap_png;
 pub mod import;
+pub mod mesh;
+pub mod obj;
+pub mod ply;
 pub mod raw;
+pub mod resample;
+pub mod stl;
 
-pub use import::{ImportError, load};
+pub use import::{ImportError, ImportOptions, Projection, from_bytes, load, load_with};
+pub use mesh::TriangleMesh;
 
 use std::fmt;
 

@@ -30,20 +30,26 @@ pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, Import
     let meta: Sidecar =
         serde_json::from_slice(json).map_err(|e| malformed(format!("sidecar JSON: {e}")))?;
     super::check_size(meta.width, meta.height)?;
+    // check_size bounds width·height by MAX_POINTS, so this cannot overflow.
     let expected = meta.width * meta.height * 4;
-    if data.len() != expected {
-        return Err(malformed(format!(
-            "{}×{} grid needs {} bytes, the file has {}{}",
-            meta.width,
-            meta.height,
-            expected,
-            data.len(),
-            if data.len() < expected {
-                " (truncated?)"
-            } else {
-                ""
-            }
-        )));
+    let grid = format!(
+        "a {}×{} grid needs {expected} bytes",
+        meta.width, meta.height
+    );
+    if data.len() < expected {
+        return Err(ImportError::Truncated {
+            format: "raw f32 grid",
+            message: format!("{grid}, the file has {}", data.len()),
+        });
+    }
+    if data.len() > expected {
+        return Err(ImportError::WrongCount {
+            format: "raw f32 grid",
+            message: format!(
+                "{grid}, the file has {}; do the sidecar's width and height match the file?",
+                data.len()
+            ),
+        });
     }
     let z: Vec<f64> = data
         .chunks_exact(4)

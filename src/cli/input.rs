@@ -1,0 +1,64 @@
+//! The input options every subcommand that reads a grid shares: the file and how to import it.
+
+use clap::{Args, ValueEnum};
+use paretomesh::heightfield::{self, Heightfield, ImportOptions, Projection};
+use std::path::PathBuf;
+
+/// How a mesh becomes a grid, as spelled on the command line.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum ProjectionArg {
+    /// The mesh's own vertices when they form a regular grid, else planar, else cylindrical.
+    #[default]
+    Auto,
+    /// Projection onto the best-fit plane.
+    Planar,
+    /// Unwrap around the principal axis (x = angle, y = along the axis, z = radius).
+    Cylindrical,
+}
+
+/// An input grid file and its import options.
+#[derive(Args, Debug)]
+pub struct InputArgs {
+    /// Input: .f32 (with its .json sidecar), PNG, PLY, OBJ or STL.
+    pub grid: PathBuf,
+    /// How a mesh becomes a height field.
+    #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
+    pub projection: ProjectionArg,
+    /// Grid size WxH for resampling a mesh, e.g. 129x129 (default: about one grid point per
+    /// vertex, at most 257 per side).
+    #[arg(long, value_name = "WxH", value_parser = parse_grid_size)]
+    pub grid_size: Option<(usize, usize)>,
+    /// Read an RGB PNG as Mapbox terrain-RGB: h = −10000 + (R·65536 + G·256 + B)·0.1.
+    #[arg(long)]
+    pub terrain_rgb: bool,
+}
+
+/// Parses `WxH` (also `W×H` or `WXH`) into two whole numbers.
+fn parse_grid_size(text: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("grid size must look like 129x129, got {text:?}");
+    let (w, h) = text.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    Ok((
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    ))
+}
+
+impl InputArgs {
+    /// The import options these arguments ask for.
+    pub fn options(&self) -> ImportOptions {
+        ImportOptions {
+            projection: match self.projection {
+                ProjectionArg::Auto => Projection::Auto,
+                ProjectionArg::Planar => Projection::Planar,
+                ProjectionArg::Cylindrical => Projection::Cylindrical,
+            },
+            grid_size: self.grid_size,
+            terrain_rgb: self.terrain_rgb,
+        }
+    }
+
+    /// Loads the grid; the error is a message for the user.
+    pub fn load(&self) -> Result<Heightfield, String> {
+        heightfield::load_with(&self.grid, &self.options()).map_err(|e| e.to_string())
+    }
+}

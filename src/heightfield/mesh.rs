@@ -1,0 +1,251 @@
+//! A triangle mesh as read from PLY, OBJ or STL, its limits, and how it becomes a height field:
+//! exactly when its vertices already form a regular grid, otherwise by resampling.
+
+use super::import::{ImportError, ImportOptions, Projection};
+use super::{Heightfield, Placement, resample};
+
+/// Most vertices a mesh file may claim (16 M): checked against the header before allocating.
+pub const MAX_VERTICES: usize = 1 << 24;
+/// Most triangles a mesh file may claim (32 M, twice [`MAX_VERTICES`] as in a closed surface).
+pub const MAX_TRIANGLES: usize = 1 << 25;
+/// Largest side of an automatically chosen resampling grid (257×257 ≈ 66 k points).
+pub const DEFAULT_MAX_SIDE: usize = 257;
+
+/// Vertices in 3-D and triangles as vertex-index triples.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    /// Vertex positions.
+    pub vertices: Vec<[f64; 3]>,
+    /// Triangles; every index is `< vertices.len()`.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriangleMesh {
+    /// Checks what every parser promises: within the limits, at least one vertex, only finite
+    /// coordinates, only valid indices. `format` names the file format in the error.
+    pub fn validate(&self, format: &'static str) -> Result<(), ImportError> {
+        check_counts(
+            format,
+            self.vertices.len() as u64,
+            self.triangles.len() as u64,
+        )?;
+        if self.vertices.is_empty() {
+            return Err(ImportError::EmptyMesh { format });
+        }
+        if let Some(i) = self
+            .vertices
+            .iter()
+            .position(|p| p.iter().any(|c| !c.is_finite()))
+        {
+            return Err(ImportError::NotFinite {
+                format,
+                message: format!("vertex {i} is {:?}", self.vertices[i]),
+            });
+        }
+        let n = self.vertices.len();
+        if let Some(t) = self
+            .triangles
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= n))
+        {
+            return Err(ImportError::Malformed {
+                format,
+                message: format!(
+                    "triangle {t} uses vertex {:?}, but there are only {n} vertices",
+                    self.triangles[t]
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Checks claimed vertex and triangle counts against [`MAX_VERTICES`] and [`MAX_TRIANGLES`].
+pub fn check_counts(
+    format: &'static str,
+    vertices: u64,
+    triangles: u64,
+) -> Result<(), ImportError> {
+    if vertices > MAX_VERTICES as u64 {
+        return Err(ImportError::OverLimit {
+            format,
+            what: "vertices",
+            claimed: vertices,
+            limit: MAX_VERTICES as u64,
+        });
+    }
+    if triangles > MAX_TRIANGLES as u64 {
+        return Err(ImportError::OverLimit {
+            format,
+            what: "triangles",
+            claimed: triangles,
+            limit: MAX_TRIANGLES as u64,
+        });
+    }
+    Ok(())
+}
+
+/// A regular grid found in a mesh's vertices.
+struct Lattice {
+    width: usize,
+    height: usize,
+    origin: [f64; 2],
+    spacing: [f64; 2],
+    z: Vec<f64>,
+}
+
+/// Distinct sorted values of one coordinate, if they are evenly spaced: `(values, spacing)`.
+/// "Evenly" allows a relative error of 1e-9 of the spacing, for decimal coordinates such as 0.1.
+fn even_steps(mut values: Vec<f64>) -> Option<(Vec<f64>, f64)> {
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    if values.len() < 2 {
+        return None;
+    }
+    let step = (values[values.len() - 1] - values[0]) / (values.len() - 1) as f64;
+    let even = values
+        .iter()
+        .enumerate()
+        .all(|(i, &v)| (v - (values[0] + i as f64 * step)).abs() <= 1e-9 * step);
+    even.then_some((values, step))
+}
+
+/// The vertices as a regular grid in (x, y) with z as height, if they are exactly one: every
+/// (x, y) of an evenly spaced W×H lattice occurs, and repeats of a point carry the same z.
+fn lattice(vertices: &[[f64; 3]]) -> Option<Lattice> {
+    let (xs, dx) = even_steps(vertices.iter().map(|p| p[0]).collect())?;
+    let (ys, dy) = even_steps(vertices.iter().map(|p| p[1]).collect())?;
+    let (width, height) = (xs.len(), ys.len());
+    if super::check_size(width, height).is_err() || width * height > vertices.len() {
+        return None;
+    }
+    let mut z = vec![f64::NAN; width * height];
+    for p in vertices {
+        // The binary search finds the exact value: xs and ys hold the vertices' own values.
+        let x = xs.binary_search_by(|v| v.total_cmp(&p[0])).ok()?;
+        let y = ys.binary_search_by(|v| v.total_cmp(&p[1])).ok()?;
+        let slot = &mut z[y * width + x];
+        if slot.is_nan() {
+            *slot = p[2];
+        } else if *slot != p[2] {
+            return None;
+        }
+    }
+    if z.iter().any(|v| v.is_nan()) {
+        return None;
+    }
+    Some(Lattice {
+        width,
+        height,
+        origin: [xs[0], ys[0]],
+        spacing: [dx, dy],
+        z,
+    })
+}
+
+/// Turns a validated mesh into a height field as `options` say (see [`ImportOptions`] and
+/// [`Projection`]); `format` and `name` go into errors and the source note.
+pub fn to_heightfield(
+    mesh: &TriangleMesh,
+    format: &'static str,
+    name: &str,
+    options: &ImportOptions,
+) -> Result<Heightfield, ImportError> {
+    mesh.validate(format)?;
+    if let Some((w, h)) = options.grid_size {
+        super::check_size(w, h)?;
+    }
+    let summary = format!(
+        "{format} mesh {name} ({} vertices, {} triangles)",
+        mesh.vertices.len(),
+        mesh.triangles.len()
+    );
+    let grid = match options.projection {
+        Projection::Auto => lattice(&mesh.vertices),
+        _ => None,
+    };
+    if let Some(grid) = grid {
+        let found = format!(
+            "{summary}: the vertices form an exact {}×{} grid",
+            grid.width, grid.height
+        );
+        if options
+            .grid_size
+            .is_none_or(|size| size == (grid.width, grid.height))
+        {
+            return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
+                .with_geometry(grid.origin, grid.spacing)?
+                .with_placement(Placement::Grid)
+                .with_source(format!("{found}, used as is")));
+        }
+        // Another size: resample in the grid's own (x, y) plane, heights stay z.
+        if mesh.triangles.is_empty() {
+            return Err(ImportError::EmptyMesh { format });
+        }
+        if let resample::Outcome::Grid(r) =
+            resample::resample_along(mesh, [0.0, 0.0, 1.0], options.grid_size)?
+        {
+            let note = format!(
+                "{found}, resampled in its (x, y) plane onto a {}×{} grid; {} grid points had no triangle and took their nearest value",
+                r.width, r.height, r.filled
+            );
+            return Ok(Heightfield::new(r.width, r.height, r.z)?
+                .with_geometry(r.origin, r.spacing)?
+                .with_placement(r.placement)
+                .with_filled(r.filled)
+                .with_source(note));
+        }
+        // A lattice whose triangles fold in (x, y) (unusual faces): the general path decides.
+    }
+    if mesh.triangles.is_empty() {
+        return Err(ImportError::EmptyMesh { format });
+    }
+    let tries: &[Projection] = match options.projection {
+        Projection::Auto => &[Projection::Planar, Projection::Cylindrical],
+        other => std::slice::from_ref(match other {
+            Projection::Planar => &Projection::Planar,
+            _ => &Projection::Cylindrical,
+        }),
+    };
+    let mut tried: Vec<(Projection, Option<f64>)> = Vec::new();
+    for &projection in tries {
+        match resample::resample(mesh, projection, options.grid_size)? {
+            resample::Outcome::Grid(grid) => {
+                let note = format!(
+                    "{summary}: resampled onto a {}×{} grid by {}; {:.1} % of the covered grid covered more than once (highest wins); {} grid points had no triangle and took their nearest value",
+                    grid.width,
+                    grid.height,
+                    match projection {
+                        Projection::Cylindrical => "cylindrical unwrap around the principal axis",
+                        _ => "planar projection onto the best-fit plane",
+                    },
+                    grid.overlap * 100.0,
+                    grid.filled
+                );
+                // Say why an earlier projection was passed over.
+                let note = match tried.first() {
+                    Some((first, Some(share))) => format!(
+                        "{note} (the {} projection folds: {:.0} % covered more than once)",
+                        first.name(),
+                        share * 100.0
+                    ),
+                    Some((first, None)) => {
+                        format!("{note} (the {} projection has no area)", first.name())
+                    }
+                    None => note,
+                };
+                return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
+                    .with_geometry(grid.origin, grid.spacing)?
+                    .with_placement(grid.placement)
+                    .with_filled(grid.filled)
+                    .with_source(note));
+            }
+            resample::Outcome::Folded { overlap } => tried.push((projection, overlap)),
+        }
+    }
+    if tried.iter().all(|(_, overlap)| overlap.is_none()) {
+        // No projection has any area: every triangle is degenerate.
+        return Err(ImportError::EmptyMesh { format });
+    }
+    Err(ImportError::NoProjection { tried })
+}
