@@ -198,6 +198,64 @@ mod views_and_exports {
     }
 
     #[wasm_bindgen_test]
+    fn exported_meshes_parse_back_with_the_projects_importers() {
+        use paretomesh::heightfield::{obj, ply, stl};
+        // volcano_33x33 has spacing 1 and origin 0, so grid and world coordinates agree.
+        let hf = volcano();
+        let mesh = shown_mesh(&hf, &KEPT).unwrap();
+        let world = WorldMesh::new(&hf, &mesh.kept, &mesh.triangles).unwrap();
+        // The importers may renumber vertices (e.g. in order of first use), so compare positions:
+        // the vertex sets, and each triangle as its corner positions in order (rotation-normalised,
+        // so the orientation must survive).
+        let sorted = |mut v: Vec<[f64; 3]>| {
+            v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            v
+        };
+        let shapes = |vs: &[[f64; 3]], ts: &[[u32; 3]]| {
+            let mut out: Vec<[[f64; 3]; 3]> = ts
+                .iter()
+                .map(|t| {
+                    let p = t.map(|i| vs[i as usize]);
+                    let k = (0..3)
+                        .min_by(|&a, &b| p[a].partial_cmp(&p[b]).unwrap())
+                        .unwrap();
+                    [p[k], p[(k + 1) % 3], p[(k + 2) % 3]]
+                })
+                .collect();
+            out.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            out
+        };
+        let expected = shapes(&world.vertices, &world.triangles);
+        let from_ply = ply::parse(world.to_ply("round trip").as_bytes()).unwrap();
+        assert_eq!(
+            sorted(from_ply.vertices.clone()),
+            sorted(world.vertices.clone())
+        );
+        assert_eq!(shapes(&from_ply.vertices, &from_ply.triangles), expected);
+        let from_obj = obj::parse(world.to_obj("round trip").as_bytes()).unwrap();
+        assert_eq!(
+            sorted(from_obj.vertices.clone()),
+            sorted(world.vertices.clone())
+        );
+        assert_eq!(shapes(&from_obj.vertices, &from_obj.triangles), expected);
+        // STL stores f32 corners: the same triangles up to f32 rounding (heights here are f32s
+        // already and x, y small integers, so the rounding is exact).
+        let from_stl = stl::parse(&world.to_stl("round trip")).unwrap();
+        assert_eq!(shapes(&from_stl.vertices, &from_stl.triangles), expected);
+        // The exported PLY scores like the selection on the original grid.
+        let index_of = |p: [f64; 3]| hf.index(p[0] as usize, p[1] as usize);
+        let grid_tris: Vec<[u32; 3]> = from_ply
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| index_of(from_ply.vertices[i as usize])))
+            .collect();
+        let e = Evaluator::new(hf.clone())
+            .score_triangulation(&grid_tris)
+            .unwrap()
+            .e_sum;
+        assert_eq!(e, mesh.e_sum);
+    }
+    #[wasm_bindgen_test]
     fn a_triangle_on_a_point_that_is_not_kept_is_an_error() {
         let hf = Heightfield::new(2, 2, vec![0.0; 4]).unwrap();
         assert!(WorldMesh::new(&hf, &[0, 1, 3], &[[0, 1, 2]]).is_err());
@@ -224,6 +282,7 @@ mod views_and_exports {
 }
 
 mod camera_and_loading {
+    use paretomesh::heightfield::{ImportOptions, Projection};
     use paretomesh::web::loader;
     use paretomesh::web::render::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
     use wasm_bindgen_test::wasm_bindgen_test;
@@ -261,15 +320,60 @@ mod camera_and_loading {
 
     #[wasm_bindgen_test]
     fn bad_files_get_messages_a_user_understands() {
-        let no_sidecar = loader::parse("dem.f32", super::GRID, None).unwrap_err();
+        let default = ImportOptions::default();
+        let no_sidecar = loader::parse("dem.f32", super::GRID, None, &default).unwrap_err();
         assert!(no_sidecar.contains("sidecar"), "{no_sidecar}");
-        let truncated =
-            loader::parse("dem.f32", &super::GRID[..10], Some(super::SIDECAR)).unwrap_err();
+        let truncated = loader::parse(
+            "dem.f32",
+            &super::GRID[..10],
+            Some(super::SIDECAR),
+            &default,
+        )
+        .unwrap_err();
         assert!(
             truncated.contains("dem.f32") && truncated.contains("truncated"),
             "{truncated}"
         );
-        let unknown = loader::parse("notes.txt", b"hello", None).unwrap_err();
+        let unknown = loader::parse("notes.txt", b"hello", None, &default).unwrap_err();
         assert!(unknown.contains("unknown file type"), "{unknown}");
+        let corrupt = loader::parse(
+            "broken.ply",
+            b"ply\nformat ascii 1.0\nelement vertex 99\nend_header\n1 2\n",
+            None,
+            &default,
+        )
+        .unwrap_err();
+        assert!(corrupt.contains("broken.ply"), "{corrupt}");
+    }
+
+    #[wasm_bindgen_test]
+    fn the_import_dialogs_options_are_checked() {
+        assert_eq!(
+            loader::options("auto", 0, 0).unwrap(),
+            ImportOptions::default()
+        );
+        let o = loader::options("cylindrical", 64, 32).unwrap();
+        assert_eq!(
+            (o.projection, o.grid_size),
+            (Projection::Cylindrical, Some((64, 32)))
+        );
+        assert!(loader::options("spherical", 0, 0).is_err());
+        assert!(loader::options("planar", 64, 0).is_err());
+    }
+
+    #[wasm_bindgen_test]
+    fn an_oversized_grid_size_is_refused_with_the_limit_in_the_message() {
+        let ply = include_bytes!("data/bunny_33x33.ply");
+        let o = loader::options("planar", 4096, 4096).unwrap();
+        let e = loader::parse("bunny.ply", ply, None, &o).unwrap_err();
+        assert!(e.contains("16.8 M points") && e.contains("limit"), "{e}");
+    }
+
+    #[wasm_bindgen_test]
+    fn a_grid_ply_loads_as_is_and_needs_no_dialog() {
+        let ply = include_bytes!("data/volcano_87x61.ply");
+        let hf = loader::parse("volcano_87x61.ply", ply, None, &ImportOptions::default()).unwrap();
+        assert_eq!((hf.width(), hf.height()), (87, 61));
+        assert!(!loader::was_resampled("volcano_87x61.ply", &hf));
     }
 }

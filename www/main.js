@@ -1,6 +1,6 @@
 // Boots the wasm app, wires the file drop and picker, and runs the requestAnimationFrame loop.
 // Everything else (controls, plot, 3-D view, parsing, exports) lives in Rust (src/web/).
-import init, { start } from './pkg/paretomesh.js';
+import init, { start, drawPreview } from './pkg/paretomesh.js';
 
 const $ = (id) => document.getElementById(id);
 let app = null;
@@ -26,7 +26,7 @@ async function readWithProgress(file, onProgress) {
 let worker = null;
 let nextId = 0;
 const pending = new Map();
-function parseInWorker(name, bytes, sidecar) {
+function parseInWorker(name, bytes, sidecar, options = {}) {
   try {
     if (!worker) {
       worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
@@ -43,8 +43,9 @@ function parseInWorker(name, bytes, sidecar) {
   const id = nextId++;
   return new Promise((resolve) => {
     pending.set(id, resolve);
-    const transfer = [bytes.buffer, ...(sidecar ? [sidecar.buffer] : [])];
-    worker.postMessage({ id, name, bytes, sidecar }, transfer);
+    // A re-parse (bytes null) uses the file the Worker kept.
+    const transfer = bytes ? [bytes.buffer, ...(sidecar ? [sidecar.buffer] : [])] : [];
+    worker.postMessage({ id, name, bytes, sidecar, ...options }, transfer);
   });
 }
 
@@ -71,6 +72,8 @@ async function loadFiles(files) {
       // No Worker (very old browser): parse here, after the message has painted.
       await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
       app.loadFile(main.name, bytes, side);
+    } else if (result.ok && result.surface.resampled) {
+      openImportDialog(main.name, result.surface);
     } else if (result.ok) {
       app.loadParsed(main.name, result.surface);
     } else {
@@ -81,6 +84,53 @@ async function loadFiles(files) {
   } finally {
     bar.hidden = true;
   }
+}
+
+// The dialog for a mesh that is not a grid: projection and grid size, re-parsed in the Worker
+// (which kept the file) with a preview; nothing changes until "Use this grid".
+let importing = null;
+function openImportDialog(name, surface) {
+  importing = { name, surface, key: `auto ${surface.width} ${surface.height}` };
+  $('import-projection').value = 'auto';
+  $('import-summary').textContent = surface.source;
+  $('import-width').value = surface.width;
+  $('import-height').value = surface.height;
+  $('import-message').textContent = '';
+  drawPreview('import-preview', surface);
+  app.showLoadMessage(`${name}: choose how to turn the mesh into a grid`, false);
+  $('import-dialog').showModal();
+}
+async function previewImport() {
+  const options = {
+    projection: $('import-projection').value,
+    width: Number($('import-width').value) || 0,
+    height: Number($('import-height').value) || 0,
+  };
+  $('import-message').textContent = 'resampling…';
+  importing.key = `${options.projection} ${options.width} ${options.height}`;
+  const result = await parseInWorker(importing.name, null, null, options);
+  if (result?.ok) {
+    importing.surface = result.surface;
+    $('import-summary').textContent = result.surface.source;
+    $('import-message').textContent = '';
+    drawPreview('import-preview', result.surface);
+    return true;
+  }
+  $('import-message').textContent = result ? result.error : 'the parser is not available';
+  return false;
+}
+function wireImportDialog() {
+  $('import-apply').addEventListener('click', previewImport);
+  $('import-use').addEventListener('click', async () => {
+    const key = `${$('import-projection').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
+    if (key !== importing.key && !(await previewImport())) return;
+    $('import-dialog').close();
+    app.loadParsed(importing.name, importing.surface);
+  });
+  $('import-cancel').addEventListener('click', () => {
+    $('import-dialog').close();
+    app.showLoadMessage(`${importing.name}: not loaded; the current surface stays`, false);
+  });
 }
 
 function wireDrop() {
@@ -120,6 +170,7 @@ try {
   app = await start(forceWebgl);
   window.paretomesh = app; // for the console and the end-to-end test
   wireDrop();
+  wireImportDialog();
   requestAnimationFrame(loop);
 } catch (e) {
   $('panic-message').textContent = `the app could not start: ${e}`;

@@ -1,6 +1,6 @@
 //! Turning dropped files into a height field, and the built-in surface.
 
-use crate::heightfield::{Heightfield, ImportError, raw};
+use crate::heightfield::{Heightfield, ImportOptions, Placement, import::Projection, raw};
 
 /// Name of the built-in surface shown on first load.
 pub const BUILTIN_NAME: &str = "jacksboro_65x65";
@@ -20,18 +20,51 @@ pub fn extension(name: &str) -> String {
         .unwrap_or_default()
 }
 
+/// Import options from the dialog's values: projection "auto" | "planar" | "cylindrical", and a
+/// grid size where 0 × 0 means automatic. Fails on an unknown projection or half a size.
+pub fn options(projection: &str, width: u32, height: u32) -> Result<ImportOptions, String> {
+    let projection = match projection {
+        "auto" => Projection::Auto,
+        "planar" => Projection::Planar,
+        "cylindrical" => Projection::Cylindrical,
+        other => return Err(format!("unknown projection “{other}”")),
+    };
+    let grid_size = match (width, height) {
+        (0, 0) => None,
+        (w, h) if w > 0 && h > 0 => Some((w as usize, h as usize)),
+        _ => return Err("give both grid width and height, or neither".to_string()),
+    };
+    Ok(ImportOptions {
+        projection,
+        grid_size,
+        terrain_rgb: false,
+    })
+}
+
 /// Parses a dropped file `name` with `bytes`; `.f32` grids need their `.json` `sidecar`.
-pub fn parse(name: &str, bytes: &[u8], sidecar: Option<&[u8]>) -> Result<Heightfield, String> {
-    match extension(name).as_str() {
-        "f32" => {
-            let json = sidecar.ok_or_else(|| {
-                format!("{name}: a .f32 grid needs its .json sidecar; drop both files together")
-            })?;
-            raw::parse(bytes, json, name).map_err(|e| format!("{name}: {e}"))
+/// Every failure is a message for the user naming the file.
+pub fn parse(
+    name: &str,
+    bytes: &[u8],
+    sidecar: Option<&[u8]>,
+    options: &ImportOptions,
+) -> Result<Heightfield, String> {
+    crate::heightfield::import::from_bytes(name, bytes, sidecar, options).map_err(|e| {
+        let message = e.to_string();
+        if message.contains(name) {
+            message
+        } else {
+            format!("{name}: {message}")
         }
-        _ => Err(ImportError::UnknownFormat {
-            name: name.to_string(),
-        }
-        .to_string()),
-    }
+    })
+}
+
+/// True when `hf`, read from `name`, was made by projecting and resampling a mesh (so the user
+/// should choose the projection and grid size), false for grids, images and meshes whose vertices
+/// already formed a grid.
+pub fn was_resampled(name: &str, hf: &Heightfield) -> bool {
+    matches!(extension(name).as_str(), "ply" | "obj" | "stl")
+        && (hf.placement() != &Placement::Grid
+            || hf.filled() > 0
+            || !hf.source().ends_with("used as is"))
 }

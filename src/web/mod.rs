@@ -16,6 +16,7 @@ pub mod dom;
 pub mod export;
 pub mod loader;
 pub mod plot;
+pub mod preview;
 pub mod render;
 pub mod transfer;
 pub mod ui;

@@ -126,14 +126,29 @@ pub fn surface_from_js(o: &JsValue) -> Result<Heightfield, String> {
         .with_filled(filled))
 }
 
-/// Parses a file (in the Worker) and returns the plain-object height field, or throws the
-/// message for the user.
+/// Parses a file (in the Worker) with the dialog's options (see [`loader::options`]) and returns
+/// the plain-object height field with `resampled: true` when a mesh was projected and resampled
+/// (the page then offers the projection dialog), or throws the message for the user.
 #[wasm_bindgen(js_name = parseSurface)]
 pub fn parse_surface(
     name: &str,
     bytes: &[u8],
     sidecar: Option<Vec<u8>>,
+    projection: &str,
+    grid_width: u32,
+    grid_height: u32,
 ) -> Result<JsValue, JsError> {
-    let hf = loader::parse(name, bytes, sidecar.as_deref()).map_err(|e| JsError::new(&e))?;
-    surface_to_js(&hf).map_err(|_| JsError::new("cannot pass the parsed surface to the page"))
+    let options =
+        loader::options(projection, grid_width, grid_height).map_err(|e| JsError::new(&e))?;
+    let hf =
+        loader::parse(name, bytes, sidecar.as_deref(), &options).map_err(|e| JsError::new(&e))?;
+    let o = surface_to_js(&hf)
+        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
+    Reflect::set(
+        &o,
+        &"resampled".into(),
+        &loader::was_resampled(name, &hf).into(),
+    )
+    .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
+    Ok(o)
 }

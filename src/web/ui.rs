@@ -484,7 +484,12 @@ impl WebApp {
     /// next to the drop zone and the current surface stays. Returns whether it loaded.
     #[wasm_bindgen(js_name = loadFile)]
     pub fn load_file(&self, name: &str, bytes: &[u8], sidecar: Option<Vec<u8>>) -> bool {
-        let parsed = loader::parse(name, bytes, sidecar.as_deref());
+        let parsed = loader::parse(
+            name,
+            bytes,
+            sidecar.as_deref(),
+            &crate::heightfield::ImportOptions::default(),
+        );
         self.ui.borrow_mut().load(name, parsed)
     }
 

@@ -75,6 +75,25 @@ async function pixelVariance(page, png) {
   }, png.toString('base64'));
 }
 
+// A W×H grid with its (x, y) jittered, as OBJ: a surface mesh whose vertices are not a lattice.
+function wavyObj(w, h) {
+  let obj = '';
+  for (let y = 0; y < h; y++) {
+    for (let x = 0; x < w; x++) {
+      const jx = x + 0.3 * Math.sin(7 * x + 3 * y);
+      const jy = y + 0.3 * Math.cos(5 * x + 11 * y);
+      obj += `v ${jx} ${jy} ${3 * Math.sin(jx / 4) + 2 * Math.cos(jy / 3)}\n`;
+    }
+  }
+  for (let y = 0; y < h - 1; y++) {
+    for (let x = 0; x < w - 1; x++) {
+      const a = y * w + x + 1;
+      obj += `f ${a} ${a + 1} ${a + w}\nf ${a + 1} ${a + w + 1} ${a + w}\n`;
+    }
+  }
+  return obj;
+}
+
 const status = (page) => page.locator('#status').textContent();
 
 const port = await freePort();
@@ -177,6 +196,21 @@ try {
   assert.equal(await page.locator('#surface-info').textContent(), before);
   assert.equal(await page.evaluate(() => window.paretomesh.selectedVertexCount()), vertices);
   await page.screenshot({ path: path.join(shots, '06-corrupt-file.png') });
+
+  // 7. A mesh that is not a grid opens the projection dialog; its choices shape the grid.
+  await dropFiles(page, [{ name: 'wavy.obj', bytes: Buffer.from(wavyObj(30, 20)) }]);
+  await page.waitForSelector('#import-dialog[open]', { timeout: 10000 });
+  await page.screenshot({ path: path.join(shots, '07-import-dialog.png') });
+  await page.selectOption('#import-projection', 'planar');
+  await page.fill('#import-width', '40');
+  await page.fill('#import-height', '25');
+  await page.click('#import-use');
+  await page.waitForFunction(() => window.paretomesh.surfaceName() === 'wavy.obj', null, { timeout: 10000 });
+  assert.match(await page.locator('#surface-info').textContent(), /40×25 grid · 1000 points/);
+  assert.match(await page.locator('#surface-source').textContent(), /planar projection/);
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: path.join(shots, '08-resampled.png') });
+
   assert.deepEqual(errors.filter((e) => !/GPU stall|WebGL-/.test(e)), [], 'no page errors');
 
   const within = frames.filter((d) => d <= 20).length / Math.max(1, frames.length);
