@@ -323,6 +323,24 @@ impl Ui {
     fn apply_form(&mut self) -> bool {
         match dom::read_config() {
             Ok(config) => {
+                // The GA parameters mean nothing to the classical methods: hide them.
+                let genetic = config.algorithm.is_genetic();
+                for id in [
+                    "population",
+                    "generations",
+                    "crossover",
+                    "crossover-probability",
+                    "mutation-probability",
+                    "seed",
+                ] {
+                    if let Some(label) = dom::document()
+                        .get_element_by_id(id)
+                        .and_then(|e| e.parent_element())
+                        .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+                    {
+                        label.set_hidden(!genetic);
+                    }
+                }
                 self.app.set_config(config);
                 dom::set_text("run-message", "");
                 true
