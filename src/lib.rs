@@ -12,6 +12,7 @@
 //! - [`optimizer`]: the steppable interface every algorithm implements.
 //! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA.
 //! - [`baselines`]: greedy insertion and edge decimation.
+//! - [`run_file`]: front.json, the self-contained result of a run.
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - `web` (wasm32 only): the browser app over this core.
 
@@ -22,6 +23,7 @@ pub mod front;
 pub mod heightfield;
 pub mod metrics;
 pub mod optimizer;
+pub mod run_file;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -3,6 +3,7 @@
 mod eval;
 mod info;
 mod input;
+mod run;
 
 use clap::{Parser, Subcommand};
 
@@ -29,6 +30,8 @@ enum Command {
         #[arg(long)]
         keep: String,
     },
+    /// Run an optimizer and write its front as front.json (and CSV).
+    Run(run::RunArgs),
 }
 
 /// Runs a parsed command line; the error is a message for the user.
@@ -36,5 +39,6 @@ pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Info { input } => info::run(&input),
         Command::Eval { input, keep } => eval::run(&input, &keep),
+        Command::Run(args) => run::run(&args),
     }
 }

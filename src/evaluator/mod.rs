@@ -158,14 +158,29 @@ impl Evaluator {
         for &i in kept.iter().chain(self.hf.corners().iter()) {
             self.kept_mark[i as usize] = true;
         }
-        // Collect in increasing order and clear the marks in the same pass.
+        // Collect unique indices and clear the marks in the same pass. Callers usually pass
+        // increasing indices: then merging in the (increasing) corners keeps the list sorted.
         self.kept.clear();
-        for &i in kept.iter().chain(self.hf.corners().iter()) {
-            if std::mem::replace(&mut self.kept_mark[i as usize], false) {
-                self.kept.push(i);
+        let corners = self.hf.corners();
+        let mut next_corner = 0;
+        let take = |i: u32, marks: &mut [bool], out: &mut Vec<u32>| {
+            if std::mem::replace(&mut marks[i as usize], false) {
+                out.push(i);
             }
+        };
+        for &i in kept {
+            while next_corner < 4 && corners[next_corner] <= i {
+                take(corners[next_corner], &mut self.kept_mark, &mut self.kept);
+                next_corner += 1;
+            }
+            take(i, &mut self.kept_mark, &mut self.kept);
         }
-        self.kept.sort_unstable();
+        for &c in &corners[next_corner..] {
+            take(c, &mut self.kept_mark, &mut self.kept);
+        }
+        if !self.kept.is_sorted() {
+            self.kept.sort_unstable();
+        }
         self.mesh.rebuild_delaunay(self.hf.width(), &self.kept);
         Ok(self.score_mesh())
     }

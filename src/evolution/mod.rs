@@ -1,2 +1,25 @@
 //! The evolutionary algorithms and their operators: NSGA-II, orthogonal-array crossover, the
 //! weighted-sum GA.
+//!
+//! - [`chromosome`]: the bitset of kept grid points.
+//! - [`operators`]: initialisation, bit-flip mutation, uniform and two-point crossover.
+//! - [`orthogonal_array`] and [`oax`]: orthogonal-array crossover (Huang & Ho 2003).
+//! - [`ranking`]: non-dominated sorting and crowding distance.
+//! - [`nsga2`]: NSGA-II (Deb et al. 2002).
+//! - [`weighted_sum`]: the weighted-sum single-objective GA, one run per weight.
+
+pub mod chromosome;
+mod mating;
+pub mod nsga2;
+pub mod oax;
+pub mod objectives;
+pub mod operators;
+pub mod orthogonal_array;
+pub mod params;
+pub mod ranking;
+pub mod weighted_sum;
+
+pub use nsga2::{Individual, Nsga2};
+pub use operators::CrossoverKind;
+pub use params::{GaParams, ParamsError};
+pub use weighted_sum::{WeightedSum, WeightedSumParams};

@@ -1,0 +1,95 @@
+//! Delaunay re-triangulation of the hole left by removing one vertex.
+//!
+//! Removing vertex v from a Delaunay triangulation leaves a star-shaped hole whose new triangles
+//! are exactly the Delaunay triangles of the hole's boundary vertices that lie inside the hole
+//! (also under the project's tie rule, which is a consistent perturbation of the lifting map).
+//! Ear clipping finds them in O(k²) per ear: an ear (a, b, c) of the remaining polygon is clipped
+//! when it turns counter-clockwise and no boundary vertex lies in its circumcircle under
+//! [`predicates::in_circle`]. Such an ear is a Delaunay triangle of the boundary set and, being an
+//! ear, inside the hole; one always exists because the hole's Delaunay triangulation has ears.
+
+use crate::evaluator::predicates::{self, GridPoint};
+
+/// Triangulates the counter-clockwise polygon `boundary` (grid indices on a grid `width` wide,
+/// at least 3) into the Delaunay triangles of its vertices that lie inside it, appended to `out`
+/// counter-clockwise. Returns false (and leaves `out` as it was) when no empty ear exists, which
+/// only happens if `boundary` is not the hole of a Delaunay vertex removal.
+pub(crate) fn fill(boundary: &[u32], width: i64, out: &mut Vec<[u32; 3]>) -> bool {
+    let point = |i: u32| -> GridPoint { [i as i64 % width, i as i64 / width] };
+    let start = out.len();
+    let mut poly: Vec<u32> = boundary.to_vec();
+    while poly.len() > 3 {
+        let n = poly.len();
+        let ear = (0..n).find(|&k| {
+            let (a, b, c) = (poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]);
+            let (pa, pb, pc) = (point(a), point(b), point(c));
+            predicates::orient(pa, pb, pc) > 0
+                && boundary.iter().all(|&d| {
+                    d == a
+                        || d == b
+                        || d == c
+                        || !predicates::in_circle([pa, pb, pc, point(d)], [a, b, c, d])
+                })
+        });
+        let Some(k) = ear else {
+            out.truncate(start);
+            return false;
+        };
+        out.push([poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]]);
+        poly.remove(k);
+    }
+    if predicates::orient(point(poly[0]), point(poly[1]), point(poly[2])) <= 0 {
+        out.truncate(start);
+        return false;
+    }
+    out.push([poly[0], poly[1], poly[2]]);
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn square_hole_takes_the_tie_rule_diagonal() {
+        // The 4 corners of a unit square on a 10-wide grid are co-circular: the fill must pick
+        // the diagonal the tie rule picks, i.e. the one the evaluator's triangulation has.
+        let (a, b, c, d) = (0u32, 1u32, 11u32, 10u32);
+        let mut out = Vec::new();
+        assert!(fill(&[a, b, c, d], 10, &mut out));
+        assert_eq!(out.len(), 2);
+        let mut mesh = crate::evaluator::triangulation::Triangulation::default();
+        mesh.rebuild_delaunay(10, &[0, 1, 10, 11]);
+        let canon = |tris: &[[u32; 3]]| {
+            let mut v: Vec<[u32; 3]> = tris
+                .iter()
+                .map(|t| {
+                    let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+                    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+                })
+                .collect();
+            v.sort_unstable();
+            v
+        };
+        assert_eq!(canon(&out), canon(&mesh.triangles()));
+    }
+
+    #[test]
+    fn reflex_vertex_is_never_an_ear() {
+        // An arrow-shaped pentagon (reflex at (2,1)) on a 10-wide grid: every triangle must turn
+        // counter-clockwise and together they must cover the polygon's area exactly.
+        let p = |x: u32, y: u32| y * 10 + x;
+        let poly = [p(0, 0), p(2, 1), p(4, 0), p(4, 3), p(0, 3)];
+        let mut out = Vec::new();
+        assert!(fill(&poly, 10, &mut out));
+        assert_eq!(out.len(), 3);
+        let pt = |i: u32| [i as i64 % 10, i as i64 / 10];
+        let area: i64 = out
+            .iter()
+            .map(|t| predicates::orient(pt(t[0]), pt(t[1]), pt(t[2])))
+            .inspect(|&o| assert!(o > 0))
+            .sum();
+        // Shoelace of the pentagon, doubled.
+        assert_eq!(area, 4 * 3 * 2 - 4);
+    }
+}

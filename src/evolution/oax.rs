@@ -1,0 +1,365 @@
+//! Orthogonal-array crossover (OAX), after Huang & Ho 2003.
+//!
+//! Two parents are cut into F factors; a two-level orthogonal array L_M(2^(M−1)) says, for
+//! each of its M rows, which parent gives each factor (level 0 = parent A, level 1 = parent B).
+//! The M children are evaluated, factor analysis (the main effect of each level of each
+//! factor, on a scalar fitness) picks the best level per factor, that combination is built and
+//! evaluated as one more child, and the best two children (by the scalar fitness) are returned.
+//!
+//! Factors are *spatial blocks* of the grid, not contiguous row-major ranges: a mesh's quality
+//! is local (a point helps the triangles around it), so a factor should be a compact patch of
+//! the surface whose points work together. A row-major range of N/F genes would be a band of
+//! whole rows, and a cut inside a row would split neighbouring points arbitrarily. The blocks are
+//! drawn anew for every crossover (like Huang & Ho's random cut points) by recursive random
+//! bisection: the largest block is split across its longer side at a random position in its
+//! middle half, until there are F blocks. Compact blocks of varying shape and position, so no
+//! block boundary is favoured over time.
+//!
+//! A child identical to a parent or to an earlier child is not evaluated again (its objectives
+//! are known, so no evaluation is spent or counted): row 0 takes every factor from parent A and
+//! *is* parent A, and where the parents agree on a block (often: sparse parents share empty
+//! blocks) the rows that differ only in that factor coincide. Every other child is evaluated once
+//! through the caller's `evaluate`, which counts it. The two children returned are the two
+//! fittest with different genes (the same one twice only when all children are equal).
+
+use super::chromosome::Chromosome;
+use super::objectives::Objectives;
+use super::orthogonal_array::{OrthogonalArray, factor_analysis};
+use rand::RngExt;
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+
+/// Default number of factors: 7, the most an L8 array holds, so 7 new children per crossover.
+/// More factors (L16: 15) mean finer recombination but twice the evaluations per crossover;
+/// L8 is the size Huang & Ho's examples use.
+pub const DEFAULT_FACTORS: usize = 7;
+
+/// A rectangle of grid points `x0..x1 × y0..y1` (half-open); it may be empty.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Block {
+    /// First column.
+    pub x0: usize,
+    /// First row.
+    pub y0: usize,
+    /// One past the last column.
+    pub x1: usize,
+    /// One past the last row.
+    pub y1: usize,
+}
+
+impl Block {
+    /// Number of grid points in the block.
+    pub fn area(&self) -> usize {
+        (self.x1 - self.x0) * (self.y1 - self.y0)
+    }
+}
+
+/// Cuts a `width × height` grid into exactly `factors` blocks that tile it, by recursive random
+/// bisection (see the module doc). When the grid has fewer points than `factors`, the extra
+/// blocks are empty.
+pub fn spatial_blocks(
+    width: usize,
+    height: usize,
+    factors: usize,
+    rng: &mut Pcg64Mcg,
+) -> Vec<Block> {
+    let mut blocks = vec![Block {
+        x0: 0,
+        y0: 0,
+        x1: width,
+        y1: height,
+    }];
+    while blocks.len() < factors {
+        // The largest block with more than one point; ties go to the first.
+        let Some((at, _)) = blocks
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.area() > 1)
+            .fold(None::<(usize, usize)>, |best, (i, b)| match best {
+                Some((_, a)) if a >= b.area() => best,
+                _ => Some((i, b.area())),
+            })
+        else {
+            blocks.push(Block {
+                x0: 0,
+                y0: 0,
+                x1: 0,
+                y1: 0,
+            });
+            continue;
+        };
+        let b = blocks[at];
+        let (w, h) = (b.x1 - b.x0, b.y1 - b.y0);
+        let side = w.max(h);
+        // A cut in the middle half keeps the pieces compact; at least one point on each side.
+        let lo = side.div_ceil(4).max(1);
+        let hi = (side * 3 / 4).clamp(lo, side - 1);
+        let cut = rng.random_range(lo..=hi);
+        let (first, second) = if w >= h {
+            (
+                Block {
+                    x1: b.x0 + cut,
+                    ..b
+                },
+                Block {
+                    x0: b.x0 + cut,
+                    ..b
+                },
+            )
+        } else {
+            (
+                Block {
+                    y1: b.y0 + cut,
+                    ..b
+                },
+                Block {
+                    y0: b.y0 + cut,
+                    ..b
+                },
+            )
+        };
+        blocks[at] = first;
+        blocks.push(second);
+    }
+    blocks
+}
+
+/// Copies `block` of a `width`-wide grid from `from` into `to`.
+fn copy_block(to: &mut Chromosome, from: &Chromosome, block: &Block, width: usize) {
+    for y in block.y0..block.y1 {
+        to.copy_range_from(from, y * width + block.x0, y * width + block.x1);
+    }
+}
+
+/// One child of a crossover, as the teaching view shows it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OaxChild {
+    /// The level of each factor (0 = from parent A, 1 = from parent B).
+    pub levels: Vec<u8>,
+    /// Its genes.
+    pub genes: Chromosome,
+    /// Its objectives.
+    pub objectives: Objectives,
+    /// Its scalar fitness (minimised).
+    pub fitness: f64,
+    /// False when its objectives were known already (it equals a parent or an earlier child),
+    /// so no evaluation was spent on it.
+    pub evaluated: bool,
+}
+
+/// The full record of one orthogonal-array crossover (serialisable for the browser).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OaxRecord {
+    /// The array used.
+    pub array: OrthogonalArray,
+    /// The factors: factor f is `blocks[f]` and uses array column f + 1.
+    pub blocks: Vec<Block>,
+    /// The parents A and B with their objectives.
+    pub parents: [(Chromosome, Objectives); 2],
+    /// The weight w of the scalar fitness F = w·E/E₀ + (1 − w)·T/T₀.
+    pub weight: f64,
+    /// The M children, one per array row.
+    pub rows: Vec<OaxChild>,
+    /// `effects[f][l]`: the sum of the fitness of the rows with factor f at level l.
+    pub effects: Vec<[f64; 2]>,
+    /// The child of the best level of each factor.
+    pub best_levels: OaxChild,
+    /// The two children returned, as indices into `rows`, where `rows.len()` means
+    /// `best_levels`.
+    pub chosen: [usize; 2],
+}
+
+impl OaxRecord {
+    /// Child `i` in the numbering of [`chosen`](Self::chosen).
+    pub fn child(&self, i: usize) -> &OaxChild {
+        self.rows.get(i).unwrap_or(&self.best_levels)
+    }
+
+    /// Number of evaluations this crossover spent.
+    pub fn evaluations(&self) -> usize {
+        self.rows
+            .iter()
+            .chain(std::iter::once(&self.best_levels))
+            .filter(|c| c.evaluated)
+            .count()
+    }
+}
+
+/// Runs one orthogonal-array crossover of `parent_a` and `parent_b` (same length, on a grid
+/// `width` wide) over `blocks` (one per factor). `evaluate` scores a chromosome (the caller
+/// counts it); `fitness` is the scalar to minimise, reported as `weight` in the record.
+pub fn crossover(
+    parent_a: (&Chromosome, Objectives),
+    parent_b: (&Chromosome, Objectives),
+    width: usize,
+    blocks: Vec<Block>,
+    weight: f64,
+    mut evaluate: impl FnMut(&Chromosome) -> Objectives,
+    fitness: impl Fn(&Objectives) -> f64,
+) -> OaxRecord {
+    let factors = blocks.len();
+    let array = OrthogonalArray::for_factors(factors);
+    let build = |levels: &[u8]| {
+        let mut child = parent_a.0.clone();
+        for (block, _) in blocks.iter().zip(levels).filter(|(_, l)| **l == 1) {
+            copy_block(&mut child, parent_b.0, block, width);
+        }
+        child
+    };
+    // A child identical to a parent or to an earlier child is not evaluated again.
+    let known = |genes: &Chromosome, rows: &[OaxChild]| {
+        if genes == parent_a.0 {
+            Some(parent_a.1)
+        } else if genes == parent_b.0 {
+            Some(parent_b.1)
+        } else {
+            rows.iter()
+                .find(|c| c.genes == *genes)
+                .map(|c| c.objectives)
+        }
+    };
+    let mut child = |levels: Vec<u8>, rows: &[OaxChild]| {
+        let genes = build(&levels);
+        let (objectives, evaluated) = match known(&genes, rows) {
+            Some(o) => (o, false),
+            None => (evaluate(&genes), true),
+        };
+        OaxChild {
+            fitness: fitness(&objectives),
+            levels,
+            genes,
+            objectives,
+            evaluated,
+        }
+    };
+    let mut rows = Vec::with_capacity(array.rows());
+    for row in 0..array.rows() {
+        let c = child(array.row_levels(row, factors), &rows);
+        rows.push(c);
+    }
+    let row_fitness: Vec<f64> = rows.iter().map(|c| c.fitness).collect();
+    let (effects, best) = factor_analysis(&array, factors, &row_fitness);
+    let best_levels = child(best, &rows);
+    // The best two children with different genes (ties by row; the best-levels child last).
+    let mut order: Vec<usize> = (0..=rows.len()).collect();
+    let get = |i: usize| rows.get(i).unwrap_or(&best_levels);
+    order.sort_by(|&i, &j| get(i).fitness.total_cmp(&get(j).fitness).then(i.cmp(&j)));
+    let first = order[0];
+    let second = order
+        .iter()
+        .copied()
+        .find(|&i| get(i).genes != get(first).genes)
+        .unwrap_or(first);
+    OaxRecord {
+        array,
+        blocks,
+        parents: [
+            (parent_a.0.clone(), parent_a.1),
+            (parent_b.0.clone(), parent_b.1),
+        ],
+        weight,
+        chosen: [first, second],
+        rows,
+        effects,
+        best_levels,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn blocks_tile_the_grid() {
+        // Every grid point lies in exactly one block, for square, thin and tiny grids.
+        let mut rng = Pcg64Mcg::seed_from_u64(9);
+        for (w, h, f) in [(33, 33, 7), (87, 61, 15), (2, 9, 7), (2, 2, 7), (5, 3, 3)] {
+            let blocks = spatial_blocks(w, h, f, &mut rng);
+            assert_eq!(blocks.len(), f);
+            let mut owner = vec![0; w * h];
+            for b in &blocks {
+                for y in b.y0..b.y1 {
+                    for x in b.x0..b.x1 {
+                        owner[y * w + x] += 1;
+                    }
+                }
+            }
+            assert!(owner.iter().all(|&n| n == 1), "{w}×{h}, {f} factors");
+        }
+    }
+
+    #[test]
+    fn children_equal_to_a_parent_or_sibling_are_not_evaluated() {
+        // Parents that differ only inside block 0: every row equals A (factor 0 at level 0) or
+        // B (level 1), so the crossover costs nothing and returns both parents.
+        let mut rng = Pcg64Mcg::seed_from_u64(5);
+        let blocks = spatial_blocks(8, 8, 7, &mut rng);
+        let a = Chromosome::from_indices(64, &[0, 7, 56, 63]);
+        let mut b = a.clone();
+        let b0 = blocks[0];
+        b.set(b0.y0 * 8 + b0.x0, true);
+        let score = |c: &Chromosome| Objectives {
+            e_sum: c.count_ones() as f64,
+            e_max: 0.0,
+            t: 0,
+        };
+        let mut evaluations = 0;
+        let record = crossover(
+            (&a, score(&a)),
+            (&b, score(&b)),
+            8,
+            blocks,
+            1.0,
+            |c| {
+                evaluations += 1;
+                score(c)
+            },
+            |o| o.e_sum,
+        );
+        assert_eq!((evaluations, record.evaluations()), (0, 0));
+        let chosen = record.chosen.map(|i| record.child(i).genes.clone());
+        assert_eq!(chosen, [a, b], "the two distinct children, fittest first");
+    }
+
+    #[test]
+    fn factor_analysis_child_is_the_optimum_of_a_separable_toy_fitness() {
+        // Toy problem on an 8×8 "grid": fitness = number of genes differing from a target. The
+        // target takes half its blocks from A and half from B, in a combination that is not a
+        // row of L8, so only the factor-analysis child can reach distance 0.
+        let mut rng = Pcg64Mcg::seed_from_u64(4);
+        let blocks = spatial_blocks(8, 8, 7, &mut rng);
+        let a = Chromosome::from_indices(64, &(0..64).filter(|i| i % 3 == 0).collect::<Vec<_>>());
+        let b = Chromosome::from_indices(64, &(0..64).filter(|i| i % 2 == 0).collect::<Vec<_>>());
+        let target_levels = [1u8, 0, 0, 1, 0, 0, 1];
+        let mut target = a.clone();
+        for (block, _) in blocks.iter().zip(target_levels).filter(|(_, l)| *l == 1) {
+            copy_block(&mut target, &b, block, 8);
+        }
+        let score = |c: &Chromosome| Objectives {
+            e_sum: c.hamming(&target) as f64,
+            e_max: 0.0,
+            t: 0,
+        };
+        let mut evaluations = 0;
+        let record = crossover(
+            (&a, score(&a)),
+            (&b, score(&b)),
+            8,
+            blocks,
+            1.0,
+            |c| {
+                evaluations += 1;
+                score(c)
+            },
+            |o| o.e_sum,
+        );
+        assert_eq!(record.best_levels.levels, target_levels);
+        assert_eq!(record.best_levels.genes, target);
+        assert_eq!(record.best_levels.objectives.e_sum, 0.0);
+        assert_eq!(record.chosen[0], 8, "the factor-analysis child is the best");
+        assert_eq!(evaluations, 8, "rows 1..8 and the new best-levels child");
+        assert_eq!(record.evaluations(), 8);
+        assert_eq!(record.rows[0].genes, a, "row 0 is parent A");
+    }
+}

@@ -1,0 +1,289 @@
+//! The weighted-sum single-objective GA (the paper's extension of Huang & Ho's IGA): one GA run
+//! per weight w ∈ {0, 0.1, …, 1} minimising F = w·E/E₀ + (1 − w)·T/T₀ ([`Scalarisation`]:
+//! E₀ = E of the corner-only mesh, T₀ = 2(W − 1)(H − 1)). The best solution of each run enters
+//! the front, which therefore holds at most one solution per weight.
+//!
+//! Each run: μ random individuals (the same log-spaced densities as NSGA-II), then per
+//! generation λ = μ offspring from binary tournaments on F, crossover with probability p_c (OAX
+//! with this F directly in its factor analysis), bit-flip mutation; elitist (μ + λ) truncation
+//! to the μ best F. Each run gets the same population and generations as one NSGA-II run, so the
+//! whole optimizer spends about 11 times NSGA-II's evaluations. A cap on evaluations
+//! (`max_evaluations`) is shared equally between the runs, so every weight still runs.
+//!
+//! Unit of work: one initial individual or one mating of the current run (the survival step and
+//! the end of a run happen at the end of the unit that completes them).
+
+use super::chromosome::Chromosome;
+use super::mating::Mating;
+use super::oax::OaxRecord;
+use super::objectives::{Objectives, Scalarisation, Scorer};
+use super::operators;
+use super::params::{GaParams, ParamsError};
+use crate::front::{Front, Solution};
+use crate::heightfield::Heightfield;
+use crate::optimizer::{Optimizer, Progress};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Parameters: those of each run, and the weights (one run each, in this order).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct WeightedSumParams {
+    /// The GA parameters of every run.
+    #[serde(flatten)]
+    pub ga: GaParams,
+    /// The weights w of E; paper: 0, 0.1, …, 1.
+    pub weights: Vec<f64>,
+}
+
+impl Default for WeightedSumParams {
+    fn default() -> Self {
+        Self {
+            ga: GaParams::default(),
+            weights: (0..=10).map(|k| k as f64 / 10.0).collect(),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Member {
+    genes: Chromosome,
+    objectives: Objectives,
+    fitness: f64,
+}
+
+/// The weighted-sum GA; see the module doc.
+pub struct WeightedSum {
+    params: WeightedSumParams,
+    seed: u64,
+    mutation: f64,
+    rng: Pcg64Mcg,
+    scorer: Scorer,
+    front: Front,
+    run_bests: Vec<(f64, Solution)>,
+    /// Index of the current weight.
+    run: usize,
+    run_start: u64,
+    run_generation: u64,
+    generations_done: u64,
+    population: Vec<Member>,
+    offspring: Vec<Member>,
+    best: Option<Member>,
+    done: bool,
+    last_crossover: Option<OaxRecord>,
+}
+
+impl WeightedSum {
+    /// A run on `hf` with `params` and `seed`; nothing is evaluated until the first step.
+    pub fn new(
+        hf: Arc<Heightfield>,
+        params: WeightedSumParams,
+        seed: u64,
+    ) -> Result<Self, ParamsError> {
+        params.ga.validate()?;
+        if params.weights.is_empty() || params.weights.iter().any(|w| !(0.0..=1.0).contains(w)) {
+            return Err(ParamsError::BadWeights);
+        }
+        Ok(Self {
+            mutation: params.ga.mutation_on(&hf),
+            rng: Pcg64Mcg::seed_from_u64(seed),
+            scorer: Scorer::new(hf),
+            front: Front::default(),
+            run_bests: Vec::new(),
+            run: 0,
+            run_start: 0,
+            run_generation: 0,
+            generations_done: 0,
+            population: Vec::new(),
+            offspring: Vec::new(),
+            best: None,
+            done: false,
+            last_crossover: None,
+            params,
+            seed,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &WeightedSumParams {
+        &self.params
+    }
+
+    /// The seed.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The best solution of each finished run, with its weight, in run order.
+    pub fn run_bests(&self) -> &[(f64, Solution)] {
+        &self.run_bests
+    }
+
+    /// The weight of the run in progress (`None` once done).
+    pub fn current_weight(&self) -> Option<f64> {
+        (!self.done).then(|| self.params.weights[self.run])
+    }
+
+    /// The record of the last orthogonal-array crossover, if any happened.
+    pub fn last_crossover(&self) -> Option<&OaxRecord> {
+        self.last_crossover.as_ref()
+    }
+
+    fn scalar(&self) -> Scalarisation {
+        self.scorer.scalarisation(self.params.weights[self.run])
+    }
+
+    /// Scores `genes` and remembers it when it is the run's best so far.
+    fn note(best: &mut Option<Member>, genes: &Chromosome, objectives: Objectives, fitness: f64) {
+        if best.as_ref().is_none_or(|b| fitness < b.fitness) {
+            *best = Some(Member {
+                genes: genes.clone(),
+                objectives,
+                fitness,
+            });
+        }
+    }
+
+    fn unit(&mut self) {
+        let mu = self.params.ga.population;
+        if self.population.len() < mu {
+            let hf = self.scorer.heightfield().clone();
+            let i = self.population.len();
+            let density =
+                operators::initial_density(i, mu, operators::free_genes(&hf), &mut self.rng);
+            let genes = operators::random_chromosome(&hf, density, &mut self.rng);
+            let objectives = self.scorer.score(&genes);
+            let fitness = self.scalar().value(&objectives);
+            Self::note(&mut self.best, &genes, objectives, fitness);
+            self.population.push(Member {
+                genes,
+                objectives,
+                fitness,
+            });
+        } else {
+            self.mating();
+            if self.offspring.len() >= mu {
+                self.survival();
+                self.run_generation += 1;
+                self.generations_done += 1;
+            }
+        }
+        let share = self
+            .params
+            .ga
+            .max_evaluations
+            .map(|cap| (cap / self.params.weights.len() as u64).max(1));
+        let run_done = (self.population.len() >= mu
+            && self.run_generation >= self.params.ga.generations as u64)
+            || share.is_some_and(|s| self.scorer.evaluations() - self.run_start >= s);
+        if run_done {
+            self.finish_run();
+        }
+    }
+
+    fn mating(&mut self) {
+        let (i, j) = (self.tournament(), self.tournament());
+        let scalar = self.scalar();
+        let best = &mut self.best;
+        let children = Mating {
+            params: &self.params.ga,
+            mutation: self.mutation,
+            scalar,
+            rng: &mut self.rng,
+            scorer: &mut self.scorer,
+        }
+        .children(
+            (&self.population[i].genes, self.population[i].objectives),
+            (&self.population[j].genes, self.population[j].objectives),
+            &mut |c, o| Self::note(best, c, *o, scalar.value(o)),
+            &mut self.last_crossover,
+        );
+        for (genes, objectives) in children {
+            if self.offspring.len() < self.params.ga.population {
+                self.offspring.push(Member {
+                    fitness: scalar.value(&objectives),
+                    genes,
+                    objectives,
+                });
+            }
+        }
+    }
+
+    /// Binary tournament on F; ties go to the first drawn.
+    fn tournament(&mut self) -> usize {
+        let n = self.population.len();
+        let (i, j) = (self.rng.random_range(0..n), self.rng.random_range(0..n));
+        if self.population[j].fitness < self.population[i].fitness {
+            j
+        } else {
+            i
+        }
+    }
+
+    /// Elitist (μ + λ): the μ best F of parents and offspring (ties by position).
+    fn survival(&mut self) {
+        let mut union: Vec<Member> = self.population.drain(..).collect();
+        union.append(&mut self.offspring);
+        let mut order: Vec<usize> = (0..union.len()).collect();
+        order.sort_by(|&a, &b| {
+            union[a]
+                .fitness
+                .total_cmp(&union[b].fitness)
+                .then(a.cmp(&b))
+        });
+        let mut slots: Vec<Option<Member>> = union.into_iter().map(Some).collect();
+        self.population = order[..self.params.ga.population]
+            .iter()
+            .map(|&k| slots[k].take().expect("each index once"))
+            .collect();
+    }
+
+    fn finish_run(&mut self) {
+        if let Some(best) = self.best.take() {
+            let solution = Solution {
+                e_sum: best.objectives.e_sum,
+                e_max: best.objectives.e_max,
+                t: best.objectives.t,
+                kept: best.genes.indices(),
+            };
+            self.front.offer(solution.clone());
+            self.run_bests
+                .push((self.params.weights[self.run], solution));
+        }
+        self.population.clear();
+        self.offspring.clear();
+        self.run_generation = 0;
+        self.run_start = self.scorer.evaluations();
+        self.run += 1;
+        self.done = self.run >= self.params.weights.len();
+    }
+}
+
+impl Optimizer for WeightedSum {
+    /// Unit: one initial individual or one mating of the current run.
+    fn step(&mut self, max_evaluations: u64) -> Progress {
+        let start = self.scorer.evaluations();
+        while !self.done {
+            self.unit();
+            if self.scorer.evaluations() - start >= max_evaluations {
+                break;
+            }
+        }
+        self.progress()
+    }
+
+    fn front(&self) -> &Front {
+        &self.front
+    }
+
+    /// `generation` counts the generations completed over all runs so far.
+    fn progress(&self) -> Progress {
+        Progress {
+            evaluations: self.scorer.evaluations(),
+            generation: self.generations_done,
+            done: self.done,
+        }
+    }
+}

@@ -1,0 +1,411 @@
+//! NSGA-II, the weighted-sum GA and `paretomesh run` on real terrain: determinism, slicing
+//! invariance, non-dominated fronts, honest objectives, and the front.json file.
+//!
+//! Runs are kept tiny (a 17×17 crop, populations of about a dozen) because the tests run in a
+//! debug build.
+
+use paretomesh::evaluator::Evaluator;
+use paretomesh::evolution::objectives::Objectives;
+use paretomesh::evolution::{
+    CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,
+};
+use paretomesh::front::{Front, dominates};
+use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::optimizer::Optimizer;
+use paretomesh::run_file::RunFile;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(format!("{name}.f32"))
+}
+
+/// The top-left 17×17 corner of the 33×33 Jacksboro terrain: real relief, small enough that a
+/// few hundred evaluations take well under a second in a debug build.
+fn terrain_17() -> Arc<Heightfield> {
+    let full = heightfield::load(&data("jacksboro_33x33")).unwrap();
+    let z = (0..17)
+        .flat_map(|y| (0..17).map(move |x| (x, y)))
+        .map(|(x, y)| full.z_at(x, y))
+        .collect();
+    Arc::new(Heightfield::new(17, 17, z).unwrap())
+}
+
+fn small(crossover: CrossoverKind) -> GaParams {
+    GaParams {
+        population: 12,
+        generations: 4,
+        crossover,
+        ..GaParams::default()
+    }
+}
+
+fn nsga2_front(params: GaParams, seed: u64) -> Front {
+    let mut opt = Nsga2::new(terrain_17(), params, seed).unwrap();
+    opt.run_to_end();
+    opt.front().clone()
+}
+
+fn assert_mutually_non_dominated(front: &Front) {
+    let s = front.solutions();
+    assert!(!s.is_empty());
+    for a in s {
+        for b in s {
+            assert!(
+                !dominates(a.objectives(), b.objectives()),
+                "{a:?} dominates {b:?}"
+            );
+        }
+    }
+    assert!(
+        s.windows(2)
+            .all(|p| p[0].t < p[1].t && p[0].e_sum > p[1].e_sum)
+    );
+}
+
+/// Each solution's numbers are exactly what a fresh evaluator says about its kept set.
+fn assert_rescores_exactly(hf: &Arc<Heightfield>, front: &Front) {
+    let mut ev = Evaluator::new(hf.clone());
+    for s in front.solutions() {
+        let fresh = ev.score(&s.kept).unwrap();
+        assert_eq!((fresh.e_sum, fresh.e_max, fresh.t), (s.e_sum, s.e_max, s.t));
+        assert!(hf.corners().iter().all(|c| s.kept.binary_search(c).is_ok()));
+        assert!(s.kept.windows(2).all(|p| p[0] < p[1]));
+    }
+}
+
+#[test]
+fn same_seed_gives_the_identical_front_and_other_seeds_differ() {
+    let a = nsga2_front(small(CrossoverKind::Oax), 7);
+    assert_eq!(a, nsga2_front(small(CrossoverKind::Oax), 7));
+    assert_ne!(a, nsga2_front(small(CrossoverKind::Oax), 8));
+}
+
+#[test]
+fn slicing_does_not_change_nsga2() {
+    // One big step against steps of 1 and of 7 evaluations: same front, population, crossover
+    // record and progress.
+    let params = small(CrossoverKind::Oax);
+    let mut whole = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
+    let end = whole.run_to_end();
+    for slice in [1, 7] {
+        let mut sliced = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
+        let mut calls = 0;
+        while !sliced.step(slice).done {
+            calls += 1;
+        }
+        assert!(calls >= 15, "really sliced: {calls} calls");
+        assert_eq!(sliced.progress(), end);
+        assert_eq!(sliced.front(), whole.front());
+        assert_eq!(sliced.population(), whole.population());
+        assert_eq!(sliced.last_crossover(), whole.last_crossover());
+    }
+}
+
+#[test]
+fn slicing_does_not_change_the_weighted_sum_ga() {
+    let params = WeightedSumParams {
+        ga: GaParams {
+            population: 6,
+            generations: 2,
+            ..GaParams::default()
+        },
+        weights: vec![0.2, 0.5, 0.9],
+    };
+    let mut whole = WeightedSum::new(terrain_17(), params.clone(), 5).unwrap();
+    let end = whole.run_to_end();
+    let mut sliced = WeightedSum::new(terrain_17(), params, 5).unwrap();
+    while !sliced.step(3).done {}
+    assert_eq!(sliced.progress(), end);
+    assert_eq!(sliced.front(), whole.front());
+    assert_eq!(sliced.run_bests(), whole.run_bests());
+}
+
+#[test]
+fn nsga2_fronts_are_non_dominated_and_rescore_exactly_for_every_crossover() {
+    let hf = terrain_17();
+    for kind in [
+        CrossoverKind::Oax,
+        CrossoverKind::Uniform,
+        CrossoverKind::TwoPoint,
+    ] {
+        let mut opt = Nsga2::new(hf.clone(), small(kind), 11).unwrap();
+        let p = opt.run_to_end();
+        assert_eq!(p.generation, 4);
+        assert_mutually_non_dominated(opt.front());
+        assert_rescores_exactly(&hf, opt.front());
+        // The archive holds everything seen: no survivor beats it.
+        for ind in opt.population() {
+            assert!(opt.front().solutions().iter().any(|s| {
+                let o = s.objectives();
+                o == ind.objectives.pair() || dominates(o, ind.objectives.pair())
+            }));
+        }
+    }
+}
+
+#[test]
+fn population_reports_ranks_and_crowding() {
+    let mut opt = Nsga2::new(terrain_17(), small(CrossoverKind::Oax), 2).unwrap();
+    opt.run_to_end();
+    let pop = opt.population();
+    assert_eq!(pop.len(), 12);
+    for a in pop {
+        // Rank 0 ⇔ nobody in the population dominates it; rank r > 0 ⇒ someone of rank r − 1
+        // dominates it.
+        let dominators: Vec<_> = pop
+            .iter()
+            .filter(|b| dominates(b.objectives.pair(), a.objectives.pair()))
+            .collect();
+        assert_eq!(a.rank == 0, dominators.is_empty());
+        if a.rank > 0 {
+            assert!(dominators.iter().any(|b| b.rank == a.rank - 1));
+        }
+        assert!(a.crowding >= 0.0);
+    }
+    // The extremes of the first front have infinite crowding.
+    let first = pop.iter().filter(|a| a.rank == 0);
+    let min_t = first.clone().min_by_key(|a| a.objectives.t).unwrap();
+    assert!(min_t.crowding.is_infinite());
+}
+
+#[test]
+fn crossover_record_is_consistent_with_the_evaluator() {
+    let hf = terrain_17();
+    let mut opt = Nsga2::new(hf.clone(), small(CrossoverKind::Oax), 4).unwrap();
+    opt.run_to_end();
+    let r = opt
+        .last_crossover()
+        .expect("p_c = 0.8 over 24 matings crosses at least once");
+    assert_eq!(r.rows.len(), 8);
+    assert_eq!(r.rows[0].genes, r.parents[0].0);
+    let mut ev = Evaluator::new(hf.clone());
+    let scalar = |o: &Objectives| {
+        let e0 = ev_corners(&hf);
+        r.weight * o.e_sum / e0 + (1.0 - r.weight) * o.t as f64 / hf.full_triangles() as f64
+    };
+    for child in r.rows.iter().chain([&r.best_levels]) {
+        let s = ev.score(&child.genes.indices()).unwrap();
+        assert_eq!((s.e_sum, s.t), (child.objectives.e_sum, child.objectives.t));
+        assert!((scalar(&child.objectives) - child.fitness).abs() < 1e-12);
+    }
+    // The best-levels child takes, for every factor, the level with the smaller fitness sum.
+    for (f, effect) in r.effects.iter().enumerate() {
+        assert_eq!(r.best_levels.levels[f], u8::from(effect[1] < effect[0]));
+    }
+    // The first child returned is the fittest, the second the fittest with other genes.
+    let all: Vec<_> = r.rows.iter().chain([&r.best_levels]).collect();
+    let (first, second) = (r.child(r.chosen[0]), r.child(r.chosen[1]));
+    assert!(all.iter().all(|c| c.fitness >= first.fitness));
+    assert!(
+        all.iter()
+            .filter(|c| c.genes != first.genes)
+            .all(|c| c.fitness >= second.fitness)
+    );
+}
+
+fn ev_corners(hf: &Arc<Heightfield>) -> f64 {
+    Evaluator::new(hf.clone()).score(&[]).unwrap().e_sum
+}
+
+#[test]
+fn evaluation_cap_stops_the_run() {
+    // One unit spends at most 7 + 1 OAX children + 2 mutants = 10 evaluations.
+    let params = GaParams {
+        max_evaluations: Some(50),
+        ..small(CrossoverKind::Oax)
+    };
+    let mut opt = Nsga2::new(terrain_17(), params, 1).unwrap();
+    let p = opt.run_to_end();
+    assert!((50..60).contains(&p.evaluations), "{}", p.evaluations);
+    assert!(p.generation < 4);
+}
+
+#[test]
+fn weighted_sum_keeps_the_best_of_each_weight() {
+    let hf = terrain_17();
+    let params = WeightedSumParams {
+        ga: GaParams {
+            population: 6,
+            generations: 2,
+            ..GaParams::default()
+        },
+        ..WeightedSumParams::default()
+    };
+    let mut opt = WeightedSum::new(hf.clone(), params, 9).unwrap();
+    opt.run_to_end();
+    let weights: Vec<f64> = opt.run_bests().iter().map(|(w, _)| *w).collect();
+    assert_eq!(
+        weights,
+        (0..=10).map(|k| k as f64 / 10.0).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        opt.front(),
+        &Front::merged(opt.run_bests().iter().map(|(_, s)| s))
+    );
+    assert_mutually_non_dominated(opt.front());
+    assert_rescores_exactly(&hf, opt.front());
+}
+
+#[test]
+fn bad_parameters_are_typed_errors() {
+    let hf = terrain_17();
+    let bad = |p: GaParams| Nsga2::new(hf.clone(), p, 1).err();
+    assert_eq!(
+        bad(GaParams {
+            population: 1,
+            ..GaParams::default()
+        }),
+        Some(ParamsError::PopulationTooSmall(1))
+    );
+    assert!(matches!(
+        bad(GaParams {
+            crossover_probability: 1.5,
+            ..GaParams::default()
+        }),
+        Some(ParamsError::BadProbability { .. })
+    ));
+    assert!(matches!(
+        bad(GaParams {
+            mutation_probability: Some(-0.1),
+            ..GaParams::default()
+        }),
+        Some(ParamsError::BadProbability { .. })
+    ));
+    assert_eq!(
+        bad(GaParams {
+            factors: 1,
+            ..GaParams::default()
+        }),
+        Some(ParamsError::BadFactors(1))
+    );
+    let weights = WeightedSumParams {
+        weights: vec![0.5, 1.2],
+        ..WeightedSumParams::default()
+    };
+    assert_eq!(
+        WeightedSum::new(hf, weights, 1).err(),
+        Some(ParamsError::BadWeights)
+    );
+}
+
+#[test]
+fn params_round_trip_through_json_with_paper_defaults() {
+    let p = GaParams::default();
+    assert_eq!(
+        (
+            p.population,
+            p.generations,
+            p.crossover_probability,
+            p.mutation_probability
+        ),
+        (100, 50, 0.8, None)
+    );
+    let json = serde_json::to_string(&WeightedSumParams::default()).unwrap();
+    assert!(json.contains("\"crossover\":\"oax\""), "{json}");
+    let back: WeightedSumParams = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, WeightedSumParams::default());
+    // Missing fields take the defaults (share links may carry only what differs).
+    let partial: GaParams =
+        serde_json::from_str(r#"{"population": 20, "crossover": "two-point"}"#).unwrap();
+    assert_eq!(
+        (partial.population, partial.crossover, partial.generations),
+        (20, CrossoverKind::TwoPoint, 50)
+    );
+}
+
+fn paretomesh(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn cli_run_writes_a_front_json_that_rescores_identically() {
+    let dir = std::env::temp_dir().join(format!("paretomesh-evolution-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = data("jacksboro_33x33");
+    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    for algo in ["nsga2", "weighted"] {
+        let out = dir.join(format!("{algo}.json"));
+        let csv = dir.join(format!("{algo}.csv"));
+        let run = paretomesh(&[
+            "run",
+            grid.to_str().unwrap(),
+            "--algo",
+            algo,
+            "--pop",
+            "6",
+            "--gens",
+            "2",
+            "--seed",
+            "3",
+            "--out",
+            out.to_str().unwrap(),
+            "--csv",
+            csv.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{stderr}");
+        assert!(
+            stderr.contains("evaluations"),
+            "progress on stderr: {stderr}"
+        );
+        let file: RunFile = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!((file.grid.width, file.grid.height), (33, 33));
+        assert_eq!((file.algorithm.as_str(), file.seed), (algo, 3));
+        assert_eq!(file.params["population"], 6);
+        assert!(file.evaluations > 0);
+        let mut ev = Evaluator::new(hf.clone());
+        for s in &file.front {
+            let fresh = ev.evaluate(&s.solution.kept).unwrap();
+            assert_eq!(fresh.score.e_sum, s.solution.e_sum);
+            assert_eq!(fresh.score.e_max, s.solution.e_max);
+            assert_eq!(fresh.score.t, s.solution.t);
+            assert_eq!(fresh.triangles, s.triangles);
+            // An outside tool scoring the triangles alone gets the same error.
+            let outside = ev.score_triangulation(&s.triangles).unwrap();
+            assert!((outside.e_sum - s.solution.e_sum).abs() <= 1e-9 * s.solution.e_sum.max(1.0));
+        }
+        let rows: Vec<String> = std::fs::read_to_string(&csv)
+            .unwrap()
+            .lines()
+            .map(String::from)
+            .collect();
+        assert_eq!(rows[0], "E_sum,T");
+        assert_eq!(rows.len(), file.front.len() + 1);
+        let first: Vec<f64> = rows[1].split(',').map(|v| v.parse().unwrap()).collect();
+        assert_eq!(
+            first,
+            [
+                file.front[0].solution.e_sum,
+                file.front[0].solution.t as f64
+            ]
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn cli_run_rejects_bad_parameters_with_a_message() {
+    let grid = data("jacksboro_33x33");
+    let run = paretomesh(&[
+        "run",
+        grid.to_str().unwrap(),
+        "--algo",
+        "nsga2",
+        "--pc",
+        "3",
+        "--out",
+        "/nonexistent/never-written.json",
+    ]);
+    assert!(!run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains("crossover probability must be between 0 and 1"),
+        "{stderr}"
+    );
+}
