@@ -91,6 +91,28 @@ mod plot_hit_testing {
     }
 
     #[wasm_bindgen_test]
+    fn a_log_axis_keeps_decades_apart_and_draws_zero_error_at_the_bottom() {
+        // Errors over four decades plus the full mesh (E = 0).
+        let points = [
+            pt(2.0, 10000.0),
+            pt(20.0, 100.0),
+            pt(200.0, 1.0),
+            pt(400.0, 0.0),
+        ];
+        let layout = Layout::fit_scaled(400.0, 300.0, &points, true);
+        let y: Vec<f64> = points.iter().map(|p| layout.to_pixel(*p).1).collect();
+        // Equal ratios are equal distances.
+        assert!(((y[1] - y[0]) - (y[2] - y[1])).abs() < 1e-9, "{y:?}");
+        assert!(y[3] > y[2] && y[3].is_finite());
+        let (_, top, _, bottom) = layout.area();
+        assert!(y.iter().all(|&v| v >= top && v <= bottom));
+        assert_eq!(layout.e_ticks(), vec![1.0, 10.0, 100.0, 1000.0, 10000.0]);
+        // Hit-testing works on the log axis too.
+        let (x, yy) = layout.to_pixel(points[1]);
+        assert_eq!(hit_test(&layout, &points, x, yy, 4.0), Some(1));
+    }
+
+    #[wasm_bindgen_test]
     fn ticks_are_round_numbers_inside_the_range() {
         assert_eq!(ticks(0.0, 10.0, 5), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
         let t = ticks(13.0, 987.0, 6);
@@ -375,5 +397,161 @@ mod camera_and_loading {
         let hf = loader::parse("volcano_87x61.ply", ply, None, &ImportOptions::default()).unwrap();
         assert_eq!((hf.width(), hf.height()), (87, 61));
         assert!(!loader::was_resampled("volcano_87x61.ply", &hf));
+    }
+}
+
+mod app_stepping {
+    use paretomesh::heightfield::raw;
+    use paretomesh::web::algorithms::{Algorithm, Params, build};
+    use paretomesh::web::app::{App, RunConfig, Surface};
+    use std::sync::Arc;
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    // A small, quick NSGA-II run on the 33×33 volcano.
+    fn config() -> RunConfig {
+        RunConfig {
+            algorithm: Algorithm::Nsga2,
+            params: Params {
+                population: 12,
+                generations: 6,
+                seed: 7,
+                ..Params::default()
+            },
+            budget_ms: 8.0,
+        }
+    }
+
+    fn app() -> App {
+        let hf = raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap();
+        App::new(
+            Surface {
+                name: "volcano_33x33".into(),
+                heightfield: Arc::new(hf),
+            },
+            config(),
+        )
+    }
+
+    /// A clock that advances 1 ms per reading, so what a tick does is exact and repeatable.
+    fn ticking_clock() -> impl FnMut() -> f64 {
+        let mut now = 0.0;
+        move || {
+            now += 1.0;
+            now
+        }
+    }
+
+    #[wasm_bindgen_test]
+    fn a_tick_steps_until_its_budget_is_spent() {
+        let mut app = app();
+        app.run().unwrap();
+        let mut clock = ticking_clock();
+        let report = app.tick(8.0, &mut clock);
+        // One reading at the start and one after each step: the 8th step reaches 8 ms.
+        assert_eq!(report.steps, 8);
+        assert!(report.evaluations >= 8, "{report:?}");
+        assert_eq!(app.status().evaluations, report.evaluations);
+        // A smaller budget does fewer steps.
+        let report = app.tick(3.0, &mut clock);
+        assert_eq!(report.steps, 3);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_clock_too_coarse_to_see_a_step_does_not_let_a_tick_run_away() {
+        // performance.now() is coarsened: steps can look instantaneous. The chunk then grows
+        // by doubling only, so after k zero-time calls the next call spends at most 2^k
+        // evaluations plus one unit, instead of the whole run.
+        let mut app = app();
+        app.run().unwrap();
+        // The first six readings show no time passing, the seventh shows the budget gone.
+        let mut readings = 0;
+        let mut clock_then_jump = || {
+            readings += 1;
+            if readings > 6 { 100.0 } else { 0.0 }
+        };
+        let report = app.tick(8.0, &mut clock_then_jump);
+        assert_eq!(report.steps, 6);
+        // Chunks 1, 2, 4, 8, 16, 32 at most, each overshooting by under one unit (one mating of
+        // OAX: at most 2^3 children and two mutants here).
+        assert!(report.evaluations <= 63 + 6 * 10, "{report:?}");
+        assert!(!app.status().done);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_paused_app_does_no_work() {
+        let mut app = app();
+        app.run().unwrap();
+        app.pause();
+        let report = app.tick(8.0, &mut ticking_clock());
+        assert_eq!((report.steps, report.evaluations), (0, 0));
+        assert_eq!(app.status().evaluations, 0);
+    }
+
+    #[wasm_bindgen_test]
+    fn slicing_into_frames_reaches_the_front_of_one_uninterrupted_run() {
+        let mut app = app();
+        app.run().unwrap();
+        let mut clock = ticking_clock();
+        let mut frames = 0;
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+            frames += 1;
+            assert!(frames < 100_000, "the run must finish");
+        }
+        assert!(frames > 1, "the run took several frames");
+        assert!(app.status().done);
+        let c = config();
+        let mut whole = build(c.algorithm, &c.params, app.surface().heightfield.clone()).unwrap();
+        whole.run_to_end();
+        assert_eq!(app.front().unwrap(), whole.front());
+        assert_eq!(app.status().evaluations, whole.progress().evaluations);
+    }
+
+    #[wasm_bindgen_test]
+    fn arrow_keys_move_the_selection_along_the_front_and_stop_at_its_ends() {
+        let mut app = app();
+        app.run().unwrap();
+        let mut clock = ticking_clock();
+        while app.is_running() {
+            app.tick(50.0, &mut clock);
+        }
+        let n = app.front().unwrap().len();
+        assert!(n >= 3, "front of {n}");
+        app.move_selection(1);
+        assert_eq!(app.selected_front_index(), Some(0));
+        app.move_selection(1);
+        assert_eq!(app.selected_front_index(), Some(1));
+        app.move_selection(-5);
+        assert_eq!(app.selected_front_index(), Some(0));
+        app.select_front_index(Some(n - 1));
+        app.move_selection(1);
+        assert_eq!(app.selected_front_index(), Some(n - 1));
+        let selected = app.selected().unwrap().clone();
+        assert_eq!(&selected, &app.front().unwrap().solutions()[n - 1]);
+    }
+
+    #[wasm_bindgen_test]
+    fn bad_parameters_are_refused_with_a_message() {
+        let mut app = app();
+        let mut c = config();
+        c.params.crossover_probability = 1.5;
+        app.set_config(c);
+        let e = app.run().unwrap_err();
+        assert!(e.contains("crossover probability"), "{e}");
+        assert!(!app.is_running());
+    }
+
+    #[wasm_bindgen_test]
+    fn every_algorithm_in_the_menu_runs_in_the_browser() {
+        for algorithm in Algorithm::ALL {
+            let mut app = app();
+            app.set_config(RunConfig {
+                algorithm,
+                ..config()
+            });
+            app.run().unwrap();
+            app.tick(5.0, &mut ticking_clock());
+            assert!(app.status().evaluations > 0, "{algorithm:?}");
+        }
     }
 }

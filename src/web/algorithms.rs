@@ -1,7 +1,8 @@
 //! The algorithms the app offers, their parameters (the source paper's defaults), and the one
-//! place that builds an [`Optimizer`] from them. Each algorithm plugs in here as the core
-//! provides it.
+//! place that builds a running algorithm from them.
 
+use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
+use crate::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
 use serde::{Deserialize, Serialize};
@@ -12,7 +13,7 @@ use std::sync::Arc;
 pub enum Algorithm {
     /// NSGA-II with the chosen crossover (the paper's method with orthogonal-array crossover).
     Nsga2,
-    /// A GA on weighted sums of E and T, one run per weight.
+    /// A GA on weighted sums of E and T, one run per weight (0, 0.1, …, 1).
     WeightedSum,
     /// Greedy insertion (Garland & Heckbert 1995).
     GreedyInsertion,
@@ -29,11 +30,11 @@ impl Algorithm {
         Algorithm::Decimation,
     ];
 
-    /// The menu's value for this algorithm.
+    /// The menu's value for this algorithm, also its name in front.json (as the CLI spells it).
     pub fn key(self) -> &'static str {
         match self {
             Algorithm::Nsga2 => "nsga2",
-            Algorithm::WeightedSum => "weighted-sum",
+            Algorithm::WeightedSum => "weighted",
             Algorithm::GreedyInsertion => "greedy",
             Algorithm::Decimation => "decimation",
         }
@@ -54,36 +55,30 @@ impl Algorithm {
         }
     }
 
-    /// True when the GA parameters (population, crossover, mutation) apply.
+    /// True when the GA parameters (population, crossover, mutation, seed) apply.
     pub fn is_genetic(self) -> bool {
         matches!(self, Algorithm::Nsga2 | Algorithm::WeightedSum)
     }
 }
 
-/// The crossover operator of the GAs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum CrossoverKind {
-    /// Orthogonal-array crossover (Huang & Ho 2003), the paper's operator.
-    Orthogonal,
-    /// Uniform crossover.
-    Uniform,
+/// The menu value of a crossover kind (its serde name).
+pub fn crossover_key(kind: CrossoverKind) -> &'static str {
+    match kind {
+        CrossoverKind::Oax => "oax",
+        CrossoverKind::Uniform => "uniform",
+        CrossoverKind::TwoPoint => "two-point",
+    }
 }
 
-impl CrossoverKind {
-    /// The menu's value.
-    pub fn key(self) -> &'static str {
-        match self {
-            CrossoverKind::Orthogonal => "oax",
-            CrossoverKind::Uniform => "uniform",
-        }
-    }
-
-    /// The kind with menu value `key`.
-    pub fn from_key(key: &str) -> Option<CrossoverKind> {
-        [CrossoverKind::Orthogonal, CrossoverKind::Uniform]
-            .into_iter()
-            .find(|k| k.key() == key)
-    }
+/// The crossover kind with menu value `key`.
+pub fn crossover_from_key(key: &str) -> Option<CrossoverKind> {
+    [
+        CrossoverKind::Oax,
+        CrossoverKind::Uniform,
+        CrossoverKind::TwoPoint,
+    ]
+    .into_iter()
+    .find(|k| crossover_key(*k) == key)
 }
 
 /// Parameters of a run, with the source paper's defaults.
@@ -105,23 +100,37 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
+        let ga = GaParams::default();
         Self {
-            population: 100,
-            generations: 50,
-            crossover: CrossoverKind::Orthogonal,
-            crossover_probability: 0.8,
-            mutation_probability: None,
+            population: ga.population,
+            generations: ga.generations,
+            crossover: ga.crossover,
+            crossover_probability: ga.crossover_probability,
+            mutation_probability: ga.mutation_probability,
             seed: 1,
         }
     }
 }
 
 impl Params {
-    /// Checks the ranges; the message says which field is wrong and what is allowed.
+    /// The GA parameters these stand for (the other fields at their defaults).
+    pub fn ga(&self) -> GaParams {
+        GaParams {
+            population: self.population,
+            generations: self.generations,
+            crossover: self.crossover,
+            crossover_probability: self.crossover_probability,
+            mutation_probability: self.mutation_probability,
+            ..GaParams::default()
+        }
+    }
+
+    /// Checks the ranges; the message says which field is wrong and what is allowed. Upper
+    /// bounds keep a browser tab's run finite.
     pub fn validate(&self) -> Result<(), String> {
-        if !(2..=10_000).contains(&self.population) {
+        if self.population > 10_000 {
             return Err(format!(
-                "population must be between 2 and 10000, got {}",
+                "population must be at most 10000, got {}",
                 self.population
             ));
         }
@@ -131,34 +140,68 @@ impl Params {
                 self.generations
             ));
         }
-        if !(0.0..=1.0).contains(&self.crossover_probability) {
-            return Err(format!(
-                "crossover probability must be between 0 and 1, got {}",
-                self.crossover_probability
-            ));
-        }
-        if let Some(p) = self.mutation_probability
-            && !(0.0..=1.0).contains(&p)
-        {
-            return Err(format!(
-                "mutation probability must be between 0 and 1, got {p}"
-            ));
-        }
-        Ok(())
+        self.ga().validate().map_err(|e| e.to_string())
     }
 }
 
-/// Builds the optimizer for `algorithm` on `hf`. Fails with a message for the user when the
-/// parameters are out of range or the algorithm is not part of this build.
+/// A running algorithm: an [`Optimizer`] plus what the views show beyond its front.
+pub trait Running: Optimizer {
+    /// The current population as (T, E, non-domination rank); empty for methods without one.
+    fn population_points(&self) -> Vec<(f64, f64, usize)> {
+        Vec::new()
+    }
+}
+
+impl Running for Nsga2 {
+    fn population_points(&self) -> Vec<(f64, f64, usize)> {
+        self.population()
+            .iter()
+            .map(|i| (i.objectives.t as f64, i.objectives.e_sum, i.rank))
+            .collect()
+    }
+}
+impl Running for WeightedSum {}
+impl Running for GreedyInsertion {}
+impl Running for EdgeDecimation {}
+
+/// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
+pub fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
+    let value = match algorithm {
+        Algorithm::Nsga2 => serde_json::to_value(params.ga()),
+        Algorithm::WeightedSum => serde_json::to_value(WeightedSumParams {
+            ga: params.ga(),
+            ..WeightedSumParams::default()
+        }),
+        Algorithm::GreedyInsertion => serde_json::to_value(GreedyParams::default()),
+        Algorithm::Decimation => serde_json::to_value(DecimationParams::default()),
+    };
+    value.unwrap_or(serde_json::Value::Null)
+}
+
+/// Builds `algorithm` on `hf`. Fails with a message for the user when the parameters are out
+/// of range.
 pub fn build(
     algorithm: Algorithm,
     params: &Params,
     hf: Arc<Heightfield>,
-) -> Result<Box<dyn Optimizer>, String> {
+) -> Result<Box<dyn Running>, String> {
     params.validate()?;
-    let _ = hf;
-    Err(format!(
-        "{} is not available in this build yet",
-        algorithm.label()
-    ))
+    Ok(match algorithm {
+        Algorithm::Nsga2 => {
+            Box::new(Nsga2::new(hf, params.ga(), params.seed).map_err(|e| e.to_string())?)
+        }
+        Algorithm::WeightedSum => {
+            let p = WeightedSumParams {
+                ga: params.ga(),
+                ..WeightedSumParams::default()
+            };
+            Box::new(WeightedSum::new(hf, p, params.seed).map_err(|e| e.to_string())?)
+        }
+        Algorithm::GreedyInsertion => {
+            Box::new(GreedyInsertion::new(hf, GreedyParams::default()).map_err(|e| e.to_string())?)
+        }
+        Algorithm::Decimation => Box::new(
+            EdgeDecimation::new(hf, DecimationParams::default()).map_err(|e| e.to_string())?,
+        ),
+    })
 }

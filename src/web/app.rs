@@ -6,11 +6,11 @@
 //! an optimizer's result (see [`crate::optimizer`]), the browser reaches exactly the front the
 //! CLI reaches with the same seed.
 
-use super::algorithms::{self, Algorithm, Params};
+use super::algorithms::{self, Algorithm, Params, Running};
 use crate::evaluator::Evaluator;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
-use crate::optimizer::{Optimizer, Progress};
+use crate::optimizer::Progress;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -77,7 +77,7 @@ pub struct TickReport {
 pub struct App {
     surface: Surface,
     config: RunConfig,
-    optimizer: Option<Box<dyn Optimizer>>,
+    optimizer: Option<Box<dyn Running>>,
     running: bool,
     elapsed_ms: f64,
     /// Evaluations per step call, adapted so a call takes about a tenth of the budget.
@@ -138,7 +138,7 @@ impl App {
 
     /// Builds the optimizer when there is none yet. Fails with a message for the user when the
     /// parameters are invalid for this surface.
-    fn ensure_optimizer(&mut self) -> Result<&mut Box<dyn Optimizer>, String> {
+    fn ensure_optimizer(&mut self) -> Result<&mut Box<dyn Running>, String> {
         if self.optimizer.is_none() {
             self.optimizer = Some(algorithms::build(
                 self.config.algorithm,
@@ -200,11 +200,13 @@ impl App {
             report.steps += 1;
             let spent = p.evaluations - evals_before;
             let took = now - call_start;
-            // Aim for a tenth of the budget per call so the last call overshoots little.
+            // Aim for a tenth of the budget per call so the last call overshoots little. The
+            // chunk at most doubles per call: a call faster than the timer's resolution
+            // (performance.now() is coarsened) must not make the next call run away.
             if spent > 0 {
                 let per_eval = (took / spent as f64).max(1e-6);
                 let target = (budget_ms / 10.0 / per_eval).floor();
-                self.chunk = target.clamp(1.0, 1e6) as u64;
+                self.chunk = target.clamp(1.0, 2.0 * self.chunk as f64) as u64;
             }
             if p.done {
                 self.running = false;
@@ -247,8 +249,9 @@ impl App {
         self.optimizer.as_ref().map(|o| o.front())
     }
 
-    /// The optimizer, for views that show more than the front (the population and its ranks).
-    pub fn optimizer(&self) -> Option<&dyn Optimizer> {
+    /// The running algorithm, for views that show more than the front (the population and its
+    /// ranks).
+    pub fn optimizer(&self) -> Option<&dyn Running> {
         self.optimizer.as_deref()
     }
 

@@ -1,7 +1,7 @@
 //! The page's controls, found by id in `index.html`: reading the parameter form, writing the
 //! status line and messages, and small helpers for listeners and downloads.
 
-use super::algorithms::{Algorithm, CrossoverKind, Params};
+use super::algorithms::{Algorithm, Params, crossover_from_key, crossover_key};
 use super::app::{RunConfig, Status};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
@@ -77,8 +77,8 @@ fn parse_field<T: std::str::FromStr>(id: &str, what: &str) -> Result<T, String> 
 pub fn read_config() -> Result<RunConfig, String> {
     let algorithm =
         Algorithm::from_key(&select_value("algorithm")?).ok_or("unknown algorithm in the menu")?;
-    let crossover = CrossoverKind::from_key(&select_value("crossover")?)
-        .ok_or("unknown crossover in the menu")?;
+    let crossover =
+        crossover_from_key(&select_value("crossover")?).ok_or("unknown crossover in the menu")?;
     let mutation = input_value("mutation-probability")?;
     let params = Params {
         population: parse_field("population", "population")?,
@@ -110,7 +110,7 @@ pub fn read_config() -> Result<RunConfig, String> {
 pub fn write_config(config: &RunConfig) -> Result<(), String> {
     let p = &config.params;
     by_id::<HtmlSelectElement>("algorithm")?.set_value(config.algorithm.key());
-    by_id::<HtmlSelectElement>("crossover")?.set_value(p.crossover.key());
+    by_id::<HtmlSelectElement>("crossover")?.set_value(crossover_key(p.crossover));
     by_id::<HtmlInputElement>("population")?.set_value(&p.population.to_string());
     by_id::<HtmlInputElement>("generations")?.set_value(&p.generations.to_string());
     by_id::<HtmlInputElement>("crossover-probability")?

@@ -30,43 +30,105 @@ pub struct Layout {
     pub height: f64,
     /// Shown T range (min, max), max > min.
     pub t_range: (f64, f64),
-    /// Shown E range (min, max), max > min.
+    /// Shown E range (min, max) in axis units (E, or log10 E with [`Layout::log_e`]), max > min.
     pub e_range: (f64, f64),
+    /// E axis logarithmic: errors spanning decades stay readable.
+    pub log_e: bool,
+    /// On a log axis, E below this (E = 0 included) is drawn at this value.
+    e_floor: f64,
 }
 
 impl Layout {
-    /// A layout of a `width` × `height` canvas that shows every point with 5 % padding. An empty
-    /// or degenerate set gets a unit range so the mapping stays finite.
+    /// A layout of a `width` × `height` canvas that shows every point with 5 % padding, E on a
+    /// linear axis. An empty or degenerate set gets a unit range so the mapping stays finite.
     pub fn fit<'a>(
         width: f64,
         height: f64,
         points: impl IntoIterator<Item = &'a PlotPoint>,
     ) -> Self {
+        Self::fit_scaled(width, height, points, false)
+    }
+
+    /// Like [`Layout::fit`], with E on a log axis when `log_e`. E = 0 (the full mesh) is drawn at
+    /// half the smallest positive E.
+    pub fn fit_scaled<'a>(
+        width: f64,
+        height: f64,
+        points: impl IntoIterator<Item = &'a PlotPoint>,
+        log_e: bool,
+    ) -> Self {
+        let points: Vec<PlotPoint> = points.into_iter().copied().collect();
+        let e_floor = points
+            .iter()
+            .map(|p| p.e)
+            .filter(|&e| e > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let e_floor = if e_floor.is_finite() {
+            e_floor / 2.0
+        } else {
+            1.0
+        };
+        let mut layout = Self {
+            width,
+            height,
+            t_range: (0.0, 1.0),
+            e_range: (0.0, 1.0),
+            log_e,
+            e_floor,
+        };
         let (mut t0, mut t1, mut e0, mut e1) = (
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
-        for p in points {
+        for p in &points {
+            let e = layout.axis_e(p.e);
             t0 = t0.min(p.t);
             t1 = t1.max(p.t);
-            e0 = e0.min(p.e);
-            e1 = e1.max(p.e);
+            e0 = e0.min(e);
+            e1 = e1.max(e);
         }
-        let pad = |lo: f64, hi: f64| -> (f64, f64) {
+        let pad = |lo: f64, hi: f64, floor: Option<f64>| -> (f64, f64) {
             if !lo.is_finite() || !hi.is_finite() {
-                return (0.0, 1.0);
+                return (floor.unwrap_or(0.0), floor.unwrap_or(0.0) + 1.0);
             }
             let span = if hi > lo { hi - lo } else { lo.abs().max(1.0) };
-            ((lo - 0.05 * span).max(0.0), hi + 0.05 * span)
+            let low = lo - 0.05 * span;
+            (floor.map_or(low, |f| low.max(f)), hi + 0.05 * span)
         };
-        Self {
-            width,
-            height,
-            t_range: pad(t0, t1),
-            e_range: pad(e0, e1),
+        layout.t_range = pad(t0, t1, Some(0.0));
+        layout.e_range = pad(e0, e1, (!log_e).then_some(0.0));
+        layout
+    }
+
+    /// E in axis units.
+    fn axis_e(&self, e: f64) -> f64 {
+        if self.log_e {
+            e.max(self.e_floor).log10()
+        } else {
+            e
         }
+    }
+
+    /// Tick values for the E axis, in E (not axis) units.
+    pub fn e_ticks(&self) -> Vec<f64> {
+        if !self.log_e {
+            return ticks(self.e_range.0, self.e_range.1, 5);
+        }
+        let (lo, hi) = self.e_range;
+        let mut out = Vec::new();
+        for k in lo.floor() as i32..=hi.ceil() as i32 {
+            for m in [1.0, 2.0, 5.0] {
+                let v = m * 10f64.powi(k);
+                let a = v.log10();
+                // 2 and 5 only when the axis spans less than two decades.
+                if a >= lo && a <= hi && (m == 1.0 || hi - lo < 2.0) {
+                    out.push(v);
+                }
+            }
+        }
+        out
     }
 
     /// The plotting rectangle: (left, top, right, bottom) in CSS pixels.
@@ -83,7 +145,8 @@ impl Layout {
     pub fn to_pixel(&self, p: PlotPoint) -> (f64, f64) {
         let (l, t, r, b) = self.area();
         let x = l + (p.t - self.t_range.0) / (self.t_range.1 - self.t_range.0) * (r - l);
-        let y = b - (p.e - self.e_range.0) / (self.e_range.1 - self.e_range.0) * (b - t);
+        let y =
+            b - (self.axis_e(p.e) - self.e_range.0) / (self.e_range.1 - self.e_range.0) * (b - t);
         (x, y)
     }
 }
@@ -196,7 +259,7 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     }
     ctx.set_text_align("right");
     ctx.set_text_baseline("middle");
-    for v in ticks(layout.e_range.0, layout.e_range.1, 5) {
+    for v in layout.e_ticks() {
         let (_, y) = layout.to_pixel(PlotPoint {
             t: layout.t_range.0,
             e: v,
@@ -219,7 +282,8 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     } else {
         scene.z_unit.to_string()
     };
-    let _ = ctx.fill_text(&format!("E = Σ|z − z̃| ({unit})"), 0.0, -10.0);
+    let scale = if layout.log_e { ", log scale" } else { "" };
+    let _ = ctx.fill_text(&format!("E = Σ|z − z̃| ({unit}{scale})"), 0.0, -10.0);
     ctx.restore();
     // Clip the data to the plotting area.
     ctx.save();

@@ -255,13 +255,23 @@ impl Ui {
                     .collect()
             })
             .unwrap_or_default();
-        let population: Vec<(PlotPoint, usize)> = Vec::new();
-        self.plot_layout = Layout::fit(
+        let population: Vec<(PlotPoint, usize)> = self
+            .app
+            .optimizer()
+            .map(|o| {
+                o.population_points()
+                    .into_iter()
+                    .map(|(t, e, rank)| (PlotPoint { t, e }, rank))
+                    .collect()
+            })
+            .unwrap_or_default();
+        self.plot_layout = Layout::fit_scaled(
             cw,
             ch,
             self.front_points
                 .iter()
                 .chain(population.iter().map(|(p, _)| p)),
+            dom::checked("plot-log-e"),
         );
         let unit = z_unit(&self.app.surface().heightfield);
         plot::draw(
@@ -386,6 +396,30 @@ impl Ui {
             .map_or(s.name.as_str(), |(a, _)| a)
             .to_string();
         match kind {
+            "json" => {
+                let front = self
+                    .app
+                    .front()
+                    .ok_or("run an algorithm first: the front is empty")?;
+                let config = self.app.config();
+                let status = self.app.status();
+                let file = crate::run_file::RunFile::new(
+                    &mut crate::evaluator::Evaluator::new(hf.clone()),
+                    config.algorithm.key(),
+                    super::algorithms::params_json(config.algorithm, &config.params),
+                    config.params.seed,
+                    status.evaluations,
+                    status.elapsed_ms.round() as u64,
+                    front,
+                )
+                .map_err(|e| e.to_string())?;
+                let json = serde_json::to_string_pretty(&file).map_err(|e| e.to_string())?;
+                dom::download(
+                    &format!("{stem}_front.json"),
+                    "application/json",
+                    json.as_bytes(),
+                )
+            }
             "csv" => {
                 let front = self
                     .app
@@ -623,7 +657,7 @@ impl WebApp {
                 ui.redraw = true;
             }),
         )?;
-        for kind in ["ply", "obj", "stl", "csv"] {
+        for kind in ["ply", "obj", "stl", "csv", "json"] {
             on(
                 &format!("export-{kind}"),
                 "click",
