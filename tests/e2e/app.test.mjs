@@ -165,7 +165,7 @@ try {
   const viewShot = await page.locator('#view').screenshot({ path: path.join(shots, '04-view.png') });
   const variance = await pixelVariance(page, viewShot);
   assert.ok(variance > 50, `the 3-D canvas is not blank (pixel variance ${variance.toFixed(1)})`);
-  for (const id of ['show-error', 'show-kept']) await page.check(`#${id}`);
+  for (const id of ['show-error', 'show-kept', 'show-original']) await page.check(`#${id}`);
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, '05-error-map.png') });
 
