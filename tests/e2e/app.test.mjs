@@ -187,6 +187,20 @@ try {
     assert.ok(f[0] === 3 && f.slice(1).every((i) => Number.isInteger(i) && i >= 0 && i < nv), `face line ${line}`);
   }
 
+  // The front as front.json (the format of `paretomesh run --out`) and CSV.
+  const frontNow = await page.evaluate(() => window.paretomesh.frontLength());
+  const [jsonDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-json')]);
+  const run = JSON.parse(readFileSync(await jsonDownload.path(), 'utf8'));
+  assert.equal(run.algorithm, 'nsga2');
+  assert.equal(run.seed, 1);
+  assert.deepEqual([run.grid.width, run.grid.height], [87, 61]);
+  assert.equal(run.front.length, frontNow);
+  assert.ok(run.front.every((m) => m.triangles.length === m.T && m.kept.length >= 4), 'members carry their triangles');
+  const [csvDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-csv')]);
+  const csv = readFileSync(await csvDownload.path(), 'utf8').trim().split('\n');
+  assert.equal(csv[0], 'T,E_sum,E_max,kept');
+  assert.equal(csv.length - 1, frontNow);
+
   // 6. A corrupt file: a clear message next to the drop zone; surface and selection stay.
   const before = await page.locator('#surface-info').textContent();
   await dropFiles(page, [{ name: 'broken.ply', bytes: Buffer.from('ply\nformat ascii 1.0\nelement vertex 99\nend_header\n1 2\n') }]);
