@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Runs every test: formatting, clippy (native and wasm32), native tests, and the
-# wasm-bindgen-test tests in headless Chromium. Needs the wasm32 target, wasm-bindgen-cli
-# matching Cargo.lock, chromium and chromedriver (`.ci/run` installs them).
+# Runs every test: formatting, clippy (native and wasm32), native tests, the
+# wasm-bindgen-test tests in headless Chromium, and the browser app's end-to-end test
+# (playwright-core driving /usr/bin/chromium). Needs the wasm32 target, wasm-bindgen-cli
+# matching Cargo.lock, chromium and chromedriver, and `npm ci` (`scripts/setup.sh` installs
+# them; `.ci/run` calls it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -21,3 +23,7 @@ cargo test --doc
 echo "== wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web
+
+echo "== browser app: build and end-to-end test (headless Chromium)"
+bash scripts/build-web.sh
+node tests/e2e/app.test.mjs

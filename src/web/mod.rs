@@ -1,7 +1,30 @@
-//! The browser layer (wasm32 only): a thin shell over the core.
+//! The browser layer (wasm32 only): the app over the core. `index.html` and `www/main.js` boot
+//! it; the JS only wires the file drop and the `requestAnimationFrame` loop, everything else is
+//! here.
+//!
+//! - [`app`]: app state and time-budgeted stepping (pure, tested).
+//! - [`algorithms`]: the algorithm menu, parameters with the paper's defaults, the builder.
+//! - [`plot`]: the E–T plot and its hit-testing.
+//! - [`render`]: the 3-D view through wgpu.
+//! - [`export`]: PLY / OBJ / STL / CSV exports.
+//! - [`dom`]: the page's controls.
+//! - [`ui`]: the glue: events, the frame, the panic hook.
+
+pub mod algorithms;
+pub mod app;
+pub mod dom;
+pub mod export;
+pub mod loader;
+pub mod plot;
+pub mod preview;
+pub mod render;
+pub mod transfer;
+pub mod ui;
 
 use crate::{evaluator::Evaluator, heightfield::raw};
 use wasm_bindgen::prelude::*;
+
+pub use ui::WebApp;
 
 /// Loads a raw f32 grid with its JSON sidecar, scores the kept indices, and returns the
 /// evaluation as a JS object `{E_sum, E_max, rms, T, triangles}`.

@@ -1,0 +1,239 @@
+// End-to-end test of the browser app in headless Chromium (playwright-core driving
+// /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh), then:
+// first load → drop a surface → run NSGA-II until the front has ≥ 10 points → click a front
+// point → the 3-D canvas is not blank → export PLY and check it → drop a corrupt file and check
+// the message while the previous surface stays. Screenshots go to target/e2e/. Prints (does not
+// assert) frame timing, time to first paint and evaluations/s.
+import { chromium } from 'playwright-core';
+import { spawn } from 'node:child_process';
+import { createServer } from 'node:net';
+import { mkdirSync, readFileSync, existsSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import path from 'node:path';
+import assert from 'node:assert/strict';
+
+const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const shots = path.join(root, 'target/e2e');
+mkdirSync(shots, { recursive: true });
+assert.ok(existsSync(path.join(root, 'www/pkg/paretomesh_bg.wasm')), 'build the app first: bash scripts/build-web.sh');
+
+const DROP_FILES = (process.env.E2E_DROP ?? 'tests/data/volcano_87x61.ply').split(',');
+
+function freePort() {
+  return new Promise((resolve, reject) => {
+    const s = createServer();
+    s.once('error', reject);
+    s.listen(0, '127.0.0.1', () => {
+      const { port } = s.address();
+      s.close(() => resolve(port));
+    });
+  });
+}
+
+async function waitForServer(url, tries = 100) {
+  for (let i = 0; i < tries; i++) {
+    try {
+      const r = await fetch(url);
+      if (r.ok) return;
+    } catch { /* not up yet */ }
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  throw new Error(`server at ${url} did not start`);
+}
+
+// Drops files (name → bytes) on the drop zone through a real DataTransfer.
+async function dropFiles(page, files) {
+  const payload = files.map(({ name, bytes }) => ({ name, b64: Buffer.from(bytes).toString('base64') }));
+  await page.evaluate((items) => {
+    const dt = new DataTransfer();
+    for (const { name, b64 } of items) {
+      const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+      dt.items.add(new File([bin], name));
+    }
+    const zone = document.getElementById('drop-zone');
+    for (const type of ['dragenter', 'dragover', 'drop']) {
+      zone.dispatchEvent(new DragEvent(type, { dataTransfer: dt, bubbles: true, cancelable: true }));
+    }
+  }, payload);
+}
+
+// Pixel variance (over RGB) of a PNG screenshot, decoded in the page.
+async function pixelVariance(page, png) {
+  return page.evaluate(async (b64) => {
+    const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+    const bitmap = await createImageBitmap(new Blob([bin], { type: 'image/png' }));
+    const c = new OffscreenCanvas(bitmap.width, bitmap.height);
+    const ctx = c.getContext('2d');
+    ctx.drawImage(bitmap, 0, 0);
+    const d = ctx.getImageData(0, 0, bitmap.width, bitmap.height).data;
+    let n = 0, sum = 0, sq = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      for (let k = 0; k < 3; k++) { sum += d[i + k]; sq += d[i + k] * d[i + k]; n++; }
+    }
+    const mean = sum / n;
+    return sq / n - mean * mean;
+  }, png.toString('base64'));
+}
+
+// A W×H grid with its (x, y) jittered, as OBJ: a surface mesh whose vertices are not a lattice.
+function wavyObj(w, h) {
+  let obj = '';
+  for (let y = 0; y < h; y++) {
+    for (let x = 0; x < w; x++) {
+      const jx = x + 0.3 * Math.sin(7 * x + 3 * y);
+      const jy = y + 0.3 * Math.cos(5 * x + 11 * y);
+      obj += `v ${jx} ${jy} ${3 * Math.sin(jx / 4) + 2 * Math.cos(jy / 3)}\n`;
+    }
+  }
+  for (let y = 0; y < h - 1; y++) {
+    for (let x = 0; x < w - 1; x++) {
+      const a = y * w + x + 1;
+      obj += `f ${a} ${a + 1} ${a + w}\nf ${a + 1} ${a + w + 1} ${a + w}\n`;
+    }
+  }
+  return obj;
+}
+
+const status = (page) => page.locator('#status').textContent();
+
+const port = await freePort();
+const server = spawn('python3', ['-m', 'http.server', '--bind', '127.0.0.1', String(port)], { cwd: root, stdio: 'ignore' });
+const url = `http://127.0.0.1:${port}/`;
+let browser;
+try {
+  await waitForServer(url);
+  browser = await chromium.launch({
+    executablePath: '/usr/bin/chromium',
+    // No --enable-unsafe-webgpu: a WebGPU canvas stays blank headless, so the app takes WebGL2.
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  const page = await browser.newPage({ viewport: { width: 1400, height: 850 }, acceptDownloads: true });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+
+  // 1. First load: the built-in surface in 3-D with its statistics.
+  await page.goto(url);
+  await page.waitForFunction(() => performance.getEntriesByName('paretomesh-first-paint').length > 0, null, { timeout: 30000 });
+  const firstPaint = await page.evaluate(() => performance.getEntriesByName('paretomesh-first-paint')[0].startTime);
+  const info = await page.locator('#surface-info').textContent();
+  assert.match(info, /jacksboro_65x65 · 65×65 grid · 4225 points · full mesh 8192 triangles/);
+  const backend = await page.locator('#backend').textContent();
+  assert.equal(backend, 'WebGL2', `headless Chromium without WebGPU flags must use WebGL2, got ${backend}`);
+  await page.screenshot({ path: path.join(shots, '01-first-load.png') });
+  const firstVariance = await pixelVariance(page, await page.locator('#view').screenshot());
+  assert.ok(firstVariance > 50, `the built-in surface is drawn (pixel variance ${firstVariance.toFixed(1)})`);
+
+  // 2. Drop a surface.
+  const files = DROP_FILES.map((f) => ({ name: path.basename(f), bytes: readFileSync(path.join(root, f)) }));
+  await dropFiles(page, files);
+  await page.waitForFunction((name) => window.paretomesh.surfaceName() === name, files[0].name, { timeout: 30000 });
+  const dropped = await page.locator('#surface-info').textContent();
+  assert.match(dropped, /87×61 grid · 5307 points/);
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: path.join(shots, '02-dropped.png') });
+
+  // 3. Run NSGA-II until the front has at least 10 points, measuring frame intervals.
+  await page.selectOption('#algorithm', 'nsga2');
+  await page.evaluate(() => {
+    window.__frames = [];
+    let last = performance.now();
+    const tick = (t) => { window.__frames.push(t - last); last = t; if (!window.__stopFrames) requestAnimationFrame(tick); };
+    requestAnimationFrame(tick);
+  });
+  await page.click('#run');
+  await page.waitForFunction(
+    () => window.paretomesh.frontLength() >= 10 || document.getElementById('run-message').textContent !== '',
+    null, { timeout: 120000 });
+  assert.equal(await page.locator('#run-message').textContent(), '', 'NSGA-II runs');
+  await page.waitForTimeout(1500); // a little longer, for the frame statistics
+  const frames = await page.evaluate(() => { window.__stopFrames = true; return window.__frames; });
+  const runStatus = await status(page);
+  await page.click('#pause');
+  await page.screenshot({ path: path.join(shots, '03-front.png') });
+
+  // 4. Click a front point: it becomes the selection and is drawn.
+  const n = await page.evaluate(() => window.paretomesh.frontLength());
+  const pick = Math.floor(n / 2);
+  const [x, y] = await page.evaluate((i) => window.paretomesh.frontPointPosition(i), pick);
+  const box = await page.locator('#plot').boundingBox();
+  await page.mouse.click(box.x + x, box.y + y);
+  await page.waitForFunction(() => window.paretomesh.selectedVertexCount() !== undefined, null, { timeout: 10000 });
+  const vertices = await page.evaluate(() => window.paretomesh.selectedVertexCount());
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: path.join(shots, '04-selected.png') });
+  const viewShot = await page.locator('#view').screenshot({ path: path.join(shots, '04-view.png') });
+  const variance = await pixelVariance(page, viewShot);
+  assert.ok(variance > 50, `the 3-D canvas is not blank (pixel variance ${variance.toFixed(1)})`);
+  for (const id of ['show-error', 'show-kept', 'show-original']) await page.check(`#${id}`);
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: path.join(shots, '05-error-map.png') });
+
+  // 5. Export PLY: it parses and has the selected solution's vertex count.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-ply')]);
+  const ply = readFileSync(await download.path(), 'utf8');
+  const header = ply.slice(0, ply.indexOf('end_header\n'));
+  const nv = Number(/element vertex (\d+)/.exec(header)[1]);
+  const nf = Number(/element face (\d+)/.exec(header)[1]);
+  const body = ply.slice(header.length + 'end_header\n'.length).trim().split('\n');
+  assert.equal(nv, vertices, 'exported vertices = selected vertices');
+  assert.equal(body.length, nv + nf, 'one line per vertex and face');
+  for (const line of body.slice(0, nv)) {
+    const v = line.split(' ').map(Number);
+    assert.ok(v.length === 3 && v.every(Number.isFinite), `vertex line ${line}`);
+  }
+  for (const line of body.slice(nv)) {
+    const f = line.split(' ').map(Number);
+    assert.ok(f[0] === 3 && f.slice(1).every((i) => Number.isInteger(i) && i >= 0 && i < nv), `face line ${line}`);
+  }
+
+  // The front as front.json (the format of `paretomesh run --out`) and CSV.
+  const frontNow = await page.evaluate(() => window.paretomesh.frontLength());
+  const [jsonDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-json')]);
+  const run = JSON.parse(readFileSync(await jsonDownload.path(), 'utf8'));
+  assert.equal(run.algorithm, 'nsga2');
+  assert.equal(run.seed, 1);
+  assert.deepEqual([run.grid.width, run.grid.height], [87, 61]);
+  assert.equal(run.front.length, frontNow);
+  assert.ok(run.front.every((m) => m.triangles.length === m.T && m.kept.length >= 4), 'members carry their triangles');
+  const [csvDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-csv')]);
+  const csv = readFileSync(await csvDownload.path(), 'utf8').trim().split('\n');
+  assert.equal(csv[0], 'T,E_sum,E_max,kept');
+  assert.equal(csv.length - 1, frontNow);
+
+  // 6. A corrupt file: a clear message next to the drop zone; surface and selection stay.
+  const before = await page.locator('#surface-info').textContent();
+  await dropFiles(page, [{ name: 'broken.ply', bytes: Buffer.from('ply\nformat ascii 1.0\nelement vertex 99\nend_header\n1 2\n') }]);
+  await page.waitForFunction(() => document.querySelector('#load-message.error') !== null, null, { timeout: 10000 });
+  const message = await page.locator('#load-message').textContent();
+  assert.match(message, /broken\.ply/);
+  assert.equal(await page.locator('#surface-info').textContent(), before);
+  assert.equal(await page.evaluate(() => window.paretomesh.selectedVertexCount()), vertices);
+  await page.screenshot({ path: path.join(shots, '06-corrupt-file.png') });
+
+  // 7. A mesh that is not a grid opens the projection dialog; its choices shape the grid.
+  await dropFiles(page, [{ name: 'wavy.obj', bytes: Buffer.from(wavyObj(30, 20)) }]);
+  await page.waitForSelector('#import-dialog[open]', { timeout: 10000 });
+  await page.screenshot({ path: path.join(shots, '07-import-dialog.png') });
+  await page.selectOption('#import-projection', 'planar');
+  await page.fill('#import-width', '40');
+  await page.fill('#import-height', '25');
+  await page.click('#import-use');
+  await page.waitForFunction(() => window.paretomesh.surfaceName() === 'wavy.obj', null, { timeout: 10000 });
+  assert.match(await page.locator('#surface-info').textContent(), /40×25 grid · 1000 points/);
+  assert.match(await page.locator('#surface-source').textContent(), /planar projection/);
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: path.join(shots, '08-resampled.png') });
+
+  assert.deepEqual(errors.filter((e) => !/GPU stall|WebGL-/.test(e)), [], 'no page errors');
+
+  const within = frames.filter((d) => d <= 20).length / Math.max(1, frames.length);
+  const evalsPerSecond = /([\d.]+) evaluations\/s/.exec(runStatus)?.[1];
+  console.log(`e2e ok: first paint ${firstPaint.toFixed(0)} ms after navigation start; ` +
+    `${(100 * within).toFixed(1)} % of ${frames.length} frames within 20 ms while the GA ran; ` +
+    `${evalsPerSecond} evaluations/s in the browser; front ${n} points; selected ${vertices} vertices; ` +
+    `status: ${runStatus}; corrupt file message: ${message}`);
+} finally {
+  if (browser) await browser.close();
+  server.kill();
+}

@@ -1,0 +1,178 @@
+// Boots the wasm app, wires the file drop and picker, and runs the requestAnimationFrame loop.
+// Everything else (controls, plot, 3-D view, parsing, exports) lives in Rust (src/web/).
+import init, { start, drawPreview } from './pkg/paretomesh.js';
+
+const $ = (id) => document.getElementById(id);
+let app = null;
+let stopped = false;
+
+// Reads a file in chunks so a big file shows progress and the tab stays responsive.
+async function readWithProgress(file, onProgress) {
+  const out = new Uint8Array(file.size);
+  const reader = file.stream().getReader();
+  let at = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    out.set(value, at);
+    at += value.length;
+    onProgress(at / Math.max(1, file.size));
+  }
+  return out;
+}
+
+// Parsing happens in a module Worker running the same wasm (www/worker.js); null when the
+// browser cannot start one.
+let worker = null;
+let nextId = 0;
+const pending = new Map();
+function parseInWorker(name, bytes, sidecar, options = {}) {
+  try {
+    if (!worker) {
+      worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+      worker.onmessage = ({ data }) => { pending.get(data.id)?.(data); pending.delete(data.id); };
+      worker.onerror = (e) => {
+        for (const resolve of pending.values()) resolve({ ok: false, error: `the parser stopped: ${e.message}` });
+        pending.clear();
+        worker = null;
+      };
+    }
+  } catch {
+    return Promise.resolve(null);
+  }
+  const id = nextId++;
+  return new Promise((resolve) => {
+    pending.set(id, resolve);
+    // A re-parse (bytes null) uses the file the Worker kept.
+    const transfer = bytes ? [bytes.buffer, ...(sidecar ? [sidecar.buffer] : [])] : [];
+    worker.postMessage({ id, name, bytes, sidecar, ...options }, transfer);
+  });
+}
+
+async function loadFiles(files) {
+  if (!app || files.length === 0) return;
+  const list = [...files];
+  const main = list.find((f) => !f.name.toLowerCase().endsWith('.json')) ?? list[0];
+  const stem = main.name.replace(/\.[^.]*$/, '');
+  const sidecar = list.find((f) => f !== main && f.name.toLowerCase() === `${stem.toLowerCase()}.json`)
+    ?? list.find((f) => f !== main && f.name.toLowerCase().endsWith('.json'));
+  const bar = $('load-progress');
+  bar.hidden = false;
+  try {
+    const total = main.size + (sidecar ? sidecar.size : 0);
+    const progress = (done) => {
+      bar.value = done / Math.max(1, total);
+      app.showLoadMessage(`reading ${main.name}: ${Math.round((100 * done) / Math.max(1, total))} %`, false);
+    };
+    const bytes = await readWithProgress(main, (f) => progress(f * main.size));
+    const side = sidecar ? await readWithProgress(sidecar, (f) => progress(main.size + f * sidecar.size)) : undefined;
+    app.showLoadMessage(`parsing ${main.name}…`, false);
+    const result = await parseInWorker(main.name, bytes, side);
+    if (result === null) {
+      // No Worker (very old browser): parse here, after the message has painted.
+      await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
+      app.loadFile(main.name, bytes, side);
+    } else if (result.ok && result.surface.resampled) {
+      openImportDialog(main.name, result.surface);
+    } else if (result.ok) {
+      app.loadParsed(main.name, result.surface);
+    } else {
+      app.showLoadMessage(result.error, true);
+    }
+  } catch (e) {
+    app.showLoadMessage(`${main.name}: cannot read the file (${e})`, true);
+  } finally {
+    bar.hidden = true;
+  }
+}
+
+// The dialog for a mesh that is not a grid: projection and grid size, re-parsed in the Worker
+// (which kept the file) with a preview; nothing changes until "Use this grid".
+let importing = null;
+function openImportDialog(name, surface) {
+  importing = { name, surface, key: `auto ${surface.width} ${surface.height}` };
+  $('import-projection').value = 'auto';
+  $('import-summary').textContent = surface.source;
+  $('import-width').value = surface.width;
+  $('import-height').value = surface.height;
+  $('import-message').textContent = '';
+  drawPreview('import-preview', surface);
+  app.showLoadMessage(`${name}: choose how to turn the mesh into a grid`, false);
+  $('import-dialog').showModal();
+}
+async function previewImport() {
+  const options = {
+    projection: $('import-projection').value,
+    width: Number($('import-width').value) || 0,
+    height: Number($('import-height').value) || 0,
+  };
+  $('import-message').textContent = 'resampling…';
+  importing.key = `${options.projection} ${options.width} ${options.height}`;
+  const result = await parseInWorker(importing.name, null, null, options);
+  if (result?.ok) {
+    importing.surface = result.surface;
+    $('import-summary').textContent = result.surface.source;
+    $('import-message').textContent = '';
+    drawPreview('import-preview', result.surface);
+    return true;
+  }
+  $('import-message').textContent = result ? result.error : 'the parser is not available';
+  return false;
+}
+function wireImportDialog() {
+  $('import-apply').addEventListener('click', previewImport);
+  $('import-use').addEventListener('click', async () => {
+    const key = `${$('import-projection').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
+    if (key !== importing.key && !(await previewImport())) return;
+    $('import-dialog').close();
+    app.loadParsed(importing.name, importing.surface);
+  });
+  $('import-cancel').addEventListener('click', () => {
+    $('import-dialog').close();
+    app.showLoadMessage(`${importing.name}: not loaded; the current surface stays`, false);
+  });
+}
+
+function wireDrop() {
+  const overlay = $('drop-overlay');
+  let depth = 0;
+  window.addEventListener('dragenter', (e) => { e.preventDefault(); depth++; overlay.hidden = false; });
+  window.addEventListener('dragleave', () => { depth = Math.max(0, depth - 1); if (depth === 0) overlay.hidden = true; });
+  window.addEventListener('dragover', (e) => e.preventDefault());
+  window.addEventListener('drop', (e) => {
+    e.preventDefault();
+    depth = 0;
+    overlay.hidden = true;
+    loadFiles(e.dataTransfer.files);
+  });
+  $('file-input').addEventListener('change', (e) => loadFiles(e.target.files));
+}
+
+function loop(now) {
+  if (stopped) return;
+  try {
+    app.frame(now);
+  } catch (e) {
+    // A Rust panic: the panic hook has shown the message; stop the loop.
+    stopped = true;
+    $('panic').hidden = false;
+    if (!$('panic-message').textContent) $('panic-message').textContent = String(e);
+    return;
+  }
+  requestAnimationFrame(loop);
+}
+
+$('panic-reset').addEventListener('click', () => location.reload());
+
+try {
+  await init();
+  const forceWebgl = new URLSearchParams(location.search).has('webgl');
+  app = await start(forceWebgl);
+  window.paretomesh = app; // for the console and the end-to-end test
+  wireDrop();
+  wireImportDialog();
+  requestAnimationFrame(loop);
+} catch (e) {
+  $('panic-message').textContent = `the app could not start: ${e}`;
+  $('panic').hidden = false;
+}
