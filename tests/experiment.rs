@@ -4,7 +4,7 @@
 //! determinism across thread counts, and bad input.
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::experiment::{Method, Results};
+use paretomesh::experiment::{Dataset, Method, Results, Settings, run_all};
 use paretomesh::heightfield;
 use paretomesh::metrics::{self, Normalization, Point};
 use std::path::{Path, PathBuf};
@@ -372,6 +372,21 @@ fn same_seed_gives_identical_results_on_one_or_two_threads() {
         read(&one, "fronts-volcano_17x17.svg"),
         read(&two, "fronts-volcano_17x17.svg")
     );
+
+    // The library's sequential driver gives the same results as the CLI's parallel one.
+    let settings = Settings {
+        runs: 3,
+        weighted_runs: 2,
+        seed: 5,
+        population: 8,
+        generations: 3,
+        ..Settings::default()
+    };
+    let dataset = Dataset::new("volcano_17x17", heightfield::load(&grid).unwrap(), "m").unwrap();
+    let sequential = run_all(&[dataset], &settings).unwrap();
+    let mut parallel = Results::from_json(&a).unwrap();
+    parallel.timings = None;
+    assert_eq!(sequential, parallel);
 }
 
 #[test]
