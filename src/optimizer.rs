@@ -1,7 +1,8 @@
 //! The interface every algorithm implements so it can run one slice at a time.
 //!
-//! An optimizer advances in *units* of work (one individual, one crossover with all its children,
-//! one insertion or removal...). [`Optimizer::step`] does units until it has spent at least
+//! An optimizer advances in *units* of work (one evaluation for the genetic algorithms, one
+//! insertion or removal for the classical methods...), small enough that a browser frame can
+//! always afford one. [`Optimizer::step`] does units until it has spent at least
 //! `max_evaluations` evaluations or finished, so it overshoots by less than one unit. Every
 //! algorithm documents its unit. How the work is sliced never changes the result: one call with a
 //! large budget and many calls with small ones reach the identical state, because the state

@@ -83,44 +83,110 @@ fn same_seed_gives_the_identical_front_and_other_seeds_differ() {
     assert_ne!(a, nsga2_front(small(CrossoverKind::Oax), 8));
 }
 
-#[test]
-fn slicing_does_not_change_nsga2() {
-    // One big step against steps of 1 and of 7 evaluations: same front, population, crossover
-    // record and progress.
-    let params = small(CrossoverKind::Oax);
-    let mut whole = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
-    let end = whole.run_to_end();
-    for slice in [1, 7] {
-        let mut sliced = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
-        let mut calls = 0;
-        while !sliced.step(slice).done {
-            calls += 1;
+/// Steps `opt` by `slice` evaluations until done; returns the number of calls. With a slice of
+/// 1, checks that every call spends at most one evaluation (the unit of work of both GAs).
+fn run_sliced(opt: &mut impl Optimizer, slice: u64) -> usize {
+    let mut calls = 0;
+    loop {
+        let before = opt.progress().evaluations;
+        let p = opt.step(slice);
+        calls += 1;
+        if slice == 1 {
+            assert!(
+                p.evaluations - before <= 1,
+                "step(1) spent {} evaluations",
+                p.evaluations - before
+            );
         }
-        assert!(calls >= 15, "really sliced: {calls} calls");
-        assert_eq!(sliced.progress(), end);
-        assert_eq!(sliced.front(), whole.front());
-        assert_eq!(sliced.population(), whole.population());
-        assert_eq!(sliced.last_crossover(), whole.last_crossover());
+        if p.done {
+            return calls;
+        }
     }
 }
 
 #[test]
-fn slicing_does_not_change_the_weighted_sum_ga() {
-    let params = WeightedSumParams {
-        ga: GaParams {
-            population: 6,
-            generations: 2,
-            ..GaParams::default()
-        },
-        weights: vec![0.2, 0.5, 0.9],
+fn slicing_does_not_change_nsga2() {
+    // One big step against steps of 1 and of 7 evaluations, for every crossover kind and with
+    // an evaluation cap that falls inside a mating: same front, population, crossover record
+    // and progress.
+    let capped = GaParams {
+        max_evaluations: Some(61),
+        ..small(CrossoverKind::Oax)
     };
-    let mut whole = WeightedSum::new(terrain_17(), params.clone(), 5).unwrap();
-    let end = whole.run_to_end();
-    let mut sliced = WeightedSum::new(terrain_17(), params, 5).unwrap();
-    while !sliced.step(3).done {}
-    assert_eq!(sliced.progress(), end);
-    assert_eq!(sliced.front(), whole.front());
-    assert_eq!(sliced.run_bests(), whole.run_bests());
+    let cases = [
+        small(CrossoverKind::Oax),
+        small(CrossoverKind::Uniform),
+        small(CrossoverKind::TwoPoint),
+        capped,
+    ];
+    for params in cases {
+        let mut whole = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
+        let end = whole.run_to_end();
+        for slice in [1, 7] {
+            let mut sliced = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
+            let calls = run_sliced(&mut sliced, slice);
+            assert!(calls >= 8, "really sliced: {calls} calls");
+            assert_eq!(sliced.progress(), end, "{params:?}, slices of {slice}");
+            assert_eq!(sliced.front(), whole.front());
+            assert_eq!(sliced.population(), whole.population());
+            assert_eq!(sliced.last_crossover(), whole.last_crossover());
+        }
+    }
+}
+
+#[test]
+fn step_1_does_one_evaluation_through_an_oax_mating() {
+    // Right after the initial population, an OAX crossover with probability 1 is in progress:
+    // each step(1) spends exactly one evaluation (so a browser frame never waits for a whole
+    // crossover), and the crossover record only appears once a crossover has completed.
+    let params = GaParams {
+        crossover_probability: 1.0,
+        ..small(CrossoverKind::Oax)
+    };
+    let mut opt = Nsga2::new(terrain_17(), params, 11).unwrap();
+    opt.step(12);
+    assert_eq!(opt.progress().evaluations, 12, "the initial population");
+    assert!(opt.last_crossover().is_none());
+    let mut evaluations = 12;
+    while opt.last_crossover().is_none() {
+        let p = opt.step(1);
+        assert_eq!(p.evaluations, evaluations + 1);
+        evaluations = p.evaluations;
+    }
+    let record = opt.last_crossover().unwrap();
+    // The step that completed the crossover may go on into the first mutation when the
+    // best-levels child cost nothing, hence one evaluation of slack.
+    let spent = evaluations - 12;
+    let crossover = record.evaluations() as u64;
+    assert!(
+        crossover <= spent && spent <= crossover + 1,
+        "the crossover spent {crossover} of the {spent} evaluations since the population"
+    );
+}
+
+#[test]
+fn slicing_does_not_change_the_weighted_sum_ga() {
+    for crossover in [CrossoverKind::Oax, CrossoverKind::TwoPoint] {
+        let params = WeightedSumParams {
+            ga: GaParams {
+                population: 6,
+                generations: 2,
+                crossover,
+                ..GaParams::default()
+            },
+            weights: vec![0.2, 0.5, 0.9],
+        };
+        let mut whole = WeightedSum::new(terrain_17(), params.clone(), 5).unwrap();
+        let end = whole.run_to_end();
+        for slice in [1, 3] {
+            let mut sliced = WeightedSum::new(terrain_17(), params.clone(), 5).unwrap();
+            run_sliced(&mut sliced, slice);
+            assert_eq!(sliced.progress(), end, "{crossover:?}, slices of {slice}");
+            assert_eq!(sliced.front(), whole.front());
+            assert_eq!(sliced.run_bests(), whole.run_bests());
+            assert_eq!(sliced.last_crossover(), whole.last_crossover());
+        }
+    }
 }
 
 #[test]

@@ -20,13 +20,19 @@
 //! cannot reach non-convex parts of a front, but here the scalar only steers recombination:
 //! survival is NSGA-II's, and the archive keeps every non-dominated child.
 //!
-//! Unit of work ([`crate::optimizer`]): the creation of one initial individual, or one mating
-//! (two tournaments, one crossover with all its children, two mutations and their evaluations);
-//! the survival step runs at the end of the mating that completes the offspring. The state only
-//! changes a whole unit at a time, so slicing never changes the result.
+//! Unit of work ([`crate::optimizer`]): one evaluation. A unit creates one initial individual,
+//! or makes the next child of the mating in progress: one OAX row, the best-levels child, or
+//! one mutated offspring (see [`super::mating`]). A child whose objectives are already known
+//! costs no evaluation and its unit does no work beyond bookkeeping; the same holds for starting
+//! a mating (two tournaments, the weight and the crossover's random choices, drawn at its first
+//! unit) and for the survival step (run by the unit that completes the offspring). The pending
+//! mating lives in the optimizer's state and the random draws happen in the same order however
+//! the units are grouped into steps, so slicing never changes the result. The evaluation cap
+//! (`max_evaluations`) is checked before each initial individual and each new mating, never in
+//! the middle of one.
 
 use super::chromosome::Chromosome;
-use super::mating::Mating;
+use super::mating::{MatingContext, PendingMating};
 use super::oax::OaxRecord;
 use super::objectives::{Objectives, Scorer, offer};
 use super::operators;
@@ -65,7 +71,10 @@ pub struct Nsga2 {
     archive: Front,
     generation: u64,
     done: bool,
+    /// The record of the last completed OAX crossover.
     last_crossover: Option<OaxRecord>,
+    /// The mating in progress, if any.
+    pending: Option<PendingMating>,
 }
 
 impl Nsga2 {
@@ -82,6 +91,7 @@ impl Nsga2 {
             generation: 0,
             done: false,
             last_crossover: None,
+            pending: None,
             params,
             seed,
         })
@@ -104,17 +114,19 @@ impl Nsga2 {
         &self.population
     }
 
-    /// The record of the last orthogonal-array crossover, if any happened.
+    /// The record of the last completed orthogonal-array crossover, if any happened (a
+    /// crossover still making its children is not reported until it completes).
     pub fn last_crossover(&self) -> Option<&OaxRecord> {
         self.last_crossover.as_ref()
     }
 
     /// One unit of work (see the module doc).
     fn unit(&mut self) {
-        if self
-            .params
-            .max_evaluations
-            .is_some_and(|cap| self.scorer.evaluations() >= cap)
+        if self.pending.is_none()
+            && self
+                .params
+                .max_evaluations
+                .is_some_and(|cap| self.scorer.evaluations() >= cap)
         {
             self.done = true;
             return;
@@ -129,7 +141,7 @@ impl Nsga2 {
             return;
         }
         self.mating();
-        if self.offspring.len() >= mu {
+        if self.pending.is_none() && self.offspring.len() >= mu {
             self.survival();
             self.generation += 1;
             self.done = self.generation >= self.params.generations as u64;
@@ -169,25 +181,38 @@ impl Nsga2 {
         }
     }
 
+    /// Makes the next child of the mating in progress, starting a new mating when none is;
+    /// hands the two offspring over when the mating completes.
     fn mating(&mut self) {
-        let (i, j) = (self.tournament(), self.tournament());
-        let w = self.rng.random::<f64>();
-        let archive = &mut self.archive;
-        let children = Mating {
-            params: &self.params,
-            mutation: self.mutation,
-            scalar: self.scorer.scalarisation(w),
-            rng: &mut self.rng,
-            scorer: &mut self.scorer,
+        if self.pending.is_none() {
+            let (i, j) = (self.tournament(), self.tournament());
+            let w = self.rng.random::<f64>();
+            let (a, b) = (&self.population[i], &self.population[j]);
+            self.pending = Some(PendingMating::start(
+                &self.params,
+                self.scorer.scalarisation(w),
+                (&a.genes, a.objectives),
+                (&b.genes, b.objectives),
+                &self.scorer,
+                &mut self.rng,
+            ));
         }
-        .children(
-            (&self.population[i].genes, self.population[i].objectives),
-            (&self.population[j].genes, self.population[j].objectives),
+        let pending = self.pending.as_mut().expect("a mating is in progress");
+        let archive = &mut self.archive;
+        let Some(children) = pending.advance(
+            MatingContext {
+                mutation: self.mutation,
+                rng: &mut self.rng,
+                scorer: &mut self.scorer,
+            },
             &mut |c, o| {
                 offer(archive, c, o);
             },
             &mut self.last_crossover,
-        );
+        ) else {
+            return;
+        };
+        self.pending = None;
         for (genes, objectives) in children {
             if self.offspring.len() < self.params.population {
                 self.offspring.push(Individual {
@@ -247,7 +272,7 @@ fn rank_and_crowd(population: &mut [Individual]) {
 }
 
 impl Optimizer for Nsga2 {
-    /// Unit: one initial individual, or one mating (see the module doc).
+    /// Unit: one evaluation (see the module doc), so `step(1)` spends at most one.
     fn step(&mut self, max_evaluations: u64) -> Progress {
         let start = self.scorer.evaluations();
         while !self.done {

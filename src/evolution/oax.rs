@@ -197,30 +197,111 @@ pub fn crossover(
     mut evaluate: impl FnMut(&Chromosome) -> Objectives,
     fitness: impl Fn(&Objectives) -> f64,
 ) -> OaxRecord {
-    let factors = blocks.len();
-    let array = OrthogonalArray::for_factors(factors);
-    let build = |levels: &[u8]| {
-        let mut child = parent_a.0.clone();
-        for (block, _) in blocks.iter().zip(levels).filter(|(_, l)| **l == 1) {
-            copy_block(&mut child, parent_b.0, block, width);
+    let mut pending = OaxInProgress::new(parent_a, parent_b, width, blocks, weight);
+    while !pending.is_complete() {
+        pending.next_child(&mut evaluate, &fitness);
+    }
+    pending.finish()
+}
+
+/// An orthogonal-array crossover in progress, made one child at a time so that a caller can
+/// spread it over several slices of work: the array's rows in order, then (once every row is
+/// known) the factor analysis and the best-levels child. Each [`next_child`](Self::next_child)
+/// spends at most one evaluation. Run to completion it gives exactly [`crossover`]'s record.
+#[derive(Clone, Debug)]
+pub struct OaxInProgress {
+    array: OrthogonalArray,
+    blocks: Vec<Block>,
+    parents: [(Chromosome, Objectives); 2],
+    width: usize,
+    weight: f64,
+    rows: Vec<OaxChild>,
+    /// The factor analysis and its child, once every row is known.
+    analysed: Option<(Vec<[f64; 2]>, OaxChild)>,
+}
+
+impl OaxInProgress {
+    /// A crossover of `parent_a` and `parent_b` (same length, on a grid `width` wide) over
+    /// `blocks` (one per factor), with no child made yet; `weight` is reported in the record.
+    pub fn new(
+        parent_a: (&Chromosome, Objectives),
+        parent_b: (&Chromosome, Objectives),
+        width: usize,
+        blocks: Vec<Block>,
+        weight: f64,
+    ) -> Self {
+        let array = OrthogonalArray::for_factors(blocks.len());
+        Self {
+            rows: Vec::with_capacity(array.rows()),
+            array,
+            blocks,
+            parents: [
+                (parent_a.0.clone(), parent_a.1),
+                (parent_b.0.clone(), parent_b.1),
+            ],
+            width,
+            weight,
+            analysed: None,
         }
-        child
-    };
-    // A child identical to a parent or to an earlier child is not evaluated again.
-    let known = |genes: &Chromosome, rows: &[OaxChild]| {
-        if genes == parent_a.0 {
-            Some(parent_a.1)
-        } else if genes == parent_b.0 {
-            Some(parent_b.1)
+    }
+
+    /// The children of the array's rows made so far, in row order.
+    pub fn rows(&self) -> &[OaxChild] {
+        &self.rows
+    }
+
+    /// True once every row child and the best-levels child exist.
+    pub fn is_complete(&self) -> bool {
+        self.analysed.is_some()
+    }
+
+    /// Makes the next child: the next row of the array, or, after the last row, the factor
+    /// analysis and the best-levels child. A child equal to a parent or to an earlier child
+    /// takes the known objectives; any other is scored once through `evaluate`, so a call
+    /// spends at most one evaluation. `evaluate` and `fitness` must be the same on every call
+    /// of one crossover. Does nothing once complete.
+    pub fn next_child(
+        &mut self,
+        evaluate: &mut impl FnMut(&Chromosome) -> Objectives,
+        fitness: &impl Fn(&Objectives) -> f64,
+    ) {
+        let factors = self.blocks.len();
+        if self.rows.len() < self.array.rows() {
+            let levels = self.array.row_levels(self.rows.len(), factors);
+            let child = self.child(levels, evaluate, fitness);
+            self.rows.push(child);
+        } else if self.analysed.is_none() {
+            let row_fitness: Vec<f64> = self.rows.iter().map(|c| c.fitness).collect();
+            let (effects, best) = factor_analysis(&self.array, factors, &row_fitness);
+            let best_levels = self.child(best, evaluate, fitness);
+            self.analysed = Some((effects, best_levels));
+        }
+    }
+
+    /// The child with `levels`, scored (or looked up when its genes are already known).
+    fn child(
+        &self,
+        levels: Vec<u8>,
+        evaluate: &mut impl FnMut(&Chromosome) -> Objectives,
+        fitness: &impl Fn(&Objectives) -> f64,
+    ) -> OaxChild {
+        let [(a, a_objectives), (b, b_objectives)] = &self.parents;
+        let mut genes = a.clone();
+        for (block, _) in self.blocks.iter().zip(&levels).filter(|(_, l)| **l == 1) {
+            copy_block(&mut genes, b, block, self.width);
+        }
+        // A child identical to a parent or to an earlier child is not evaluated again.
+        let known = if genes == *a {
+            Some(*a_objectives)
+        } else if genes == *b {
+            Some(*b_objectives)
         } else {
-            rows.iter()
-                .find(|c| c.genes == *genes)
+            self.rows
+                .iter()
+                .find(|c| c.genes == genes)
                 .map(|c| c.objectives)
-        }
-    };
-    let mut child = |levels: Vec<u8>, rows: &[OaxChild]| {
-        let genes = build(&levels);
-        let (objectives, evaluated) = match known(&genes, rows) {
+        };
+        let (objectives, evaluated) = match known {
             Some(o) => (o, false),
             None => (evaluate(&genes), true),
         };
@@ -231,37 +312,37 @@ pub fn crossover(
             objectives,
             evaluated,
         }
-    };
-    let mut rows = Vec::with_capacity(array.rows());
-    for row in 0..array.rows() {
-        let c = child(array.row_levels(row, factors), &rows);
-        rows.push(c);
     }
-    let row_fitness: Vec<f64> = rows.iter().map(|c| c.fitness).collect();
-    let (effects, best) = factor_analysis(&array, factors, &row_fitness);
-    let best_levels = child(best, &rows);
-    // The best two children with different genes (ties by row; the best-levels child last).
-    let mut order: Vec<usize> = (0..=rows.len()).collect();
-    let get = |i: usize| rows.get(i).unwrap_or(&best_levels);
-    order.sort_by(|&i, &j| get(i).fitness.total_cmp(&get(j).fitness).then(i.cmp(&j)));
-    let first = order[0];
-    let second = order
-        .iter()
-        .copied()
-        .find(|&i| get(i).genes != get(first).genes)
-        .unwrap_or(first);
-    OaxRecord {
-        array,
-        blocks,
-        parents: [
-            (parent_a.0.clone(), parent_a.1),
-            (parent_b.0.clone(), parent_b.1),
-        ],
-        weight,
-        chosen: [first, second],
-        rows,
-        effects,
-        best_levels,
+
+    /// The record of the completed crossover, with the two children it returns: the best two
+    /// with different genes (ties by row; the best-levels child last).
+    ///
+    /// # Panics
+    /// When the crossover is not complete ([`is_complete`](Self::is_complete)).
+    pub fn finish(self) -> OaxRecord {
+        let (effects, best_levels) = self
+            .analysed
+            .expect("finish is called on a complete crossover");
+        let rows = self.rows;
+        let mut order: Vec<usize> = (0..=rows.len()).collect();
+        let get = |i: usize| rows.get(i).unwrap_or(&best_levels);
+        order.sort_by(|&i, &j| get(i).fitness.total_cmp(&get(j).fitness).then(i.cmp(&j)));
+        let first = order[0];
+        let second = order
+            .iter()
+            .copied()
+            .find(|&i| get(i).genes != get(first).genes)
+            .unwrap_or(first);
+        OaxRecord {
+            array: self.array,
+            blocks: self.blocks,
+            parents: self.parents,
+            weight: self.weight,
+            chosen: [first, second],
+            rows,
+            effects,
+            best_levels,
+        }
     }
 }
 
@@ -361,5 +442,37 @@ mod tests {
         assert_eq!(evaluations, 8, "rows 1..8 and the new best-levels child");
         assert_eq!(record.evaluations(), 8);
         assert_eq!(record.rows[0].genes, a, "row 0 is parent A");
+    }
+
+    #[test]
+    fn a_crossover_in_progress_makes_one_child_per_call() {
+        // The toy parents of the test above: rows come one per call, each call spends at most
+        // one evaluation, and the last call (factor analysis) completes it with the record
+        // `crossover` gives in one go.
+        let mut rng = Pcg64Mcg::seed_from_u64(4);
+        let blocks = spatial_blocks(8, 8, 7, &mut rng);
+        let a = Chromosome::from_indices(64, &(0..64).filter(|i| i % 3 == 0).collect::<Vec<_>>());
+        let b = Chromosome::from_indices(64, &(0..64).filter(|i| i % 2 == 0).collect::<Vec<_>>());
+        let score = |c: &Chromosome| Objectives {
+            e_sum: c.count_ones() as f64,
+            e_max: 0.0,
+            t: 0,
+        };
+        let (pa, pb) = ((&a, score(&a)), (&b, score(&b)));
+        let whole = crossover(pa, pb, 8, blocks.clone(), 0.5, score, |o| o.e_sum);
+        let mut pending = OaxInProgress::new(pa, pb, 8, blocks, 0.5);
+        for call in 1..=9 {
+            assert!(!pending.is_complete());
+            let mut evaluations = 0;
+            let mut counted = |c: &Chromosome| {
+                evaluations += 1;
+                score(c)
+            };
+            pending.next_child(&mut counted, &|o| o.e_sum);
+            assert!(evaluations <= 1, "call {call} spent {evaluations}");
+            assert_eq!(pending.rows().len(), call.min(8));
+        }
+        assert!(pending.is_complete());
+        assert_eq!(pending.finish(), whole);
     }
 }

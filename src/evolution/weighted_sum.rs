@@ -10,11 +10,17 @@
 //! whole optimizer spends about 11 times NSGA-II's evaluations. A cap on evaluations
 //! (`max_evaluations`) is shared equally between the runs, so every weight still runs.
 //!
-//! Unit of work: one initial individual or one mating of the current run (the survival step and
-//! the end of a run happen at the end of the unit that completes them).
+//! Unit of work ([`crate::optimizer`]): one evaluation, as in NSGA-II. A unit creates one
+//! initial individual of the current run, or makes the next child of the mating in progress
+//! (one OAX row, the best-levels child, or one mutated offspring; see [`super::mating`]). The
+//! survival step and the end of a run happen in the unit that completes them; a run's end (its
+//! generations or its share of the evaluation cap) is only checked between matings, never in
+//! the middle of one. The pending mating lives in the optimizer's state and the random draws
+//! happen in the same order however the units are grouped, so slicing never changes the
+//! result.
 
 use super::chromosome::Chromosome;
-use super::mating::Mating;
+use super::mating::{MatingContext, PendingMating};
 use super::oax::OaxRecord;
 use super::objectives::{Objectives, Scalarisation, Scorer};
 use super::operators;
@@ -72,7 +78,10 @@ pub struct WeightedSum {
     offspring: Vec<Member>,
     best: Option<Member>,
     done: bool,
+    /// The record of the last completed OAX crossover.
     last_crossover: Option<OaxRecord>,
+    /// The mating in progress, if any.
+    pending: Option<PendingMating>,
 }
 
 impl WeightedSum {
@@ -101,6 +110,7 @@ impl WeightedSum {
             best: None,
             done: false,
             last_crossover: None,
+            pending: None,
             params,
             seed,
         })
@@ -126,7 +136,8 @@ impl WeightedSum {
         (!self.done).then(|| self.params.weights[self.run])
     }
 
-    /// The record of the last orthogonal-array crossover, if any happened.
+    /// The record of the last completed orthogonal-array crossover, if any happened (a
+    /// crossover still making its children is not reported until it completes).
     pub fn last_crossover(&self) -> Option<&OaxRecord> {
         self.last_crossover.as_ref()
     }
@@ -164,6 +175,10 @@ impl WeightedSum {
             });
         } else {
             self.mating();
+            if self.pending.is_some() {
+                // Mid-mating: neither survival nor the end of the run can come yet.
+                return;
+            }
             if self.offspring.len() >= mu {
                 self.survival();
                 self.run_generation += 1;
@@ -183,23 +198,36 @@ impl WeightedSum {
         }
     }
 
+    /// Makes the next child of the mating in progress, starting a new mating when none is;
+    /// hands the two offspring over when the mating completes.
     fn mating(&mut self) {
-        let (i, j) = (self.tournament(), self.tournament());
         let scalar = self.scalar();
-        let best = &mut self.best;
-        let children = Mating {
-            params: &self.params.ga,
-            mutation: self.mutation,
-            scalar,
-            rng: &mut self.rng,
-            scorer: &mut self.scorer,
+        if self.pending.is_none() {
+            let (i, j) = (self.tournament(), self.tournament());
+            let (a, b) = (&self.population[i], &self.population[j]);
+            self.pending = Some(PendingMating::start(
+                &self.params.ga,
+                scalar,
+                (&a.genes, a.objectives),
+                (&b.genes, b.objectives),
+                &self.scorer,
+                &mut self.rng,
+            ));
         }
-        .children(
-            (&self.population[i].genes, self.population[i].objectives),
-            (&self.population[j].genes, self.population[j].objectives),
+        let pending = self.pending.as_mut().expect("a mating is in progress");
+        let best = &mut self.best;
+        let Some(children) = pending.advance(
+            MatingContext {
+                mutation: self.mutation,
+                rng: &mut self.rng,
+                scorer: &mut self.scorer,
+            },
             &mut |c, o| Self::note(best, c, *o, scalar.value(o)),
             &mut self.last_crossover,
-        );
+        ) else {
+            return;
+        };
+        self.pending = None;
         for (genes, objectives) in children {
             if self.offspring.len() < self.params.ga.population {
                 self.offspring.push(Member {
@@ -262,7 +290,7 @@ impl WeightedSum {
 }
 
 impl Optimizer for WeightedSum {
-    /// Unit: one initial individual or one mating of the current run.
+    /// Unit: one evaluation (see the module doc), so `step(1)` spends at most one.
     fn step(&mut self, max_evaluations: u64) -> Progress {
         let start = self.scorer.evaluations();
         while !self.done {

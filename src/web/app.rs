@@ -177,9 +177,13 @@ impl App {
     }
 
     /// Runs the optimizer for one frame: repeated small `step` calls until `clock()` (in ms) says
-    /// `budget_ms` has passed or the algorithm is done. Does nothing when paused. The chunk size
-    /// adapts so one call takes about a tenth of the budget; a call never spends more than one
-    /// unit beyond its chunk, so a frame overshoots by less than one chunk plus one unit.
+    /// `budget_ms` has passed, the next call would likely end past it, or the algorithm is done.
+    /// Does nothing when paused; otherwise makes at least one call. The chunk size adapts so one
+    /// call takes about a tenth of the budget, and a call never spends more than one unit beyond
+    /// its chunk (for the genetic algorithms a unit is one evaluation). A call is not started
+    /// when the slowest evaluation seen in this frame, times the chunk, would not fit in what is
+    /// left of the budget: evaluations of dense meshes cost several times those of sparse ones,
+    /// so stopping only once the budget is gone would let the last call run well past it.
     pub fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> TickReport {
         let mut report = TickReport::default();
         if !self.running {
@@ -192,6 +196,8 @@ impl App {
         let start = clock();
         let before = optimizer.progress().evaluations;
         let mut now = start;
+        // The slowest evaluation of this frame so far, in ms.
+        let mut slowest_eval: f64 = 0.0;
         loop {
             let call_start = now;
             let evals_before = optimizer.progress().evaluations;
@@ -205,6 +211,7 @@ impl App {
             // (performance.now() is coarsened) must not make the next call run away.
             if spent > 0 {
                 let per_eval = (took / spent as f64).max(1e-6);
+                slowest_eval = slowest_eval.max(per_eval);
                 let target = (budget_ms / 10.0 / per_eval).floor();
                 self.chunk = target.clamp(1.0, 2.0 * self.chunk as f64) as u64;
             }
@@ -212,7 +219,8 @@ impl App {
                 self.running = false;
                 break;
             }
-            if now - start >= budget_ms {
+            let expected_next = slowest_eval * self.chunk as f64;
+            if now - start + expected_next > budget_ms {
                 break;
             }
         }
