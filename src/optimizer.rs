@@ -23,9 +23,20 @@ pub struct Progress {
 
 /// An algorithm that produces a front of (E, T), advanced in bounded slices.
 pub trait Optimizer {
+    /// Does one unit of work (the algorithm documents what that is); nothing once done.
+    fn unit(&mut self);
     /// Does whole units of work until at least `max_evaluations` evaluations were spent in this
     /// call (at least one unit unless done), and reports.
-    fn step(&mut self, max_evaluations: u64) -> Progress;
+    fn step(&mut self, max_evaluations: u64) -> Progress {
+        let start = self.progress().evaluations;
+        while !self.progress().done {
+            self.unit();
+            if self.progress().evaluations - start >= max_evaluations {
+                break;
+            }
+        }
+        self.progress()
+    }
     /// The best front found so far.
     fn front(&self) -> &Front;
     /// The current state without stepping.

@@ -319,16 +319,16 @@ impl EdgeDecimation {
     }
 
     /// One unit: one removal, or the finding that nothing is left to remove.
-    fn unit(&mut self) -> u64 {
+    fn advance(&mut self) {
         if self.next_bound == self.bounds.len() {
             self.done = true;
-            return 0;
+            return;
         }
         let entry = loop {
             match self.queue.pop() {
                 None => {
                     self.done = true;
-                    return 0;
+                    return;
                 }
                 Some(e) if self.stamp[e.slot as usize] == e.stamp => break e,
                 Some(_) => {}
@@ -337,21 +337,13 @@ impl EdgeDecimation {
         self.remove(entry.point);
         self.removals += 1;
         self.record_due();
-        1
     }
 }
 
 impl Optimizer for EdgeDecimation {
     /// Unit: one vertex removal (one evaluation).
-    fn step(&mut self, max_evaluations: u64) -> Progress {
-        let mut spent = 0u64;
-        while !self.done {
-            spent += self.unit();
-            if spent >= max_evaluations {
-                break;
-            }
-        }
-        self.progress()
+    fn unit(&mut self) {
+        self.advance();
     }
 
     fn front(&self) -> &Front {

@@ -453,7 +453,7 @@ impl GreedyInsertion {
     }
 
     /// One unit: one insertion, or the decision to stop.
-    fn unit(&mut self) -> u64 {
+    fn advance(&mut self) {
         let chosen = if self.should_stop() {
             None
         } else {
@@ -464,7 +464,7 @@ impl GreedyInsertion {
         };
         let Some(entry) = chosen else {
             self.finish();
-            return 0;
+            return;
         };
         let width = self.hf.width() as i64;
         let mut changed = std::mem::take(&mut self.changed);
@@ -487,7 +487,6 @@ impl GreedyInsertion {
         }
         self.changed = changed;
         self.record_if_due();
-        1
     }
 
     fn record_if_due(&mut self) {
@@ -528,15 +527,8 @@ impl GreedyInsertion {
 
 impl Optimizer for GreedyInsertion {
     /// Unit: one insertion (one evaluation).
-    fn step(&mut self, max_evaluations: u64) -> Progress {
-        let mut spent = 0u64;
-        while !self.done {
-            spent += self.unit();
-            if spent >= max_evaluations {
-                break;
-            }
-        }
-        self.progress()
+    fn unit(&mut self) {
+        self.advance();
     }
 
     fn front(&self) -> &Front {

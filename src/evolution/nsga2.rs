@@ -121,7 +121,7 @@ impl Nsga2 {
     }
 
     /// One unit of work (see the module doc).
-    fn unit(&mut self) {
+    fn advance(&mut self) {
         if self.pending.is_none()
             && self
                 .params
@@ -273,15 +273,8 @@ fn rank_and_crowd(population: &mut [Individual]) {
 
 impl Optimizer for Nsga2 {
     /// Unit: one evaluation (see the module doc), so `step(1)` spends at most one.
-    fn step(&mut self, max_evaluations: u64) -> Progress {
-        let start = self.scorer.evaluations();
-        while !self.done {
-            self.unit();
-            if self.scorer.evaluations() - start >= max_evaluations {
-                break;
-            }
-        }
-        self.progress()
+    fn unit(&mut self) {
+        self.advance();
     }
 
     fn front(&self) -> &Front {

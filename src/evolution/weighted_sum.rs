@@ -157,7 +157,7 @@ impl WeightedSum {
         }
     }
 
-    fn unit(&mut self) {
+    fn advance(&mut self) {
         let mu = self.params.ga.population;
         if self.population.len() < mu {
             let hf = self.scorer.heightfield().clone();
@@ -291,15 +291,8 @@ impl WeightedSum {
 
 impl Optimizer for WeightedSum {
     /// Unit: one evaluation (see the module doc), so `step(1)` spends at most one.
-    fn step(&mut self, max_evaluations: u64) -> Progress {
-        let start = self.scorer.evaluations();
-        while !self.done {
-            self.unit();
-            if self.scorer.evaluations() - start >= max_evaluations {
-                break;
-            }
-        }
-        self.progress()
+    fn unit(&mut self) {
+        self.advance();
     }
 
     fn front(&self) -> &Front {
