@@ -4,7 +4,7 @@
 //! C, P) with 4 decimals as `mean ± std`, `± n/a` when there is one value; E with 6 significant
 //! digits in the dataset's units; p-values in scientific notation with 2 decimals.
 
-use super::analysis::{Analysis, DatasetAnalysis, SIGNIFICANCE_LEVEL};
+use super::analysis::{Analysis, DatasetAnalysis, MethodAnalysis, SIGNIFICANCE_LEVEL};
 use super::method::Method;
 use super::results::{DatasetResults, Results};
 use super::stats::Summary;
@@ -179,53 +179,27 @@ fn table_ii(w: &mut String, results: &Results, analysis: &Analysis) {
         w,
         "\n## Table II. Hypervolume ratio HVR (mean ± std over runs)\n"
     );
-    let _ = writeln!(
-        w,
-        "| Data set | {} |",
-        methods
-            .iter()
-            .map(|m| m.label())
-            .collect::<Vec<_>>()
-            .join(" | ")
-    );
-    let _ = writeln!(w, "|---|{}", "---|".repeat(methods.len()));
-    for a in &analysis.datasets {
-        let _ = writeln!(
-            w,
-            "| {} | {} |",
-            a.name,
-            a.methods
-                .iter()
-                .map(|m| format_summary(&m.hvr))
-                .collect::<Vec<_>>()
-                .join(" | ")
-        );
-    }
+    method_table(w, methods, analysis, |m| format_summary(&m.hvr));
     let _ = writeln!(
         w,
         "\nHVR of each method's merged front (all its runs together; a weighted-sum sweep is 11 GA runs, about the evaluations of 10 NSGA-II runs):\n"
     );
-    let _ = writeln!(
-        w,
-        "| Data set | {} |",
-        methods
-            .iter()
-            .map(|m| m.label())
-            .collect::<Vec<_>>()
-            .join(" | ")
-    );
+    method_table(w, methods, analysis, |m| format!("{:.4}", m.merged_hvr));
+}
+
+/// A table with one row per data set and one column per method, cells from `cell`.
+fn method_table(
+    w: &mut String,
+    methods: &[Method],
+    analysis: &Analysis,
+    cell: impl Fn(&MethodAnalysis) -> String,
+) {
+    let labels: Vec<_> = methods.iter().map(|m| m.label()).collect();
+    let _ = writeln!(w, "| Data set | {} |", labels.join(" | "));
     let _ = writeln!(w, "|---|{}", "---|".repeat(methods.len()));
     for a in &analysis.datasets {
-        let _ = writeln!(
-            w,
-            "| {} | {} |",
-            a.name,
-            a.methods
-                .iter()
-                .map(|m| format!("{:.4}", m.merged_hvr))
-                .collect::<Vec<_>>()
-                .join(" | ")
-        );
+        let cells: Vec<_> = a.methods.iter().map(&cell).collect();
+        let _ = writeln!(w, "| {} | {} |", a.name, cells.join(" | "));
     }
 }
 
