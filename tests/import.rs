@@ -259,6 +259,8 @@ fn grid_plys_are_used_exactly_and_match_the_raw_grid_bit_for_bit() {
         assert!(same, "{name}: PLY heights differ from the .f32 grid");
         assert_eq!(from_ply.placement(), &Placement::Grid);
         assert_eq!(from_ply.filled(), 0);
+        assert!(!from_ply.resampled(), "read as is, not resampled");
+        assert!(!from_raw.resampled());
         assert!(from_ply.source().contains("exact"), "{}", from_ply.source());
     }
 }
@@ -271,6 +273,10 @@ fn a_grid_ply_asked_for_another_size_is_resampled_in_its_own_plane() {
     let hf = heightfield::load_with(&data("volcano_87x61.ply"), &options).unwrap();
     let raw = heightfield::load(&data("volcano_87x61.f32")).unwrap();
     assert_eq!(hf.spacing(), [2.0, 2.0]);
+    assert!(
+        hf.resampled(),
+        "another size means resampling, even in the grid's own plane"
+    );
     for y in 0..31 {
         for x in 0..44 {
             let (z, expected) = (hf.z_at(x, y), raw.z_at(2 * x, 2 * y));
@@ -634,6 +640,7 @@ fn planar_resampling_maps_grid_points_back_to_the_vertices() {
     );
     let hf = resampled(&mesh, &with(Projection::Auto, Some((9, 5)))).unwrap();
     assert!(matches!(hf.placement(), Placement::Planar { .. }));
+    assert!(hf.resampled());
     assert_eq!((hf.width(), hf.height()), (9, 5));
     assert_eq!(hf.filled(), 0);
     assert_vertices_map_back(&mesh, &hf, 1e-9);

@@ -396,7 +396,7 @@ mod camera_and_loading {
         let ply = include_bytes!("data/volcano_87x61.ply");
         let hf = loader::parse("volcano_87x61.ply", ply, None, &ImportOptions::default()).unwrap();
         assert_eq!((hf.width(), hf.height()), (87, 61));
-        assert!(!loader::was_resampled("volcano_87x61.ply", &hf));
+        assert!(!hf.resampled());
     }
 }
 

@@ -193,6 +193,7 @@ pub fn to_heightfield(
                 .with_geometry(r.origin, r.spacing)?
                 .with_placement(r.placement)
                 .with_filled(r.filled)
+                .with_resampled()
                 .with_source(note));
         }
         // A lattice whose triangles fold in (x, y) (unusual faces): the general path decides.
@@ -238,6 +239,7 @@ pub fn to_heightfield(
                     .with_geometry(grid.origin, grid.spacing)?
                     .with_placement(grid.placement)
                     .with_filled(grid.filled)
+                    .with_resampled()
                     .with_source(note));
             }
             resample::Outcome::Folded { overlap } => tried.push((projection, overlap)),

@@ -131,6 +131,7 @@ pub struct Heightfield {
     placement: Placement,
     source: String,
     filled: usize,
+    resampled: bool,
 }
 
 impl Heightfield {
@@ -155,6 +156,7 @@ impl Heightfield {
             placement: Placement::Grid,
             source: String::new(),
             filled: 0,
+            resampled: false,
         })
     }
 
@@ -189,6 +191,19 @@ impl Heightfield {
     pub fn with_filled(mut self, filled: usize) -> Self {
         self.filled = filled;
         self
+    }
+
+    /// Marks the grid as made by rasterising a mesh (not read as is), so an app can offer the
+    /// projection and grid-size choice again.
+    pub fn with_resampled(mut self) -> Self {
+        self.resampled = true;
+        self
+    }
+
+    /// True when the grid was made by rasterising a mesh onto a grid (planar, cylindrical or
+    /// in the mesh's own plane at another size); false for grids read as they are.
+    pub fn resampled(&self) -> bool {
+        self.resampled
     }
 
     /// Number of columns.

@@ -1,6 +1,6 @@
 //! Turning dropped files into a height field, and the built-in surface.
 
-use crate::heightfield::{Heightfield, ImportOptions, Placement, import::Projection, raw};
+use crate::heightfield::{Heightfield, ImportOptions, import::Projection, raw};
 
 /// Name of the built-in surface shown on first load.
 pub const BUILTIN_NAME: &str = "jacksboro_65x65";
@@ -57,14 +57,4 @@ pub fn parse(
             format!("{name}: {message}")
         }
     })
-}
-
-/// True when `hf`, read from `name`, was made by projecting and resampling a mesh (so the user
-/// should choose the projection and grid size), false for grids, images and meshes whose vertices
-/// already formed a grid.
-pub fn was_resampled(name: &str, hf: &Heightfield) -> bool {
-    matches!(extension(name).as_str(), "ply" | "obj" | "stl")
-        && (hf.placement() != &Placement::Grid
-            || hf.filled() > 0
-            || !hf.source().ends_with("used as is"))
 }

@@ -144,11 +144,7 @@ pub fn parse_surface(
         loader::parse(name, bytes, sidecar.as_deref(), &options).map_err(|e| JsError::new(&e))?;
     let o = surface_to_js(&hf)
         .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
-    Reflect::set(
-        &o,
-        &"resampled".into(),
-        &loader::was_resampled(name, &hf).into(),
-    )
-    .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
+    Reflect::set(&o, &"resampled".into(), &hf.resampled().into())
+        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
     Ok(o)
 }
