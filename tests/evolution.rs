@@ -4,6 +4,7 @@
 //! Runs are kept tiny (a 17×17 crop, populations of about a dozen) because the tests run in a
 //! debug build.
 
+use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::objectives::Objectives;
 use paretomesh::evolution::{
@@ -113,11 +114,21 @@ fn slicing_does_not_change_nsga2() {
         max_evaluations: Some(61),
         ..small(CrossoverKind::Oax)
     };
+    // Greedy seeding too, uncapped, with the cap inside the greedy run (285 insertions on
+    // 17×17) and with it inside the scoring of the initial population.
+    let seeded = |cap| GaParams {
+        greedy_seed_fraction: 0.25,
+        max_evaluations: cap,
+        ..small(CrossoverKind::Oax)
+    };
     let cases = [
         small(CrossoverKind::Oax),
         small(CrossoverKind::Uniform),
         small(CrossoverKind::TwoPoint),
         capped,
+        seeded(None),
+        seeded(Some(100)),
+        seeded(Some(290)),
     ];
     for params in cases {
         let mut whole = Nsga2::new(terrain_17(), params.clone(), 3).unwrap();
@@ -347,6 +358,27 @@ fn bad_parameters_are_typed_errors() {
         }),
         Some(ParamsError::BadFactors(1))
     );
+    for fraction in [-0.1, 1.5, f64::NAN] {
+        assert!(matches!(
+            bad(GaParams {
+                greedy_seed_fraction: fraction,
+                ..GaParams::default()
+            }),
+            Some(ParamsError::BadSeedFraction(_))
+        ));
+    }
+    // Seeding is NSGA-II's option; the weighted-sum GA says so rather than ignore it.
+    let seeded_weighted = WeightedSumParams {
+        ga: GaParams {
+            greedy_seed_fraction: 0.5,
+            ..GaParams::default()
+        },
+        ..WeightedSumParams::default()
+    };
+    assert_eq!(
+        WeightedSum::new(hf.clone(), seeded_weighted, 1).err(),
+        Some(ParamsError::SeedingUnsupported)
+    );
     let weights = WeightedSumParams {
         weights: vec![0.5, 1.2],
         ..WeightedSumParams::default()
@@ -380,6 +412,92 @@ fn params_round_trip_through_json_with_paper_defaults() {
         (partial.population, partial.crossover, partial.generations),
         (20, CrossoverKind::TwoPoint, 50)
     );
+    // JSON written before greedy seeding existed parses with seeding off.
+    assert_eq!(partial.greedy_seed_fraction, 0.0);
+}
+
+#[test]
+fn greedy_seeds_are_greedy_solutions_spread_over_its_front() {
+    let hf = terrain_17();
+    // 0.25 of 12 → 3 seeds: the sparsest, a middle and the densest mesh of greedy's front.
+    let params = GaParams {
+        greedy_seed_fraction: 0.25,
+        ..small(CrossoverKind::Oax)
+    };
+    assert_eq!(params.greedy_seeds(), 3);
+    let mut greedy = GreedyInsertion::new(hf.clone(), GreedyParams::default()).unwrap();
+    greedy.run_to_end();
+    let greedy_front = greedy.front().solutions();
+    let n = greedy_front.len();
+    assert!(n >= 3, "greedy front of {n}");
+
+    let mut opt = Nsga2::new(hf.clone(), params, 5).unwrap();
+    while opt.population().len() < 12 {
+        opt.step(1);
+    }
+    let population = opt.population();
+    let seeds = &population[..3];
+    let kept: Vec<Vec<u32>> = seeds.iter().map(|s| s.genes.indices()).collect();
+    assert_eq!(kept[0], greedy_front[0].kept);
+    assert_eq!(
+        kept[1],
+        greedy_front[n / 2].kept,
+        "round((n − 1)/2) = ⌊n/2⌋"
+    );
+    assert_eq!(kept[2], greedy_front[n - 1].kept);
+    for (seed, solution) in seeds
+        .iter()
+        .zip([0, n / 2, n - 1].map(|i| &greedy_front[i]))
+    {
+        assert_eq!(seed.objectives.pair(), solution.objectives());
+    }
+    // The others are random, not greedy meshes.
+    for other in &population[3..] {
+        let indices = other.genes.indices();
+        assert!(greedy_front.iter().all(|s| s.kept != indices));
+    }
+    // Greedy's insertions are charged to the run, on top of one evaluation per individual.
+    let insertions = greedy.progress().evaluations;
+    assert_eq!(insertions, 285, "every free point of the 17×17 grid");
+    assert_eq!(opt.greedy_evaluations(), insertions);
+    assert_eq!(opt.progress().evaluations, insertions + 12);
+    // The seeds enter the archive: the sparsest (corners only, T = 2) stays non-dominated.
+    assert!(
+        opt.front()
+            .solutions()
+            .iter()
+            .any(|s| s.kept == greedy_front[0].kept)
+    );
+}
+
+#[test]
+fn seeded_runs_are_deterministic_and_differ_from_unseeded() {
+    let seeded = GaParams {
+        greedy_seed_fraction: 0.25,
+        ..small(CrossoverKind::Oax)
+    };
+    let a = nsga2_front(seeded.clone(), 7);
+    assert_eq!(a, nsga2_front(seeded, 7));
+    assert_mutually_non_dominated(&a);
+    assert_rescores_exactly(&terrain_17(), &a);
+    assert_ne!(a, nsga2_front(small(CrossoverKind::Oax), 7));
+}
+
+#[test]
+fn explicit_zero_seed_fraction_is_the_default_run() {
+    // A fraction too small to seed one individual (⌊0.05 · 12⌋ = 0) is also no seeding.
+    for fraction in [0.0, 0.05] {
+        let explicit = GaParams {
+            greedy_seed_fraction: fraction,
+            ..small(CrossoverKind::Oax)
+        };
+        let mut a = Nsga2::new(terrain_17(), small(CrossoverKind::Oax), 4).unwrap();
+        let mut b = Nsga2::new(terrain_17(), explicit, 4).unwrap();
+        assert_eq!(a.run_to_end(), b.run_to_end());
+        assert_eq!(a.front(), b.front());
+        assert_eq!(a.population(), b.population());
+        assert_eq!(b.greedy_evaluations(), 0);
+    }
 }
 
 fn paretomesh(args: &[&str]) -> std::process::Output {
@@ -474,4 +592,32 @@ fn cli_run_rejects_bad_parameters_with_a_message() {
         stderr.contains("crossover probability must be between 0 and 1"),
         "{stderr}"
     );
+}
+
+#[test]
+fn cli_run_rejects_a_bad_greedy_seed_fraction() {
+    let grid = data("jacksboro_33x33");
+    for (algo, fraction, message) in [
+        (
+            "nsga2",
+            "1.5",
+            "greedy seed fraction must be between 0 and 1",
+        ),
+        ("weighted", "0.1", "offered for NSGA-II only"),
+        ("greedy", "0.1", "--greedy-seed applies to NSGA-II only"),
+    ] {
+        let run = paretomesh(&[
+            "run",
+            grid.to_str().unwrap(),
+            "--algo",
+            algo,
+            "--greedy-seed",
+            fraction,
+            "--out",
+            "/nonexistent/never-written.json",
+        ]);
+        assert!(!run.status.success());
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(stderr.contains(message), "{algo}: {stderr}");
+    }
 }

@@ -98,6 +98,10 @@ pub struct RunArgs {
     /// weighted-sum GA).
     #[arg(long)]
     evals: Option<u64>,
+    /// NSGA-II: seed this fraction (0 to 1) of the initial population from a greedy-insertion
+    /// run, whose insertions count as evaluations [default: 0, as in the paper].
+    #[arg(long, default_value_t = 0.0)]
+    greedy_seed: f64,
     /// Greedy insertion: which point to insert next.
     #[arg(long, value_enum, default_value = "max-error")]
     rule: RuleArg,
@@ -133,6 +137,7 @@ fn ga_params(args: &RunArgs) -> GaParams {
         },
         factors: args.factors,
         max_evaluations: args.evals,
+        greedy_seed_fraction: args.greedy_seed,
     }
 }
 
@@ -141,6 +146,12 @@ fn to_json<T: serde::Serialize>(params: &T) -> serde_json::Value {
 }
 
 fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
+    if args.greedy_seed != 0.0 && matches!(args.algo, Algo::Greedy | Algo::Decimation) {
+        return Err(format!(
+            "--greedy-seed applies to NSGA-II only, not to {}",
+            args.algo.name()
+        ));
+    }
     Ok(match args.algo {
         Algo::Nsga2 => {
             let p = ga_params(args);

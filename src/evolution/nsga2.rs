@@ -1,7 +1,7 @@
 //! NSGA-II (Deb et al. 2002) on (E_sum, T) with orthogonal-array crossover.
 //!
 //! - Initial population: μ random individuals with log-spaced densities
-//!   ([`operators::initial_density`]).
+//!   ([`operators::initial_density`]), unless greedy seeding is on (below).
 //! - Each generation makes λ = μ offspring: two parents by binary tournament on (rank, then
 //!   larger crowding distance), crossover with probability p_c, bit-flip mutation, evaluation.
 //! - Elitist (μ + λ) survival: the union is sorted into non-dominated fronts, whole fronts are
@@ -30,6 +30,26 @@
 //! the units are grouped into steps, so slicing never changes the result. The evaluation cap
 //! (`max_evaluations`) is checked before each initial individual and each new mating, never in
 //! the middle of one.
+//!
+//! Greedy seeding ([`GaParams::greedy_seed_fraction`], off by default and for paper runs): with
+//! k = ⌊fraction · μ⌋ > 0, the run first performs a greedy-insertion run
+//! ([`GreedyInsertion`] with [`GreedyParams::default`]: the max-error rule, to every point, 64
+//! recordings on a geometric sweep of T), one insertion per unit. Its non-dominated front
+//! (n solutions, increasing T) then gives s = min(k, n) seeds at evenly spaced positions of
+//! that list, index round(j·(n − 1)/(s − 1)) for j = 0..s (the middle one if s = 1); the
+//! recordings are geometric in T, so this is an even spread in log T, like the random densities,
+//! and it always includes the sparsest and the densest greedy mesh when s ≥ 2. The seeds are the
+//! first s individuals, each scored by the GA like any individual (one evaluation, one unit);
+//! the other μ − s are random with the log-spaced densities spread over μ − s slots. Only the
+//! seeds reach the archive, not the rest of greedy's front, so the NSGA-II front does not
+//! simply contain greedy's.
+//!
+//! Cost: every greedy insertion counts as an evaluation of this run ([`Progress::evaluations`]
+//! includes them, and [`Nsga2::greedy_evaluations`] reports them alone), so a comparison at
+//! equal evaluations charges the seeding; the evaluation cap applies to them too (checked before
+//! each insertion). Greedy's own fresh scoring of its ≤ 64 recorded meshes is not counted, as
+//! greedy insertion does not count it either. The unit that ends the greedy run (greedy's own
+//! final unit, which records its last mesh) also picks the seeds.
 
 use super::chromosome::Chromosome;
 use super::mating::{MatingContext, PendingMating};
@@ -38,6 +58,7 @@ use super::objectives::{Objectives, Scorer, offer};
 use super::operators;
 use super::params::{GaParams, ParamsError};
 use super::ranking::{crowding_distances, non_dominated_fronts};
+use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -75,6 +96,14 @@ pub struct Nsga2 {
     last_crossover: Option<OaxRecord>,
     /// The mating in progress, if any.
     pending: Option<PendingMating>,
+    /// True until greedy seeding has picked its seeds (false from the start when k = 0).
+    seeding: bool,
+    /// The greedy-insertion run of the seeding, while it runs.
+    greedy: Option<Box<GreedyInsertion>>,
+    /// Evaluations (insertions) the finished greedy run spent.
+    greedy_evaluations: u64,
+    /// The seeds' chromosomes, in the order they enter the population.
+    seeds: Vec<Chromosome>,
 }
 
 impl Nsga2 {
@@ -92,6 +121,10 @@ impl Nsga2 {
             done: false,
             last_crossover: None,
             pending: None,
+            seeding: params.greedy_seeds() > 0,
+            greedy: None,
+            greedy_evaluations: 0,
+            seeds: Vec::new(),
             params,
             seed,
         })
@@ -120,15 +153,30 @@ impl Nsga2 {
         self.last_crossover.as_ref()
     }
 
+    /// Evaluations spent by greedy seeding so far (0 when seeding is off); included in
+    /// [`Progress::evaluations`].
+    pub fn greedy_evaluations(&self) -> u64 {
+        self.greedy_evaluations + self.greedy.as_ref().map_or(0, |g| g.progress().evaluations)
+    }
+
+    /// Every evaluation so far: the GA's and greedy seeding's.
+    fn evaluations(&self) -> u64 {
+        self.scorer.evaluations() + self.greedy_evaluations()
+    }
+
     /// One unit of work (see the module doc).
     fn advance(&mut self) {
         if self.pending.is_none()
             && self
                 .params
                 .max_evaluations
-                .is_some_and(|cap| self.scorer.evaluations() >= cap)
+                .is_some_and(|cap| self.evaluations() >= cap)
         {
             self.done = true;
+            return;
+        }
+        if self.seeding {
+            self.greedy_unit();
             return;
         }
         let mu = self.params.population;
@@ -148,16 +196,54 @@ impl Nsga2 {
         }
     }
 
+    /// One unit of the greedy seeding run (started at the first); picks the seeds when it ends.
+    fn greedy_unit(&mut self) {
+        let hf = self.scorer.heightfield().clone();
+        let greedy = self.greedy.get_or_insert_with(|| {
+            Box::new(
+                GreedyInsertion::new(hf.clone(), GreedyParams::default())
+                    .expect("the default greedy parameters are valid"),
+            )
+        });
+        greedy.unit();
+        if !greedy.progress().done {
+            return;
+        }
+        let solutions = greedy.front().solutions();
+        let n = solutions.len();
+        let s = self.params.greedy_seeds().min(n);
+        self.seeds = (0..s)
+            .map(|j| {
+                let index = if s == 1 {
+                    (n - 1) / 2
+                } else {
+                    // round(j·(n − 1)/(s − 1)) in integers; distinct indices since s ≤ n.
+                    (2 * j * (n - 1) + (s - 1)) / (2 * (s - 1))
+                };
+                Chromosome::from_indices(hf.len(), &solutions[index].kept)
+            })
+            .collect();
+        self.greedy_evaluations = greedy.progress().evaluations;
+        self.greedy = None;
+        self.seeding = false;
+    }
+
     fn initial_individual(&mut self) {
         let hf = self.scorer.heightfield().clone();
         let i = self.population.len();
-        let density = operators::initial_density(
-            i,
-            self.params.population,
-            operators::free_genes(&hf),
-            &mut self.rng,
-        );
-        let genes = operators::random_chromosome(&hf, density, &mut self.rng);
+        let seeded = self.seeds.len();
+        let genes = if i < seeded {
+            self.seeds[i].clone()
+        } else {
+            // The random individuals spread their densities over their own μ − s slots.
+            let density = operators::initial_density(
+                i - seeded,
+                self.params.population - seeded,
+                operators::free_genes(&hf),
+                &mut self.rng,
+            );
+            operators::random_chromosome(&hf, density, &mut self.rng)
+        };
         let objectives = self.scorer.score(&genes);
         offer(&mut self.archive, &genes, &objectives);
         self.population.push(Individual {
@@ -283,7 +369,7 @@ impl Optimizer for Nsga2 {
 
     fn progress(&self) -> Progress {
         Progress {
-            evaluations: self.scorer.evaluations(),
+            evaluations: self.evaluations(),
             generation: self.generation,
             done: self.done,
         }

@@ -25,6 +25,10 @@ pub struct GaParams {
     pub factors: usize,
     /// Stop once this many evaluations were spent (checked between units of work).
     pub max_evaluations: Option<u64>,
+    /// Fraction of the initial population NSGA-II seeds from greedy insertion, in [0, 1]:
+    /// ⌊fraction · population⌋ individuals (see [`super::nsga2`]). 0 (the default, and the paper's
+    /// setting) seeds nothing. The weighted-sum GA refuses values above 0.
+    pub greedy_seed_fraction: f64,
 }
 
 impl Default for GaParams {
@@ -37,6 +41,7 @@ impl Default for GaParams {
             crossover: CrossoverKind::Oax,
             factors: DEFAULT_FACTORS,
             max_evaluations: None,
+            greedy_seed_fraction: 0.0,
         }
     }
 }
@@ -52,6 +57,10 @@ pub enum ParamsError {
     BadFactors(usize),
     /// A weight of the weighted-sum GA is not in [0, 1], or there is none.
     BadWeights,
+    /// The greedy seed fraction is not in [0, 1].
+    BadSeedFraction(f64),
+    /// Greedy seeding was asked of an algorithm that does not offer it (the weighted-sum GA).
+    SeedingUnsupported,
 }
 
 impl fmt::Display for ParamsError {
@@ -73,6 +82,14 @@ impl fmt::Display for ParamsError {
             Self::BadWeights => write!(
                 f,
                 "the weighted-sum GA needs at least one weight, each between 0 and 1"
+            ),
+            Self::BadSeedFraction(x) => write!(
+                f,
+                "the greedy seed fraction must be between 0 and 1, got {x}"
+            ),
+            Self::SeedingUnsupported => write!(
+                f,
+                "seeding from greedy insertion is offered for NSGA-II only, not the weighted-sum GA"
             ),
         }
     }
@@ -100,7 +117,16 @@ impl GaParams {
         if !(2..=63).contains(&self.factors) {
             return Err(ParamsError::BadFactors(self.factors));
         }
+        // Written so that NaN fails too.
+        if !(0.0..=1.0).contains(&self.greedy_seed_fraction) {
+            return Err(ParamsError::BadSeedFraction(self.greedy_seed_fraction));
+        }
         Ok(())
+    }
+
+    /// The number of initial individuals seeded from greedy insertion: ⌊fraction · population⌋.
+    pub fn greedy_seeds(&self) -> usize {
+        (self.greedy_seed_fraction * self.population as f64).floor() as usize
     }
 
     /// The mutation probability on `hf`: the given one, else 1/L.

@@ -95,6 +95,11 @@ impl WeightedSum {
         if params.weights.is_empty() || params.weights.iter().any(|w| !(0.0..=1.0).contains(w)) {
             return Err(ParamsError::BadWeights);
         }
+        // Seeding is NSGA-II's option: 11 single-objective runs would each need their own
+        // choice of which greedy solutions suit their weight, which the issue does not ask for.
+        if params.ga.greedy_seed_fraction > 0.0 {
+            return Err(ParamsError::SeedingUnsupported);
+        }
         Ok(Self {
             mutation: params.ga.mutation_on(&hf),
             rng: Pcg64Mcg::seed_from_u64(seed),
