@@ -572,3 +572,568 @@ mod app_stepping {
         }
     }
 }
+
+mod share_links {
+    use base64::Engine;
+    use base64::engine::general_purpose::URL_SAFE_NO_PAD;
+    use paretomesh::evolution::CrossoverKind;
+    use paretomesh::web::algorithms::{Algorithm, Params};
+    use paretomesh::web::loader::BUILTIN_NAME;
+    use paretomesh::web::render::camera::OrbitCamera;
+    use paretomesh::web::share::{
+        EmbeddedGrid, FileFingerprint, MAX_LINK_LEN, ShareError, ShareLink, SharedSurface,
+        ViewToggles, decode, encode, fnv1a64,
+    };
+    use rand::{RngExt, SeedableRng};
+    use serde_json::{Value, json};
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    const VOLCANO: &[u8] = include_bytes!("data/volcano_33x33.f32");
+    const JACKSBORO_65: &[u8] = include_bytes!("data/jacksboro_65x65.f32");
+
+    fn grid(name: &str, side: usize, bytes: &[u8]) -> EmbeddedGrid {
+        EmbeddedGrid {
+            name: name.to_string(),
+            width: side,
+            height: side,
+            z: bytes
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        }
+    }
+
+    /// A link with every field away from its default, so a dropped field shows.
+    fn link(surface: SharedSurface, algorithm: Algorithm) -> ShareLink {
+        ShareLink {
+            surface,
+            algorithm,
+            params: Params {
+                population: 40,
+                generations: 30,
+                crossover: CrossoverKind::Uniform,
+                crossover_probability: 0.7,
+                mutation_probability: Some(0.013),
+                seed: 987_654_321,
+            },
+            generations_run: 17,
+            selected: Some(5),
+            camera: OrbitCamera {
+                yaw: -2.5,
+                pitch: 0.3,
+                distance: 2.25,
+                target: [0.1, -0.2, 0.05],
+            },
+            toggles: ViewToggles {
+                original: true,
+                error: false,
+                kept: true,
+            },
+        }
+    }
+
+    fn builtin_link() -> ShareLink {
+        link(
+            SharedSurface::Builtin(BUILTIN_NAME.to_string()),
+            Algorithm::Nsga2,
+        )
+    }
+
+    /// The settings JSON of a valid link, to tamper with.
+    fn settings_of(link: &ShareLink) -> Value {
+        let encoded = encode(link);
+        let part = encoded.split('.').nth(1).unwrap();
+        serde_json::from_slice(&URL_SAFE_NO_PAD.decode(part).unwrap()).unwrap()
+    }
+
+    fn with_settings(settings: &Value) -> String {
+        format!(
+            "v1.{}",
+            URL_SAFE_NO_PAD.encode(serde_json::to_vec(settings).unwrap())
+        )
+    }
+
+    /// Decodes the built-in link after `edit` changed its settings JSON.
+    fn tampered(edit: impl FnOnce(&mut Value)) -> Result<ShareLink, ShareError> {
+        let mut settings = settings_of(&builtin_link());
+        edit(&mut settings);
+        decode(&with_settings(&settings))
+    }
+
+    /// An embedded-grid link whose settings claim `width`×`height` and whose grid part is
+    /// `raw` deflated.
+    fn grid_link(width: usize, height: usize, raw: &[u8]) -> String {
+        let mut settings = settings_of(&builtin_link());
+        settings["surface"] =
+            json!({"kind": "embedded", "name": "g.f32", "width": width, "height": height});
+        format!(
+            "{}.{}",
+            with_settings(&settings),
+            URL_SAFE_NO_PAD.encode(miniz_oxide::deflate::compress_to_vec_zlib(raw, 6))
+        )
+    }
+
+    #[wasm_bindgen_test]
+    fn every_algorithm_round_trips_on_the_built_in_surface() {
+        for algorithm in Algorithm::ALL {
+            let original = link(SharedSurface::Builtin(BUILTIN_NAME.to_string()), algorithm);
+            let encoded = encode(&original);
+            assert!(encoded.starts_with("v1."), "{encoded}");
+            // URL-safe: nothing a hash fragment would need escaped.
+            assert!(
+                encoded
+                    .bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b"-_.".contains(&b))
+            );
+            assert_eq!(decode(&encoded).unwrap(), original, "{algorithm:?}");
+            // The browser's location.hash keeps the '#'.
+            assert_eq!(decode(&format!("#{encoded}")).unwrap(), original);
+        }
+        // No selection and the default mutation rate travel too.
+        let mut plain = builtin_link();
+        plain.selected = None;
+        plain.params.mutation_probability = None;
+        assert_eq!(decode(&encode(&plain)).unwrap(), plain);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_file_fingerprint_round_trips_and_recognises_its_file() {
+        let fingerprint = FileFingerprint::of("volcano.f32", VOLCANO);
+        let original = link(
+            SharedSurface::File(fingerprint.clone()),
+            Algorithm::Decimation,
+        );
+        assert_eq!(decode(&encode(&original)).unwrap(), original);
+        assert!(fingerprint.matches(VOLCANO));
+        // One flipped byte, or one byte missing, is another file.
+        let mut altered = VOLCANO.to_vec();
+        altered[100] ^= 1;
+        assert!(!fingerprint.matches(&altered));
+        assert!(!fingerprint.matches(&VOLCANO[1..]));
+        // FNV-1a 64 reference values (empty input is the offset basis; "a" from the spec).
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+    }
+
+    #[wasm_bindgen_test]
+    fn an_embedded_grid_round_trips_bit_for_bit() {
+        let volcano = grid("volcano_33x33.f32", 33, VOLCANO);
+        let original = link(
+            SharedSurface::Embedded(volcano.clone()),
+            Algorithm::WeightedSum,
+        );
+        let encoded = encode(&original);
+        let decoded = decode(&encoded).unwrap();
+        assert_eq!(decoded, original);
+        let SharedSurface::Embedded(g) = &decoded.surface else {
+            panic!("not embedded");
+        };
+        let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&g.z), bits(&volcano.z));
+        let hf = g.to_heightfield().unwrap();
+        assert_eq!((hf.width(), hf.height()), (33, 33));
+        // The largest embeddable grid, a 65×65 terrain, fits under the link cap.
+        let big = link(
+            SharedSurface::Embedded(grid("j.f32", 65, JACKSBORO_65)),
+            Algorithm::Nsga2,
+        );
+        let encoded = encode(&big);
+        assert!(encoded.len() <= MAX_LINK_LEN, "{}", encoded.len());
+        assert_eq!(decode(&encoded).unwrap(), big);
+    }
+
+    #[wasm_bindgen_test]
+    fn framing_errors_are_named() {
+        let good = encode(&builtin_link());
+        assert!(matches!(
+            decode(&"A".repeat(MAX_LINK_LEN + 1)),
+            Err(ShareError::TooLong { .. })
+        ));
+        assert!(matches!(decode(""), Err(ShareError::UnsupportedVersion(_))));
+        assert!(matches!(
+            decode(&good.replacen("v1", "v2", 1)),
+            Err(ShareError::UnsupportedVersion(_))
+        ));
+        assert!(matches!(decode("v1"), Err(ShareError::Malformed(_))));
+        assert!(matches!(decode("v1.a.b.c"), Err(ShareError::Malformed(_))));
+        // '+' and '=' are standard base64, not URL-safe; '!' is no base64 at all.
+        assert!(matches!(
+            decode("v1.ab+c"),
+            Err(ShareError::BadBase64("settings"))
+        ));
+        assert!(matches!(
+            decode("v1.e30="),
+            Err(ShareError::BadBase64("settings"))
+        ));
+        assert!(matches!(
+            decode(&format!("{good}!")),
+            Err(ShareError::BadBase64("settings"))
+        ));
+        // Valid base64 of bytes that are not JSON.
+        assert!(matches!(
+            decode(&format!(
+                "v1.{}",
+                URL_SAFE_NO_PAD.encode([0xff, 0x00, 0x7b])
+            )),
+            Err(ShareError::Malformed(_))
+        ));
+        // A grid part on a link whose surface is built in.
+        assert!(matches!(
+            decode(&format!("{good}.AAAA")),
+            Err(ShareError::UnexpectedGrid)
+        ));
+    }
+
+    #[wasm_bindgen_test]
+    fn wrong_types_and_unknown_names_are_refused() {
+        let err = |edit: fn(&mut Value)| tampered(edit).unwrap_err();
+        assert!(matches!(
+            err(|s| s["generations_run"] = json!("17")),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["population"] = json!(-3)),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["camera"] = json!([1, 2])),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["toggles"]["kept"] = json!(1)),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["extra"] = json!(1)),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s
+                .as_object_mut()
+                .unwrap()
+                .remove("camera")
+                .map(drop)
+                .unwrap()),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["crossover"] = json!("three-point")),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["surface"] = json!({"kind": "remote", "name": "x"})),
+            ShareError::Malformed(_)
+        ));
+        // Beyond u64, and a float where an integer belongs.
+        assert!(matches!(
+            err(|s| s["params"]["seed"] = serde_json::from_str("1e30").unwrap()),
+            ShareError::Malformed(_)
+        ));
+        assert_eq!(
+            err(|s| s["algorithm"] = json!("simulated-annealing")),
+            ShareError::UnknownAlgorithm("simulated-annealing".into())
+        );
+        assert_eq!(
+            err(|s| s["surface"]["name"] = json!("everest")),
+            ShareError::UnknownBuiltin("everest".into())
+        );
+        let file = |s: &mut Value| {
+            s["surface"] =
+                json!({"kind": "file", "name": "a.ply", "size": 10, "fnv1a64": "00112233445566ff"})
+        };
+        assert!(tampered(file).is_ok());
+        assert!(matches!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a.ply", "size": 10, "fnv1a64": "0011223344556677ff"})
+            ),
+            ShareError::BadFingerprint(_)
+        ));
+        assert!(matches!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a.ply", "size": 10, "fnv1a64": "+011223344556677"})
+            ),
+            ShareError::BadFingerprint(_)
+        ));
+        assert!(matches!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a.ply", "size": 0, "fnv1a64": "0011223344556677"})
+            ),
+            ShareError::BadFingerprint(_)
+        ));
+        assert_eq!(
+            err(|s| s["surface"] =
+                json!({"kind": "file", "name": "", "size": 10, "fnv1a64": "0011223344556677"})),
+            ShareError::BadName
+        );
+        assert_eq!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a\u{7}b", "size": 10, "fnv1a64": "0011223344556677"})
+            ),
+            ShareError::BadName
+        );
+        assert_eq!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "n".repeat(300), "size": 10, "fnv1a64": "0011223344556677"})
+            ),
+            ShareError::BadName
+        );
+    }
+
+    #[wasm_bindgen_test]
+    fn huge_and_non_finite_numbers_are_refused() {
+        let err = |edit: fn(&mut Value)| tampered(edit).unwrap_err();
+        let range = |e: ShareError| match e {
+            ShareError::OutOfRange { field, .. } => field,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            range(err(|s| s["params"]["seed"] = json!(u64::MAX))),
+            "seed"
+        );
+        assert_eq!(
+            range(err(|s| s["generations_run"] = json!(u64::MAX))),
+            "generation count"
+        );
+        assert_eq!(
+            range(err(|s| s["selected"] = json!(u64::MAX))),
+            "selected solution"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["yaw"] = json!(1e30))),
+            "camera yaw"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["pitch"] = json!(2.0))),
+            "camera pitch"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["distance"] = json!(0.0))),
+            "camera distance"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["distance"] = json!(1e6))),
+            "camera distance"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["target"][1] = json!(-1e9))),
+            "camera target"
+        );
+        assert!(matches!(
+            err(|s| s["params"]["population"] = json!(10_000_000)),
+            ShareError::InvalidParams(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["generations"] = json!(0)),
+            ShareError::InvalidParams(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["crossover_probability"] = json!(3.5)),
+            ShareError::InvalidParams(_)
+        ));
+        // JSON has no NaN or infinity: serde_json writes NaN as null and 1e400 overflows; both
+        // fail to parse as a number.
+        assert!(matches!(
+            err(|s| s["camera"]["yaw"] = Value::Null),
+            ShareError::Malformed(_)
+        ));
+        let json = serde_json::to_string(&settings_of(&builtin_link()))
+            .unwrap()
+            .replacen("\"pitch\":0.3", "\"pitch\":1e400", 1);
+        assert!(json.contains("1e400"));
+        assert!(matches!(
+            decode(&format!("v1.{}", URL_SAFE_NO_PAD.encode(json))),
+            Err(ShareError::Malformed(_))
+        ));
+        // A NaN built in Rust is written, then refused on reading.
+        let mut nan = builtin_link();
+        nan.camera.pitch = f32::NAN;
+        assert!(decode(&encode(&nan)).is_err());
+        // And the same check is reachable without a round trip.
+        let mut inf = builtin_link();
+        inf.camera.target[0] = f32::INFINITY;
+        assert!(matches!(
+            inf.validate(),
+            Err(ShareError::OutOfRange {
+                field: "camera target",
+                ..
+            })
+        ));
+    }
+
+    #[wasm_bindgen_test]
+    fn hostile_grids_are_refused_before_they_cost_anything() {
+        let heights =
+            |n: usize, v: f32| -> Vec<u8> { (0..n).flat_map(|_| v.to_le_bytes()).collect() };
+        // Sanity: a well-formed hand-made 3×2 grid is accepted.
+        assert!(decode(&grid_link(3, 2, &heights(6, 1.5))).is_ok());
+        // Sides outside 2..=65, including absurd ones that would overflow w·h·4.
+        assert_eq!(
+            decode(&grid_link(66, 2, &[])).unwrap_err(),
+            ShareError::BadGridSize {
+                width: 66,
+                height: 2
+            }
+        );
+        assert!(matches!(
+            decode(&grid_link(1, 5, &[])),
+            Err(ShareError::BadGridSize { .. })
+        ));
+        let mut s = settings_of(&builtin_link());
+        s["surface"] =
+            json!({"kind": "embedded", "name": "g", "width": u64::MAX, "height": u64::MAX});
+        assert!(matches!(
+            decode(&with_settings(&s)),
+            Err(ShareError::BadGridSize { .. })
+        ));
+        // Embedded, but no grid part.
+        s["surface"] = json!({"kind": "embedded", "name": "g", "width": 3, "height": 3});
+        assert_eq!(
+            decode(&with_settings(&s)).unwrap_err(),
+            ShareError::MissingGrid
+        );
+        // A deflate bomb: 4 MiB of zeros is a few KiB deflated; inflation stops at 3·3·4 bytes.
+        assert_eq!(
+            decode(&grid_link(3, 3, &vec![0u8; 4 << 20])).unwrap_err(),
+            ShareError::GridTooLarge
+        );
+        // Too few bytes for the dimensions, and a count that is not whole f32s.
+        assert_eq!(
+            decode(&grid_link(3, 3, &heights(8, 1.0))).unwrap_err(),
+            ShareError::GridLengthMismatch {
+                expected: 36,
+                found: 32
+            }
+        );
+        assert!(matches!(
+            decode(&grid_link(3, 3, &[0u8; 35])),
+            Err(ShareError::GridLengthMismatch { .. })
+        ));
+        // Not deflate data at all, and deflate data cut short.
+        let good = grid_link(3, 3, &heights(9, 2.0));
+        let (head, _) = good.rsplit_once('.').unwrap();
+        assert_eq!(
+            decode(&format!(
+                "{head}.{}",
+                URL_SAFE_NO_PAD.encode(b"not deflate")
+            ))
+            .unwrap_err(),
+            ShareError::CorruptGrid
+        );
+        let deflated = miniz_oxide::deflate::compress_to_vec_zlib(&heights(9, 2.0), 6);
+        assert_eq!(
+            decode(&format!(
+                "{head}.{}",
+                URL_SAFE_NO_PAD.encode(&deflated[..deflated.len() / 2])
+            ))
+            .unwrap_err(),
+            ShareError::CorruptGrid
+        );
+        assert_eq!(
+            decode(&format!("{head}.%%")).unwrap_err(),
+            ShareError::BadBase64("grid")
+        );
+        // NaN and infinity among the heights, at a known index.
+        let mut raw = heights(9, 2.0);
+        raw[4 * 7..4 * 8].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert_eq!(
+            decode(&grid_link(3, 3, &raw)).unwrap_err(),
+            ShareError::NonFiniteHeight { index: 7 }
+        );
+        raw[4 * 7..4 * 8].copy_from_slice(&f32::NEG_INFINITY.to_le_bytes());
+        assert_eq!(
+            decode(&grid_link(3, 3, &raw)).unwrap_err(),
+            ShareError::NonFiniteHeight { index: 7 }
+        );
+    }
+
+    #[wasm_bindgen_test]
+    fn every_error_has_a_message_for_people() {
+        let errors = [
+            decode(&"A".repeat(MAX_LINK_LEN + 1)).unwrap_err(),
+            decode("v9.x").unwrap_err(),
+            decode("v1.!!").unwrap_err(),
+            tampered(|s| s["algorithm"] = json!("x")).unwrap_err(),
+            tampered(|s| s["camera"]["pitch"] = json!(9)).unwrap_err(),
+        ];
+        for e in errors {
+            let text = e.to_string();
+            assert!(
+                text.starts_with("This share link cannot be opened: "),
+                "{text}"
+            );
+            assert!(text.len() < 300, "{text}");
+        }
+        // Hostile text is echoed clipped, not whole.
+        let long = "z".repeat(5000);
+        let e = tampered(|s| s["algorithm"] = json!("z".repeat(5000))).unwrap_err();
+        assert!(!e.to_string().contains(&long));
+    }
+
+    #[wasm_bindgen_test]
+    fn random_and_corrupted_links_give_an_error_or_a_valid_link() {
+        // Fixed seed: a failure reproduces.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(6);
+        let valid = [
+            encode(&builtin_link()),
+            encode(&link(
+                SharedSurface::File(FileFingerprint::of("v.f32", VOLCANO)),
+                Algorithm::GreedyInsertion,
+            )),
+            encode(&link(
+                SharedSurface::Embedded(grid("v.f32", 33, VOLCANO)),
+                Algorithm::Nsga2,
+            )),
+        ];
+        let alphabet = b"v1.-_#ABCxyz0189+/=%{}\":,[] \x00";
+        let (mut accepted, mut refused) = (0, 0);
+        for i in 0..2_000 {
+            let input: Vec<u8> = match i % 4 {
+                // Random strings over an alphabet near the link's own.
+                0 => {
+                    let len = rng.random_range(0..200);
+                    (0..len)
+                        .map(|_| alphabet[rng.random_range(0..alphabet.len())])
+                        .collect()
+                }
+                // "v1." and random base64 of random bytes.
+                1 => {
+                    let len = rng.random_range(0..300);
+                    let bytes: Vec<u8> = (0..len).map(|_| rng.random::<u8>()).collect();
+                    format!("v1.{}", URL_SAFE_NO_PAD.encode(bytes)).into_bytes()
+                }
+                // A valid link with 1–4 bytes flipped.
+                2 => {
+                    let mut bytes = valid[rng.random_range(0..valid.len())].clone().into_bytes();
+                    for _ in 0..rng.random_range(1..5) {
+                        let at = rng.random_range(0..bytes.len());
+                        bytes[at] ^= 1 << rng.random_range(0..7);
+                    }
+                    bytes
+                }
+                // A valid link truncated.
+                _ => {
+                    let bytes = valid[rng.random_range(0..valid.len())].clone().into_bytes();
+                    let at = rng.random_range(0..bytes.len());
+                    bytes[..at].to_vec()
+                }
+            };
+            // Bytes flipped within ASCII stay ASCII, so the input is a string.
+            let text = String::from_utf8_lossy(&input);
+            match decode(&text) {
+                Ok(link) => {
+                    // Whatever is accepted satisfies every limit and re-encodes to itself.
+                    link.validate().unwrap();
+                    assert_eq!(decode(&encode(&link)).unwrap(), link);
+                    accepted += 1;
+                }
+                Err(e) => {
+                    assert!(!e.to_string().is_empty());
+                    refused += 1;
+                }
+            }
+        }
+        assert_eq!(accepted + refused, 2_000);
+        // The corruptions mostly break the link; nearly all inputs are refused.
+        assert!(refused > 1_500, "{refused}");
+    }
+}

@@ -7,6 +7,7 @@
 //! - [`plot`]: the E–T plot and its hit-testing.
 //! - [`render`]: the 3-D view through wgpu.
 //! - [`export`]: PLY / OBJ / STL / CSV exports.
+//! - [`share`]: the share-link codec and its validation.
 //! - [`dom`]: the page's controls.
 //! - [`ui`]: the glue: events, the frame, the panic hook.
 
@@ -18,6 +19,7 @@ pub mod loader;
 pub mod plot;
 pub mod preview;
 pub mod render;
+pub mod share;
 pub mod transfer;
 pub mod ui;
 
