@@ -210,6 +210,34 @@ enum ReadError {
     Value(String),
 }
 
+/// Reads `element`'s properties in order with `next` (which decodes one value of a type):
+/// scalars into `scalars` (a list gives 0 there) and the items of the list at `wanted_list` into
+/// `list`. Shared by the ASCII and binary bodies, which differ only in `next`.
+fn read_properties(
+    element: &Element,
+    wanted_list: Option<usize>,
+    scalars: &mut Vec<f64>,
+    list: &mut Vec<f64>,
+    mut next: impl FnMut(Scalar) -> Result<f64, ReadError>,
+) -> Result<(), ReadError> {
+    for (p, property) in element.properties.iter().enumerate() {
+        match property.kind {
+            Kind::Scalar(t) => scalars.push(next(t)?),
+            Kind::List { count, item } => {
+                scalars.push(0.0);
+                let n = list_length(next(count)?)?;
+                for _ in 0..n {
+                    let v = next(item)?;
+                    if wanted_list == Some(p) {
+                        list.push(v);
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 impl<'a> Body<'a> {
     /// Reads one instance of `element`: scalar values into `scalars` (by property position,
     /// lists give 0) and the items of the list at `wanted_list` into `list`.
@@ -236,7 +264,7 @@ impl<'a> Body<'a> {
                 let number = *line_number;
                 // A short last line is where a cut file ends; a short line inside is a mismatch.
                 let last = lines.clone().all(|l| l.trim().is_empty());
-                let mut next = |t: Scalar| -> Result<f64, ReadError> {
+                let next = |t: Scalar| -> Result<f64, ReadError> {
                     let token = tokens.next().ok_or_else(|| {
                         if last {
                             ReadError::Truncated
@@ -249,21 +277,7 @@ impl<'a> Body<'a> {
                     })?;
                     parse_token(token, t)
                 };
-                for (p, property) in element.properties.iter().enumerate() {
-                    match property.kind {
-                        Kind::Scalar(t) => scalars.push(next(t)?),
-                        Kind::List { count, item } => {
-                            scalars.push(0.0);
-                            let n = list_length(next(count)?)?;
-                            for _ in 0..n {
-                                let v = next(item)?;
-                                if wanted_list == Some(p) {
-                                    list.push(v);
-                                }
-                            }
-                        }
-                    }
-                }
+                read_properties(element, wanted_list, scalars, list, next)?;
                 if tokens.next().is_some() {
                     return Err(ReadError::Tokens {
                         line: number,
@@ -277,7 +291,7 @@ impl<'a> Body<'a> {
                 pos,
                 big_endian,
             } => {
-                let mut next = |t: Scalar| -> Result<f64, ReadError> {
+                let next = |t: Scalar| -> Result<f64, ReadError> {
                     let bytes = data
                         .get(*pos..*pos + t.size())
                         .ok_or(ReadError::Truncated)?;
@@ -285,21 +299,7 @@ impl<'a> Body<'a> {
                     let v = decode(bytes, t, *big_endian);
                     Ok(v)
                 };
-                for (p, property) in element.properties.iter().enumerate() {
-                    match property.kind {
-                        Kind::Scalar(t) => scalars.push(next(t)?),
-                        Kind::List { count, item } => {
-                            scalars.push(0.0);
-                            let n = list_length(next(count)?)?;
-                            for _ in 0..n {
-                                let v = next(item)?;
-                                if wanted_list == Some(p) {
-                                    list.push(v);
-                                }
-                            }
-                        }
-                    }
-                }
+                read_properties(element, wanted_list, scalars, list, next)?;
                 Ok(())
             }
         }
