@@ -26,7 +26,7 @@ use super::ParamsError;
 use super::hole;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
-use crate::evaluator::predicates::GridPoint;
+use crate::evaluator::predicates::{GridPoint, Lattice};
 use crate::evaluator::raster::Grid;
 use crate::evaluator::triangulation::Triangulation;
 use crate::front::{Front, Solution};
@@ -78,6 +78,8 @@ pub struct EdgeDecimation {
     done: bool,
     boundary: Vec<u32>,
     fill: Vec<[u32; 3]>,
+    /// Index → coordinates on this grid (see `predicates::Lattice`).
+    lattice: Lattice,
 }
 
 impl EdgeDecimation {
@@ -131,6 +133,7 @@ impl EdgeDecimation {
             done: false,
             boundary: Vec::new(),
             fill: Vec::new(),
+            lattice: mesh.lattice(),
         };
         for s in 0..run.tris.len() {
             run.tri_sum[s] = run.error_sum(run.tris[s]);
@@ -179,8 +182,7 @@ impl EdgeDecimation {
     }
 
     fn point(&self, i: u32) -> GridPoint {
-        let w = self.hf.width() as i64;
-        [i as i64 % w, i as i64 / w]
+        self.lattice.point(i)
     }
 
     fn error_sum(&self, tri: [u32; 3]) -> f64 {
@@ -229,7 +231,7 @@ impl EdgeDecimation {
             }
         }
         self.fill.clear();
-        hole::fill(&self.boundary, self.hf.width() as i64, &mut self.fill)
+        hole::fill(&self.boundary, self.lattice, &mut self.fill)
     }
 
     fn queue_cost(&mut self, v: u32) {

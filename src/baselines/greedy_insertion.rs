@@ -268,8 +268,7 @@ impl GreedyInsertion {
     }
 
     fn point(&self, i: u32) -> GridPoint {
-        let w = self.hf.width() as i64;
-        [i as i64 % w, i as i64 / w]
+        self.mesh.lattice().point(i)
     }
 
     fn corners_of(&self, t: u32) -> [GridPoint; 3] {
@@ -466,12 +465,10 @@ impl GreedyInsertion {
             self.finish();
             return;
         };
-        let width = self.hf.width() as i64;
         let mut changed = std::mem::take(&mut self.changed);
         changed.clear();
         insert_point(
             &mut self.mesh,
-            width,
             entry.slot,
             entry.point,
             &mut self.stack,

@@ -8,14 +8,14 @@
 //! [`predicates::in_circle`]. Such an ear is a Delaunay triangle of the boundary set and, being an
 //! ear, inside the hole; one always exists because the hole's Delaunay triangulation has ears.
 
-use crate::evaluator::predicates::{self, GridPoint};
+use crate::evaluator::predicates::{self, Lattice};
 
-/// Triangulates the counter-clockwise polygon `boundary` (grid indices on a grid `width` wide,
+/// Triangulates the counter-clockwise polygon `boundary` (grid indices on `lattice`,
 /// at least 3) into the Delaunay triangles of its vertices that lie inside it, appended to `out`
 /// counter-clockwise. Returns false (and leaves `out` as it was) when no empty ear exists, which
 /// only happens if `boundary` is not the hole of a Delaunay vertex removal.
-pub(crate) fn fill(boundary: &[u32], width: i64, out: &mut Vec<[u32; 3]>) -> bool {
-    let point = |i: u32| -> GridPoint { [i as i64 % width, i as i64 / width] };
+pub(crate) fn fill(boundary: &[u32], lattice: Lattice, out: &mut Vec<[u32; 3]>) -> bool {
+    let point = |i: u32| lattice.point(i);
     let start = out.len();
     let mut poly: Vec<u32> = boundary.to_vec();
     while poly.len() > 3 {
@@ -56,7 +56,7 @@ mod tests {
         // the diagonal the tie rule picks, i.e. the one the evaluator's triangulation has.
         let (a, b, c, d) = (0u32, 1u32, 11u32, 10u32);
         let mut out = Vec::new();
-        assert!(fill(&[a, b, c, d], 10, &mut out));
+        assert!(fill(&[a, b, c, d], Lattice::new(10), &mut out));
         assert_eq!(out.len(), 2);
         let mut mesh = crate::evaluator::triangulation::Triangulation::default();
         mesh.rebuild_delaunay(10, &[0, 1, 10, 11]);
@@ -81,7 +81,7 @@ mod tests {
         let p = |x: u32, y: u32| y * 10 + x;
         let poly = [p(0, 0), p(2, 1), p(4, 0), p(4, 3), p(0, 3)];
         let mut out = Vec::new();
-        assert!(fill(&poly, 10, &mut out));
+        assert!(fill(&poly, Lattice::new(10), &mut out));
         assert_eq!(out.len(), 3);
         let pt = |i: u32| [i as i64 % 10, i as i64 / 10];
         let area: i64 = out

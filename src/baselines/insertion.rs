@@ -7,22 +7,22 @@
 //! the tie rule is a consistent Simulation-of-Simplicity perturbation, Lawson's insertion yields
 //! the unique canonical triangulation of the new point set, the one the evaluator builds.
 
-use crate::evaluator::predicates::{self, GridPoint};
+use crate::evaluator::predicates;
 use crate::evaluator::triangulation::{NONE, Triangulation, next, prev};
 
-/// Inserts grid point `p` into triangle `t` of `mesh` (a grid `width` wide). `p` must lie inside
+/// Inserts grid point `p` into triangle `t` of `mesh` (on the grid it was built on). `p` must lie inside
 /// `t` or on one of its edges, and not be one of its vertices. Appends to `changed` every
 /// triangle slot that was created or modified (possibly with repeats); slots of unchanged
 /// triangles keep their numbers, new triangles are appended.
 pub(crate) fn insert_point(
     mesh: &mut Triangulation,
-    width: i64,
     t: u32,
     p: u32,
     stack: &mut Vec<u32>,
     changed: &mut Vec<u32>,
 ) {
-    let point = |i: u32| -> GridPoint { [i as i64 % width, i as i64 / width] };
+    let lattice = mesh.lattice();
+    let point = |i: u32| lattice.point(i);
     let pp = point(p);
     let base = 3 * t;
     stack.clear();

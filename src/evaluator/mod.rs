@@ -202,7 +202,8 @@ impl Evaluator {
         let n = self.hf.len();
         let w = self.hf.width() as i64;
         let h = self.hf.height() as i64;
-        let point = |i: u32| [i as i64 % w, i as i64 / w];
+        let lattice = predicates::Lattice::new(self.hf.width());
+        let point = |i: u32| lattice.point(i);
         let mut oriented = Vec::with_capacity(triangles.len());
         let mut area = 0i64;
         for &tri in triangles {
@@ -231,12 +232,14 @@ impl Evaluator {
                 to: pair[0].1,
             });
         }
+        let grid = Grid {
+            width: w,
+            height: h,
+            z: self.hf.z(),
+        };
         for &(a, b) in &edges {
             let reverse_exists = edges.binary_search(&(b, a)).is_ok();
-            let (pa, pb) = (point(a), point(b));
-            let on_border = (pa[0] == pb[0] && (pa[0] == 0 || pa[0] == w - 1))
-                || (pa[1] == pb[1] && (pa[1] == 0 || pa[1] == h - 1));
-            if !reverse_exists && !on_border {
+            if !reverse_exists && !grid.on_border(point(a), point(b)) {
                 return Err(EvaluateError::OpenEdge { from: a, to: b });
             }
         }

@@ -33,8 +33,9 @@ pub struct Grid<'a> {
 }
 
 impl Grid<'_> {
+    /// Does the segment a–b lie on the grid's border? Such an edge belongs to one triangle only.
     #[inline]
-    fn on_border(&self, a: GridPoint, b: GridPoint) -> bool {
+    pub fn on_border(&self, a: GridPoint, b: GridPoint) -> bool {
         (a[0] == b[0] && (a[0] == 0 || a[0] == self.width - 1))
             || (a[1] == b[1] && (a[1] == 0 || a[1] == self.height - 1))
     }

@@ -8,6 +8,7 @@
 
 use super::algorithms::{self, Algorithm, Params, Running};
 use crate::evaluator::Evaluator;
+use crate::evaluator::predicates::Lattice;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Progress;
@@ -346,10 +347,10 @@ pub fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, Stri
         height: hf.height() as i64,
         z: hf.z(),
     };
-    let w = hf.width() as i64;
+    let lattice = Lattice::new(hf.width());
     let mut point_error = vec![0.0; hf.len()];
     for tri in &evaluation.triangles {
-        let p = tri.map(|i| [i as i64 % w, i as i64 / w]);
+        let p = tri.map(|i| lattice.point(i));
         grid.for_each_point(p, |index, interpolated| {
             point_error[index] = (hf.z()[index] - interpolated).abs();
         });
