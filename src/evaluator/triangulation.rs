@@ -105,6 +105,9 @@ impl Triangulation {
         }
         let slot = &self.slot;
         self.twin.extend(self.rev.iter().map(|&r| slot[r as usize]));
+        // Empty scratch keeps its capacity but makes a clone of the mesh cheap.
+        self.slot.clear();
+        self.rev.clear();
         self.legalize_all();
     }
 
