@@ -141,7 +141,11 @@ fn edits_match_fresh_evaluation_on_synthetic_grids() {
 
 #[test]
 fn edits_match_fresh_evaluation_on_real_data() {
-    for (name, seed) in [("jacksboro_33x33", 1), ("volcano_33x33", 2), ("camera_33x33", 3)] {
+    for (name, seed) in [
+        ("jacksboro_33x33", 1),
+        ("volcano_33x33", 2),
+        ("camera_33x33", 3),
+    ] {
         edit_sequences(fixture(name), seed, 30);
     }
 }

@@ -9,13 +9,30 @@
 //! rows it touched.
 
 /// |z − z̃| per grid point, with per-row sums, sums of squares and maxima.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct ErrorField {
     width: usize,
     errors: Vec<f64>,
     row_sum: Vec<f64>,
     row_sum_sq: Vec<f64>,
     row_max: Vec<f64>,
+}
+
+impl Clone for ErrorField {
+    fn clone(&self) -> Self {
+        let mut copy = Self::default();
+        copy.clone_from(self);
+        copy
+    }
+
+    /// Reuses this field's buffers (the derived one would reallocate).
+    fn clone_from(&mut self, source: &Self) {
+        self.width = source.width;
+        self.errors.clone_from(&source.errors);
+        self.row_sum.clone_from(&source.row_sum);
+        self.row_sum_sq.clone_from(&source.row_sum_sq);
+        self.row_max.clone_from(&source.row_max);
+    }
 }
 
 impl ErrorField {

@@ -33,7 +33,7 @@ use std::sync::Arc;
 /// [`Evaluator::score_into`](super::Evaluator::score_into) makes and
 /// [`Evaluator::edit`](super::Evaluator::edit) changes. Cloning one is a plain copy (use
 /// `clone_from` to reuse the buffers).
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct MeshState {
     /// The height field it was scored on (`None` until scored).
     hf: Option<Arc<Heightfield>>,
@@ -44,6 +44,24 @@ pub struct MeshState {
     /// its triangles. Exact after every build or edit; a walk starts there.
     hint: Vec<u32>,
     score: Option<Score>,
+}
+
+impl Clone for MeshState {
+    fn clone(&self) -> Self {
+        let mut copy = Self::default();
+        copy.clone_from(self);
+        copy
+    }
+
+    /// Field by field, reusing this state's buffers (the derived one would reallocate).
+    fn clone_from(&mut self, source: &Self) {
+        self.hf.clone_from(&source.hf);
+        self.kept.clone_from(&source.kept);
+        self.mesh.clone_from(&source.mesh);
+        self.field.clone_from(&source.field);
+        self.hint.clone_from(&source.hint);
+        self.score = source.score;
+    }
 }
 
 /// Scratch buffers of an edit, kept by the evaluator between calls.
@@ -186,8 +204,15 @@ impl MeshState {
         for &v in remove {
             self.remove_vertex(lattice, v, scratch);
         }
+        // The last insertion and a slot next to it: the insertions come in grid order, so it is
+        // usually close to the next one.
+        let mut last: Option<(u32, u32)> = None;
         for &p in insert {
-            let t = self.locate(lattice, self.hint[p as usize], lattice.point(p));
+            let t = self.locate(
+                lattice,
+                self.insertion_start(lattice, p, last),
+                lattice.point(p),
+            );
             scratch.changed.clear();
             insertion::insert_point(
                 &mut self.mesh,
@@ -197,6 +222,7 @@ impl MeshState {
                 &mut scratch.changed,
             );
             scratch.touched.extend_from_slice(&scratch.changed);
+            last = Some((p, scratch.changed[0]));
         }
         self.compact(scratch);
         // Re-rasterise every touched triangle and re-add the rows they cover.
@@ -284,18 +310,52 @@ impl MeshState {
         }
     }
 
+    /// Where the walk to insert `p` starts: its hint (the triangle that owned it before this
+    /// edit), unless the last insertion `last` (point, slot) is nearer. The hint's triangle
+    /// may have been split many times by this edit's insertions and now hold a far piece.
+    fn insertion_start(&self, lattice: Lattice, p: u32, last: Option<(u32, u32)>) -> u32 {
+        let hint = self.hint[p as usize];
+        let Some((q, slot)) = last else {
+            return hint;
+        };
+        let pp = lattice.point(p);
+        let dist = |v: u32| {
+            let a = lattice.point(v);
+            (a[0] - pp[0]).pow(2) + (a[1] - pp[1]).pow(2)
+        };
+        let m = &self.mesh;
+        let hint_dist = if (hint as usize) < m.len() && m.vertices[3 * hint as usize] != NONE {
+            m.triangle(hint as usize)
+                .map(dist)
+                .into_iter()
+                .min()
+                .unwrap_or(i64::MAX)
+        } else {
+            i64::MAX
+        };
+        if dist(q) < hint_dist { slot } else { hint }
+    }
+
     /// The live triangle whose closed area holds `p`, by a visibility walk from slot `start`
-    /// (any slot; a dead or out-of-range one starts from the first live triangle). On a
+    /// (any slot: a dead one forwards to a live one nearby, an out-of-range one starts from the
+    /// first live triangle). On a
     /// Delaunay triangulation the walk cannot cycle (Edelsbrunner 1990); a step cap guards it
     /// anyway, with an exhaustive search behind it.
     fn locate(&self, lattice: Lattice, start: u32, p: GridPoint) -> u32 {
         let m = &self.mesh;
         let live = |t: u32| (t as usize) < m.len() && m.vertices[3 * t as usize] != NONE;
-        let mut t = if live(start) {
-            start
-        } else {
-            (0..m.len() as u32).find(|&t| live(t)).expect("a mesh has a triangle")
-        };
+        let mut t = start;
+        // A dead slot forwards to a live triangle of its hole (which may have died since).
+        for _ in 0..8 {
+            if (t as usize) < m.len() && !live(t) {
+                t = m.twin[3 * t as usize];
+            }
+        }
+        if !live(t) {
+            t = (0..m.len() as u32)
+                .find(|&t| live(t))
+                .expect("a mesh has a triangle");
+        }
         let point = |i: u32| lattice.point(i);
         let mut came_from = NONE;
         for _ in 0..=2 * m.len() + 8 {
@@ -387,8 +447,11 @@ impl MeshState {
                     scratch.touched.push(slot);
                 }
                 None => {
+                    // Dead until compaction; its first twin forwards a walk that starts here to
+                    // a live triangle of the same hole.
                     m.vertices[base..base + 3].fill(NONE);
                     m.twin[base..base + 3].fill(NONE);
+                    m.twin[base] = scratch.star[0];
                     scratch.dead.push(slot);
                 }
             }
@@ -399,12 +462,13 @@ impl MeshState {
         for (j, &slot) in slots.iter().enumerate() {
             for kk in 0..3 {
                 let h = 3 * slot + kk;
-                let (from, to) = (scratch.fill[j][kk as usize], scratch.fill[j][(kk as usize + 1) % 3]);
+                let (from, to) = (
+                    scratch.fill[j][kk as usize],
+                    scratch.fill[j][(kk as usize + 1) % 3],
+                );
                 let inner = slots.iter().enumerate().find_map(|(i, &s)| {
                     (0..3)
-                        .find(|&q| {
-                            scratch.fill[i][q] == to && scratch.fill[i][(q + 1) % 3] == from
-                        })
+                        .find(|&q| scratch.fill[i][q] == to && scratch.fill[i][(q + 1) % 3] == from)
                         .map(|q| 3 * s + q as u32)
                 });
                 let twin = match inner {
