@@ -79,6 +79,8 @@ pub(super) struct EditScratch {
     outer: Vec<u32>,
     star: Vec<u32>,
     fill: Vec<[u32; 3]>,
+    /// Diagonals of a hole's fill seen from one side: (from, to) boundary positions, half-edge.
+    diagonals: Vec<(usize, usize, u32)>,
 }
 
 /// `tri` rotated so that its smallest grid index comes first (orientation kept): the
@@ -456,26 +458,29 @@ impl MeshState {
                 }
             }
         }
-        // Link the new triangles: to each other, to the outer side of the boundary, or to
-        // nothing (the border segment that closes a border vertex's chain).
+        // Link the new triangles: a boundary edge bᵢ → bᵢ₊₁ to the outer side of the hole (or
+        // to nothing: the border segment that closes a border vertex's chain), a diagonal to
+        // its reverse in another new triangle.
         let slots = &scratch.star[..scratch.fill.len()];
+        let diagonals = &mut scratch.diagonals;
+        diagonals.clear();
         for (j, &slot) in slots.iter().enumerate() {
+            let at = scratch.fill[j].map(|v| {
+                b.iter()
+                    .position(|&x| x == v)
+                    .expect("the fill's vertices are the boundary's")
+            });
             for kk in 0..3 {
-                let h = 3 * slot + kk;
-                let (from, to) = (
-                    scratch.fill[j][kk as usize],
-                    scratch.fill[j][(kk as usize + 1) % 3],
-                );
-                let inner = slots.iter().enumerate().find_map(|(i, &s)| {
-                    (0..3)
-                        .find(|&q| scratch.fill[i][q] == to && scratch.fill[i][(q + 1) % 3] == from)
-                        .map(|q| 3 * s + q as u32)
-                });
-                let twin = match inner {
-                    Some(g) => g,
-                    None => (0..links)
-                        .find(|&i| b[i] == from && b[(i + 1) % b.len()] == to)
-                        .map_or(NONE, |i| scratch.outer[i]),
+                let h = 3 * slot + kk as u32;
+                let (from, to) = (at[kk], at[(kk + 1) % 3]);
+                let successor = if from + 1 == b.len() { 0 } else { from + 1 };
+                let twin = if to == successor {
+                    if from < links { scratch.outer[from] } else { NONE }
+                } else if let Some(q) = diagonals.iter().position(|d| (d.0, d.1) == (to, from)) {
+                    diagonals.swap_remove(q).2
+                } else {
+                    diagonals.push((from, to, h));
+                    continue;
                 };
                 m.twin[h as usize] = twin;
                 if twin != NONE {
@@ -483,6 +488,7 @@ impl MeshState {
                 }
             }
         }
+        debug_assert!(diagonals.is_empty(), "every diagonal has two sides");
     }
 
     /// Moves the last live triangles into the slots removals emptied, so slots are `0..T`
