@@ -475,7 +475,11 @@ impl MeshState {
                 let (from, to) = (at[kk], at[(kk + 1) % 3]);
                 let successor = if from + 1 == b.len() { 0 } else { from + 1 };
                 let twin = if to == successor {
-                    if from < links { scratch.outer[from] } else { NONE }
+                    if from < links {
+                        scratch.outer[from]
+                    } else {
+                        NONE
+                    }
                 } else if let Some(q) = diagonals.iter().position(|d| (d.0, d.1) == (to, from)) {
                     diagonals.swap_remove(q).2
                 } else {

@@ -282,6 +282,100 @@ mod tests {
         assert_eq!(scorer.evaluations(), 1, "E₀ itself is not counted");
     }
 
+    /// A 9×7 grid of random heights with some exact ties (integers).
+    fn bumpy(seed: u64) -> Arc<Heightfield> {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(seed);
+        let z = (0..63).map(|_| rng.random_range(0..6) as f64).collect();
+        Arc::new(Heightfield::new(9, 7, z).unwrap())
+    }
+
+    fn fresh(hf: &Arc<Heightfield>, c: &Chromosome) -> (u64, u64, usize) {
+        let o = Objectives::from_fresh(hf, c);
+        (o.e_sum.to_bits(), o.e_max.to_bits(), o.t)
+    }
+
+    #[test]
+    fn pooled_scoring_equals_fresh_scoring_bit_for_bit() {
+        // A GA-like stream: random chromosomes, mutants (1–2 flips) and block crossovers of
+        // earlier ones, and exact repeats; the pool is kept tiny (3 meshes) so that eviction,
+        // editing the base in place and fresh builds all happen. Every score must be the fresh
+        // score's bits, and every call counts one evaluation.
+        let hf = bumpy(3);
+        let n = hf.len();
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(21);
+        for capacity in [1, 3] {
+            let mut scorer = Scorer::new(hf.clone());
+            scorer.capacity = capacity;
+            let mut seen: Vec<Chromosome> = Vec::new();
+            for step in 0..300 {
+                let c = match (seen.len(), rng.random_range(0..4)) {
+                    (0, _) | (_, 0) => {
+                        let density = rng.random::<f64>();
+                        let kept: Vec<u32> = (0..n as u32)
+                            .filter(|_| rng.random::<f64>() < density)
+                            .chain(hf.corners())
+                            .collect();
+                        Chromosome::from_indices(n, &kept)
+                    }
+                    (m, 1) => {
+                        let mut c = seen[rng.random_range(0..m)].clone();
+                        for _ in 0..rng.random_range(1..3) {
+                            let i = rng.random_range(0..n);
+                            if !hf.corners().contains(&(i as u32)) {
+                                c.flip(i);
+                            }
+                        }
+                        c
+                    }
+                    (m, 2) => {
+                        let (a, b) = (&seen[rng.random_range(0..m)], &seen[rng.random_range(0..m)]);
+                        let mut c = a.clone();
+                        let start = rng.random_range(0..n);
+                        c.copy_range_from(b, start, n.min(start + 20));
+                        c
+                    }
+                    (m, _) => seen[rng.random_range(0..m)].clone(),
+                };
+                let o = scorer.score(&c);
+                assert_eq!(
+                    (o.e_sum.to_bits(), o.e_max.to_bits(), o.t),
+                    fresh(&hf, &c),
+                    "capacity {capacity}, step {step}"
+                );
+                assert_eq!(scorer.evaluations(), step as u64 + 1);
+                assert!(scorer.pool.len() <= capacity);
+                seen.push(c);
+            }
+        }
+    }
+
+    #[test]
+    fn a_chromosome_without_its_corners_scores_like_one_with_them() {
+        // The evaluator forces the corners in, so a chromosome missing one (built by hand) must
+        // score exactly as with it, fresh or edited from a pooled mesh that has it.
+        let hf = bumpy(4);
+        let mut scorer = Scorer::new(hf.clone());
+        let with = Chromosome::from_indices(63, &[0, 8, 30, 54, 62]);
+        let without = Chromosome::from_indices(63, &[0, 30, 31, 54, 62]);
+        let a = scorer.score(&with);
+        let b = scorer.score(&without);
+        let bits = |o: Objectives| (o.e_sum.to_bits(), o.e_max.to_bits(), o.t);
+        assert_eq!(bits(a), fresh(&hf, &with));
+        assert_eq!(bits(b), fresh(&hf, &without));
+    }
+
+    impl Objectives {
+        /// The objectives of a fresh evaluation of `c`.
+        fn from_fresh(hf: &Arc<Heightfield>, c: &Chromosome) -> Self {
+            let s = Evaluator::new(hf.clone()).score(&c.indices()).unwrap();
+            Objectives {
+                e_sum: s.e_sum,
+                e_max: s.e_max,
+                t: s.t,
+            }
+        }
+    }
+
     #[test]
     fn offer_agrees_with_the_front() {
         // Random (E, T) pairs on a coarse lattice, so that ties in E, in T and in both occur:
