@@ -151,6 +151,46 @@ fn edits_match_fresh_evaluation_on_real_data() {
 }
 
 #[test]
+fn block_swaps_like_crossover_rows_match() {
+    // An OAX row takes whole rectangles of genes from another parent: edits come in compact
+    // blocks with many removals and insertions side by side, and chains of such edits (a row
+    // edited from an earlier row) accumulate in one state.
+    let hf = fixture("jacksboro_33x33");
+    let (w, h) = (hf.width(), hf.height());
+    let mut rng = Pcg64Mcg::seed_from_u64(17);
+    let mut ev = Evaluator::new(hf.clone());
+    let mut state = MeshState::default();
+    ev.score_into(&random_kept(hf.len(), 0.2, &mut rng), &mut state)
+        .unwrap();
+    for round in 0..40 {
+        let other = random_kept(hf.len(), rng.random::<f64>() * 0.6, &mut rng);
+        let mut other_mark = vec![false; hf.len()];
+        for &i in &other {
+            other_mark[i as usize] = true;
+        }
+        let (x0, y0) = (rng.random_range(0..w), rng.random_range(0..h));
+        let (x1, y1) = (rng.random_range(x0 + 1..=w), rng.random_range(y0 + 1..=h));
+        let (mut remove, mut insert) = (Vec::new(), Vec::new());
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let i = (y * w + x) as u32;
+                if hf.corners().contains(&i) || state.is_kept(i) == other_mark[i as usize] {
+                    continue;
+                }
+                if state.is_kept(i) {
+                    remove.push(i);
+                } else {
+                    insert.push(i);
+                }
+            }
+        }
+        ev.edit(&mut state, &remove, &insert).unwrap();
+        let what = format!("round {round} block {x0}..{x1}×{y0}..{y1}");
+        assert_matches_fresh(&mut ev, &state, hf.len(), &what);
+    }
+}
+
+#[test]
 fn edits_near_borders_and_corners_match() {
     // Only border points and their inner neighbours change: border removals leave an open fan
     // whose hole is closed by a border segment, border insertions split a border edge.
@@ -189,8 +229,8 @@ fn edits_near_borders_and_corners_match() {
 
 #[test]
 fn co_circular_grid_points_take_the_tie_rule_diagonal() {
-    // Flat grid of 4×4 points with all points kept: every grid square is a co-circular
-    // quadruple. Removing and re-inserting interior points one at a time must keep choosing
+    // A 4×4 grid with all points kept (heights i², so that errors are not zero): every grid
+    // square is a co-circular quadruple. Removing and re-inserting interior points one at a time must keep choosing
     // the same diagonals as a fresh build (the tie rule), or the triangle sets would differ.
     let hf = Arc::new(Heightfield::new(4, 4, (0..16).map(|i| (i * i) as f64).collect()).unwrap());
     let mut ev = Evaluator::new(hf.clone());
