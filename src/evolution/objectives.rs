@@ -74,7 +74,8 @@ impl Scalarisation {
 pub const EDIT_LIMIT_PER_POINT: f64 = 0.5;
 
 /// Most meshes the [`Scorer`] keeps: about one population and one offspring generation of the
-/// paper's size (μ = λ = 100) plus a crossover's children.
+/// paper's size (μ = λ = 100) plus a crossover's children. Smaller pools find worse bases: on
+/// the paper run on jacksboro_65x65, 100 meshes take about 5 % longer, 32 about 14 %.
 pub const POOL_STATES: usize = 216;
 
 /// Memory the pool may use, in bytes; on large grids it keeps fewer meshes (at least one).
