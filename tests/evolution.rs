@@ -621,3 +621,37 @@ fn cli_run_rejects_a_bad_greedy_seed_fraction() {
         assert!(stderr.contains(message), "{algo}: {stderr}");
     }
 }
+
+#[test]
+fn step_until_stops_exactly_at_a_generation_boundary() {
+    // A share link re-runs to generation g of a longer run: the state there must be the state
+    // of a run that has only g generations, however small the slices.
+    let hf = terrain_17();
+    let params = small(CrossoverKind::Oax);
+    for slice in [1, 7, u64::MAX] {
+        let mut run = Nsga2::new(hf.clone(), params.clone(), 5).unwrap();
+        let mut calls = 0;
+        while run.progress().generation < 2 {
+            let p = run.step_until(slice, 2);
+            assert!(p.generation <= 2, "never past the target");
+            calls += 1;
+            assert!(calls < 1_000_000);
+        }
+        let mut short = Nsga2::new(
+            hf.clone(),
+            GaParams {
+                generations: 2,
+                ..params.clone()
+            },
+            5,
+        )
+        .unwrap();
+        short.run_to_end();
+        assert_eq!(run.front(), short.front(), "slice {slice}");
+        assert_eq!(run.progress().evaluations, short.progress().evaluations);
+        assert!(!run.progress().done, "the longer run goes on");
+        // At the target already: nothing more happens.
+        let before = run.progress();
+        assert_eq!(run.step_until(slice, 2), before);
+    }
+}

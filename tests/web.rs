@@ -403,7 +403,7 @@ mod camera_and_loading {
 mod app_stepping {
     use paretomesh::heightfield::raw;
     use paretomesh::web::algorithms::{Algorithm, Params, build};
-    use paretomesh::web::app::{App, RunConfig, Surface};
+    use paretomesh::web::app::{App, Reproduction, RunConfig, Surface};
     use std::sync::Arc;
     use wasm_bindgen_test::wasm_bindgen_test;
 
@@ -556,6 +556,66 @@ mod app_stepping {
         let e = app.run().unwrap_err();
         assert!(e.contains("crossover probability"), "{e}");
         assert!(!app.is_running());
+    }
+
+    #[wasm_bindgen_test]
+    fn reproducing_stops_at_the_generation_and_selects_the_index() {
+        // Re-running to generation 3 of a 6-generation run must stop there, paused, with the
+        // front of a run that only has 3 generations (later ones do not change earlier ones).
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: 3,
+            selected: Some(2),
+        })
+        .unwrap();
+        let mut clock = ticking_clock();
+        let mut frames = 0;
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+            frames += 1;
+            assert!(frames < 100_000, "the re-run must stop");
+        }
+        assert_eq!(app.reproduction(), None);
+        assert_eq!(app.status().generation, 3);
+        assert!(!app.status().done, "stopped before the run's own end");
+        let c = config();
+        let short = Params {
+            generations: 3,
+            ..c.params.clone()
+        };
+        let mut whole = build(c.algorithm, &short, app.surface().heightfield.clone()).unwrap();
+        whole.run_to_end();
+        assert_eq!(app.front().unwrap(), whole.front());
+        assert_eq!(app.selected_front_index(), Some(2));
+        assert_eq!(app.selected().unwrap(), &whole.front().solutions()[2]);
+        // Run resumes to the end like any paused run.
+        app.run().unwrap();
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+        }
+        assert!(app.status().done);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_selection_past_the_front_or_zero_generations_selects_nothing() {
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: 0,
+            selected: Some(0),
+        })
+        .unwrap();
+        assert!(!app.is_running(), "0 generations: nothing runs");
+        app.reproduce(Reproduction {
+            generations: 1,
+            selected: Some(1_000_000),
+        })
+        .unwrap();
+        let mut clock = ticking_clock();
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+        }
+        assert_eq!(app.status().generation, 1);
+        assert_eq!(app.selected(), None);
     }
 
     #[wasm_bindgen_test]
@@ -1135,5 +1195,69 @@ mod share_links {
         assert_eq!(accepted + refused, 2_000);
         // The corruptions mostly break the link; nearly all inputs are refused.
         assert!(refused > 1_500, "{refused}");
+    }
+}
+
+mod curated_examples {
+    use paretomesh::web::examples::examples;
+    use paretomesh::web::loader::{BUILTINS, Builtin};
+    use paretomesh::web::share::{SharedSurface, decode, encode};
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    const README: &str = include_str!("../README.md");
+
+    #[wasm_bindgen_test]
+    fn every_builtin_surface_loads_with_its_name_and_source() {
+        for b in BUILTINS {
+            let hf = b.heightfield();
+            assert!(hf.len() >= 33 * 33, "{}", b.name);
+            assert!(hf.source().contains(b.name), "{}: {}", b.name, hf.source());
+            assert_eq!(Builtin::named(b.name).unwrap().name, b.name);
+        }
+        assert!(Builtin::named("jacksboro").is_none(), "names match exactly");
+    }
+
+    #[wasm_bindgen_test]
+    fn the_examples_are_valid_links_on_builtin_surfaces_covering_three_kinds() {
+        let examples = examples();
+        assert!(examples.len() >= 3);
+        let mut surfaces = Vec::new();
+        for e in &examples {
+            let fragment = encode(&e.link);
+            assert_eq!(decode(&fragment).unwrap(), e.link, "{}", e.title);
+            let SharedSurface::Builtin(name) = &e.link.surface else {
+                panic!("{}: examples use built-in surfaces", e.title);
+            };
+            surfaces.push(name.clone());
+        }
+        // A terrain, a face-like relief and a range scan, as the issue asks.
+        for wanted in ["jacksboro_65x65", "camera_65x65", "bunny_65x65"] {
+            assert!(surfaces.iter().any(|s| s == wanted), "{wanted}");
+        }
+    }
+
+    #[wasm_bindgen_test]
+    fn the_readme_lists_exactly_the_pages_examples() {
+        // The README's links are copies; a changed example (or codec) must be re-copied.
+        let in_readme: Vec<&str> = README
+            .split("#v1.")
+            .skip(1)
+            .map(|rest| rest.split([')', ' ', '>', '\n']).next().unwrap())
+            .collect();
+        let expected: Vec<String> = examples()
+            .iter()
+            .map(|e| encode(&e.link)["v1.".len()..].to_string())
+            .collect();
+        assert_eq!(
+            in_readme, expected,
+            "README links differ from src/web/examples.rs"
+        );
+        for e in examples() {
+            assert!(
+                README.contains(e.title),
+                "README names the example {}",
+                e.title
+            );
+        }
     }
 }

@@ -14,12 +14,14 @@
 pub mod algorithms;
 pub mod app;
 pub mod dom;
+pub mod examples;
 pub mod export;
 pub mod loader;
 pub mod plot;
 pub mod preview;
 pub mod render;
 pub mod share;
+pub mod share_view;
 pub mod transfer;
 pub mod ui;
 
