@@ -30,3 +30,4 @@ node tests/e2e/app.test.mjs
 # The share-link test compares the browser's front with the CLI's.
 cargo build --release --bin paretomesh
 node tests/e2e/share.test.mjs
+node tests/e2e/teaching.test.mjs

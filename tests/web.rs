@@ -1261,3 +1261,132 @@ mod curated_examples {
         }
     }
 }
+
+mod teaching_view {
+    use paretomesh::evolution::trace::Phase;
+    use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2};
+    use paretomesh::heightfield::raw;
+    use paretomesh::optimizer::Optimizer;
+    use paretomesh::web::oax_panel;
+    use paretomesh::web::plot::Shape;
+    use paretomesh::web::teaching::{Step, Stepper, scene};
+    use std::sync::Arc;
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    fn run_to(generation: u64) -> Nsga2 {
+        let hf = Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap());
+        let params = GaParams {
+            population: 12,
+            generations: 5,
+            ..GaParams::default()
+        };
+        let mut run = Nsga2::new(hf, params, 2).unwrap();
+        run.step_until(u64::MAX, generation);
+        run
+    }
+
+    #[wasm_bindgen_test]
+    fn next_phase_walks_every_phase_then_asks_for_the_next_generation() {
+        let mut s = Stepper::default();
+        // Nothing traced yet: the first generation must be made first.
+        assert_eq!(
+            s.next_phase(0, None),
+            Step::Run {
+                generation: 1,
+                then: Phase::Selection
+            }
+        );
+        assert_eq!(s.arrived(0), None, "not there yet");
+        assert_eq!(s.arrived(1), Some(Phase::Selection));
+        let mut seen = vec![Phase::Selection];
+        for _ in 1..Phase::ALL.len() {
+            match s.next_phase(1, Some(1)) {
+                Step::Show(p) => seen.push(p),
+                other => panic!("expected a phase, got {other:?}"),
+            }
+        }
+        assert_eq!(seen, Phase::ALL.to_vec());
+        assert_eq!(
+            s.next_phase(1, Some(1)),
+            Step::Run {
+                generation: 2,
+                then: Phase::Selection
+            },
+            "after survival comes the next generation"
+        );
+        assert_eq!(
+            s.next_generation(1),
+            Step::Run {
+                generation: 2,
+                then: Phase::Survival
+            }
+        );
+        assert_eq!(s.arrived(2), Some(Phase::Survival));
+        // A trace of another generation than the run's (the user ran on): start over from it.
+        assert!(matches!(
+            s.next_phase(3, Some(2)),
+            Step::Run { generation: 4, .. }
+        ));
+    }
+
+    #[wasm_bindgen_test]
+    fn every_phase_has_marks_for_its_individuals_and_a_caption() {
+        let run = run_to(2);
+        let trace = run.last_generation().unwrap();
+        let mu = trace.parents.len();
+        for phase in Phase::ALL {
+            let s = scene(trace, phase, CrossoverKind::Oax, 0.8);
+            assert!(s.caption.contains(phase.explanation()), "{phase:?}");
+            assert!(s.caption.starts_with("Generation 2"), "{}", s.caption);
+            assert!(!s.legend.is_empty(), "{phase:?}");
+            assert!(s.marks.iter().all(|m| !m.label.is_empty()));
+            let expected = match phase {
+                Phase::Selection => mu,
+                Phase::Crossover | Phase::Mutation => {
+                    mu + trace
+                        .matings
+                        .iter()
+                        .filter(|m| m.crossed)
+                        .map(|m| m.before_mutation.iter().flatten().count())
+                        .sum::<usize>()
+                }
+                Phase::Evaluation => mu + trace.offspring.len(),
+                Phase::Sorting | Phase::Crowding | Phase::Survival => 2 * mu,
+            };
+            assert_eq!(s.marks.len(), expected, "{phase:?}");
+        }
+        // Survival: exactly the dropped half is crossed out.
+        let s = scene(trace, Phase::Survival, CrossoverKind::Oax, 0.8);
+        let crosses = s.marks.iter().filter(|m| m.shape == Shape::Cross).count();
+        assert_eq!(crosses, 2 * mu - trace.survivors.len());
+        // Selection: the rings count the picks.
+        let s = scene(trace, Phase::Selection, CrossoverKind::Oax, 0.8);
+        let rings: f64 = s.marks.iter().map(|m| m.ring).sum();
+        assert_eq!(rings as usize, 2 * trace.matings.len());
+    }
+
+    #[wasm_bindgen_test]
+    fn the_oax_panel_lists_the_array_the_effects_and_every_mesh() {
+        let run = run_to(1);
+        let record = run.last_crossover().expect("OAX ran in generation 1");
+        let html = oax_panel::html(record);
+        let rows = record.rows.len();
+        // Two parents, the M rows and the best-levels child, each with a thumbnail.
+        assert_eq!(html.matches("data-mesh=").count(), rows + 3);
+        assert_eq!(oax_panel::meshes(record).len(), rows + 3);
+        assert_eq!(
+            html.matches(" ★</th>").count(),
+            2 - usize::from(record.chosen[0] == record.chosen[1])
+        );
+        assert!(html.contains("Σ F at A") && html.contains("Σ F at B"));
+        // Each factor has exactly one best level marked.
+        assert_eq!(
+            html.matches("class=\"chosen\"").count(),
+            record.blocks.len()
+        );
+        // A thumbnail's mesh is the row's chromosome with its objectives.
+        let third = &oax_panel::meshes(record)[2];
+        assert_eq!(third.t, record.rows[0].objectives.t);
+        assert_eq!(third.kept, record.rows[0].genes.indices());
+    }
+}

@@ -95,7 +95,7 @@ pub struct App {
 pub struct Reproduction {
     /// Generations (or sweeps) to complete.
     pub generations: u64,
-    /// Front index (by increasing T) to select when they are.
+    /// Front index (by increasing T) to select when they are (`None`: the selection stays).
     pub selected: Option<usize>,
 }
 
@@ -164,6 +164,28 @@ impl App {
         self.reproduction = Some(target);
         self.running = true;
         Ok(())
+    }
+
+    /// Runs on (from where the run stands) to the end of generation `generations`, then
+    /// pauses; the selection stays. Does nothing when that generation is already complete.
+    pub fn advance_to(&mut self, generations: u64) -> Result<(), String> {
+        let optimizer = self.ensure_optimizer()?;
+        let p = optimizer.progress();
+        if p.done || p.generation >= generations {
+            return Ok(());
+        }
+        self.reproduction = Some(Reproduction {
+            generations,
+            selected: None,
+        });
+        self.running = true;
+        Ok(())
+    }
+
+    /// Shows `solution` (from anywhere: a crossover child, say) as the selection.
+    pub fn show_solution(&mut self, solution: Solution) {
+        self.selected = Some(solution);
+        self.revision += 1;
     }
 
     /// The re-run in progress, if any.
@@ -262,9 +284,9 @@ impl App {
             {
                 self.running = false;
                 self.reproduction = None;
-                self.selected = r
-                    .selected
-                    .and_then(|i| optimizer.front().solutions().get(i).cloned());
+                if let Some(i) = r.selected {
+                    self.selected = optimizer.front().solutions().get(i).cloned();
+                }
                 self.revision += 1;
             }
             if !self.running {

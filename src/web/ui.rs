@@ -12,6 +12,7 @@ use super::render::geometry::{self, ViewMapping};
 use super::render::gpu::{Renderer, Style};
 use super::share::{FileFingerprint, ShareLink, ViewToggles};
 use super::share_view::{self, Origin};
+use super::teaching_view::{self, TeachingUi};
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -52,6 +53,8 @@ pub(super) struct Ui {
     pub(super) origin: Origin,
     /// A share link waiting for the user to drop the file it names.
     pub(super) waiting_for: Option<ShareLink>,
+    /// The teaching view's state.
+    pub(super) teaching: TeachingUi,
 }
 
 fn performance_now() -> f64 {
@@ -109,7 +112,7 @@ impl Ui {
     }
 
     /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed.
-    fn update_layers(&mut self) {
+    pub(super) fn update_layers(&mut self) {
         let toggles = self.toggles();
         let hf = self.app.surface().heightfield.clone();
         let key = ViewKey {
@@ -259,6 +262,12 @@ impl Ui {
         };
         let ctx: CanvasRenderingContext2d = ctx.unchecked_into();
         let _ = ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0);
+        let unit = z_unit(&self.app.surface().heightfield);
+        if let Some(layout) = self.draw_teaching_plot(&ctx, cw, ch, &unit) {
+            self.plot_layout = layout;
+            self.front_points.clear();
+            return;
+        }
         self.front_points = self
             .app
             .front()
@@ -290,7 +299,6 @@ impl Ui {
                 .chain(population.iter().map(|(p, _)| p)),
             dom::checked("plot-log-e"),
         );
-        let unit = z_unit(&self.app.surface().heightfield);
         plot::draw(
             &ctx,
             &self.plot_layout,
@@ -333,6 +341,7 @@ impl Ui {
             ));
         }
         dom::set_text("status", &status);
+        self.teaching_frame(performance_now());
         self.update_layers();
         self.draw_plot();
         self.resize_view();
@@ -529,7 +538,9 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
         painted: false,
         origin: Origin::Builtin(loader::BUILTIN_NAME),
         waiting_for: None,
+        teaching: TeachingUi::default(),
     };
+    teaching_view::fill().map_err(|e| JsValue::from_str(&e))?;
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
     ui.update_share_controls();
     dom::write_config(ui.app.config()).map_err(|e| JsValue::from_str(&e))?;
@@ -555,6 +566,7 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
     };
     app.wire(&canvas).map_err(|e| JsValue::from_str(&e))?;
     share_view::wire(&app.ui).map_err(|e| JsValue::from_str(&e))?;
+    teaching_view::wire(&app.ui).map_err(|e| JsValue::from_str(&e))?;
     Ok(app)
 }
 
@@ -631,6 +643,19 @@ impl WebApp {
     /// Generations completed by the current run.
     pub fn generation(&self) -> f64 {
         self.ui.borrow().app.status().generation as f64
+    }
+
+    /// The teaching view's shown phase (its label) and the generation of its trace, if any.
+    #[wasm_bindgen(js_name = teachingState)]
+    pub fn teaching_state(&self) -> Option<Vec<String>> {
+        let ui = self.ui.borrow();
+        let phase = ui.teaching_phase()?;
+        let generation = ui
+            .app
+            .optimizer()
+            .and_then(|o| o.generation_trace())
+            .map_or(0, |t| t.generation);
+        Some(vec![phase.label().to_string(), generation.to_string()])
     }
 }
 
@@ -765,6 +790,10 @@ impl WebApp {
         listen(&plot, "mousemove", move |e: MouseEvent| {
             let mut ui = ui.borrow_mut();
             let (x, y) = (e.offset_x() as f64, e.offset_y() as f64);
+            let layout = ui.plot_layout;
+            if ui.teaching_hover(&layout, x, y) {
+                return;
+            }
             ui.hovered = plot::hit_test(&ui.plot_layout, &ui.front_points, x, y, HIT_RADIUS);
         });
         let ui = self.ui.clone();
