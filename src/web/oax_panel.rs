@@ -16,7 +16,7 @@ use wasm_bindgen::JsCast;
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
 
 /// Thumbnail side in CSS pixels.
-const THUMB: u32 = 64;
+const THUMB: u32 = 48;
 
 /// Every mesh the panel shows, in thumbnail order: parent A, parent B, the rows, best-levels.
 pub fn meshes(record: &OaxRecord) -> Vec<Solution> {
@@ -63,20 +63,22 @@ pub fn html(record: &OaxRecord) -> String {
         m - 1,
         record.weight
     );
-    h.push_str("<table class=\"oax\"><thead><tr><th>mesh</th><th></th>");
+    h.push_str(
+        "<table class=\"oax\"><thead><tr><th>mesh</th><th></th><th>F</th><th>E</th><th>T</th>",
+    );
     for f in 0..factors {
         let _ = write!(h, "<th>f{}</th>", f + 1);
     }
-    h.push_str("<th>F</th><th>E</th><th>T</th></tr></thead><tbody>");
+    h.push_str("</tr></thead><tbody>");
     for (k, name) in ["parent A", "parent B"].iter().enumerate() {
         let o = record.parents[k].1;
         let level = if k == 0 { 'A' } else { 'B' };
         let _ = write!(
             h,
-            "<tr class=\"parent\"><td><canvas data-mesh=\"{k}\" title=\"show {name} in the 3-D view\"></canvas></td><th>{name}</th>{}<td></td><td>{}</td><td>{}</td></tr>",
-            format!("<td class=\"lv{k}\">{level}</td>").repeat(factors),
+            "<tr class=\"parent\"><td><canvas data-mesh=\"{k}\" title=\"show {name} in the 3-D view\"></canvas></td><th>{name}</th><td></td><td>{}</td><td class=\"t\">{}</td>{}</tr>",
             format_value(o.e_sum),
-            o.t
+            o.t,
+            format!("<td class=\"lv{k}\">{level}</td>").repeat(factors),
         );
     }
     let best = record.rows.len();
@@ -99,16 +101,19 @@ pub fn html(record: &OaxRecord) -> String {
         let class = if i == best { "best" } else { "row" };
         let _ = write!(
             h,
-            "<tr class=\"{class}\"><td><canvas data-mesh=\"{}\" title=\"show {name} in the 3-D view\"></canvas></td><th>{name}{star}</th>{}<td>{:.4}</td><td>{}</td><td>{}</td></tr>",
+            "<tr class=\"{class}\"><td><canvas data-mesh=\"{}\" title=\"show {name} in the 3-D view\"></canvas></td><th>{name}{star}</th><td>{:.4}</td><td>{}</td><td class=\"t\">{}</td>{}</tr>",
             i + 2,
-            levels(child),
             child.fitness,
             format_value(child.objectives.e_sum),
-            child.objectives.t
+            child.objectives.t,
+            levels(child),
         );
     }
     for (l, label) in ["Σ F at A", "Σ F at B"].iter().enumerate() {
-        let _ = write!(h, "<tr class=\"effects\"><td></td><th>{label}</th>");
+        let _ = write!(
+            h,
+            "<tr class=\"effects\"><td></td><th>{label}</th><td></td><td></td><td></td>"
+        );
         for e in &record.effects {
             // The best level minimises F; ties go to A, as in the factor analysis.
             let best = usize::from(e[1] < e[0]);
@@ -120,7 +125,7 @@ pub fn html(record: &OaxRecord) -> String {
                 e[l]
             );
         }
-        h.push_str("<td></td><td></td><td></td></tr>");
+        h.push_str("</tr>");
     }
     h.push_str("</tbody></table>");
     h

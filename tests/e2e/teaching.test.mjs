@@ -59,7 +59,7 @@ await withApp(async ({ browser, url }) => {
   assert.equal(await page.locator('#oax tr.effects').count(), 2, 'the factor effects');
   const thumb = await page.locator('#oax canvas[data-mesh="2"]').screenshot();
   assert.ok(await pixelVariance(page, thumb) > 20, 'the thumbnail shows a mesh');
-  const rowT = Number(await page.locator('#oax tr.row').first().locator('td').last().textContent());
+  const rowT = Number(await page.locator('#oax tr.row').first().locator('td.t').textContent());
   await page.click('#oax canvas[data-mesh="2"]');
   await page.waitForFunction(() => window.paretomesh.selectedObjectives() !== undefined);
   const [, selectedT] = await page.evaluate(() => window.paretomesh.selectedObjectives());
