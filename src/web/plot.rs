@@ -494,13 +494,7 @@ pub fn hit_test_marks(
     y: f64,
     radius: f64,
 ) -> Option<usize> {
-    let mut best: Option<(usize, f64)> = None;
-    for (i, m) in marks.iter().enumerate() {
-        let (px, py) = layout.to_pixel(m.point);
-        let d = (px - x).hypot(py - y);
-        if d <= radius && best.is_none_or(|(_, bd)| d <= bd) {
-            best = Some((i, d));
-        }
-    }
-    best.map(|(i, _)| i)
+    // Reversed, so that hit_test's tie rule (lower index) picks the last drawn.
+    let points: Vec<PlotPoint> = marks.iter().rev().map(|m| m.point).collect();
+    hit_test(layout, &points, x, y, radius).map(|i| marks.len() - 1 - i)
 }

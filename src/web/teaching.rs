@@ -8,6 +8,7 @@
 
 use super::plot::{Mark, PlotPoint, Shape, format_value, rank_colour};
 use crate::evolution::CrossoverKind;
+use crate::evolution::objectives::Objectives;
 use crate::evolution::trace::{GenerationTrace, Member, Phase};
 
 /// What the page must do after a teaching click.
@@ -132,6 +133,22 @@ fn mark(p: PlotPoint, colour: &'static str, shape: Shape, radius: f64, label: St
     }
 }
 
+/// A mark for objectives `o` labelled "`who` · T = … · E = …".
+fn objective_mark(
+    o: &Objectives,
+    colour: &'static str,
+    shape: Shape,
+    radius: f64,
+    who: &str,
+) -> Mark {
+    let p = PlotPoint {
+        t: o.t as f64,
+        e: o.e_sum,
+    };
+    let label = format!("{who} · T = {} · E = {}", o.t, format_value(o.e_sum));
+    mark(p, colour, shape, radius, label)
+}
+
 /// The front colours' legend: F1…F5 and "F6+".
 fn front_legend(fronts: usize) -> Vec<(String, &'static str)> {
     (0..fronts.min(6))
@@ -144,6 +161,15 @@ fn front_legend(fronts: usize) -> Vec<(String, &'static str)> {
             (label, rank_colour(r))
         })
         .collect()
+}
+
+/// Parents are squares, children triangles.
+fn union_shape(i: usize, mu: usize) -> Shape {
+    if i < mu {
+        Shape::Square
+    } else {
+        Shape::Triangle
+    }
 }
 
 /// Label of union member `i` (parents first, then children).
@@ -235,18 +261,8 @@ pub fn scene(
             for (k, m) in trace.matings.iter().enumerate() {
                 for (c, known) in m.before_mutation.iter().enumerate() {
                     if let (true, Some(o)) = (m.crossed, known) {
-                        let p = PlotPoint {
-                            t: o.t as f64,
-                            e: o.e_sum,
-                        };
-                        let label = format!(
-                            "crossover child {} of mating {} · T = {} · E = {}",
-                            c + 1,
-                            k + 1,
-                            o.t,
-                            format_value(o.e_sum)
-                        );
-                        marks.push(mark(p, CROSSED, Shape::Diamond, 4.0, label));
+                        let who = format!("crossover child {} of mating {}", c + 1, k + 1);
+                        marks.push(objective_mark(o, CROSSED, Shape::Diamond, 4.0, &who));
                     }
                 }
             }
@@ -288,17 +304,8 @@ pub fn scene(
             let mut marks = faded_parents();
             let new_front = trace.union[mu..].iter().filter(|m| m.rank == 0).count();
             for (i, o) in trace.offspring.iter().enumerate() {
-                let p = PlotPoint {
-                    t: o.t as f64,
-                    e: o.e_sum,
-                };
-                let label = format!(
-                    "child {} · T = {} · E = {}",
-                    i + 1,
-                    o.t,
-                    format_value(o.e_sum)
-                );
-                marks.push(mark(p, CHILD, Shape::Triangle, 3.5, label));
+                let who = format!("child {}", i + 1);
+                marks.push(objective_mark(o, CHILD, Shape::Triangle, 3.5, &who));
             }
             (
                 marks,
@@ -325,11 +332,7 @@ pub fn scene(
                 .iter()
                 .enumerate()
                 .map(|(i, m)| {
-                    let shape = if i < mu {
-                        Shape::Square
-                    } else {
-                        Shape::Triangle
-                    };
+                    let shape = union_shape(i, mu);
                     let radius = if phase == Phase::Crowding {
                         // Size grows with the crowding distance; the ends (∞) are largest.
                         let d = if m.crowding.is_infinite() {
@@ -371,11 +374,7 @@ pub fn scene(
                 .iter()
                 .enumerate()
                 .map(|(i, m)| {
-                    let shape = if i < mu {
-                        Shape::Square
-                    } else {
-                        Shape::Triangle
-                    };
+                    let shape = union_shape(i, mu);
                     if kept[i] {
                         mark(
                             point(m),
