@@ -20,6 +20,8 @@ use web_sys::{
     WheelEvent,
 };
 
+mod compare_view;
+
 /// Largest grid drawn with the full wireframe when nothing is selected (denser grids turn grey).
 const MAX_WIREFRAME_POINTS: usize = 128 * 128;
 /// Hover and click radius in the plot, CSS pixels.
@@ -53,6 +55,7 @@ struct Ui {
     hovered: Option<usize>,
     pointers: Vec<(i32, f64, f64)>,
     painted: bool,
+    compare: compare_view::CompareView,
 }
 
 fn performance_now() -> f64 {
@@ -308,6 +311,7 @@ impl Ui {
         let budget = self.app.config().budget_ms;
         let mut clock = performance_now;
         self.app.tick(budget, &mut clock);
+        self.compare_frame();
         dom::set_text(
             "status",
             &dom::status_text(&self.app.status(), self.app.is_running()),
@@ -499,6 +503,7 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
         hovered: None,
         pointers: Vec::new(),
         painted: false,
+        compare: Default::default(),
     };
     dom::write_config(ui.app.config()).map_err(|e| JsValue::from_str(&e))?;
     ui.surface_info();
@@ -754,6 +759,7 @@ impl WebApp {
             ui.redraw = true;
         });
         listen(canvas, "contextmenu", |e: MouseEvent| e.prevent_default());
+        compare_view::wire(&self.ui)?;
         Ok(())
     }
 }
