@@ -23,6 +23,10 @@ const COLOURS: [&str; 4] = ["#0072B2", "#E69F00", "#009E73", "#CC79A7"];
 /// Marker shapes, in [`METHODS`] order, as the legend names them.
 const SHAPES: [&str; 4] = ["●", "■", "▲", "◆"];
 
+/// Short method names for the tables (the legend gives the full ones), so that the tables fit
+/// the page's right column.
+const SHORT: [&str; 4] = ["NSGA-II", "Weighted", "Decimation", "Greedy"];
+
 /// The compare panel's state.
 #[derive(Default)]
 pub(super) struct CompareView {
@@ -66,9 +70,7 @@ fn table_html(table: &CompareTable) -> (String, String, String) {
         let k = method_index(m);
         format!(
             "<span class=\"mark\" style=\"color:{}\">{}</span> {}",
-            COLOURS[k],
-            SHAPES[k],
-            m.label()
+            COLOURS[k], SHAPES[k], SHORT[k]
         )
     };
     for row in &table.methods {
@@ -220,6 +222,22 @@ impl Ui {
         if let Some(run) = self.compare.run.as_mut() {
             run.run();
         }
+    }
+
+    /// Turns compare mode on (its panel replaces the single-run plot) or off (the comparison
+    /// pauses; it resumes with Compare).
+    fn compare_mode(&mut self, on: bool) {
+        if let Ok(input) = by_id::<web_sys::HtmlInputElement>("compare-on") {
+            input.set_checked(on);
+        }
+        if let Ok(right) = by_id::<web_sys::Element>("right") {
+            let _ = right.class_list().toggle_with_force("comparing", on);
+        }
+        dom::set_visible("compare-body", on);
+        if !on {
+            self.compare_pause();
+        }
+        self.compare_status();
     }
 
     fn compare_pause(&mut self) {
@@ -511,25 +529,15 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
     on(
         "compare-on",
         "change",
-        Box::new(|ui| {
-            let comparing = dom::checked("compare-on");
-            if let Ok(right) = by_id::<web_sys::Element>("right") {
-                let _ = right.class_list().toggle_with_force("comparing", comparing);
-            }
-            dom::set_visible("compare-body", comparing);
-            if !comparing {
-                ui.compare_pause();
-            }
-            ui.compare_status();
-        }),
+        Box::new(|ui| ui.compare_mode(dom::checked("compare-on"))),
     )?;
     on("compare-run", "click", Box::new(|ui| ui.compare_start()))?;
     on("compare-pause", "click", Box::new(|ui| ui.compare_pause()))?;
     on("compare-reset", "click", Box::new(|ui| ui.compare_reset()))?;
-    // The single run and the comparison would share the frame budget: starting one pauses the
-    // other.
+    // The single run and the comparison would share the frame budget: starting the single run
+    // pauses the comparison and brings the single-run plot back.
     for id in ["run", "step"] {
-        on(id, "click", Box::new(|ui| ui.compare_pause()))?;
+        on(id, "click", Box::new(|ui| ui.compare_mode(false)))?;
     }
     let plot: HtmlCanvasElement = by_id("compare-plot")?;
     let u = ui.clone();
