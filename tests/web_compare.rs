@@ -122,6 +122,7 @@ fn the_table_holds_the_numbers_the_core_metrics_compute() {
         assert!(row.done);
         let front = run.front(k).unwrap().solutions();
         assert_eq!(row.front_size, front.len());
+        assert_eq!(row.evaluations, run.status(k).unwrap().evaluations);
         let hvr = hypervolume_ratio(&points[k], &reference, DEFAULT_REFERENCE_POINT).unwrap();
         assert_eq!(row.hvr, Some(hvr), "{:?}", row.method);
         assert!(hvr > 0.0 && hvr <= 1.0);

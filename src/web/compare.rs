@@ -75,6 +75,8 @@ pub struct MethodRow {
     pub front_size: usize,
     /// True once the method finished.
     pub done: bool,
+    /// Evaluations it has spent.
+    pub evaluations: u64,
     /// HV(front) / HV(reference front), normalised (Table II); `None` while its front is empty.
     pub hvr: Option<f64>,
     /// Its picks (Table IV); `None` while its front is empty.
@@ -371,6 +373,7 @@ impl CompareRun {
                     method: l.method,
                     front_size: l.app.front().map_or(0, |f| f.len()),
                     done: l.app.status().done,
+                    evaluations: l.app.status().evaluations,
                     hvr: analysed.map(|a| a.hvr.mean),
                     picks: analysed.map(|a| Picks {
                         best_error: a.best_error,

@@ -24,6 +24,8 @@ assert.ok(existsSync(path.join(root, 'www/pkg/paretomesh_bg.wasm')), 'build the 
 const POPULATION = process.env.COMPARE_POP ?? '20';
 const GENERATIONS = process.env.COMPARE_GENS ?? '8';
 const SEED = '3';
+// How long the comparison may take; raise it with the paper's settings (COMPARE_TIMEOUT_S).
+const TIMEOUT_MS = 1000 * Number(process.env.COMPARE_TIMEOUT_S ?? '600');
 const METHODS = ['nsga2', 'weighted', 'decimation', 'greedy'];
 
 function freePort() {
@@ -106,7 +108,7 @@ try {
   await page.screenshot({ path: path.join(shots, 'compare-01-running.png') });
   await page.waitForFunction(
     () => window.paretomesh.compareDone() || document.getElementById('compare-message').textContent !== '',
-    null, { timeout: 600000, polling: 200 });
+    null, { timeout: TIMEOUT_MS, polling: 1000 });
   const wallMs = Date.now() - started;
   assert.equal(await page.locator('#compare-message').textContent(), '', 'the comparison runs');
   await page.waitForTimeout(400); // the final table and a few more frames
@@ -128,6 +130,7 @@ try {
   // to the app's table, final.
   const table = JSON.parse(await page.evaluate(() => window.paretomesh.compareTable()));
   assert.ok(table.complete, 'the table is final');
+  assert.equal(table.methods.reduce((sum, m) => sum + m.evaluations, 0), evaluations, 'the evaluations add up');
   const methods = await cellValues(page, 'compare-methods');
   assert.deepEqual(methods.map((r) => r.method), METHODS);
   methods.forEach((r, k) => {

@@ -77,10 +77,11 @@ fn table_html(table: &CompareTable) -> (String, String, String) {
         let (hvr, hvr_value) = fmt_opt(row.hvr, 4);
         let _ = write!(
             methods,
-            "<tr data-method=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td data-value=\"{hvr_value}\">{hvr}</td></tr>",
+            "<tr data-method=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td data-value=\"{hvr_value}\">{hvr}</td></tr>",
             row.method.name(),
             name(row.method),
-            if row.done { "done" } else { "running" },
+            if row.done { "done" } else { "in progress" },
+            row.evaluations,
             row.front_size,
         );
         let _ = write!(
