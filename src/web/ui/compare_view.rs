@@ -2,19 +2,23 @@
 //! four fronts (`#compare-plot`), the live tables, click-to-select into the 3-D view, and the
 //! read-only accessors the end-to-end test uses. The logic is [`CompareRun`]; this is its DOM.
 
-use super::super::compare::{CompareRun, CompareTable, METHODS, Picks};
-use super::super::plot::{self, Layout, PlotPoint, Scene};
-use super::{HIT_RADIUS, Ui, WebApp, performance_now, z_unit};
+use super::super::compare::{CompareRun, METHODS, Picks};
+use super::super::plot::{self, Layout, PlotPoint};
+use super::{HIT_RADIUS, Ui, WebApp, performance_now};
 use crate::experiment::{Method, Pick};
 use crate::front::Solution;
 use crate::web::dom::{self, by_id, listen};
 use std::cell::RefCell;
-use std::fmt::Write;
 use std::rc::Rc;
 use std::sync::Arc;
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
-use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, MouseEvent};
+use web_sys::{HtmlCanvasElement, MouseEvent};
+
+mod draw;
+mod html;
+
+use html::{legend_html, note_text, table_html};
 
 /// Okabe–Ito colours (distinguishable with the common colour-vision deficiencies), one per
 /// method in [`METHODS`] order; each method also has its own marker shape.
@@ -37,6 +41,7 @@ pub(super) struct CompareView {
     hovered: Option<usize>,
 }
 
+/// Position of `m` in [`METHODS`] (the order of colours, shapes and fronts).
 fn method_index(m: Method) -> usize {
     METHODS.iter().position(|&x| x == m).unwrap_or(0)
 }
@@ -50,99 +55,9 @@ fn named_picks(p: &Picks) -> [(&'static str, Pick); 3] {
     ]
 }
 
+/// True when the member at (`t`, `e`) is `pick` (a pick is a member: exact equality holds).
 fn is_pick(pick: &Pick, t: f64, e: f64) -> bool {
     pick.t as f64 == t && pick.e == e
-}
-
-fn fmt_opt(v: Option<f64>, digits: usize) -> (String, String) {
-    match v {
-        Some(x) => (format!("{x:.digits$}"), format!("{x}")),
-        None => ("—".to_string(), String::new()),
-    }
-}
-
-/// The rows of the three tables, as HTML (numbers and fixed labels only: nothing to escape).
-/// Each number cell carries its full-precision value in `data-value`.
-fn table_html(table: &CompareTable) -> (String, String, String) {
-    let mut methods = String::new();
-    let mut picks = String::new();
-    let name = |m: Method| {
-        let k = method_index(m);
-        format!(
-            "<span class=\"mark\" style=\"color:{}\">{}</span> {}",
-            COLOURS[k], SHAPES[k], SHORT[k]
-        )
-    };
-    for row in &table.methods {
-        let (hvr, hvr_value) = fmt_opt(row.hvr, 4);
-        let _ = write!(
-            methods,
-            "<tr data-method=\"{}\"><th>{}</th><td>{}</td><td>{}</td><td>{}</td><td data-value=\"{hvr_value}\">{hvr}</td></tr>",
-            row.method.name(),
-            name(row.method),
-            if row.done { "done" } else { "in progress" },
-            row.evaluations,
-            row.front_size,
-        );
-        let _ = write!(
-            picks,
-            "<tr data-method=\"{}\"><th>{}</th>",
-            row.method.name(),
-            name(row.method)
-        );
-        match &row.picks {
-            Some(p) => {
-                for (kind, pick) in named_picks(p) {
-                    let _ = write!(
-                        picks,
-                        "<td class=\"pick\" data-pick=\"{kind}\" data-e=\"{}\" data-t=\"{}\" title=\"click to show this mesh\">{} / {}</td>",
-                        pick.e,
-                        pick.t,
-                        plot::format_value(pick.e),
-                        pick.t
-                    );
-                }
-            }
-            None => picks.push_str("<td>—</td><td>—</td><td>—</td>"),
-        }
-        picks.push_str("</tr>");
-    }
-    let mut pairs = String::new();
-    for row in &table.pairs {
-        let (eps, eps_value) = fmt_opt(row.epsilon, 4);
-        let (cov, cov_value) = fmt_opt(row.coverage, 3);
-        let _ = write!(
-            pairs,
-            "<tr data-a=\"{}\" data-b=\"{}\"><th>{}</th><th>{}</th><td data-value=\"{eps_value}\">{eps}</td><td data-value=\"{cov_value}\">{cov}</td></tr>",
-            row.a.name(),
-            row.b.name(),
-            name(row.a),
-            name(row.b),
-        );
-    }
-    (methods, picks, pairs)
-}
-
-fn note_text(table: &CompareTable) -> String {
-    let n = table.normalization;
-    format!(
-        "One normalisation for the four fronts: E ÷ {} (E of the corner-only mesh), T ÷ {} (the full \
-         grid's triangles). HVR = hypervolume of the front ÷ that of the reference front (the \
-         non-dominated merge of the four fronts, {} points), reference point ({}, {}). ε+ in \
-         normalised units; C(A, B) = share of B's points weakly dominated by A's. Trade-off pick: \
-         eq. 7–9 with 1000 weights from seed {}. The same computation as `paretomesh experiment`. {}",
-        plot::format_value(n.e_scale()),
-        n.t_scale(),
-        table.reference_front_size,
-        table.reference_point[0],
-        table.reference_point[1],
-        table.seed,
-        if table.complete {
-            "Final: all four methods are done."
-        } else {
-            "Live: updated at most 4 times a second until all four are done."
-        }
-    )
 }
 
 fn set_html(id: &str, html: &str) {
@@ -289,155 +204,6 @@ impl Ui {
         }
     }
 
-    fn compare_plot(&mut self) {
-        let Ok(canvas) = by_id::<HtmlCanvasElement>("compare-plot") else {
-            return;
-        };
-        let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
-        let (cw, ch) = (canvas.client_width() as f64, canvas.client_height() as f64);
-        let (pw, ph) = ((cw * dpr).round() as u32, (ch * dpr).round() as u32);
-        if canvas.width() != pw || canvas.height() != ph {
-            canvas.set_width(pw);
-            canvas.set_height(ph);
-        }
-        let Ok(Some(ctx)) = canvas.get_context("2d") else {
-            return;
-        };
-        let ctx: CanvasRenderingContext2d = ctx.unchecked_into();
-        let _ = ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0);
-        self.compare.points.clear();
-        if let Some(run) = &self.compare.run {
-            for k in 0..METHODS.len() {
-                for (i, s) in run
-                    .front(k)
-                    .map_or(&[][..], |f| f.solutions())
-                    .iter()
-                    .enumerate()
-                {
-                    let p = PlotPoint {
-                        t: s.t as f64,
-                        e: s.e_sum,
-                    };
-                    self.compare.points.push((k, i, p));
-                }
-            }
-        }
-        let layout = Layout::fit_scaled(
-            cw,
-            ch,
-            self.compare.points.iter().map(|(_, _, p)| p),
-            dom::checked("compare-log-e"),
-        );
-        let unit = z_unit(&self.app.surface().heightfield);
-        // The axes, grid and titles of the single-run plot, with no data.
-        plot::draw(
-            &ctx,
-            &layout,
-            &Scene {
-                population: &[],
-                front: &[],
-                selected: None,
-                hovered: None,
-                z_unit: &unit,
-            },
-        );
-        let picks: Vec<Option<Picks>> = match self.compare.run.as_ref().and_then(|r| r.table()) {
-            Some(Ok(t)) => t.methods.iter().map(|m| m.picks).collect(),
-            _ => vec![None; METHODS.len()],
-        };
-        let (l, t, r, b) = layout.area();
-        ctx.save();
-        ctx.begin_path();
-        ctx.rect(l, t, r - l, b - t);
-        ctx.clip();
-        for k in 0..METHODS.len() {
-            let front: Vec<PlotPoint> = self
-                .compare
-                .points
-                .iter()
-                .filter(|(m, _, _)| *m == k)
-                .map(|(_, _, p)| *p)
-                .collect();
-            // The staircase: the region the front dominates.
-            ctx.set_stroke_style_str(COLOURS[k]);
-            ctx.set_fill_style_str(COLOURS[k]);
-            ctx.set_line_width(1.5);
-            ctx.begin_path();
-            for (i, p) in front.iter().enumerate() {
-                let (x, y) = layout.to_pixel(*p);
-                if i == 0 {
-                    ctx.move_to(x, y);
-                } else {
-                    let (_, prev_y) = layout.to_pixel(front[i - 1]);
-                    ctx.line_to(x, prev_y);
-                    ctx.line_to(x, y);
-                }
-            }
-            ctx.stroke();
-            for p in &front {
-                let (x, y) = layout.to_pixel(*p);
-                marker(&ctx, k, x, y, 3.5);
-                ctx.fill();
-            }
-            // The picks: a ring in the method's colour.
-            if let Some(p) = &picks[k] {
-                ctx.set_line_width(2.0);
-                for (_, pick) in named_picks(p) {
-                    let (x, y) = layout.to_pixel(PlotPoint {
-                        t: pick.t as f64,
-                        e: pick.e,
-                    });
-                    ctx.begin_path();
-                    let _ = ctx.arc(x, y, 8.0, 0.0, std::f64::consts::TAU);
-                    ctx.stroke();
-                }
-            }
-        }
-        // The selection (on every front that has it) and the hovered member.
-        if let Some(sel) = self.app.selected() {
-            ctx.set_stroke_style_str("#000000");
-            ctx.set_line_width(2.0);
-            for (_, _, p) in &self.compare.points {
-                if p.t == sel.t as f64 && p.e == sel.e_sum {
-                    let (x, y) = layout.to_pixel(*p);
-                    ctx.begin_path();
-                    let _ = ctx.arc(x, y, 11.0, 0.0, std::f64::consts::TAU);
-                    ctx.stroke();
-                }
-            }
-        }
-        let hovered = self
-            .compare
-            .hovered
-            .and_then(|h| self.compare.points.get(h));
-        if let Some((_, _, p)) = hovered {
-            let (x, y) = layout.to_pixel(*p);
-            ctx.set_stroke_style_str("#ff0000");
-            ctx.set_line_width(2.0);
-            ctx.begin_path();
-            let _ = ctx.arc(x, y, 6.0, 0.0, std::f64::consts::TAU);
-            ctx.stroke();
-        }
-        ctx.restore();
-        if let Some(&(k, _, p)) = hovered {
-            let mut text = format!(
-                "{} · T = {}, E = {}",
-                METHODS[k].label(),
-                p.t,
-                plot::format_value(p.e)
-            );
-            if let Some(picks) = &picks[k] {
-                for (name, pick) in named_picks(picks) {
-                    if is_pick(&pick, p.t, p.e) {
-                        let _ = write!(text, " · {name}");
-                    }
-                }
-            }
-            readout(&ctx, &layout, p, &text);
-        }
-        self.compare.layout = Some(layout);
-    }
-
     /// Shows member `index` of method `k`'s front in the 3-D view.
     fn compare_select(&mut self, k: usize, index: usize) {
         let chosen: Option<Solution> = self
@@ -457,63 +223,6 @@ impl Ui {
         let points: Vec<PlotPoint> = self.compare.points.iter().map(|(_, _, p)| *p).collect();
         plot::hit_test(layout, &points, x, y, HIT_RADIUS)
     }
-}
-
-/// Traces method `k`'s marker shape at (`x`, `y`) with half-size `r` (call fill or stroke).
-fn marker(ctx: &CanvasRenderingContext2d, k: usize, x: f64, y: f64, r: f64) {
-    ctx.begin_path();
-    match k {
-        0 => {
-            let _ = ctx.arc(x, y, r, 0.0, std::f64::consts::TAU);
-        }
-        1 => ctx.rect(x - r * 0.9, y - r * 0.9, 1.8 * r, 1.8 * r),
-        2 => {
-            ctx.move_to(x, y - 1.2 * r);
-            ctx.line_to(x + 1.1 * r, y + 0.8 * r);
-            ctx.line_to(x - 1.1 * r, y + 0.8 * r);
-            ctx.close_path();
-        }
-        _ => {
-            ctx.move_to(x, y - 1.3 * r);
-            ctx.line_to(x + 1.1 * r, y);
-            ctx.line_to(x, y + 1.3 * r);
-            ctx.line_to(x - 1.1 * r, y);
-            ctx.close_path();
-        }
-    }
-}
-
-fn readout(ctx: &CanvasRenderingContext2d, layout: &Layout, p: PlotPoint, text: &str) {
-    let (x, y) = layout.to_pixel(p);
-    ctx.set_font("12px system-ui, sans-serif");
-    let width = ctx.measure_text(text).map(|m| m.width()).unwrap_or(160.0) + 10.0;
-    let bx = (x + 8.0).min(layout.width - width - 2.0).max(2.0);
-    let by = (y - 24.0).max(2.0);
-    ctx.set_fill_style_str("rgba(255,255,255,0.92)");
-    ctx.fill_rect(bx, by, width, 18.0);
-    ctx.set_stroke_style_str("#888");
-    ctx.set_line_width(1.0);
-    ctx.stroke_rect(bx, by, width, 18.0);
-    ctx.set_fill_style_str("#000");
-    ctx.set_text_align("left");
-    ctx.set_text_baseline("middle");
-    let _ = ctx.fill_text(text, bx + 5.0, by + 9.0);
-}
-
-/// The legend under the compare plot.
-fn legend_html() -> String {
-    let mut html = String::new();
-    for (k, m) in METHODS.iter().enumerate() {
-        let _ = write!(
-            html,
-            "<li><span class=\"mark\" style=\"color:{}\">{}</span> {}</li>",
-            COLOURS[k],
-            SHAPES[k],
-            m.label()
-        );
-    }
-    html.push_str("<li><span class=\"ring\"></span> the three picks</li>");
-    html
 }
 
 /// Wires the compare panel's controls.
