@@ -37,6 +37,22 @@ pub trait Optimizer {
         }
         self.progress()
     }
+    /// Like [`Optimizer::step`], but also stops as soon as `generation` generations (or sweeps)
+    /// are complete, so a re-run can stop exactly where a shared run stood. Stops at once, doing
+    /// nothing, when they already are.
+    fn step_until(&mut self, max_evaluations: u64, generation: u64) -> Progress {
+        let start = self.progress().evaluations;
+        loop {
+            let p = self.progress();
+            if p.done || p.generation >= generation {
+                return p;
+            }
+            self.unit();
+            if self.progress().evaluations - start >= max_evaluations {
+                return self.progress();
+            }
+        }
+    }
     /// The best front found so far.
     fn front(&self) -> &Front;
     /// The current state without stepping.

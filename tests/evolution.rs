@@ -621,3 +621,114 @@ fn cli_run_rejects_a_bad_greedy_seed_fraction() {
         assert!(stderr.contains(message), "{algo}: {stderr}");
     }
 }
+
+#[test]
+fn step_until_stops_exactly_at_a_generation_boundary() {
+    // A share link re-runs to generation g of a longer run: the state there must be the state
+    // of a run that has only g generations, however small the slices.
+    let hf = terrain_17();
+    let params = small(CrossoverKind::Oax);
+    for slice in [1, 7, u64::MAX] {
+        let mut run = Nsga2::new(hf.clone(), params.clone(), 5).unwrap();
+        let mut calls = 0;
+        while run.progress().generation < 2 {
+            let p = run.step_until(slice, 2);
+            assert!(p.generation <= 2, "never past the target");
+            calls += 1;
+            assert!(calls < 1_000_000);
+        }
+        let mut short = Nsga2::new(
+            hf.clone(),
+            GaParams {
+                generations: 2,
+                ..params.clone()
+            },
+            5,
+        )
+        .unwrap();
+        short.run_to_end();
+        assert_eq!(run.front(), short.front(), "slice {slice}");
+        assert_eq!(run.progress().evaluations, short.progress().evaluations);
+        assert!(!run.progress().done, "the longer run goes on");
+        // At the target already: nothing more happens.
+        let before = run.progress();
+        assert_eq!(run.step_until(slice, 2), before);
+    }
+}
+
+#[test]
+fn the_generation_trace_agrees_with_the_population_it_produced() {
+    use paretomesh::evolution::ranking::non_dominated_fronts;
+    let hf = terrain_17();
+    let params = small(CrossoverKind::Oax);
+    let mu = params.population;
+    let mut run = Nsga2::new(hf, params, 3).unwrap();
+    assert!(run.last_generation().is_none(), "no generation yet");
+    run.step_until(u64::MAX, 2);
+    let trace = run
+        .last_generation()
+        .expect("generation 2 is traced")
+        .clone();
+    assert_eq!(trace.generation, 2);
+    assert_eq!(trace.parents.len(), mu);
+    assert_eq!(trace.offspring.len(), mu);
+    assert_eq!(trace.matings.len(), mu / 2, "two children per mating");
+    // Tournaments: the winner is the better-ranked, then the less crowded, then the first.
+    for m in &trace.matings {
+        for (t, &winner) in m.tournaments.iter().zip(&m.parents) {
+            let [a, b] = t.map(|i| trace.parents[i]);
+            let second_wins = b.rank < a.rank || (b.rank == a.rank && b.crowding > a.crowding);
+            assert_eq!(winner, if second_wins { t[1] } else { t[0] });
+        }
+        // An uncrossed, unmutated child is its parent.
+        for k in 0..2 {
+            if !m.crossed && m.flipped[k] == 0 {
+                assert_eq!(m.children[k], trace.parents[m.parents[k]].objectives);
+            }
+        }
+        // Before mutation: OAX's chosen children are scored; an uncrossed pair is the parents.
+        if m.crossed {
+            assert!(m.before_mutation.iter().all(|o| o.is_some()));
+        } else {
+            assert_eq!(m.crossover_evaluations, 0);
+            assert_eq!(
+                m.before_mutation,
+                m.parents.map(|p| Some(trace.parents[p].objectives))
+            );
+        }
+    }
+    let children: Vec<_> = trace.matings.iter().flat_map(|m| m.children).collect();
+    assert_eq!(children, trace.offspring);
+    // The union's fronts are the non-dominated sort of parents + offspring.
+    let points: Vec<[f64; 2]> = trace.union.iter().map(|m| m.objectives.pair()).collect();
+    assert_eq!(trace.union.len(), 2 * mu);
+    for (rank, front) in non_dominated_fronts(&points).iter().enumerate() {
+        for &i in front {
+            assert_eq!(trace.union[i].rank, rank);
+        }
+    }
+    // Survivors: μ distinct union members, and exactly the new population, in order.
+    let mut distinct = trace.survivors.clone();
+    distinct.sort_unstable();
+    distinct.dedup();
+    assert_eq!(distinct.len(), mu);
+    let survivors: Vec<_> = trace
+        .survivors
+        .iter()
+        .map(|&i| trace.union[i].objectives)
+        .collect();
+    let population: Vec<_> = run.population().iter().map(|i| i.objectives).collect();
+    assert_eq!(survivors, population);
+    // No survivor is in a worse front than a member that did not survive.
+    let kept = trace.survived();
+    let worst_kept = (0..2 * mu)
+        .filter(|&i| kept[i])
+        .map(|i| trace.union[i].rank)
+        .max();
+    let best_dropped = (0..2 * mu)
+        .filter(|&i| !kept[i])
+        .map(|i| trace.union[i].rank)
+        .min();
+    assert!(worst_kept <= best_dropped);
+    assert_eq!(trace.selection_counts().iter().sum::<usize>(), mu);
+}

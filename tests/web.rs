@@ -403,7 +403,7 @@ mod camera_and_loading {
 mod app_stepping {
     use paretomesh::heightfield::raw;
     use paretomesh::web::algorithms::{Algorithm, Params, build};
-    use paretomesh::web::app::{App, RunConfig, Surface};
+    use paretomesh::web::app::{App, Reproduction, RunConfig, Surface};
     use std::sync::Arc;
     use wasm_bindgen_test::wasm_bindgen_test;
 
@@ -556,6 +556,66 @@ mod app_stepping {
         let e = app.run().unwrap_err();
         assert!(e.contains("crossover probability"), "{e}");
         assert!(!app.is_running());
+    }
+
+    #[wasm_bindgen_test]
+    fn reproducing_stops_at_the_generation_and_selects_the_index() {
+        // Re-running to generation 3 of a 6-generation run must stop there, paused, with the
+        // front of a run that only has 3 generations (later ones do not change earlier ones).
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: 3,
+            selected: Some(2),
+        })
+        .unwrap();
+        let mut clock = ticking_clock();
+        let mut frames = 0;
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+            frames += 1;
+            assert!(frames < 100_000, "the re-run must stop");
+        }
+        assert_eq!(app.reproduction(), None);
+        assert_eq!(app.status().generation, 3);
+        assert!(!app.status().done, "stopped before the run's own end");
+        let c = config();
+        let short = Params {
+            generations: 3,
+            ..c.params.clone()
+        };
+        let mut whole = build(c.algorithm, &short, app.surface().heightfield.clone()).unwrap();
+        whole.run_to_end();
+        assert_eq!(app.front().unwrap(), whole.front());
+        assert_eq!(app.selected_front_index(), Some(2));
+        assert_eq!(app.selected().unwrap(), &whole.front().solutions()[2]);
+        // Run resumes to the end like any paused run.
+        app.run().unwrap();
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+        }
+        assert!(app.status().done);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_selection_past_the_front_or_zero_generations_selects_nothing() {
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: 0,
+            selected: Some(0),
+        })
+        .unwrap();
+        assert!(!app.is_running(), "0 generations: nothing runs");
+        app.reproduce(Reproduction {
+            generations: 1,
+            selected: Some(1_000_000),
+        })
+        .unwrap();
+        let mut clock = ticking_clock();
+        while app.is_running() {
+            app.tick(8.0, &mut clock);
+        }
+        assert_eq!(app.status().generation, 1);
+        assert_eq!(app.selected(), None);
     }
 
     #[wasm_bindgen_test]
@@ -1135,5 +1195,198 @@ mod share_links {
         assert_eq!(accepted + refused, 2_000);
         // The corruptions mostly break the link; nearly all inputs are refused.
         assert!(refused > 1_500, "{refused}");
+    }
+}
+
+mod curated_examples {
+    use paretomesh::web::examples::examples;
+    use paretomesh::web::loader::{BUILTINS, Builtin};
+    use paretomesh::web::share::{SharedSurface, decode, encode};
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    const README: &str = include_str!("../README.md");
+
+    #[wasm_bindgen_test]
+    fn every_builtin_surface_loads_with_its_name_and_source() {
+        for b in BUILTINS {
+            let hf = b.heightfield();
+            assert!(hf.len() >= 33 * 33, "{}", b.name);
+            assert!(hf.source().contains(b.name), "{}: {}", b.name, hf.source());
+            assert_eq!(Builtin::named(b.name).unwrap().name, b.name);
+        }
+        assert!(Builtin::named("jacksboro").is_none(), "names match exactly");
+    }
+
+    #[wasm_bindgen_test]
+    fn the_examples_are_valid_links_on_builtin_surfaces_covering_three_kinds() {
+        let examples = examples();
+        assert!(examples.len() >= 3);
+        let mut surfaces = Vec::new();
+        for e in &examples {
+            let fragment = encode(&e.link);
+            assert_eq!(decode(&fragment).unwrap(), e.link, "{}", e.title);
+            let SharedSurface::Builtin(name) = &e.link.surface else {
+                panic!("{}: examples use built-in surfaces", e.title);
+            };
+            surfaces.push(name.clone());
+        }
+        // A terrain, a face-like relief and a range scan, as the issue asks.
+        for wanted in ["jacksboro_65x65", "camera_65x65", "bunny_65x65"] {
+            assert!(surfaces.iter().any(|s| s == wanted), "{wanted}");
+        }
+    }
+
+    #[wasm_bindgen_test]
+    fn the_readme_lists_exactly_the_pages_examples() {
+        // The README's links are copies; a changed example (or codec) must be re-copied.
+        let in_readme: Vec<&str> = README
+            .split("#v1.")
+            .skip(1)
+            .map(|rest| rest.split([')', ' ', '>', '\n']).next().unwrap())
+            .collect();
+        let expected: Vec<String> = examples()
+            .iter()
+            .map(|e| encode(&e.link)["v1.".len()..].to_string())
+            .collect();
+        assert_eq!(
+            in_readme, expected,
+            "README links differ from src/web/examples.rs"
+        );
+        for e in examples() {
+            assert!(
+                README.contains(e.title),
+                "README names the example {}",
+                e.title
+            );
+        }
+    }
+}
+
+mod teaching_view {
+    use paretomesh::evolution::trace::Phase;
+    use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2};
+    use paretomesh::heightfield::raw;
+    use paretomesh::optimizer::Optimizer;
+    use paretomesh::web::oax_panel;
+    use paretomesh::web::plot::Shape;
+    use paretomesh::web::teaching::{Step, Stepper, scene};
+    use std::sync::Arc;
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    fn run_to(generation: u64) -> Nsga2 {
+        let hf = Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap());
+        let params = GaParams {
+            population: 12,
+            generations: 5,
+            ..GaParams::default()
+        };
+        let mut run = Nsga2::new(hf, params, 2).unwrap();
+        run.step_until(u64::MAX, generation);
+        run
+    }
+
+    #[wasm_bindgen_test]
+    fn next_phase_walks_every_phase_then_asks_for_the_next_generation() {
+        let mut s = Stepper::default();
+        // Nothing traced yet: the first generation must be made first.
+        assert_eq!(
+            s.next_phase(0, None),
+            Step::Run {
+                generation: 1,
+                then: Phase::Selection
+            }
+        );
+        assert_eq!(s.arrived(0), None, "not there yet");
+        assert_eq!(s.arrived(1), Some(Phase::Selection));
+        let mut seen = vec![Phase::Selection];
+        for _ in 1..Phase::ALL.len() {
+            match s.next_phase(1, Some(1)) {
+                Step::Show(p) => seen.push(p),
+                other => panic!("expected a phase, got {other:?}"),
+            }
+        }
+        assert_eq!(seen, Phase::ALL.to_vec());
+        assert_eq!(
+            s.next_phase(1, Some(1)),
+            Step::Run {
+                generation: 2,
+                then: Phase::Selection
+            },
+            "after survival comes the next generation"
+        );
+        assert_eq!(
+            s.next_generation(1),
+            Step::Run {
+                generation: 2,
+                then: Phase::Survival
+            }
+        );
+        assert_eq!(s.arrived(2), Some(Phase::Survival));
+        // A trace of another generation than the run's (the user ran on): start over from it.
+        assert!(matches!(
+            s.next_phase(3, Some(2)),
+            Step::Run { generation: 4, .. }
+        ));
+    }
+
+    #[wasm_bindgen_test]
+    fn every_phase_has_marks_for_its_individuals_and_a_caption() {
+        let run = run_to(2);
+        let trace = run.last_generation().unwrap();
+        let mu = trace.parents.len();
+        for phase in Phase::ALL {
+            let s = scene(trace, phase, CrossoverKind::Oax, 0.8);
+            assert!(s.caption.contains(phase.explanation()), "{phase:?}");
+            assert!(s.caption.starts_with("Generation 2"), "{}", s.caption);
+            assert!(!s.legend.is_empty(), "{phase:?}");
+            assert!(s.marks.iter().all(|m| !m.label.is_empty()));
+            let expected = match phase {
+                Phase::Selection => mu,
+                Phase::Crossover | Phase::Mutation => {
+                    mu + trace
+                        .matings
+                        .iter()
+                        .filter(|m| m.crossed)
+                        .map(|m| m.before_mutation.iter().flatten().count())
+                        .sum::<usize>()
+                }
+                Phase::Evaluation => mu + trace.offspring.len(),
+                Phase::Sorting | Phase::Crowding | Phase::Survival => 2 * mu,
+            };
+            assert_eq!(s.marks.len(), expected, "{phase:?}");
+        }
+        // Survival: exactly the dropped half is crossed out.
+        let s = scene(trace, Phase::Survival, CrossoverKind::Oax, 0.8);
+        let crosses = s.marks.iter().filter(|m| m.shape == Shape::Cross).count();
+        assert_eq!(crosses, 2 * mu - trace.survivors.len());
+        // Selection: the rings count the picks.
+        let s = scene(trace, Phase::Selection, CrossoverKind::Oax, 0.8);
+        let rings: f64 = s.marks.iter().map(|m| m.ring).sum();
+        assert_eq!(rings as usize, 2 * trace.matings.len());
+    }
+
+    #[wasm_bindgen_test]
+    fn the_oax_panel_lists_the_array_the_effects_and_every_mesh() {
+        let run = run_to(1);
+        let record = run.last_crossover().expect("OAX ran in generation 1");
+        let html = oax_panel::html(record);
+        let rows = record.rows.len();
+        // Two parents, the M rows and the best-levels child, each with a thumbnail.
+        assert_eq!(html.matches("data-mesh=").count(), rows + 3);
+        assert_eq!(oax_panel::meshes(record).len(), rows + 3);
+        assert_eq!(
+            html.matches(" ★</th>").count(),
+            2 - usize::from(record.chosen[0] == record.chosen[1])
+        );
+        assert!(html.contains("Σ F at A") && html.contains("Σ F at B"));
+        // Each factor has exactly one best level marked.
+        assert_eq!(
+            html.matches("class=\"chosen\"").count(),
+            record.blocks.len()
+        );
+        // A thumbnail's mesh is the row's chromosome with its objectives.
+        let third = &oax_panel::meshes(record)[2];
+        assert_eq!(third.t, record.rows[0].objectives.t);
+        assert_eq!(third.kept, record.rows[0].genes.indices());
     }
 }

@@ -1,6 +1,6 @@
 // Boots the wasm app, wires the file drop and picker, and runs the requestAnimationFrame loop.
 // Everything else (controls, plot, 3-D view, parsing, exports) lives in Rust (src/web/).
-import init, { start, drawPreview } from './pkg/paretomesh.js';
+import init, { start, drawPreview, fnv1a64Hex } from './pkg/paretomesh.js';
 
 const $ = (id) => document.getElementById(id);
 let app = null;
@@ -67,15 +67,18 @@ async function loadFiles(files) {
     const bytes = await readWithProgress(main, (f) => progress(f * main.size));
     const side = sidecar ? await readWithProgress(sidecar, (f) => progress(main.size + f * sidecar.size)) : undefined;
     app.showLoadMessage(`parsing ${main.name}…`, false);
+    // The fingerprint a share link gives the file, taken before the bytes go to the Worker.
+    const hash = fnv1a64Hex(bytes);
+    const size = bytes.length;
     const result = await parseInWorker(main.name, bytes, side);
     if (result === null) {
       // No Worker (very old browser): parse here, after the message has painted.
       await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
       app.loadFile(main.name, bytes, side);
     } else if (result.ok && result.surface.resampled) {
-      openImportDialog(main.name, result.surface);
+      openImportDialog(main.name, result.surface, size, hash);
     } else if (result.ok) {
-      app.loadParsed(main.name, result.surface);
+      app.loadParsed(main.name, result.surface, size, hash);
     } else {
       app.showLoadMessage(result.error, true);
     }
@@ -89,8 +92,8 @@ async function loadFiles(files) {
 // The dialog for a mesh that is not a grid: projection and grid size, re-parsed in the Worker
 // (which kept the file) with a preview; nothing changes until "Use this grid".
 let importing = null;
-function openImportDialog(name, surface) {
-  importing = { name, surface, key: `auto ${surface.width} ${surface.height}` };
+function openImportDialog(name, surface, size, hash) {
+  importing = { name, surface, size, hash, key: `auto ${surface.width} ${surface.height}` };
   $('import-projection').value = 'auto';
   $('import-summary').textContent = surface.source;
   $('import-width').value = surface.width;
@@ -125,7 +128,7 @@ function wireImportDialog() {
     const key = `${$('import-projection').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
     if (key !== importing.key && !(await previewImport())) return;
     $('import-dialog').close();
-    app.loadParsed(importing.name, importing.surface);
+    app.loadParsed(importing.name, importing.surface, importing.size, importing.hash);
   });
   $('import-cancel').addEventListener('click', () => {
     $('import-dialog').close();
@@ -169,6 +172,7 @@ try {
   const forceWebgl = new URLSearchParams(location.search).has('webgl');
   app = await start(forceWebgl);
   window.paretomesh = app; // for the console and the end-to-end test
+  if (location.hash.length > 1) app.openLink(location.hash); // a share link
   wireDrop();
   wireImportDialog();
   requestAnimationFrame(loop);

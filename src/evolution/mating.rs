@@ -42,6 +42,12 @@ pub(crate) struct PendingMating {
     stage: Stage,
     /// The offspring made so far (mutated and evaluated), in order.
     offspring: Vec<(Chromosome, Objectives)>,
+    /// What the trace reports about this mating (see [`super::trace::MatingTrace`]).
+    pub(crate) crossed: bool,
+    pub(crate) parents: [usize; 2],
+    pub(crate) before_mutation: [Option<Objectives>; 2],
+    pub(crate) crossover_evaluations: usize,
+    pub(crate) flipped: [usize; 2],
 }
 
 impl PendingMating {
@@ -60,7 +66,8 @@ impl PendingMating {
         let mutation = |crossed: [Crossed; 2]| Stage::Mutation {
             crossed: crossed.map(Some),
         };
-        let stage = if rng.random::<f64>() < params.crossover_probability {
+        let crossed = rng.random::<f64>() < params.crossover_probability;
+        let stage = if crossed {
             match params.crossover {
                 CrossoverKind::Oax => {
                     let blocks = oax::spatial_blocks(hf.width(), hf.height(), params.factors, rng);
@@ -82,10 +89,21 @@ impl PendingMating {
         } else {
             mutation([(a.0.clone(), Some(a.1)), (b.0.clone(), Some(b.1))])
         };
+        let before_mutation = match &stage {
+            Stage::Mutation { crossed } => crossed
+                .each_ref()
+                .map(|c| c.as_ref().and_then(|(_, known)| *known)),
+            Stage::Oax(_) => [None, None],
+        };
         Self {
             scalar,
             stage,
             offspring: Vec::with_capacity(2),
+            crossed,
+            parents: [0, 0],
+            before_mutation,
+            crossover_evaluations: 0,
+            flipped: [0, 0],
         }
     }
 
@@ -130,6 +148,8 @@ impl PendingMating {
                     self.stage = Stage::Mutation {
                         crossed: [pick(r.chosen[0]), pick(r.chosen[1])],
                     };
+                    self.before_mutation = r.chosen.map(|i| Some(r.child(i).objectives));
+                    self.crossover_evaluations = r.evaluations();
                     *record = Some(r);
                 }
                 None
@@ -141,6 +161,7 @@ impl PendingMating {
                     .expect("a pending mating has a child left to mutate");
                 let (mut genes, known) = slot.take().expect("found as present");
                 let flipped = operators::mutate(&mut genes, &corners, mutation, rng);
+                self.flipped[self.offspring.len().min(1)] = flipped;
                 let objectives = match known {
                     Some(o) if flipped == 0 => o,
                     _ => score(&genes),

@@ -6,6 +6,7 @@
 //! - [`orthogonal_array`] and [`oax`]: orthogonal-array crossover (Huang & Ho 2003).
 //! - [`ranking`]: non-dominated sorting and crowding distance.
 //! - [`nsga2`]: NSGA-II (Deb et al. 2002).
+//! - [`trace`]: what one NSGA-II generation did, phase by phase (for the teaching view).
 //! - [`weighted_sum`]: the weighted-sum single-objective GA, one run per weight.
 
 pub mod chromosome;
@@ -17,6 +18,7 @@ pub mod operators;
 pub mod orthogonal_array;
 pub mod params;
 pub mod ranking;
+pub mod trace;
 pub mod weighted_sum;
 
 pub use nsga2::{Individual, Nsga2};

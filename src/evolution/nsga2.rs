@@ -58,6 +58,7 @@ use super::objectives::{Objectives, Scorer, offer};
 use super::operators;
 use super::params::{GaParams, ParamsError};
 use super::ranking::{crowding_distances, non_dominated_fronts};
+use super::trace::{GenerationTrace, MatingTrace, Member};
 use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
 use crate::front::Front;
 use crate::heightfield::Heightfield;
@@ -104,6 +105,12 @@ pub struct Nsga2 {
     greedy_evaluations: u64,
     /// The seeds' chromosomes, in the order they enter the population.
     seeds: Vec<Chromosome>,
+    /// The generation being made, recorded for the teaching view.
+    trace: GenerationTrace,
+    /// The tournaments of the mating in progress.
+    tournaments: [[usize; 2]; 2],
+    /// The record of the last completed generation.
+    last_trace: Option<GenerationTrace>,
 }
 
 impl Nsga2 {
@@ -125,6 +132,9 @@ impl Nsga2 {
             greedy: None,
             greedy_evaluations: 0,
             seeds: Vec::new(),
+            trace: GenerationTrace::default(),
+            tournaments: [[0; 2]; 2],
+            last_trace: None,
             params,
             seed,
         })
@@ -151,6 +161,12 @@ impl Nsga2 {
     /// crossover still making its children is not reported until it completes).
     pub fn last_crossover(&self) -> Option<&OaxRecord> {
         self.last_crossover.as_ref()
+    }
+
+    /// What the last completed generation did, phase by phase (see [`super::trace`]); `None`
+    /// before the first generation completes.
+    pub fn last_generation(&self) -> Option<&GenerationTrace> {
+        self.last_trace.as_ref()
     }
 
     /// Evaluations spent by greedy seeding so far (0 when seeding is off); included in
@@ -255,23 +271,33 @@ impl Nsga2 {
     }
 
     /// Binary tournament: the lower rank wins, then the larger crowding distance, then the
-    /// first drawn.
-    fn tournament(&mut self) -> usize {
+    /// first drawn. Returns the winner and the two drawn.
+    fn tournament(&mut self) -> (usize, [usize; 2]) {
         let n = self.population.len();
         let (i, j) = (self.rng.random_range(0..n), self.rng.random_range(0..n));
         let (a, b) = (&self.population[i], &self.population[j]);
-        if b.rank < a.rank || (b.rank == a.rank && b.crowding > a.crowding) {
+        let winner = if b.rank < a.rank || (b.rank == a.rank && b.crowding > a.crowding) {
             j
         } else {
             i
-        }
+        };
+        (winner, [i, j])
     }
 
     /// Makes the next child of the mating in progress, starting a new mating when none is;
     /// hands the two offspring over when the mating completes.
     fn mating(&mut self) {
         if self.pending.is_none() {
-            let (i, j) = (self.tournament(), self.tournament());
+            if self.offspring.is_empty() {
+                // The generation starts: record the population it starts from.
+                self.trace = GenerationTrace {
+                    generation: self.generation + 1,
+                    parents: self.population.iter().map(member).collect(),
+                    ..GenerationTrace::default()
+                };
+            }
+            let ((i, drawn_i), (j, drawn_j)) = (self.tournament(), self.tournament());
+            self.tournaments = [drawn_i, drawn_j];
             let w = self.rng.random::<f64>();
             let (a, b) = (&self.population[i], &self.population[j]);
             self.pending = Some(PendingMating::start(
@@ -282,6 +308,9 @@ impl Nsga2 {
                 &self.scorer,
                 &mut self.rng,
             ));
+            if let Some(p) = self.pending.as_mut() {
+                p.parents = [i, j];
+            }
         }
         let pending = self.pending.as_mut().expect("a mating is in progress");
         let archive = &mut self.archive;
@@ -298,9 +327,19 @@ impl Nsga2 {
         ) else {
             return;
         };
-        self.pending = None;
+        let done = self.pending.take().expect("the mating just completed");
+        self.trace.matings.push(MatingTrace {
+            tournaments: self.tournaments,
+            parents: done.parents,
+            crossed: done.crossed,
+            before_mutation: done.before_mutation,
+            crossover_evaluations: done.crossover_evaluations,
+            flipped: done.flipped,
+            children: [children[0].1, children[1].1],
+        });
         for (genes, objectives) in children {
             if self.offspring.len() < self.params.population {
+                self.trace.offspring.push(objectives);
                 self.offspring.push(Individual {
                     genes,
                     objectives,
@@ -324,7 +363,18 @@ impl Nsga2 {
             .iter()
             .map(|s| s.as_ref().expect("all present").objectives.pair())
             .collect();
-        for front in non_dominated_fronts(&points) {
+        let fronts = non_dominated_fronts(&points);
+        self.trace.union = union
+            .iter()
+            .map(|s| member(s.as_ref().expect("all present")))
+            .collect();
+        for (rank, front) in fronts.iter().enumerate() {
+            for (&i, d) in front.iter().zip(crowding_distances(&points, front)) {
+                self.trace.union[i].rank = rank;
+                self.trace.union[i].crowding = d;
+            }
+        }
+        for front in fronts {
             let room = mu - self.population.len();
             if room == 0 {
                 break;
@@ -338,11 +388,21 @@ impl Nsga2 {
                 order[..room].iter().map(|&k| front[k]).collect()
             };
             for k in chosen {
+                self.trace.survivors.push(k);
                 self.population
                     .push(union[k].take().expect("each index is in one front"));
             }
         }
         rank_and_crowd(&mut self.population);
+        self.last_trace = Some(std::mem::take(&mut self.trace));
+    }
+}
+
+fn member(i: &Individual) -> Member {
+    Member {
+        objectives: i.objectives,
+        rank: i.rank,
+        crowding: i.crowding,
     }
 }
 

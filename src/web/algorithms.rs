@@ -2,6 +2,8 @@
 //! place that builds a running algorithm from them.
 
 use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
+use crate::evolution::oax::OaxRecord;
+use crate::evolution::trace::GenerationTrace;
 use crate::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
@@ -150,6 +152,14 @@ pub trait Running: Optimizer {
     fn population_points(&self) -> Vec<(f64, f64, usize)> {
         Vec::new()
     }
+    /// What the last completed generation did, phase by phase (NSGA-II only).
+    fn generation_trace(&self) -> Option<&GenerationTrace> {
+        None
+    }
+    /// The last completed orthogonal-array crossover (NSGA-II only).
+    fn last_crossover(&self) -> Option<&OaxRecord> {
+        None
+    }
 }
 
 impl Running for Nsga2 {
@@ -158,6 +168,12 @@ impl Running for Nsga2 {
             .iter()
             .map(|i| (i.objectives.t as f64, i.objectives.e_sum, i.rank))
             .collect()
+    }
+    fn generation_trace(&self) -> Option<&GenerationTrace> {
+        self.last_generation()
+    }
+    fn last_crossover(&self) -> Option<&OaxRecord> {
+        Nsga2::last_crossover(self)
     }
 }
 impl Running for WeightedSum {}

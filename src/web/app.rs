@@ -85,6 +85,18 @@ pub struct App {
     chunk: u64,
     selected: Option<Solution>,
     revision: u64,
+    /// While re-running a shared run: the generation to stop at, and the front index to select
+    /// there.
+    reproduction: Option<Reproduction>,
+}
+
+/// Where a re-run of a shared run stops and what it selects there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reproduction {
+    /// Generations (or sweeps) to complete.
+    pub generations: u64,
+    /// Front index (by increasing T) to select when they are (`None`: the selection stays).
+    pub selected: Option<usize>,
 }
 
 impl App {
@@ -99,6 +111,7 @@ impl App {
             chunk: 1,
             selected: None,
             revision: 0,
+            reproduction: None,
         }
     }
 
@@ -134,7 +147,50 @@ impl App {
         self.elapsed_ms = 0.0;
         self.chunk = 1;
         self.selected = None;
+        self.reproduction = None;
         self.revision += 1;
+    }
+
+    /// Re-runs the current configuration from scratch to the end of generation
+    /// `target.generations`, then pauses and selects `target.selected` (ignored when the front
+    /// is shorter). With 0 generations nothing runs. Pausing and resuming keep the target;
+    /// [`App::step_once`] and [`App::reset`] drop it.
+    pub fn reproduce(&mut self, target: Reproduction) -> Result<(), String> {
+        self.reset();
+        if target.generations == 0 {
+            return Ok(());
+        }
+        self.ensure_optimizer()?;
+        self.reproduction = Some(target);
+        self.running = true;
+        Ok(())
+    }
+
+    /// Runs on (from where the run stands) to the end of generation `generations`, then
+    /// pauses; the selection stays. Does nothing when that generation is already complete.
+    pub fn advance_to(&mut self, generations: u64) -> Result<(), String> {
+        let optimizer = self.ensure_optimizer()?;
+        let p = optimizer.progress();
+        if p.done || p.generation >= generations {
+            return Ok(());
+        }
+        self.reproduction = Some(Reproduction {
+            generations,
+            selected: None,
+        });
+        self.running = true;
+        Ok(())
+    }
+
+    /// Shows `solution` (from anywhere: a crossover child, say) as the selection.
+    pub fn show_solution(&mut self, solution: Solution) {
+        self.selected = Some(solution);
+        self.revision += 1;
+    }
+
+    /// The re-run in progress, if any.
+    pub fn reproduction(&self) -> Option<Reproduction> {
+        self.reproduction
     }
 
     /// Builds the optimizer when there is none yet. Fails with a message for the user when the
@@ -170,6 +226,7 @@ impl App {
     /// Does one generation's worth of evaluations (the population size, at least one unit),
     /// paused or not, and reports.
     pub fn step_once(&mut self) -> Result<Progress, String> {
+        self.reproduction = None;
         let evaluations = self.config.params.population.max(1) as u64;
         let optimizer = self.ensure_optimizer()?;
         let p = optimizer.step(evaluations);
@@ -202,7 +259,10 @@ impl App {
         loop {
             let call_start = now;
             let evals_before = optimizer.progress().evaluations;
-            let p = optimizer.step(self.chunk);
+            let p = match self.reproduction {
+                Some(r) => optimizer.step_until(self.chunk, r.generations),
+                None => optimizer.step(self.chunk),
+            };
             now = clock();
             report.steps += 1;
             let spent = p.evaluations - evals_before;
@@ -218,6 +278,18 @@ impl App {
             }
             if p.done {
                 self.running = false;
+            }
+            if let Some(r) = self.reproduction
+                && (p.done || p.generation >= r.generations)
+            {
+                self.running = false;
+                self.reproduction = None;
+                if let Some(i) = r.selected {
+                    self.selected = optimizer.front().solutions().get(i).cloned();
+                }
+                self.revision += 1;
+            }
+            if !self.running {
                 break;
             }
             let expected_next = slowest_eval * self.chunk as f64;

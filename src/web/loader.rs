@@ -2,15 +2,56 @@
 
 use crate::heightfield::{Heightfield, ImportOptions, import::Projection, raw};
 
-/// Name of the built-in surface shown on first load.
-pub const BUILTIN_NAME: &str = "jacksboro_65x65";
-const BUILTIN_GRID: &[u8] = include_bytes!("../../tests/data/jacksboro_65x65.f32");
-const BUILTIN_SIDECAR: &[u8] = include_bytes!("../../tests/data/jacksboro_65x65.json");
+/// A surface built into the app (copied from `tests/data`, see its SOURCES.md).
+#[derive(Clone, Copy, Debug)]
+pub struct Builtin {
+    /// Its name, as the surface menu and share links spell it.
+    pub name: &'static str,
+    /// What it is, for the menu.
+    pub label: &'static str,
+    grid: &'static [u8],
+    sidecar: &'static [u8],
+}
 
-/// The built-in surface: the Jacksboro fault DEM, 65×65 (see tests/data/SOURCES.md).
+macro_rules! builtin {
+    ($name:literal, $label:literal) => {
+        Builtin {
+            name: $name,
+            label: $label,
+            grid: include_bytes!(concat!("../../tests/data/", $name, ".f32")),
+            sidecar: include_bytes!(concat!("../../tests/data/", $name, ".json")),
+        }
+    };
+}
+
+/// The built-in surfaces, the one shown on first load first: two terrains, a photo used as a
+/// relief (a face among other things), and the range image of a 3-D scan.
+pub const BUILTINS: [Builtin; 4] = [
+    builtin!("jacksboro_65x65", "terrain: Jacksboro fault DEM"),
+    builtin!("volcano_87x61", "terrain: Maunga Whau volcano"),
+    builtin!("camera_65x65", "relief: the cameraman photo as heights"),
+    builtin!("bunny_65x65", "range scan: the Stanford bunny"),
+];
+
+/// Name of the built-in surface shown on first load.
+pub const BUILTIN_NAME: &str = BUILTINS[0].name;
+
+impl Builtin {
+    /// The built-in called `name`, if there is one.
+    pub fn named(name: &str) -> Option<Builtin> {
+        BUILTINS.into_iter().find(|b| b.name == name)
+    }
+
+    /// Its height field.
+    pub fn heightfield(&self) -> Heightfield {
+        raw::parse(self.grid, self.sidecar, self.name)
+            .expect("the built-in surfaces are valid grids (tested)")
+    }
+}
+
+/// The surface shown on first load: the Jacksboro fault DEM, 65×65 (see tests/data/SOURCES.md).
 pub fn builtin() -> Heightfield {
-    raw::parse(BUILTIN_GRID, BUILTIN_SIDECAR, BUILTIN_NAME)
-        .expect("the built-in surface is a valid grid (tested)")
+    BUILTINS[0].heightfield()
 }
 
 /// Lower-case extension of a file name ("" when none).

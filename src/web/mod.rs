@@ -16,12 +16,17 @@ pub mod algorithms;
 pub mod app;
 pub mod compare;
 pub mod dom;
+pub mod examples;
 pub mod export;
 pub mod loader;
+pub mod oax_panel;
 pub mod plot;
 pub mod preview;
 pub mod render;
 pub mod share;
+pub mod share_view;
+pub mod teaching;
+pub mod teaching_view;
 pub mod transfer;
 pub mod ui;
 

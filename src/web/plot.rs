@@ -361,3 +361,140 @@ fn line(ctx: &CanvasRenderingContext2d, x0: f64, y0: f64, x1: f64, y1: f64) {
     ctx.line_to(x1, y1);
     ctx.stroke();
 }
+
+/// The shape of a [`Mark`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// A dot.
+    Circle,
+    /// A square.
+    Square,
+    /// A diamond.
+    Diamond,
+    /// An upward triangle.
+    Triangle,
+    /// An ×.
+    Cross,
+}
+
+/// One styled point of a teaching or comparison scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mark {
+    /// Where, in data units.
+    pub point: PlotPoint,
+    /// CSS colour.
+    pub colour: &'static str,
+    /// Shape.
+    pub shape: Shape,
+    /// Half-size in CSS pixels.
+    pub radius: f64,
+    /// Filled, or only outlined.
+    pub filled: bool,
+    /// Width of a black ring around it (0: none), e.g. how often a parent was picked.
+    pub ring: f64,
+    /// Read-out text on hover.
+    pub label: String,
+}
+
+/// Draws `marks` over a plot already drawn by [`draw`] (with the same `layout`), a legend in
+/// the top-right corner, and a ring on the `hovered` mark.
+pub fn draw_marks(
+    ctx: &CanvasRenderingContext2d,
+    layout: &Layout,
+    marks: &[Mark],
+    legend: &[(String, &'static str)],
+    hovered: Option<usize>,
+) {
+    let (l, t, r, b) = layout.area();
+    ctx.save();
+    ctx.begin_path();
+    ctx.rect(l, t, r - l, b - t);
+    ctx.clip();
+    for m in marks {
+        let (x, y) = layout.to_pixel(m.point);
+        let s = m.radius;
+        ctx.begin_path();
+        match m.shape {
+            Shape::Circle => {
+                let _ = ctx.arc(x, y, s, 0.0, std::f64::consts::TAU);
+            }
+            Shape::Square => ctx.rect(x - s, y - s, 2.0 * s, 2.0 * s),
+            Shape::Diamond => {
+                ctx.move_to(x, y - s * 1.3);
+                ctx.line_to(x + s, y);
+                ctx.line_to(x, y + s * 1.3);
+                ctx.line_to(x - s, y);
+                ctx.close_path();
+            }
+            Shape::Triangle => {
+                ctx.move_to(x, y - s * 1.2);
+                ctx.line_to(x + s, y + s * 0.8);
+                ctx.line_to(x - s, y + s * 0.8);
+                ctx.close_path();
+            }
+            Shape::Cross => {
+                ctx.move_to(x - s, y - s);
+                ctx.line_to(x + s, y + s);
+                ctx.move_to(x + s, y - s);
+                ctx.line_to(x - s, y + s);
+            }
+        }
+        if m.filled && m.shape != Shape::Cross {
+            ctx.set_fill_style_str(m.colour);
+            ctx.fill();
+        } else {
+            ctx.set_stroke_style_str(m.colour);
+            ctx.set_line_width(1.5);
+            ctx.stroke();
+        }
+        if m.ring > 0.0 {
+            ctx.begin_path();
+            let _ = ctx.arc(x, y, s + 1.0 + m.ring, 0.0, std::f64::consts::TAU);
+            ctx.set_stroke_style_str("#000");
+            ctx.set_line_width(m.ring.min(4.0));
+            ctx.stroke();
+        }
+    }
+    if let Some(m) = hovered.and_then(|i| marks.get(i)) {
+        let (x, y) = layout.to_pixel(m.point);
+        ctx.begin_path();
+        let _ = ctx.arc(x, y, m.radius + 5.0, 0.0, std::f64::consts::TAU);
+        ctx.set_stroke_style_str("#ff9900");
+        ctx.set_line_width(2.0);
+        ctx.stroke();
+    }
+    ctx.restore();
+    // Legend, top right inside the plotting area.
+    ctx.set_font("11px system-ui, sans-serif");
+    ctx.set_text_align("left");
+    ctx.set_text_baseline("middle");
+    let width = legend
+        .iter()
+        .map(|(label, _)| ctx.measure_text(label).map(|m| m.width()).unwrap_or(60.0))
+        .fold(0.0, f64::max)
+        + 26.0;
+    let x0 = r - width - 4.0;
+    for (i, (label, colour)) in legend.iter().enumerate() {
+        let y = t + 10.0 + 14.0 * i as f64;
+        ctx.set_fill_style_str("rgba(255,255,255,0.85)");
+        ctx.fill_rect(x0, y - 7.0, width, 14.0);
+        ctx.set_fill_style_str(colour);
+        ctx.fill_rect(x0 + 4.0, y - 4.0, 8.0, 8.0);
+        ctx.set_fill_style_str("#222");
+        let _ = ctx.fill_text(label, x0 + 18.0, y);
+    }
+}
+
+/// Index of the mark nearest to pixel (`x`, `y`) within `radius` pixels, if any (the topmost,
+/// i.e. the last drawn, on ties).
+pub fn hit_test_marks(
+    layout: &Layout,
+    marks: &[Mark],
+    x: f64,
+    y: f64,
+    radius: f64,
+) -> Option<usize> {
+    // Reversed, so that hit_test's tie rule (lower index) picks the last drawn.
+    let points: Vec<PlotPoint> = marks.iter().rev().map(|m| m.point).collect();
+    hit_test(layout, &points, x, y, radius).map(|i| marks.len() - 1 - i)
+}

@@ -54,9 +54,6 @@ pub const MAX_YAW: f32 = 1.0e6;
 /// Largest |coordinate| of the camera target (the surface is normalised to unit size).
 pub const MAX_TARGET: f32 = 1.0e4;
 
-/// The built-in surfaces a link may name.
-pub const BUILTIN_SURFACES: &[&str] = &[loader::BUILTIN_NAME];
-
 /// Everything needed to reproduce a view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShareLink {
@@ -91,7 +88,7 @@ pub struct ViewToggles {
 /// Which surface a link is about.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SharedSurface {
-    /// A built-in surface, by its name (one of [`BUILTIN_SURFACES`]).
+    /// A built-in surface, by its name (one of [`loader::BUILTINS`]).
     Builtin(String),
     /// A user's file, which the reader must drop again; the fingerprint checks it is the same.
     File(FileFingerprint),
@@ -272,7 +269,7 @@ impl fmt::Display for ShareError {
                 f,
                 "it names an unknown built-in surface \"{}\" (known: {}).",
                 clip(s, 40),
-                BUILTIN_SURFACES.join(", ")
+                loader::BUILTINS.map(|b| b.name).join(", ")
             ),
             Self::BadName => write!(
                 f,
@@ -483,7 +480,7 @@ impl ShareLink {
     pub fn validate(&self) -> Result<(), ShareError> {
         match &self.surface {
             SharedSurface::Builtin(name) => {
-                if !BUILTIN_SURFACES.contains(&name.as_str()) {
+                if loader::Builtin::named(name).is_none() {
                     return Err(ShareError::UnknownBuiltin(name.clone()));
                 }
             }

@@ -10,6 +10,9 @@ use super::plot::{self, Layout, PlotPoint, Scene};
 use super::render::camera::OrbitCamera;
 use super::render::geometry::{self, ViewMapping};
 use super::render::gpu::{Renderer, Style};
+use super::share::{FileFingerprint, ShareLink, ViewToggles};
+use super::share_view::{self, Origin};
+use super::teaching_view::{self, TeachingUi};
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -27,34 +30,34 @@ const MAX_WIREFRAME_POINTS: usize = 128 * 128;
 /// Hover and click radius in the plot, CSS pixels.
 const HIT_RADIUS: f64 = 8.0;
 
-/// What the 3-D view shows besides the selected mesh.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct Toggles {
-    original: bool,
-    error: bool,
-    kept: bool,
-}
-
 /// What the current layers were built from; a change rebuilds them.
 #[derive(Clone, Debug, PartialEq)]
 struct ViewKey {
     surface: usize,
     selected: Option<(usize, u64)>,
-    toggles: Toggles,
+    toggles: ViewToggles,
 }
 
-struct Ui {
-    app: App,
+/// The page's state: the app plus what only the page has (view, plot, pointers, links).
+pub(super) struct Ui {
+    pub(super) app: App,
     renderer: Option<Renderer>,
-    camera: OrbitCamera,
+    pub(super) camera: OrbitCamera,
     view_key: Option<ViewKey>,
     shown: Option<ShownMesh>,
-    redraw: bool,
+    pub(super) redraw: bool,
     plot_layout: Layout,
     front_points: Vec<PlotPoint>,
-    hovered: Option<usize>,
+    pub(super) hovered: Option<usize>,
     pointers: Vec<(i32, f64, f64)>,
     painted: bool,
+    /// Where the surface came from, for share links.
+    pub(super) origin: Origin,
+    /// A share link waiting for the user to drop the file it names.
+    pub(super) waiting_for: Option<ShareLink>,
+    /// The teaching view's state.
+    pub(super) teaching: TeachingUi,
+    /// Compare mode's state.
     compare: compare_view::CompareView,
 }
 
@@ -73,7 +76,29 @@ fn z_unit(hf: &crate::heightfield::Heightfield) -> String {
 }
 
 impl Ui {
-    fn surface_info(&self) {
+    /// The view toggles as the checkboxes say.
+    pub(super) fn toggles(&self) -> ViewToggles {
+        ViewToggles {
+            original: dom::checked("show-original"),
+            error: dom::checked("show-error"),
+            kept: dom::checked("show-kept"),
+        }
+    }
+
+    /// Ticks the checkboxes as `toggles` says.
+    pub(super) fn set_toggles(&mut self, toggles: ViewToggles) {
+        for (id, on) in [
+            ("show-original", toggles.original),
+            ("show-error", toggles.error),
+            ("show-kept", toggles.kept),
+        ] {
+            if let Ok(input) = by_id::<web_sys::HtmlInputElement>(id) {
+                input.set_checked(on);
+            }
+        }
+    }
+
+    pub(super) fn surface_info(&self) {
         let s = self.app.surface();
         let hf = &s.heightfield;
         dom::set_text(
@@ -91,12 +116,8 @@ impl Ui {
     }
 
     /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed.
-    fn update_layers(&mut self) {
-        let toggles = Toggles {
-            original: dom::checked("show-original"),
-            error: dom::checked("show-error"),
-            kept: dom::checked("show-kept"),
-        };
+    pub(super) fn update_layers(&mut self) {
+        let toggles = self.toggles();
         let hf = self.app.surface().heightfield.clone();
         let key = ViewKey {
             surface: Arc::as_ptr(&hf) as usize,
@@ -245,6 +266,12 @@ impl Ui {
         };
         let ctx: CanvasRenderingContext2d = ctx.unchecked_into();
         let _ = ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0);
+        let unit = z_unit(&self.app.surface().heightfield);
+        if let Some(layout) = self.draw_teaching_plot(&ctx, cw, ch, &unit) {
+            self.plot_layout = layout;
+            self.front_points.clear();
+            return;
+        }
         self.front_points = self
             .app
             .front()
@@ -276,7 +303,6 @@ impl Ui {
                 .chain(population.iter().map(|(p, _)| p)),
             dom::checked("plot-log-e"),
         );
-        let unit = z_unit(&self.app.surface().heightfield);
         plot::draw(
             &ctx,
             &self.plot_layout,
@@ -312,10 +338,15 @@ impl Ui {
         let mut clock = performance_now;
         self.app.tick(budget, &mut clock);
         self.compare_frame();
-        dom::set_text(
-            "status",
-            &dom::status_text(&self.app.status(), self.app.is_running()),
-        );
+        let mut status = dom::status_text(&self.app.status(), self.app.is_running());
+        if let Some(r) = self.app.reproduction() {
+            status.push_str(&format!(
+                " · re-running the shared run to generation {}",
+                r.generations
+            ));
+        }
+        dom::set_text("status", &status);
+        self.teaching_frame(performance_now());
         self.update_layers();
         self.draw_plot();
         self.resize_view();
@@ -334,7 +365,7 @@ impl Ui {
         }
     }
 
-    fn apply_form(&mut self) -> bool {
+    pub(super) fn apply_form(&mut self) -> bool {
         match dom::read_config() {
             Ok(config) => {
                 // The GA parameters mean nothing to the classical methods: hide them.
@@ -366,21 +397,28 @@ impl Ui {
         }
     }
 
+    /// Shows a parsed file whose bytes have `fingerprint`; when a share link waits for a file,
+    /// only that file is accepted and the link's run follows.
     fn load(
         &mut self,
-        name: &str,
+        fingerprint: FileFingerprint,
         parsed: Result<crate::heightfield::Heightfield, String>,
     ) -> bool {
+        let name = fingerprint.name.clone();
         match parsed {
             Ok(hf) => {
-                self.app.set_surface(Surface {
-                    name: name.to_string(),
-                    heightfield: Arc::new(hf),
-                });
-                self.hovered = None;
-                self.camera = OrbitCamera::default();
-                self.surface_info();
+                let link = match self.check_awaited_file(&fingerprint) {
+                    Ok(link) => link,
+                    Err(e) => {
+                        dom::show_load_message(&e, true);
+                        return false;
+                    }
+                };
+                self.set_surface(&name, hf, Origin::File(fingerprint));
                 dom::show_load_message(&format!("loaded {name}"), false);
+                if let Some(link) = link {
+                    self.apply_run(&link);
+                }
                 true
             }
             Err(e) => {
@@ -503,8 +541,14 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
         hovered: None,
         pointers: Vec::new(),
         painted: false,
+        origin: Origin::Builtin(loader::BUILTIN_NAME),
+        waiting_for: None,
+        teaching: TeachingUi::default(),
         compare: Default::default(),
     };
+    teaching_view::fill().map_err(|e| JsValue::from_str(&e))?;
+    share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
+    ui.update_share_controls();
     dom::write_config(ui.app.config()).map_err(|e| JsValue::from_str(&e))?;
     ui.surface_info();
     by_id::<web_sys::HtmlElement>("legend-bar")
@@ -527,6 +571,8 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
         ui: Rc::new(RefCell::new(ui)),
     };
     app.wire(&canvas).map_err(|e| JsValue::from_str(&e))?;
+    share_view::wire(&app.ui).map_err(|e| JsValue::from_str(&e))?;
+    teaching_view::wire(&app.ui).map_err(|e| JsValue::from_str(&e))?;
     Ok(app)
 }
 
@@ -547,17 +593,86 @@ impl WebApp {
             sidecar.as_deref(),
             &crate::heightfield::ImportOptions::default(),
         );
-        self.ui.borrow_mut().load(name, parsed)
+        self.ui
+            .borrow_mut()
+            .load(FileFingerprint::of(name, bytes), parsed)
     }
 
-    /// Shows a surface the Worker parsed (see [`super::transfer`]); like [`WebApp::load_file`]
-    /// otherwise.
+    /// Shows a surface the Worker parsed (see [`super::transfer`]) from a file of `size` bytes
+    /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], taken before the bytes
+    /// went to the Worker); like [`WebApp::load_file`] otherwise.
     #[wasm_bindgen(js_name = loadParsed)]
-    pub fn load_parsed(&self, name: &str, parsed: JsValue) -> bool {
+    pub fn load_parsed(&self, name: &str, parsed: JsValue, size: f64, hash: &str) -> bool {
         let parsed = super::transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
-        self.ui.borrow_mut().load(name, parsed)
+        let fingerprint = FileFingerprint {
+            name: name.to_string(),
+            size: size as u64,
+            fnv1a64: u64::from_str_radix(hash, 16).unwrap_or(0),
+        };
+        self.ui.borrow_mut().load(fingerprint, parsed)
     }
 
+    /// Opens a share link (the URL hash, with or without `#`); see [`super::share_view`].
+    #[wasm_bindgen(js_name = openLink)]
+    pub fn open_link(&self, hash: &str) {
+        self.ui.borrow_mut().open_link(hash);
+    }
+
+    /// The archive front as flat `[T0, E0, T1, E1, …]` (increasing T), for tests and the
+    /// console.
+    #[wasm_bindgen(js_name = frontObjectives)]
+    pub fn front_objectives(&self) -> Vec<f64> {
+        let ui = self.ui.borrow();
+        ui.app.front().map_or_else(Vec::new, |f| {
+            f.solutions()
+                .iter()
+                .flat_map(|s| [s.t as f64, s.e_sum])
+                .collect()
+        })
+    }
+
+    /// The selected solution as `[front index or −1, T, E_sum]`, if any.
+    #[wasm_bindgen(js_name = selectedObjectives)]
+    pub fn selected_objectives(&self) -> Option<Vec<f64>> {
+        let ui = self.ui.borrow();
+        let s = ui.app.selected()?;
+        let index = ui.app.selected_front_index().map_or(-1.0, |i| i as f64);
+        Some(vec![index, s.t as f64, s.e_sum])
+    }
+
+    /// True while a share link's run is being re-done.
+    #[wasm_bindgen(js_name = isReproducing)]
+    pub fn is_reproducing(&self) -> bool {
+        self.ui.borrow().app.reproduction().is_some()
+    }
+
+    /// Generations completed by the current run.
+    pub fn generation(&self) -> f64 {
+        self.ui.borrow().app.status().generation as f64
+    }
+
+    /// The teaching view's shown phase (its label) and the generation of its trace, if any.
+    #[wasm_bindgen(js_name = teachingState)]
+    pub fn teaching_state(&self) -> Option<Vec<String>> {
+        let ui = self.ui.borrow();
+        let phase = ui.teaching_phase()?;
+        let generation = ui
+            .app
+            .optimizer()
+            .and_then(|o| o.generation_trace())
+            .map_or(0, |t| t.generation);
+        Some(vec![phase.label().to_string(), generation.to_string()])
+    }
+}
+
+/// FNV-1a hash of `bytes` as 16 hex digits: the fingerprint a share link gives a user's file.
+#[wasm_bindgen(js_name = fnv1a64Hex)]
+pub fn fnv1a64_hex(bytes: &[u8]) -> String {
+    format!("{:016x}", super::share::fnv1a64(bytes))
+}
+
+#[wasm_bindgen]
+impl WebApp {
     /// Shows a loading message (`error` styles it as an error), for the JS file reader.
     #[wasm_bindgen(js_name = showLoadMessage)]
     pub fn show_load_message(&self, text: &str, error: bool) {
@@ -681,6 +796,10 @@ impl WebApp {
         listen(&plot, "mousemove", move |e: MouseEvent| {
             let mut ui = ui.borrow_mut();
             let (x, y) = (e.offset_x() as f64, e.offset_y() as f64);
+            let layout = ui.plot_layout;
+            if ui.teaching_hover(&layout, x, y) {
+                return;
+            }
             ui.hovered = plot::hit_test(&ui.plot_layout, &ui.front_points, x, y, HIT_RADIUS);
         });
         let ui = self.ui.clone();

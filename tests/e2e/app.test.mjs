@@ -4,76 +4,12 @@
 // point → the 3-D canvas is not blank → export PLY and check it → drop a corrupt file and check
 // the message while the previous surface stays. Screenshots go to target/e2e/. Prints (does not
 // assert) frame timing, time to first paint and evaluations/s.
-import { chromium } from 'playwright-core';
-import { spawn } from 'node:child_process';
-import { createServer } from 'node:net';
-import { mkdirSync, readFileSync, existsSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
+import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-
-const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const shots = path.join(root, 'target/e2e');
-mkdirSync(shots, { recursive: true });
-assert.ok(existsSync(path.join(root, 'www/pkg/paretomesh_bg.wasm')), 'build the app first: bash scripts/build-web.sh');
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance } from './harness.mjs';
 
 const DROP_FILES = (process.env.E2E_DROP ?? 'tests/data/volcano_87x61.ply').split(',');
-
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const s = createServer();
-    s.once('error', reject);
-    s.listen(0, '127.0.0.1', () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
-
-async function waitForServer(url, tries = 100) {
-  for (let i = 0; i < tries; i++) {
-    try {
-      const r = await fetch(url);
-      if (r.ok) return;
-    } catch { /* not up yet */ }
-    await new Promise((r) => setTimeout(r, 100));
-  }
-  throw new Error(`server at ${url} did not start`);
-}
-
-// Drops files (name → bytes) on the drop zone through a real DataTransfer.
-async function dropFiles(page, files) {
-  const payload = files.map(({ name, bytes }) => ({ name, b64: Buffer.from(bytes).toString('base64') }));
-  await page.evaluate((items) => {
-    const dt = new DataTransfer();
-    for (const { name, b64 } of items) {
-      const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
-      dt.items.add(new File([bin], name));
-    }
-    const zone = document.getElementById('drop-zone');
-    for (const type of ['dragenter', 'dragover', 'drop']) {
-      zone.dispatchEvent(new DragEvent(type, { dataTransfer: dt, bubbles: true, cancelable: true }));
-    }
-  }, payload);
-}
-
-// Pixel variance (over RGB) of a PNG screenshot, decoded in the page.
-async function pixelVariance(page, png) {
-  return page.evaluate(async (b64) => {
-    const bin = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
-    const bitmap = await createImageBitmap(new Blob([bin], { type: 'image/png' }));
-    const c = new OffscreenCanvas(bitmap.width, bitmap.height);
-    const ctx = c.getContext('2d');
-    ctx.drawImage(bitmap, 0, 0);
-    const d = ctx.getImageData(0, 0, bitmap.width, bitmap.height).data;
-    let n = 0, sum = 0, sq = 0;
-    for (let i = 0; i < d.length; i += 4) {
-      for (let k = 0; k < 3; k++) { sum += d[i + k]; sq += d[i + k] * d[i + k]; n++; }
-    }
-    const mean = sum / n;
-    return sq / n - mean * mean;
-  }, png.toString('base64'));
-}
 
 // A W×H grid with its (x, y) jittered, as OBJ: a surface mesh whose vertices are not a lattice.
 function wavyObj(w, h) {
@@ -96,25 +32,12 @@ function wavyObj(w, h) {
 
 const status = (page) => page.locator('#status').textContent();
 
-const port = await freePort();
-const server = spawn('python3', ['-m', 'http.server', '--bind', '127.0.0.1', String(port)], { cwd: root, stdio: 'ignore' });
-const url = `http://127.0.0.1:${port}/`;
-let browser;
-try {
-  await waitForServer(url);
-  browser = await chromium.launch({
-    executablePath: '/usr/bin/chromium',
-    // No --enable-unsafe-webgpu: a WebGPU canvas stays blank headless, so the app takes WebGL2.
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
-  const page = await browser.newPage({ viewport: { width: 1400, height: 850 }, acceptDownloads: true });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+await withApp(async ({ browser, url }) => {
+  const page = await newPage(browser);
 
   // 1. First load: the built-in surface in 3-D with its statistics.
   await page.goto(url);
-  await page.waitForFunction(() => performance.getEntriesByName('paretomesh-first-paint').length > 0, null, { timeout: 30000 });
+  await waitForApp(page);
   const firstPaint = await page.evaluate(() => performance.getEntriesByName('paretomesh-first-paint')[0].startTime);
   const info = await page.locator('#surface-info').textContent();
   assert.match(info, /jacksboro_65x65 · 65×65 grid · 4225 points · full mesh 8192 triangles/);
@@ -225,7 +148,7 @@ try {
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, '08-resampled.png') });
 
-  assert.deepEqual(errors.filter((e) => !/GPU stall|WebGL-/.test(e)), [], 'no page errors');
+  assert.deepEqual(realErrors(page), [], 'no page errors');
 
   const within = frames.filter((d) => d <= 20).length / Math.max(1, frames.length);
   const evalsPerSecond = /([\d.]+) evaluations\/s/.exec(runStatus)?.[1];
@@ -233,7 +156,4 @@ try {
     `${(100 * within).toFixed(1)} % of ${frames.length} frames within 20 ms while the GA ran; ` +
     `${evalsPerSecond} evaluations/s in the browser; front ${n} points; selected ${vertices} vertices; ` +
     `status: ${runStatus}; corrupt file message: ${message}`);
-} finally {
-  if (browser) await browser.close();
-  server.kill();
-}
+});

@@ -177,15 +177,15 @@ try {
   const box = await page.locator('#compare-plot').boundingBox();
   await page.mouse.click(box.x + x, box.y + y);
   await page.waitForFunction(() => window.paretomesh.selectedVertexCount() !== undefined, null, { timeout: 10000 });
-  const [selT] = await page.evaluate(() => window.paretomesh.selectedObjectives());
+  const [, selT] = await page.evaluate(() => window.paretomesh.selectedObjectives()); // [front index or −1, T, E]
   assert.ok(Number.isInteger(selT) && selT >= 2);
   assert.match(await page.locator('#selection-info').textContent(), new RegExp(`T = ${selT} triangles`));
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, 'compare-04-selected.png') });
   const tradeOff = picks[3].picks[2];
   await page.click('#compare-picks tr[data-method="greedy"] td[data-pick="trade-off"]');
-  await page.waitForFunction((t) => window.paretomesh.selectedObjectives()?.[0] === t, tradeOff.t, { timeout: 10000 });
-  assert.deepEqual(await page.evaluate(() => Array.from(window.paretomesh.selectedObjectives())), [tradeOff.t, tradeOff.e]);
+  await page.waitForFunction((t) => window.paretomesh.selectedObjectives()?.[1] === t, tradeOff.t, { timeout: 10000 });
+  assert.deepEqual(await page.evaluate(() => Array.from(window.paretomesh.selectedObjectives()).slice(1)), [tradeOff.t, tradeOff.e]);
 
   // 6. Compare mode off: the single-run plot is back.
   await page.uncheck('#compare-on');

@@ -372,11 +372,4 @@ impl WebApp {
         let (x, y) = layout.to_pixel(*p);
         Some(vec![x, y])
     }
-
-    /// The selected solution's (T, E), if any.
-    #[wasm_bindgen(js_name = selectedObjectives)]
-    pub fn selected_objectives(&self) -> Option<Vec<f64>> {
-        let ui = self.ui.borrow();
-        ui.app.selected().map(|s| vec![s.t as f64, s.e_sum])
-    }
 }

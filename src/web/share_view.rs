@@ -1,0 +1,443 @@
+//! The page side of share links: the Share button, opening a link (at start, from the
+//! Examples, or when the hash changes), waiting for the file a link names, and the surface menu.
+//!
+//! A link is applied in this order: its surface is loaded, its algorithm and parameters are
+//! written into the form, its camera and toggles are set, and the run is re-done from scratch
+//! to the link's generation ([`App::reproduce`]), which then selects the link's front index.
+//! A link that cannot be read leaves the page as it was (at start: the default demo) and says
+//! why; nothing of the user's work is lost.
+
+use super::app::{App, Reproduction, RunConfig, Surface};
+use super::dom::{self, by_id};
+use super::examples::examples;
+use super::loader::{self, BUILTINS, Builtin};
+use super::render::camera::OrbitCamera;
+use super::share::{
+    self, EmbeddedGrid, FileFingerprint, MAX_EMBEDDED_SIDE, ShareLink, SharedSurface,
+};
+use super::ui::Ui;
+use crate::heightfield::Heightfield;
+use std::sync::Arc;
+use wasm_bindgen::JsCast;
+use web_sys::{HtmlInputElement, HtmlSelectElement};
+
+/// Where the shown surface came from: what a share link can say about it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Origin {
+    /// A built-in surface.
+    Builtin(&'static str),
+    /// A user's file, known by its fingerprint.
+    File(FileFingerprint),
+    /// A grid that came embedded in a link (re-sharing embeds it again).
+    Embedded,
+}
+
+/// The page's URL with `fragment` as its hash.
+fn url_with_hash(fragment: &str) -> String {
+    let location = web_sys::window().map(|w| w.location());
+    let base = location
+        .and_then(|l| {
+            Some(format!(
+                "{}{}{}",
+                l.origin().ok()?,
+                l.pathname().ok()?,
+                l.search().ok()?
+            ))
+        })
+        .unwrap_or_default();
+    format!("{base}#{fragment}")
+}
+
+/// Puts `fragment` in the address bar without firing `hashchange` (which would re-open it).
+fn replace_hash(fragment: &str) {
+    if let Some(history) = web_sys::window().and_then(|w| w.history().ok()) {
+        let _ = history.replace_state_with_url(
+            &wasm_bindgen::JsValue::NULL,
+            "",
+            Some(&url_with_hash(fragment)),
+        );
+    }
+}
+
+/// Heights of `hf` as the f32 an embedded grid carries, and whether that is exact.
+fn embeddable(hf: &Heightfield) -> Option<(Vec<f32>, bool)> {
+    if hf.width() > MAX_EMBEDDED_SIDE || hf.height() > MAX_EMBEDDED_SIDE {
+        return None;
+    }
+    let z: Vec<f32> = hf.z().iter().map(|&v| v as f32).collect();
+    let exact = z.iter().zip(hf.z()).all(|(&a, &b)| f64::from(a) == b);
+    Some((z, exact))
+}
+
+impl Ui {
+    /// The share link of what the page shows now.
+    fn current_link(&self, embed: bool) -> Result<(ShareLink, String), String> {
+        let surface = self.app.surface();
+        let hf = &surface.heightfield;
+        let mut note = String::new();
+        let shared = match (&self.origin, embed) {
+            (Origin::Builtin(name), _) => SharedSurface::Builtin((*name).to_string()),
+            (Origin::File(_) | Origin::Embedded, true) | (Origin::Embedded, false) => {
+                let (z, exact) = embeddable(hf).ok_or_else(|| {
+                    format!(
+                        "only grids of at most {MAX_EMBEDDED_SIDE}×{MAX_EMBEDDED_SIDE} points can \
+                         travel in a link; this one is {}×{}",
+                        hf.width(),
+                        hf.height()
+                    )
+                })?;
+                if !exact {
+                    note = " Heights travel as 32-bit floats, so the reader's numbers may \
+                            differ slightly."
+                        .to_string();
+                }
+                SharedSurface::Embedded(EmbeddedGrid {
+                    name: surface.name.clone(),
+                    width: hf.width(),
+                    height: hf.height(),
+                    z,
+                })
+            }
+            (Origin::File(fingerprint), false) => {
+                note = format!(
+                    " The reader must drop your file {} ({} bytes) to open it.",
+                    fingerprint.name, fingerprint.size
+                );
+                SharedSurface::File(fingerprint.clone())
+            }
+        };
+        let status = self.app.status();
+        let config = self.app.config();
+        if status.evaluations > 0 && !status.done && self.app.is_running() {
+            note.push_str(&format!(
+                " The run is still going: the link reproduces it as of generation {}.",
+                status.generation
+            ));
+        }
+        let link = ShareLink {
+            surface: shared,
+            algorithm: config.algorithm,
+            params: config.params.clone(),
+            generations_run: status.generation,
+            selected: self.app.selected_front_index(),
+            camera: self.camera,
+            toggles: self.toggles(),
+        };
+        Ok((link, note))
+    }
+
+    /// The Share button: writes the link into the box and the address bar and copies it.
+    pub(super) fn share(&mut self) {
+        let embed = dom::checked("share-embed");
+        match self.current_link(embed) {
+            Ok((link, note)) => {
+                let fragment = share::encode(&link);
+                // Refuse to hand out a link the reader would refuse.
+                if let Err(e) = share::decode(&fragment) {
+                    dom::set_text("share-message", &e.to_string());
+                    return;
+                }
+                let url = url_with_hash(&fragment);
+                replace_hash(&fragment);
+                if let Ok(input) = by_id::<HtmlInputElement>("share-url") {
+                    input.set_value(&url);
+                    input.set_hidden(false);
+                    input.select();
+                }
+                let copied = web_sys::window()
+                    .map(|w| w.navigator().clipboard())
+                    .map(|c| c.write_text(&url));
+                if let Some(promise) = copied.clone() {
+                    // Clipboard access can be refused (permissions, no focus): say so.
+                    wasm_bindgen_futures::spawn_local(async move {
+                        if wasm_bindgen_futures::JsFuture::from(promise).await.is_err() {
+                            dom::set_text(
+                                "share-message",
+                                "The browser refused clipboard access: copy the link from the \
+                                 box below.",
+                            );
+                        }
+                    });
+                }
+                let message = format!(
+                    "Link ({} characters) {}.{note}",
+                    url.len(),
+                    if copied.is_some() {
+                        "copied to the clipboard; it is also in the box below"
+                    } else {
+                        "in the box below: copy it from there"
+                    }
+                );
+                dom::set_text("share-message", &message);
+            }
+            Err(e) => dom::set_text("share-message", &format!("Cannot share: {e}.")),
+        }
+    }
+
+    /// Enables "embed the grid" only when the grid is small enough to travel.
+    pub(super) fn update_share_controls(&self) {
+        let hf = &self.app.surface().heightfield;
+        let can_embed = !matches!(self.origin, Origin::Builtin(_)) && embeddable(hf).is_some();
+        if let Ok(input) = by_id::<HtmlInputElement>("share-embed") {
+            input.set_disabled(!can_embed);
+            if !can_embed {
+                input.set_checked(false);
+            }
+        }
+        if let Ok(select) = by_id::<HtmlSelectElement>("surface") {
+            select.set_value(match self.origin {
+                Origin::Builtin(name) => name,
+                _ => "",
+            });
+        }
+    }
+
+    /// Opens the link in `fragment` (a URL hash; empty does nothing). A link that cannot be
+    /// read leaves everything as it is and says why.
+    pub(super) fn open_link(&mut self, fragment: &str) {
+        let fragment = fragment.strip_prefix('#').unwrap_or(fragment);
+        if fragment.is_empty() {
+            return;
+        }
+        let link = match share::decode(fragment) {
+            Ok(link) => link,
+            Err(e) => {
+                let shown = if self.app.front().is_none()
+                    && matches!(self.origin, Origin::Builtin(n) if n == loader::BUILTIN_NAME)
+                {
+                    "the default demo is shown instead"
+                } else {
+                    "the page stays as it was"
+                };
+                dom::show_load_message(&format!("{e} ({shown})"), true);
+                return;
+            }
+        };
+        self.waiting_for = None;
+        match &link.surface {
+            SharedSurface::Builtin(name) => {
+                let Some(builtin) = Builtin::named(name) else {
+                    return; // decode accepts known names only
+                };
+                self.show_builtin(builtin);
+            }
+            SharedSurface::Embedded(grid) => match grid.to_heightfield() {
+                Ok(hf) => {
+                    let hf =
+                        hf.with_source(format!("grid embedded in a share link ({})", grid.name));
+                    self.set_surface(&grid.name, hf, Origin::Embedded);
+                }
+                Err(e) => {
+                    dom::show_load_message(&e.to_string(), true);
+                    return;
+                }
+            },
+            SharedSurface::File(fingerprint) => {
+                dom::show_load_message(
+                    &format!(
+                        "This link was made on the file {} ({} bytes, FNV-1a {:016x}). Drop that \
+                         file to reproduce the run; another file will be refused.",
+                        fingerprint.name, fingerprint.size, fingerprint.fnv1a64
+                    ),
+                    false,
+                );
+                self.waiting_for = Some(link);
+                return;
+            }
+        }
+        self.apply_run(&link);
+    }
+
+    /// Checks a dropped file against the link waiting for one. `Ok(Some(link))`: this is the
+    /// file, apply the link after loading; `Ok(None)`: no link waits; `Err`: the wrong file.
+    pub(super) fn check_awaited_file(
+        &self,
+        fingerprint: &FileFingerprint,
+    ) -> Result<Option<ShareLink>, String> {
+        let Some(link) = &self.waiting_for else {
+            return Ok(None);
+        };
+        let SharedSurface::File(expected) = &link.surface else {
+            return Ok(None);
+        };
+        if expected.size == fingerprint.size && expected.fnv1a64 == fingerprint.fnv1a64 {
+            Ok(Some(link.clone()))
+        } else {
+            Err(format!(
+                "{} is not the file the share link expects: it needs {} ({} bytes, FNV-1a \
+                 {:016x}) and this one has {} bytes, FNV-1a {:016x}. Drop the right file, or \
+                 choose a built-in surface to leave the link.",
+                fingerprint.name,
+                expected.name,
+                expected.size,
+                expected.fnv1a64,
+                fingerprint.size,
+                fingerprint.fnv1a64
+            ))
+        }
+    }
+
+    /// Writes the link's run into the form and view, and re-runs it.
+    pub(super) fn apply_run(&mut self, link: &ShareLink) {
+        self.waiting_for = None;
+        let config = RunConfig {
+            algorithm: link.algorithm,
+            params: link.params.clone(),
+            budget_ms: self.app.config().budget_ms,
+        };
+        if let Err(e) = dom::write_config(&config) {
+            dom::show_load_message(&e, true);
+            return;
+        }
+        self.apply_form();
+        self.app.set_config(config);
+        self.camera = link.camera;
+        self.set_toggles(link.toggles);
+        self.redraw = true;
+        match self.app.reproduce(Reproduction {
+            generations: link.generations_run,
+            selected: link.selected,
+        }) {
+            Ok(()) => {
+                let what = if link.generations_run == 0 {
+                    "press Run to start".to_string()
+                } else {
+                    format!(
+                        "re-running {} to generation {} with seed {}",
+                        link.algorithm.label(),
+                        link.generations_run,
+                        link.params.seed
+                    )
+                };
+                dom::show_load_message(
+                    &format!(
+                        "Opened a share link on {}: {what}.",
+                        self.app.surface().name
+                    ),
+                    false,
+                );
+            }
+            Err(e) => {
+                dom::show_load_message(&format!("The share link's run cannot start: {e}"), true)
+            }
+        }
+    }
+
+    /// Shows built-in surface `builtin` with no run.
+    pub(super) fn show_builtin(&mut self, builtin: Builtin) {
+        self.waiting_for = None;
+        self.set_surface(
+            builtin.name,
+            builtin.heightfield(),
+            Origin::Builtin(builtin.name),
+        );
+    }
+
+    /// Replaces the surface (the run and selection go with it) and resets the view.
+    pub(super) fn set_surface(&mut self, name: &str, hf: Heightfield, origin: Origin) {
+        self.app.set_surface(Surface {
+            name: name.to_string(),
+            heightfield: Arc::new(hf),
+        });
+        self.origin = origin;
+        self.hovered = None;
+        self.camera = OrbitCamera::default();
+        self.redraw = true;
+        self.surface_info();
+        self.update_share_controls();
+    }
+}
+
+/// Fills the surface menu and the Examples list. Each example is a real link (it can be copied
+/// or opened in a new tab); a plain click opens it in place.
+pub(super) fn fill_menus(app: &App) -> Result<(), String> {
+    let document = dom::document();
+    let select: HtmlSelectElement = by_id("surface")?;
+    for b in BUILTINS {
+        let option = document
+            .create_element("option")
+            .map_err(|_| "cannot create a menu entry")?;
+        let _ = option.set_attribute("value", b.name);
+        option.set_text_content(Some(&format!("{} ({})", b.label, b.name)));
+        let _ = select.append_child(&option);
+    }
+    let other = document
+        .create_element("option")
+        .map_err(|_| "cannot create a menu entry")?;
+    let _ = other.set_attribute("value", "");
+    let _ = other.set_attribute("disabled", "");
+    other.set_text_content(Some("a dropped file or a linked grid"));
+    let _ = select.append_child(&other);
+    select.set_value(&app.surface().name);
+
+    let list: web_sys::Element = by_id("examples")?;
+    for example in examples() {
+        let item = document
+            .create_element("li")
+            .map_err(|_| "cannot create a list item")?;
+        let a: web_sys::HtmlAnchorElement = document
+            .create_element("a")
+            .map_err(|_| "cannot create a link")?
+            .unchecked_into();
+        a.set_href(&format!("#{}", share::encode(&example.link)));
+        a.set_text_content(Some(example.title));
+        a.set_class_name("example");
+        let _ = item.append_child(&a);
+        let text = document
+            .create_element("span")
+            .map_err(|_| "cannot create a description")?;
+        text.set_class_name("small");
+        text.set_text_content(Some(&format!(" — {}", example.description)));
+        let _ = item.append_child(&text);
+        let _ = list.append_child(&item);
+    }
+    Ok(())
+}
+
+/// Opens example anchors in place and re-opens the hash when it changes by hand.
+pub(super) fn wire(ui: &std::rc::Rc<std::cell::RefCell<Ui>>) -> Result<(), String> {
+    let list: web_sys::EventTarget = by_id("examples")?;
+    let u = ui.clone();
+    dom::listen(&list, "click", move |e: web_sys::MouseEvent| {
+        let Some(a) = e
+            .target()
+            .and_then(|t| t.dyn_into::<web_sys::HtmlAnchorElement>().ok())
+        else {
+            return;
+        };
+        // Let modified clicks (new tab, copy) do what the browser does.
+        if e.ctrl_key() || e.meta_key() || e.shift_key() || e.button() != 0 {
+            return;
+        }
+        e.prevent_default();
+        let fragment = a.hash();
+        replace_hash(fragment.trim_start_matches('#'));
+        u.borrow_mut().open_link(&fragment);
+    });
+    let window: web_sys::EventTarget = web_sys::window().ok_or("no window")?.into();
+    let u = ui.clone();
+    dom::listen(&window, "hashchange", move |_: web_sys::Event| {
+        let hash = web_sys::window()
+            .and_then(|w| w.location().hash().ok())
+            .unwrap_or_default();
+        u.borrow_mut().open_link(&hash);
+    });
+    let select: web_sys::EventTarget = by_id("surface")?;
+    let u = ui.clone();
+    dom::listen(&select, "change", move |_: web_sys::Event| {
+        let name = by_id::<HtmlSelectElement>("surface")
+            .map(|s| s.value())
+            .unwrap_or_default();
+        if let Some(b) = Builtin::named(&name) {
+            let mut ui = u.borrow_mut();
+            ui.show_builtin(b);
+            dom::show_load_message(&format!("loaded the built-in surface {}", b.name), false);
+        }
+    });
+    let u = ui.clone();
+    let button: web_sys::EventTarget = by_id("share")?;
+    dom::listen(&button, "click", move |_: web_sys::Event| {
+        u.borrow_mut().share()
+    });
+    Ok(())
+}

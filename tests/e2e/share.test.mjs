@@ -1,0 +1,158 @@
+// End-to-end test of share links in headless Chromium:
+// 1. the quick curated example (bunny, NSGA-II 40 × 20, seed 7) opened as a link re-runs to the
+//    same front and the same selected solution as the CLI with the same settings (E and T
+//    compared exactly), and sharing it again gives the identical link;
+// 2. malformed and hostile links show a clear message, keep the default demo, and never panic;
+// 3. a run on a dropped file shared by fingerprint asks for the file, refuses a wrong one and
+//    reproduces with the right one; the same run shared with the grid embedded reproduces with
+//    no file at all.
+// Needs the release CLI (cargo build --release --bin paretomesh) and www/pkg.
+import { readFileSync, existsSync, mkdtempSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import assert from 'node:assert/strict';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles } from './harness.mjs';
+
+const cli = path.join(root, 'target/release/paretomesh');
+assert.ok(existsSync(cli), 'build the CLI first: cargo build --release --bin paretomesh');
+
+// The CLI's front for a run, as [T, E] pairs and the raw file.
+function cliFront(args) {
+  const out = path.join(mkdtempSync(path.join(tmpdir(), 'pm-')), 'front.json');
+  execFileSync(cli, ['run', ...args, '--out', out], { stdio: ['ignore', 'ignore', 'inherit'] });
+  return JSON.parse(readFileSync(out, 'utf8')).front.map((m) => [m.T, m.E_sum]);
+}
+
+const pairs = (flat) => flat.reduce((acc, v, i) => (i % 2 ? acc[acc.length - 1].push(v) : acc.push([v]), acc), []);
+
+// Waits until the page is done re-running a link (up to `timeout` ms).
+async function waitForReproduction(page, timeout = 180000) {
+  await page.waitForFunction(() => window.paretomesh && !window.paretomesh.isReproducing() && window.paretomesh.generation() > 0, null, { timeout });
+}
+
+async function openLink(browser, url, fragment) {
+  const page = await newPage(browser);
+  await page.goto(`${url}#${fragment}`);
+  await waitForApp(page);
+  return page;
+}
+
+async function shareNow(page, { embed = false } = {}) {
+  if (embed) await page.check('#share-embed');
+  await page.click('#share');
+  const shared = await page.inputValue('#share-url');
+  assert.ok(shared.includes('#v1.'), `a share link was produced: ${shared}`);
+  return shared.slice(shared.indexOf('#') + 1);
+}
+
+await withApp(async ({ browser, url }) => {
+  // 1. The quick curated example against the CLI.
+  const home = await newPage(browser);
+  await home.goto(url);
+  await waitForApp(home);
+  const examples = await home.$$eval('#examples a', (as) => as.map((a) => ({ title: a.textContent, hash: a.hash.slice(1) })));
+  assert.ok(examples.length >= 3, `the page lists curated examples (${examples.length})`);
+  const quick = examples.find((e) => /Range scan/.test(e.title));
+  assert.ok(quick, 'the range-scan example is listed');
+  await home.close();
+
+  const started = Date.now();
+  const page = await openLink(browser, url, quick.hash);
+  assert.equal(await page.evaluate(() => window.paretomesh.surfaceName()), 'bunny_65x65');
+  await waitForReproduction(page);
+  const seconds = (Date.now() - started) / 1000;
+  const browserFront = pairs(await page.evaluate(() => window.paretomesh.frontObjectives()));
+  const expected = cliFront(['tests/data/bunny_65x65.f32', '--algo', 'nsga2', '--pop', '40', '--gens', '20', '--seed', '7']);
+  assert.equal(await page.evaluate(() => window.paretomesh.generation()), 20);
+  assert.deepEqual(browserFront, expected, 'the link reproduces the CLI front exactly (T and E)');
+  const [index, t, e] = await page.evaluate(() => window.paretomesh.selectedObjectives());
+  assert.equal(index, 30, 'the link selects front member 30');
+  assert.deepEqual([t, e], expected[30], 'the selected solution is the CLI front member 30');
+  assert.ok(await page.isChecked('#show-original'), 'the link turned the original-surface toggle on');
+  assert.ok(!(await page.isChecked('#show-error')), 'and left the error map off');
+  assert.equal(await shareNow(page), quick.hash, 'sharing the reproduced view gives the same link');
+  await page.screenshot({ path: path.join(shots, 'share-01-example.png') });
+  assert.deepEqual(realErrors(page), [], 'no page errors');
+  await page.close();
+
+  // 2. Malformed and hostile links.
+  const settings = (obj) => Buffer.from(JSON.stringify(obj)).toString('base64url');
+  const good = JSON.parse(Buffer.from(quick.hash.split('.')[1], 'base64url').toString());
+  const hostile = {
+    'not base64': 'v1.@@@###',
+    'unknown version': 'v9.e30',
+    'cut short': quick.hash.slice(0, quick.hash.length - 7),
+    'wrong type': `v1.${settings({ ...good, generations_run: 'many' })}`,
+    'huge number': `v1.${settings({ ...good, params: { ...good.params, population: 1e12 } })}`,
+    'unknown surface': `v1.${settings({ ...good, surface: { kind: 'builtin', name: '../../etc/passwd' } })}`,
+    'corrupt grid': `v1.${settings({ ...good, surface: { kind: 'embedded', name: 'x', width: 65, height: 65 } })}.AAAAAAAA`,
+    'oversized': `v1.${'A'.repeat(40000)}`,
+  };
+  const messages = {};
+  for (const [what, fragment] of Object.entries(hostile)) {
+    const p = await openLink(browser, url, fragment);
+    await p.waitForFunction(() => document.querySelector('#load-message.error') !== null, null, { timeout: 10000 });
+    messages[what] = await p.locator('#load-message').textContent();
+    assert.match(messages[what], /cannot be opened/, `${what}: a clear message`);
+    assert.match(messages[what], /default demo/, `${what}: says the default demo is shown`);
+    assert.equal(await p.evaluate(() => window.paretomesh.surfaceName()), 'jacksboro_65x65', `${what}: default demo`);
+    assert.ok(await p.locator('#panic').isHidden(), `${what}: no panic`);
+    assert.deepEqual(realErrors(p), [], `${what}: no page errors`);
+    await p.close();
+  }
+
+  // 3. A dropped file, shared by fingerprint and embedded.
+  // A .f32 grid with its sidecar: f32 heights embed exactly (a text PLY's would be rounded).
+  const dropped = [
+    { name: 'bunny_33x33.f32', bytes: readFileSync(path.join(root, 'tests/data/bunny_33x33.f32')) },
+    { name: 'bunny_33x33.json', bytes: readFileSync(path.join(root, 'tests/data/bunny_33x33.json')) },
+  ];
+  const wrong = { name: 'volcano_87x61.ply', bytes: readFileSync(path.join(root, 'tests/data/volcano_87x61.ply')) };
+  const author = await newPage(browser);
+  await author.goto(url);
+  await waitForApp(author);
+  await dropFiles(author, dropped);
+  await author.waitForFunction(() => window.paretomesh.surfaceName() === 'bunny_33x33.f32', null, { timeout: 30000 });
+  await author.fill('#population', '20');
+  await author.fill('#generations', '5');
+  await author.fill('#seed', '11');
+  await author.click('#run');
+  await author.waitForFunction(() => /done/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+  const authorFront = await author.evaluate(() => window.paretomesh.frontObjectives());
+  const [x, y] = await author.evaluate(() => window.paretomesh.frontPointPosition(3));
+  const box = await author.locator('#plot').boundingBox();
+  await author.mouse.click(box.x + x, box.y + y);
+  const authorSelected = await author.evaluate(() => window.paretomesh.selectedObjectives());
+  assert.ok(authorSelected && authorSelected[0] >= 0, 'a front member is selected');
+  const byFingerprint = await shareNow(author);
+  const embedded = await shareNow(author, { embed: true });
+  assert.ok(embedded.split('.').length === 3, 'the embedded link carries a grid part');
+  assert.deepEqual(realErrors(author), [], 'no page errors while sharing');
+  await author.close();
+
+  const reader = await openLink(browser, url, byFingerprint);
+  assert.match(await reader.locator('#load-message').textContent(), /bunny_33x33\.f32 .*Drop that file/);
+  await dropFiles(reader, [wrong]);
+  await reader.waitForFunction(() => document.querySelector('#load-message.error') !== null, null, { timeout: 30000 });
+  assert.match(await reader.locator('#load-message').textContent(), /not the file the share link expects/);
+  assert.equal(await reader.evaluate(() => window.paretomesh.surfaceName()), 'jacksboro_65x65', 'the wrong file is refused');
+  await dropFiles(reader, dropped);
+  await waitForReproduction(reader);
+  assert.equal(await reader.evaluate(() => window.paretomesh.surfaceName()), 'bunny_33x33.f32');
+  assert.deepEqual(await reader.evaluate(() => window.paretomesh.frontObjectives()), authorFront, 'fingerprint link: same front');
+  assert.deepEqual(await reader.evaluate(() => window.paretomesh.selectedObjectives()), authorSelected, 'fingerprint link: same selection');
+  await reader.close();
+
+  const embeddedReader = await openLink(browser, url, embedded);
+  await waitForReproduction(embeddedReader);
+  assert.deepEqual(await embeddedReader.evaluate(() => window.paretomesh.frontObjectives()), authorFront, 'embedded link: same front');
+  assert.deepEqual(await embeddedReader.evaluate(() => window.paretomesh.selectedObjectives()), authorSelected, 'embedded link: same selection');
+  await embeddedReader.screenshot({ path: path.join(shots, 'share-02-embedded.png') });
+  assert.deepEqual(realErrors(embeddedReader), [], 'no page errors');
+  await embeddedReader.close();
+
+  console.log(`share e2e ok: the bunny example re-ran to the CLI's front of ${expected.length} members in ${seconds.toFixed(1)} s; ` +
+    `link lengths: example ${quick.hash.length}, file ${byFingerprint.length}, embedded 33×33 ${embedded.length} characters; ` +
+    `hostile-link message example: ${messages['huge number']}`);
+});
