@@ -2,9 +2,17 @@
 //!
 //! Reads `jacksboro_65x65` and `camera_257x257` from `../shared/data` (or `$PARETOMESH_DATA`);
 //! says so and skips a grid when it is absent.
+//!
+//! `incremental/*`: scoring a kept set by editing the mesh of a set d genes away
+//! ([`Evaluator::edit`], including the copy of the base mesh, as the GA's scorer does it) beside
+//! a fresh score of the same set, on `tests/data/jacksboro_65x65` (always present) at 30 %
+//! density: where the two cross is the scorer's edit limit.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use paretomesh::{evaluator::Evaluator, heightfield};
+use paretomesh::{
+    evaluator::{Evaluator, MeshState},
+    heightfield,
+};
 use rand::{RngExt, SeedableRng};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 use std::hint::black_box;
@@ -66,5 +74,55 @@ fn bench(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, bench);
+fn bench_incremental(c: &mut Criterion) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/jacksboro_65x65.f32");
+    let hf = std::sync::Arc::new(heightfield::load(&path).expect("fixture"));
+    let n = hf.len();
+    let base_kept = kept_subset(n, 0.3, 7);
+    let mut ev = Evaluator::new(hf.clone());
+    let mut base = MeshState::default();
+    ev.score_into(&base_kept, &mut base).unwrap();
+    let mut group = c.benchmark_group("incremental");
+    group.sample_size(20);
+    for distance in [1usize, 16, 128, 512, 1024, 2048] {
+        // `distance` distinct free points flipped, in grid order (as the scorer passes them).
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(distance as u64);
+        let mut flip = vec![false; n];
+        let corners = hf.corners();
+        let mut count = 0;
+        while count < distance {
+            let i = rng.random_range(0..n as u32);
+            if !corners.contains(&i) && !flip[i as usize] {
+                flip[i as usize] = true;
+                count += 1;
+            }
+        }
+        let (mut remove, mut insert) = (Vec::new(), Vec::new());
+        for i in 0..n as u32 {
+            if flip[i as usize] {
+                if base.is_kept(i) {
+                    remove.push(i);
+                } else {
+                    insert.push(i);
+                }
+            }
+        }
+        let child: Vec<u32> = (0..n as u32)
+            .filter(|&i| base.is_kept(i) != flip[i as usize])
+            .collect();
+        let mut state = MeshState::default();
+        group.bench_function(BenchmarkId::new("edit", distance), |b| {
+            b.iter(|| {
+                state.clone_from(&base);
+                black_box(ev.edit(&mut state, &remove, &insert).unwrap())
+            })
+        });
+        group.bench_function(BenchmarkId::new("fresh", distance), |b| {
+            b.iter(|| black_box(ev.score_into(&child, &mut state).unwrap()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_incremental);
 criterion_main!(benches);

@@ -8,8 +8,8 @@
 
 pub mod edge_decimation;
 pub mod greedy_insertion;
-mod hole;
-mod insertion;
+pub(crate) mod hole;
+pub(crate) mod insertion;
 mod queue;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};

@@ -9,6 +9,14 @@
 //! - Every grid point is counted exactly once: kept points contribute 0; every other point is
 //!   interpolated linearly on the one triangle that owns it (see [`raster`]).
 //! - `rms = sqrt(Σ (z − z̃)² / N)` over all N grid points.
+//! - The sums are added in one fixed order, the grid's (each row left to right, then the rows
+//!   bottom to top; see [`errors`]), and each triangle is rasterised in one fixed rotation, so
+//!   the numbers of a kept set are the same bits however its mesh was made.
+//!
+//! Besides scoring a kept set from scratch, the evaluator can keep the scored mesh in a
+//! [`MeshState`] and score a nearby kept set by editing it ([`Evaluator::edit`]: local removals
+//! and insertions, only the changed triangles rasterised again), with bit-identical results; see
+//! [`incremental`].
 //!
 //! ```
 //! use paretomesh::{evaluator::Evaluator, heightfield::Heightfield};
@@ -23,17 +31,20 @@
 //! assert_eq!((with_bump.score.e_sum, with_bump.score.t), (0.0, 4));
 //! ```
 
+pub mod errors;
+pub mod incremental;
 pub mod predicates;
 pub mod raster;
 pub mod reference;
 pub mod triangulation;
 
 use crate::heightfield::Heightfield;
+use incremental::EditScratch;
+pub use incremental::MeshState;
 use raster::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::sync::Arc;
-use triangulation::Triangulation;
 
 /// The error numbers of one mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -75,6 +86,12 @@ pub enum EvaluateError {
     OpenEdge { from: u32, to: u32 },
     /// The triangles do not cover the grid rectangle exactly once.
     WrongArea { found: i64, expected: i64 },
+    /// An edit of a [`MeshState`] removes a point that is not kept (or a corner), or inserts a
+    /// point that is kept already.
+    InvalidEdit { index: u32, why: &'static str },
+    /// A [`MeshState`] was edited that this evaluator's height field did not score (or that
+    /// holds a triangulation given from outside).
+    ForeignState,
 }
 
 impl fmt::Display for EvaluateError {
@@ -106,6 +123,13 @@ impl fmt::Display for EvaluateError {
                 *found as f64 / 2.0,
                 *expected as f64 / 2.0
             ),
+            Self::InvalidEdit { index, why } => {
+                write!(f, "cannot edit grid point {index}: {why}")
+            }
+            Self::ForeignState => write!(
+                f,
+                "the mesh state was not scored from a kept set on this evaluator's height field"
+            ),
         }
     }
 }
@@ -118,7 +142,10 @@ pub struct Evaluator {
     hf: Arc<Heightfield>,
     kept_mark: Vec<bool>,
     kept: Vec<u32>,
-    mesh: Triangulation,
+    /// The last mesh scored by [`score`](Self::score) or
+    /// [`score_triangulation`](Self::score_triangulation).
+    state: MeshState,
+    scratch: EditScratch,
 }
 
 impl Evaluator {
@@ -128,7 +155,8 @@ impl Evaluator {
             kept_mark: vec![false; hf.len()],
             hf,
             kept: Vec::new(),
-            mesh: Triangulation::default(),
+            state: MeshState::default(),
+            scratch: EditScratch::default(),
         }
     }
 
@@ -142,12 +170,25 @@ impl Evaluator {
         let score = self.score(kept)?;
         Ok(Evaluation {
             score,
-            triangles: self.mesh.triangles(),
+            triangles: self.state.triangles(),
         })
     }
 
     /// Triangulates `kept` (plus the corners) and scores it.
     pub fn score(&mut self, kept: &[u32]) -> Result<Score, EvaluateError> {
+        let mut state = std::mem::take(&mut self.state);
+        let score = self.score_into(kept, &mut state);
+        self.state = state;
+        score
+    }
+
+    /// Like [`score`](Self::score), but builds the mesh into `state`, which can then be edited
+    /// ([`edit`](Self::edit)) to score nearby kept sets.
+    pub fn score_into(
+        &mut self,
+        kept: &[u32],
+        state: &mut MeshState,
+    ) -> Result<Score, EvaluateError> {
         let n = self.hf.len();
         if let Some(&bad) = kept.iter().find(|&&i| i as usize >= n) {
             return Err(EvaluateError::IndexOutOfRange {
@@ -181,8 +222,22 @@ impl Evaluator {
         if !self.kept.is_sorted() {
             self.kept.sort_unstable();
         }
-        self.mesh.rebuild_delaunay(self.hf.width(), &self.kept);
-        Ok(self.score_mesh())
+        Ok(state.rebuild(&self.hf, &self.kept))
+    }
+
+    /// Scores the kept set of `state` with the kept points `remove` taken out and the grid
+    /// points `insert` added, by editing `state` in place (see [`incremental`]). The result is
+    /// bit for bit what [`score`](Self::score) gives for the new kept set, and `state` becomes
+    /// that set's mesh. `state` must come from [`score_into`](Self::score_into) on this
+    /// evaluator (or earlier edits). Each index of `remove` must be kept and not a corner, each
+    /// of `insert` not kept (after the removals); on such an error `state` is unchanged.
+    pub fn edit(
+        &mut self,
+        state: &mut MeshState,
+        remove: &[u32],
+        insert: &[u32],
+    ) -> Result<Score, EvaluateError> {
+        state.edit(&self.hf, remove, insert, &mut self.scratch)
     }
 
     /// The kept points of the last [`score`](Self::score) call, increasing, corners included.
@@ -192,7 +247,7 @@ impl Evaluator {
 
     /// The triangles of the last scored mesh.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
-        self.mesh.triangles()
+        self.state.triangles()
     }
 
     /// Scores any valid triangulation of grid points, Delaunay or not, so that meshes from other
@@ -249,35 +304,15 @@ impl Evaluator {
                 expected,
             });
         }
-        self.mesh.vertices.clear();
-        self.mesh.twin.clear();
+        let mesh = self.state.mesh_mut();
+        mesh.vertices.clear();
+        mesh.twin.clear();
         for t in &oriented {
-            self.mesh.vertices.extend_from_slice(t);
+            mesh.vertices.extend_from_slice(t);
         }
-        Ok(self.score_mesh())
-    }
-
-    fn score_mesh(&self) -> Score {
-        let w = self.hf.width() as i64;
-        let grid = Grid {
-            width: w,
-            height: self.hf.height() as i64,
-            z: self.hf.z(),
-        };
-        let (mut sum, mut sum_sq, mut max) = (0.0f64, 0.0f64, 0.0f64);
-        let lattice = predicates::Lattice::new(self.hf.width());
-        for t in 0..self.mesh.len() {
-            let tri = self.mesh.triangle(t).map(|i| lattice.point(i));
-            let e = grid.triangle_error(tri);
-            sum += e.sum;
-            sum_sq += e.sum_sq;
-            max = max.max(e.max);
-        }
-        Score {
-            e_sum: sum,
-            e_max: max,
-            rms: (sum_sq / self.hf.len() as f64).sqrt(),
-            t: self.mesh.len(),
-        }
+        let score = self.state.rescore_all(&self.hf);
+        // Not a linked Delaunay triangulation: this state cannot be edited.
+        self.state.forget();
+        Ok(score)
     }
 }

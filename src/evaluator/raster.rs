@@ -136,6 +136,19 @@ impl Grid<'_> {
         });
     }
 
+    /// Visits every grid point the counter-clockwise triangle `tri` owns (vertices excluded) with
+    /// its index and its error |z − z̃|, the same bits [`triangle_error`](Self::triangle_error)
+    /// adds up.
+    #[inline]
+    pub fn for_each_error(&self, tri: [GridPoint; 3], mut visit: impl FnMut(usize, f64)) {
+        self.for_each_span(tri, |first, last, span| {
+            let z = &self.z[first..=last];
+            for (k, &zk) in z.iter().enumerate() {
+                visit(first + k, (zk - span.at(k)).abs());
+            }
+        });
+    }
+
     /// The error sums of the points triangle `tri` owns.
     pub fn triangle_error(&self, tri: [GridPoint; 3]) -> TriangleError {
         let mut acc = TriangleError::default();

@@ -27,7 +27,7 @@ pub fn prev(e: u32) -> u32 {
 }
 
 /// A triangulation of grid points in half-edge form.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Triangulation {
     /// Grid index of the origin of each half-edge; three per triangle.
     pub vertices: Vec<u32>,
@@ -39,6 +39,22 @@ pub struct Triangulation {
     slot: Vec<u32>,
     /// Scratch: spade's reversed directed edge for each of our half-edges.
     rev: Vec<u32>,
+}
+
+impl Clone for Triangulation {
+    /// The triangles and their links (scratch buffers start empty).
+    fn clone(&self) -> Self {
+        let mut copy = Self::default();
+        copy.clone_from(self);
+        copy
+    }
+
+    /// Reuses this triangulation's buffers (the derived one would reallocate).
+    fn clone_from(&mut self, source: &Self) {
+        self.vertices.clone_from(&source.vertices);
+        self.twin.clone_from(&source.twin);
+        self.lattice = source.lattice;
+    }
 }
 
 impl Triangulation {
@@ -105,6 +121,9 @@ impl Triangulation {
         }
         let slot = &self.slot;
         self.twin.extend(self.rev.iter().map(|&r| slot[r as usize]));
+        // Empty scratch keeps its capacity but makes a clone of the mesh cheap.
+        self.slot.clear();
+        self.rev.clear();
         self.legalize_all();
     }
 

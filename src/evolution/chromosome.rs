@@ -74,6 +74,44 @@ impl Chromosome {
             .sum()
     }
 
+    /// The Hamming distance to `other` (same length) if it is below `bound`, else `None`; stops
+    /// counting as soon as the bound is reached.
+    pub fn hamming_below(&self, other: &Chromosome, bound: usize) -> Option<usize> {
+        let mut d = 0;
+        for (a, b) in self.words.chunks(8).zip(other.words.chunks(8)) {
+            d += a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (x ^ y).count_ones() as usize)
+                .sum::<usize>();
+            if d >= bound {
+                return None;
+            }
+        }
+        Some(d)
+    }
+
+    /// The genes where `self` and `other` (same length) differ, in increasing order: those set
+    /// only in `self` into `only_self`, those set only in `other` into `only_other` (both
+    /// cleared first).
+    pub fn write_differences(
+        &self,
+        other: &Chromosome,
+        only_self: &mut Vec<u32>,
+        only_other: &mut Vec<u32>,
+    ) {
+        only_self.clear();
+        only_other.clear();
+        for (w, (&a, &b)) in self.words.iter().zip(&other.words).enumerate() {
+            for (out, mut bits) in [(&mut *only_self, a & !b), (&mut *only_other, b & !a)] {
+                while bits != 0 {
+                    out.push((w * 64) as u32 + bits.trailing_zeros());
+                    bits &= bits - 1;
+                }
+            }
+        }
+    }
+
     /// The set indices in increasing order, written into `out` (cleared first): the form
     /// [`Evaluator::score`](crate::evaluator::Evaluator::score) takes.
     pub fn write_indices(&self, out: &mut Vec<u32>) {

@@ -1,0 +1,94 @@
+//! The error of every grid point of one mesh, and its totals summed in one canonical order.
+//!
+//! Floating-point addition is not associative, so E_sum depends on the order its terms are added
+//! in. The evaluator fixes that order once for all: each row's errors are added left to right
+//! (starting from 0.0, kept points adding their 0.0), and the row sums are added bottom to top.
+//! The order depends on the grid alone, never on how the triangulation was built or numbered,
+//! so a mesh scored from scratch and the same mesh reached by local edits
+//! ([`MeshState`](super::MeshState)) get the same bits. It also lets an edit re-add only the
+//! rows it touched.
+
+/// |z − z̃| per grid point, with per-row sums, sums of squares and maxima.
+#[derive(Debug, Default)]
+pub struct ErrorField {
+    width: usize,
+    errors: Vec<f64>,
+    row_sum: Vec<f64>,
+    row_sum_sq: Vec<f64>,
+    row_max: Vec<f64>,
+}
+
+impl Clone for ErrorField {
+    fn clone(&self) -> Self {
+        let mut copy = Self::default();
+        copy.clone_from(self);
+        copy
+    }
+
+    /// Reuses this field's buffers (the derived one would reallocate).
+    fn clone_from(&mut self, source: &Self) {
+        self.width = source.width;
+        self.errors.clone_from(&source.errors);
+        self.row_sum.clone_from(&source.row_sum);
+        self.row_sum_sq.clone_from(&source.row_sum_sq);
+        self.row_max.clone_from(&source.row_max);
+    }
+}
+
+impl ErrorField {
+    /// Resets to a `width × height` grid of zero errors (row totals zero too).
+    pub fn reset(&mut self, width: usize, height: usize) {
+        self.width = width;
+        self.errors.clear();
+        self.errors.resize(width * height, 0.0);
+        for rows in [&mut self.row_sum, &mut self.row_sum_sq, &mut self.row_max] {
+            rows.clear();
+            rows.resize(height, 0.0);
+        }
+    }
+
+    /// The error of every grid point, row-major.
+    pub fn errors(&self) -> &[f64] {
+        &self.errors
+    }
+
+    /// Sets the error of grid point `i`; the row totals are stale until
+    /// [`refresh_row`](Self::refresh_row).
+    #[inline]
+    pub fn set(&mut self, i: usize, error: f64) {
+        self.errors[i] = error;
+    }
+
+    /// Recomputes the totals of row `y` from its errors, left to right.
+    pub fn refresh_row(&mut self, y: usize) {
+        let row = &self.errors[y * self.width..(y + 1) * self.width];
+        let (mut sum, mut sum_sq, mut max) = (0.0f64, 0.0f64, 0.0f64);
+        for &d in row {
+            sum += d;
+            sum_sq += d * d;
+            max = max.max(d);
+        }
+        self.row_sum[y] = sum;
+        self.row_sum_sq[y] = sum_sq;
+        self.row_max[y] = max;
+    }
+
+    /// Recomputes every row's totals.
+    pub fn refresh_all(&mut self) {
+        for y in 0..self.row_sum.len() {
+            self.refresh_row(y);
+        }
+    }
+
+    /// (Σ error, Σ error², max error) over the grid: the row totals added bottom to top.
+    /// Valid when every row changed since the last refresh has been refreshed.
+    pub fn totals(&self) -> (f64, f64, f64) {
+        let (mut sum, mut sum_sq, mut max) = (0.0f64, 0.0f64, 0.0f64);
+        for y in 0..self.row_sum.len() {
+            sum += self.row_sum[y];
+            sum_sq += self.row_sum_sq[y];
+            max = max.max(self.row_max[y]);
+        }
+        (sum, sum_sq, max)
+    }
+}

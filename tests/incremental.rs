@@ -1,0 +1,322 @@
+//! Incremental evaluation ([`Evaluator::edit`]) against fresh evaluation ([`Evaluator::score`]):
+//! the same triangles and the same score, bit for bit, over seeded random kept sets and random
+//! edit sequences, plus tiny hand-made cases.
+
+use paretomesh::evaluator::{EvaluateError, Evaluator, MeshState, Score};
+use paretomesh::heightfield::{self, Heightfield};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::path::Path;
+use std::sync::Arc;
+
+fn fixture(name: &str) -> Arc<Heightfield> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(format!("{name}.f32"));
+    Arc::new(heightfield::load(&path).expect("fixture"))
+}
+
+/// A grid of integer-valued heights (many exact ties in the interpolation) or random reals.
+fn synthetic(width: usize, height: usize, seed: u64) -> Arc<Heightfield> {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let z = (0..width * height)
+        .map(|_| {
+            if seed % 2 == 0 {
+                rng.random_range(0..5) as f64
+            } else {
+                rng.random::<f64>() * 100.0 - 50.0
+            }
+        })
+        .collect();
+    Arc::new(Heightfield::new(width, height, z).unwrap())
+}
+
+/// Triangles as a sorted list of canonically rotated triples: equal lists = equal meshes.
+fn triangle_set(tris: &[[u32; 3]]) -> Vec<[u32; 3]> {
+    let mut v: Vec<[u32; 3]> = tris
+        .iter()
+        .map(|t| {
+            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+        })
+        .collect();
+    v.sort_unstable();
+    v
+}
+
+fn bits(s: Score) -> (u64, u64, u64, usize) {
+    (s.e_sum.to_bits(), s.e_max.to_bits(), s.rms.to_bits(), s.t)
+}
+
+/// Checks `state` (after edits) against a fresh evaluation of its kept set.
+fn assert_matches_fresh(ev: &mut Evaluator, state: &MeshState, n: usize, what: &str) {
+    let kept: Vec<u32> = (0..n as u32).filter(|&i| state.is_kept(i)).collect();
+    let fresh = ev.evaluate(&kept).unwrap();
+    assert_eq!(
+        bits(state.score().unwrap()),
+        bits(fresh.score),
+        "{what}: score {:?} vs fresh {:?}",
+        state.score(),
+        fresh.score
+    );
+    assert_eq!(
+        triangle_set(&state.triangles()),
+        triangle_set(&fresh.triangles),
+        "{what}: triangles"
+    );
+}
+
+/// A random edit of `state`: each free point flips with probability `p` (removals of kept
+/// points, insertions of the others), corners excluded, in random order.
+fn random_edit(
+    state: &MeshState,
+    hf: &Heightfield,
+    p: f64,
+    rng: &mut Pcg64Mcg,
+) -> (Vec<u32>, Vec<u32>) {
+    let corners = hf.corners();
+    let (mut remove, mut insert) = (Vec::new(), Vec::new());
+    for i in 0..hf.len() as u32 {
+        if corners.contains(&i) || rng.random::<f64>() >= p {
+            continue;
+        }
+        if state.is_kept(i) {
+            remove.push(i);
+        } else {
+            insert.push(i);
+        }
+    }
+    // Shuffle, so that the order of the edits is not always increasing.
+    for list in [&mut remove, &mut insert] {
+        for k in (1..list.len()).rev() {
+            list.swap(k, rng.random_range(0..=k));
+        }
+    }
+    (remove, insert)
+}
+
+fn random_kept(n: usize, density: f64, rng: &mut Pcg64Mcg) -> Vec<u32> {
+    (0..n as u32)
+        .filter(|_| rng.random::<f64>() < density)
+        .collect()
+}
+
+/// Runs `rounds` random edits of random sizes from a random start on `hf`.
+fn edit_sequences(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let mut ev = Evaluator::new(hf.clone());
+    let n = hf.len();
+    let mut state = MeshState::default();
+    let density = [0.02, 0.1, 0.3, 0.7, 1.0][rng.random_range(0..5)];
+    let kept = random_kept(n, density, &mut rng);
+    ev.score_into(&kept, &mut state).unwrap();
+    assert_matches_fresh(&mut ev, &state, n, "start");
+    for round in 0..rounds {
+        // Mostly small edits (a mutation), sometimes large ones (a crossover).
+        let p = [0.5 / n as f64, 3.0 / n as f64, 0.02, 0.2, 0.6][rng.random_range(0..5)];
+        let (remove, insert) = random_edit(&state, &hf, p, &mut rng);
+        let score = ev.edit(&mut state, &remove, &insert).unwrap();
+        assert_eq!(Some(score), state.score());
+        let what = format!(
+            "{}×{} seed {seed} round {round} (−{} +{})",
+            hf.width(),
+            hf.height(),
+            remove.len(),
+            insert.len()
+        );
+        assert_matches_fresh(&mut ev, &state, n, &what);
+    }
+}
+
+#[test]
+fn edits_match_fresh_evaluation_on_synthetic_grids() {
+    // Thin grids (every point on the border), odd shapes, integer heights (exact ties) and real
+    // heights.
+    for (w, h) in [(2, 2), (2, 7), (7, 2), (3, 3), (5, 4), (9, 9), (17, 11)] {
+        for seed in 0..6 {
+            edit_sequences(synthetic(w, h, seed), seed, 25);
+        }
+    }
+}
+
+#[test]
+fn edits_match_fresh_evaluation_on_real_data() {
+    for (name, seed) in [
+        ("jacksboro_33x33", 1),
+        ("volcano_33x33", 2),
+        ("camera_33x33", 3),
+    ] {
+        edit_sequences(fixture(name), seed, 30);
+    }
+}
+
+#[test]
+fn block_swaps_like_crossover_rows_match() {
+    // An OAX row takes whole rectangles of genes from another parent: edits come in compact
+    // blocks with many removals and insertions side by side, and chains of such edits (a row
+    // edited from an earlier row) accumulate in one state.
+    let hf = fixture("jacksboro_33x33");
+    let (w, h) = (hf.width(), hf.height());
+    let mut rng = Pcg64Mcg::seed_from_u64(17);
+    let mut ev = Evaluator::new(hf.clone());
+    let mut state = MeshState::default();
+    ev.score_into(&random_kept(hf.len(), 0.2, &mut rng), &mut state)
+        .unwrap();
+    for round in 0..40 {
+        let other = random_kept(hf.len(), rng.random::<f64>() * 0.6, &mut rng);
+        let mut other_mark = vec![false; hf.len()];
+        for &i in &other {
+            other_mark[i as usize] = true;
+        }
+        let (x0, y0) = (rng.random_range(0..w), rng.random_range(0..h));
+        let (x1, y1) = (rng.random_range(x0 + 1..=w), rng.random_range(y0 + 1..=h));
+        let (mut remove, mut insert) = (Vec::new(), Vec::new());
+        for y in y0..y1 {
+            for x in x0..x1 {
+                let i = (y * w + x) as u32;
+                if hf.corners().contains(&i) || state.is_kept(i) == other_mark[i as usize] {
+                    continue;
+                }
+                if state.is_kept(i) {
+                    remove.push(i);
+                } else {
+                    insert.push(i);
+                }
+            }
+        }
+        ev.edit(&mut state, &remove, &insert).unwrap();
+        let what = format!("round {round} block {x0}..{x1}×{y0}..{y1}");
+        assert_matches_fresh(&mut ev, &state, hf.len(), &what);
+    }
+}
+
+#[test]
+fn edits_near_borders_and_corners_match() {
+    // Only border points and their inner neighbours change: border removals leave an open fan
+    // whose hole is closed by a border segment, border insertions split a border edge.
+    let hf = synthetic(12, 9, 5);
+    let (w, h) = (12u32, 9u32);
+    let near_border: Vec<u32> = (0..w * h)
+        .filter(|&i| {
+            let (x, y) = (i % w, i / w);
+            x <= 1 || y <= 1 || x >= w - 2 || y >= h - 2
+        })
+        .filter(|i| !hf.corners().contains(i))
+        .collect();
+    let mut rng = Pcg64Mcg::seed_from_u64(11);
+    let mut ev = Evaluator::new(hf.clone());
+    let mut state = MeshState::default();
+    ev.score_into(&random_kept(hf.len(), 0.3, &mut rng), &mut state)
+        .unwrap();
+    for round in 0..200 {
+        let k = rng.random_range(1..6);
+        let (mut remove, mut insert) = (Vec::new(), Vec::new());
+        for _ in 0..k {
+            let i = near_border[rng.random_range(0..near_border.len())];
+            if remove.contains(&i) || insert.contains(&i) {
+                continue;
+            }
+            if state.is_kept(i) {
+                remove.push(i);
+            } else {
+                insert.push(i);
+            }
+        }
+        ev.edit(&mut state, &remove, &insert).unwrap();
+        assert_matches_fresh(&mut ev, &state, hf.len(), &format!("round {round}"));
+    }
+}
+
+#[test]
+fn co_circular_grid_points_take_the_tie_rule_diagonal() {
+    // A 4×4 grid with all points kept (heights i², so that errors are not zero): every grid
+    // square is a co-circular quadruple. Removing and re-inserting interior points one at a time must keep choosing
+    // the same diagonals as a fresh build (the tie rule), or the triangle sets would differ.
+    let hf = Arc::new(Heightfield::new(4, 4, (0..16).map(|i| (i * i) as f64).collect()).unwrap());
+    let mut ev = Evaluator::new(hf.clone());
+    let mut state = MeshState::default();
+    ev.score_into(&(0..16).collect::<Vec<_>>(), &mut state)
+        .unwrap();
+    for (remove, insert) in [
+        (vec![5], vec![]),
+        (vec![6, 9], vec![]),
+        (vec![], vec![5, 6]),
+        (vec![10, 1, 13], vec![9]),
+        (vec![4, 7, 8, 11], vec![10, 13]),
+        (vec![2, 14], vec![1, 4, 7, 8, 11]),
+    ] {
+        ev.edit(&mut state, &remove, &insert).unwrap();
+        assert_matches_fresh(&mut ev, &state, 16, &format!("−{remove:?} +{insert:?}"));
+    }
+}
+
+#[test]
+fn one_point_in_the_middle_of_a_3x3_grid() {
+    // Bump of 4 in the middle of a flat 3×3 grid: inserting it takes E from 4 to 0 and T from
+    // 2 to 4, removing it again restores the corner mesh exactly.
+    let mut z = vec![0.0; 9];
+    z[4] = 4.0;
+    let hf = Arc::new(Heightfield::new(3, 3, z).unwrap());
+    let mut ev = Evaluator::new(hf);
+    let mut state = MeshState::default();
+    let corners = ev.score_into(&[], &mut state).unwrap();
+    assert_eq!((corners.e_sum, corners.t), (4.0, 2));
+    let bump = ev.edit(&mut state, &[], &[4]).unwrap();
+    assert_eq!((bump.e_sum, bump.e_max, bump.t), (0.0, 0.0, 4));
+    let back = ev.edit(&mut state, &[4], &[]).unwrap();
+    assert_eq!(bits(back), bits(corners));
+}
+
+#[test]
+fn a_border_point_splits_a_border_edge() {
+    // 3×2 grid, corners only: the middle of the bottom edge (index 1, height 6) lies on the
+    // border edge 0–2, where z̃ = 0; inserting it splits that edge (no neighbour across it),
+    // giving 3 triangles and no error.
+    let hf = Arc::new(Heightfield::new(3, 2, vec![0.0, 6.0, 0.0, 0.0, 0.0, 0.0]).unwrap());
+    let mut ev = Evaluator::new(hf);
+    let mut state = MeshState::default();
+    assert_eq!(ev.score_into(&[], &mut state).unwrap().e_sum, 6.0);
+    let s = ev.edit(&mut state, &[], &[1]).unwrap();
+    assert_eq!((s.e_sum, s.t), (0.0, 3));
+    assert_matches_fresh(&mut ev, &state, 6, "border split");
+}
+
+#[test]
+fn invalid_edits_are_refused_and_leave_the_state_unchanged() {
+    // Removing a point that is not kept, removing a corner, inserting a kept point or an index
+    // past the grid: each is a typed error, and the state still scores as before.
+    let hf = synthetic(5, 5, 3);
+    let mut ev = Evaluator::new(hf.clone());
+    let mut state = MeshState::default();
+    let before = ev.score_into(&[7, 12], &mut state).unwrap();
+    let corner = hf.corners()[1];
+    assert!(matches!(
+        ev.edit(&mut state, &[7, 8], &[]),
+        Err(EvaluateError::InvalidEdit { index: 8, .. })
+    ));
+    assert!(matches!(
+        ev.edit(&mut state, &[corner], &[]),
+        Err(EvaluateError::InvalidEdit { .. })
+    ));
+    assert!(matches!(
+        ev.edit(&mut state, &[], &[13, 12]),
+        Err(EvaluateError::InvalidEdit { index: 12, .. })
+    ));
+    assert_eq!(
+        ev.edit(&mut state, &[], &[25]),
+        Err(EvaluateError::IndexOutOfRange { index: 25, len: 25 })
+    );
+    assert!((0..25).all(|i| state.is_kept(i) == ([0, 4, 7, 12, 20, 24].contains(&i))));
+    let unchanged = ev.edit(&mut state, &[], &[]).unwrap();
+    assert_eq!(bits(unchanged), bits(before));
+    // A state never scored, or scored on another height field, cannot be edited.
+    assert_eq!(
+        ev.edit(&mut MeshState::default(), &[], &[3]),
+        Err(EvaluateError::ForeignState)
+    );
+    let mut other = Evaluator::new(synthetic(5, 5, 3));
+    assert_eq!(
+        other.edit(&mut state, &[], &[3]),
+        Err(EvaluateError::ForeignState)
+    );
+}
