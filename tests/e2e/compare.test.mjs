@@ -6,18 +6,9 @@
 // table → a click on a front point and one on a pick show those meshes → compare mode off
 // brings the single-run plot back. Screenshots go to target/e2e/. Prints (does not assert) the
 // frame timing, the share of wall time spent optimising, and the comparison's run time.
-import { chromium } from 'playwright-core';
-import { spawn } from 'node:child_process';
-import { createServer } from 'node:net';
-import { mkdirSync, existsSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-
-const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const shots = path.join(root, 'target/e2e');
-mkdirSync(shots, { recursive: true });
-assert.ok(existsSync(path.join(root, 'www/pkg/paretomesh_bg.wasm')), 'build the app first: bash scripts/build-web.sh');
+import { shots, withApp, newPage, realErrors, waitForApp } from './harness.mjs';
 
 // GA settings of the comparison: small enough for a test (the weighted-sum GA runs 11 GAs).
 // COMPARE_POP / COMPARE_GENS override them, e.g. 100 / 50 for the paper's settings.
@@ -28,28 +19,6 @@ const SEED = '3';
 const TIMEOUT_MS = 1000 * Number(process.env.COMPARE_TIMEOUT_S ?? '600');
 const METHODS = ['nsga2', 'weighted', 'decimation', 'greedy'];
 
-function freePort() {
-  return new Promise((resolve, reject) => {
-    const s = createServer();
-    s.once('error', reject);
-    s.listen(0, '127.0.0.1', () => {
-      const { port } = s.address();
-      s.close(() => resolve(port));
-    });
-  });
-}
-
-async function waitForServer(url, tries = 100) {
-  for (let i = 0; i < tries; i++) {
-    try {
-      const r = await fetch(url);
-      if (r.ok) return;
-    } catch { /* not up yet */ }
-    await new Promise((r) => setTimeout(r, 100));
-  }
-  throw new Error(`server at ${url} did not start`);
-}
-
 // The numbers of a table body: one array of cells per row, each cell's data-value (the full
 // precision the page was given) parsed as a number.
 const cellValues = (page, id) => page.$$eval(`#${id} tr`, (rows) => rows.map((r) => ({
@@ -58,23 +27,12 @@ const cellValues = (page, id) => page.$$eval(`#${id} tr`, (rows) => rows.map((r)
   picks: [...r.querySelectorAll('td[data-pick]')].map((td) => ({ kind: td.dataset.pick, e: Number(td.dataset.e), t: Number(td.dataset.t) })),
 })));
 
-const port = await freePort();
-const server = spawn('python3', ['-m', 'http.server', '--bind', '127.0.0.1', String(port)], { cwd: root, stdio: 'ignore' });
-const url = `http://127.0.0.1:${port}/`;
-let browser;
-try {
-  await waitForServer(url);
-  browser = await chromium.launch({
-    executablePath: '/usr/bin/chromium',
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
-  const page = await browser.newPage({ viewport: { width: 1400, height: 1300 } });
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-
+await withApp(async ({ browser, url }) => {
+  const page = await newPage(browser);
+  // Tall enough that the panel's three tables are in the screenshots.
+  await page.setViewportSize({ width: 1400, height: 1300 });
   await page.goto(url);
-  await page.waitForFunction(() => performance.getEntriesByName('paretomesh-first-paint').length > 0, null, { timeout: 30000 });
+  await waitForApp(page);
   assert.match(await page.locator('#surface-info').textContent(), /jacksboro_65x65 · 65×65 grid/);
 
   // 1. The form's GA parameters, then compare mode on: its panel replaces the single-run plot.
@@ -192,7 +150,7 @@ try {
   assert.ok(await page.locator('#plot').isVisible());
   assert.ok(!(await page.locator('#compare-plot').isVisible()));
 
-  assert.deepEqual(errors.filter((e) => !/GPU stall|WebGL-/.test(e)), [], 'no page errors');
+  assert.deepEqual(realErrors(page), [], 'no page errors');
 
   const within = frames.filter((d) => d <= 20).length / Math.max(1, frames.length);
   const sorted = [...frames].sort((a, b) => a - b);
@@ -203,7 +161,4 @@ try {
     `(${((100 * optimisingMs) / wallMs).toFixed(0)} % of wall time); ` +
     `${(100 * within).toFixed(1)} % of ${frames.length} frames within 20 ms, 95th percentile ${p95.toFixed(1)} ms; ` +
     `${liveTables} distinct live tables before the final one`);
-} finally {
-  if (browser) await browser.close();
-  server.kill();
-}
+});
