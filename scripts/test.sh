@@ -23,6 +23,8 @@ cargo test --doc
 echo "== wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web
+CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
+  cargo test --target wasm32-unknown-unknown --test web_compare
 
 echo "== browser app: build and end-to-end test (headless Chromium)"
 bash scripts/build-web.sh
@@ -31,3 +33,4 @@ node tests/e2e/app.test.mjs
 cargo build --release --bin paretomesh
 node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
+node tests/e2e/compare.test.mjs

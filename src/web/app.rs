@@ -353,6 +353,13 @@ impl App {
         self.revision += 1;
     }
 
+    /// Selects `solution`, which need not be on this app's front (compare mode selects members
+    /// of the other methods' fronts); `None` clears the selection.
+    pub fn select_solution(&mut self, solution: Option<Solution>) {
+        self.selected = solution;
+        self.revision += 1;
+    }
+
     /// Index in the current front of the selected solution (matched by its objectives).
     pub fn selected_front_index(&self) -> Option<usize> {
         let s = self.selected.as_ref()?;

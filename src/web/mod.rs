@@ -5,6 +5,7 @@
 //! - [`app`]: app state and time-budgeted stepping (pure, tested).
 //! - [`algorithms`]: the algorithm menu, parameters with the paper's defaults, the builder.
 //! - [`plot`]: the E–T plot and its hit-testing.
+//! - [`compare`]: compare mode: the four methods side by side and their indicator table.
 //! - [`render`]: the 3-D view through wgpu.
 //! - [`export`]: PLY / OBJ / STL / CSV exports.
 //! - [`share`]: the share-link codec and its validation.
@@ -13,6 +14,7 @@
 
 pub mod algorithms;
 pub mod app;
+pub mod compare;
 pub mod dom;
 pub mod examples;
 pub mod export;

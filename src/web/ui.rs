@@ -23,6 +23,8 @@ use web_sys::{
     WheelEvent,
 };
 
+mod compare_view;
+
 /// Largest grid drawn with the full wireframe when nothing is selected (denser grids turn grey).
 const MAX_WIREFRAME_POINTS: usize = 128 * 128;
 /// Hover and click radius in the plot, CSS pixels.
@@ -55,6 +57,8 @@ pub(super) struct Ui {
     pub(super) waiting_for: Option<ShareLink>,
     /// The teaching view's state.
     pub(super) teaching: TeachingUi,
+    /// Compare mode's state.
+    compare: compare_view::CompareView,
 }
 
 fn performance_now() -> f64 {
@@ -333,6 +337,7 @@ impl Ui {
         let budget = self.app.config().budget_ms;
         let mut clock = performance_now;
         self.app.tick(budget, &mut clock);
+        self.compare_frame();
         let mut status = dom::status_text(&self.app.status(), self.app.is_running());
         if let Some(r) = self.app.reproduction() {
             status.push_str(&format!(
@@ -539,6 +544,7 @@ pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
         origin: Origin::Builtin(loader::BUILTIN_NAME),
         waiting_for: None,
         teaching: TeachingUi::default(),
+        compare: Default::default(),
     };
     teaching_view::fill().map_err(|e| JsValue::from_str(&e))?;
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
@@ -872,6 +878,7 @@ impl WebApp {
             ui.redraw = true;
         });
         listen(canvas, "contextmenu", |e: MouseEvent| e.prevent_default());
+        compare_view::wire(&self.ui)?;
         Ok(())
     }
 }
