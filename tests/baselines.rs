@@ -5,6 +5,7 @@ use paretomesh::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
 };
 use paretomesh::evaluator::Evaluator;
+use paretomesh::evaluator::incremental::canonical_set as canonical;
 use paretomesh::front::{Front, Solution, dominates};
 use paretomesh::heightfield::{self, Heightfield};
 use paretomesh::optimizer::Optimizer;
@@ -16,19 +17,6 @@ fn fixture(name: &str) -> Arc<Heightfield> {
         .join("tests/data")
         .join(format!("{name}.f32"));
     Arc::new(heightfield::load(&path).unwrap())
-}
-
-/// Triangles rotated to start at their smallest index, sorted: one form per triangle set.
-fn canonical(tris: &[[u32; 3]]) -> Vec<[u32; 3]> {
-    let mut v: Vec<[u32; 3]> = tris
-        .iter()
-        .map(|t| {
-            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-        })
-        .collect();
-    v.sort_unstable();
-    v
 }
 
 fn assert_rescores(hf: &Arc<Heightfield>, solutions: &[Solution]) {

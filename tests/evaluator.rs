@@ -115,10 +115,7 @@ fn triangulation_ignores_insertion_order() {
     }
 }
 
-fn rotate_min_first(t: [u32; 3]) -> [u32; 3] {
-    let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-}
+use paretomesh::evaluator::incremental::canonical as rotate_min_first;
 
 /// All triangles are counter-clockwise and proper, and there are 2n − h − 2 of them
 /// (n vertices, h on the hull), as for any triangulation of a point set.

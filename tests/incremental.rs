@@ -2,6 +2,7 @@
 //! the same triangles and the same score, bit for bit, over seeded random kept sets and random
 //! edit sequences, plus tiny hand-made cases.
 
+use paretomesh::evaluator::incremental::canonical_set as triangle_set;
 use paretomesh::evaluator::{EvaluateError, Evaluator, MeshState, Score};
 use paretomesh::heightfield::{self, Heightfield};
 use rand::{RngExt, SeedableRng};
@@ -29,19 +30,6 @@ fn synthetic(width: usize, height: usize, seed: u64) -> Arc<Heightfield> {
         })
         .collect();
     Arc::new(Heightfield::new(width, height, z).unwrap())
-}
-
-/// Triangles as a sorted list of canonically rotated triples: equal lists = equal meshes.
-fn triangle_set(tris: &[[u32; 3]]) -> Vec<[u32; 3]> {
-    let mut v: Vec<[u32; 3]> = tris
-        .iter()
-        .map(|t| {
-            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-        })
-        .collect();
-    v.sort_unstable();
-    v
 }
 
 fn bits(s: Score) -> (u64, u64, u64, usize) {

@@ -60,17 +60,7 @@ mod tests {
         assert_eq!(out.len(), 2);
         let mut mesh = crate::evaluator::triangulation::Triangulation::default();
         mesh.rebuild_delaunay(10, &[0, 1, 10, 11]);
-        let canon = |tris: &[[u32; 3]]| {
-            let mut v: Vec<[u32; 3]> = tris
-                .iter()
-                .map(|t| {
-                    let k = (0..3).min_by_key(|&k| t[k]).unwrap();
-                    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
-                })
-                .collect();
-            v.sort_unstable();
-            v
-        };
+        let canon = crate::evaluator::incremental::canonical_set;
         assert_eq!(canon(&out), canon(&mesh.triangles()));
     }
 

@@ -86,7 +86,7 @@ pub(super) struct EditScratch {
 /// `tri` rotated so that its smallest grid index comes first (orientation kept): the
 /// rotation every triangle is rasterised in, so its errors do not depend on how it was made.
 #[inline]
-fn canonical(tri: [u32; 3]) -> [u32; 3] {
+pub fn canonical(tri: [u32; 3]) -> [u32; 3] {
     let [a, b, c] = tri;
     if a < b && a < c {
         tri
@@ -95,6 +95,14 @@ fn canonical(tri: [u32; 3]) -> [u32; 3] {
     } else {
         [c, a, b]
     }
+}
+
+/// `tris` as a sorted list of [`canonical`] triples: two triangulations are the same mesh
+/// exactly when these lists are equal.
+pub fn canonical_set(tris: &[[u32; 3]]) -> Vec<[u32; 3]> {
+    let mut v: Vec<[u32; 3]> = tris.iter().map(|&t| canonical(t)).collect();
+    v.sort_unstable();
+    v
 }
 
 impl MeshState {

@@ -124,6 +124,23 @@ pub fn write_config(config: &RunConfig) -> Result<(), String> {
     Ok(())
 }
 
+/// The 2-D context of canvas `id`, its backing store sized to its CSS size times the device
+/// pixel ratio and its transform set so drawing is in CSS pixels; with that CSS width and
+/// height. `None` when there is no such canvas.
+pub fn canvas_2d(id: &str) -> Option<(web_sys::CanvasRenderingContext2d, f64, f64)> {
+    let canvas = by_id::<web_sys::HtmlCanvasElement>(id).ok()?;
+    let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
+    let (cw, ch) = (canvas.client_width() as f64, canvas.client_height() as f64);
+    let (pw, ph) = ((cw * dpr).round() as u32, (ch * dpr).round() as u32);
+    if canvas.width() != pw || canvas.height() != ph {
+        canvas.set_width(pw);
+        canvas.set_height(ph);
+    }
+    let ctx: web_sys::CanvasRenderingContext2d = canvas.get_context("2d").ok()??.unchecked_into();
+    let _ = ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0);
+    Some((ctx, cw, ch))
+}
+
 /// Is checkbox `id` ticked?
 pub fn checked(id: &str) -> bool {
     by_id::<HtmlInputElement>(id).is_ok_and(|e| e.checked())

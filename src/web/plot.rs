@@ -337,22 +337,31 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     ctx.restore();
     // Hover read-out.
     if let Some(p) = scene.hovered.and_then(|i| scene.front.get(i)) {
-        let (x, y) = layout.to_pixel(*p);
-        let text = format!("T = {}, E = {}", p.t, format_value(p.e));
-        ctx.set_font("12px system-ui, sans-serif");
-        let width = ctx.measure_text(&text).map(|m| m.width()).unwrap_or(120.0) + 10.0;
-        let bx = (x + 8.0).min(w - width - 2.0).max(2.0);
-        let by = (y - 24.0).max(2.0);
-        ctx.set_fill_style_str("rgba(255,255,255,0.92)");
-        ctx.fill_rect(bx, by, width, 18.0);
-        ctx.set_stroke_style_str("#888");
-        ctx.set_line_width(1.0);
-        ctx.stroke_rect(bx, by, width, 18.0);
-        ctx.set_fill_style_str("#000");
-        ctx.set_text_align("left");
-        ctx.set_text_baseline("middle");
-        let _ = ctx.fill_text(&text, bx + 5.0, by + 9.0);
+        readout(
+            ctx,
+            layout,
+            *p,
+            &format!("T = {}, E = {}", p.t, format_value(p.e)),
+        );
     }
+}
+
+/// Draws `text` in a boxed read-out next to data point `p`, kept inside the canvas.
+pub fn readout(ctx: &CanvasRenderingContext2d, layout: &Layout, p: PlotPoint, text: &str) {
+    let (x, y) = layout.to_pixel(p);
+    ctx.set_font("12px system-ui, sans-serif");
+    let width = ctx.measure_text(text).map(|m| m.width()).unwrap_or(160.0) + 10.0;
+    let bx = (x + 8.0).min(layout.width - width - 2.0).max(2.0);
+    let by = (y - 24.0).max(2.0);
+    ctx.set_fill_style_str("rgba(255,255,255,0.92)");
+    ctx.fill_rect(bx, by, width, 18.0);
+    ctx.set_stroke_style_str("#888");
+    ctx.set_line_width(1.0);
+    ctx.stroke_rect(bx, by, width, 18.0);
+    ctx.set_fill_style_str("#000");
+    ctx.set_text_align("left");
+    ctx.set_text_baseline("middle");
+    let _ = ctx.fill_text(text, bx + 5.0, by + 9.0);
 }
 
 fn line(ctx: &CanvasRenderingContext2d, x0: f64, y0: f64, x1: f64, y1: f64) {

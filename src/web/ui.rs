@@ -18,10 +18,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
-use web_sys::{
-    CanvasRenderingContext2d, HtmlCanvasElement, KeyboardEvent, MouseEvent, PointerEvent,
-    WheelEvent,
-};
+use web_sys::{HtmlCanvasElement, KeyboardEvent, MouseEvent, PointerEvent, WheelEvent};
 
 mod compare_view;
 
@@ -251,21 +248,9 @@ impl Ui {
     }
 
     fn draw_plot(&mut self) {
-        let Ok(canvas) = by_id::<HtmlCanvasElement>("plot") else {
+        let Some((ctx, cw, ch)) = dom::canvas_2d("plot") else {
             return;
         };
-        let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
-        let (cw, ch) = (canvas.client_width() as f64, canvas.client_height() as f64);
-        let (pw, ph) = ((cw * dpr).round() as u32, (ch * dpr).round() as u32);
-        if canvas.width() != pw || canvas.height() != ph {
-            canvas.set_width(pw);
-            canvas.set_height(ph);
-        }
-        let Ok(Some(ctx)) = canvas.get_context("2d") else {
-            return;
-        };
-        let ctx: CanvasRenderingContext2d = ctx.unchecked_into();
-        let _ = ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0);
         let unit = z_unit(&self.app.surface().heightfield);
         if let Some(layout) = self.draw_teaching_plot(&ctx, cw, ch, &unit) {
             self.plot_layout = layout;

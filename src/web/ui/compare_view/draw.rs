@@ -4,32 +4,19 @@
 
 use super::{COLOURS, METHODS, named_picks};
 use crate::web::compare::Picks;
-use crate::web::dom::{self, by_id};
+use crate::web::dom;
 use crate::web::plot::{self, Layout, PlotPoint, Scene};
 use crate::web::ui::{Ui, z_unit};
 use std::fmt::Write;
-use wasm_bindgen::JsCast;
-use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
+use web_sys::CanvasRenderingContext2d;
 
 impl Ui {
     /// Draws the four fronts of the comparison on `#compare-plot` and keeps the layout and the
     /// plotted members for hit-testing.
     pub(super) fn compare_plot(&mut self) {
-        let Ok(canvas) = by_id::<HtmlCanvasElement>("compare-plot") else {
+        let Some((ctx, cw, ch)) = dom::canvas_2d("compare-plot") else {
             return;
         };
-        let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
-        let (cw, ch) = (canvas.client_width() as f64, canvas.client_height() as f64);
-        let (pw, ph) = ((cw * dpr).round() as u32, (ch * dpr).round() as u32);
-        if canvas.width() != pw || canvas.height() != ph {
-            canvas.set_width(pw);
-            canvas.set_height(ph);
-        }
-        let Ok(Some(ctx)) = canvas.get_context("2d") else {
-            return;
-        };
-        let ctx: CanvasRenderingContext2d = ctx.unchecked_into();
-        let _ = ctx.set_transform(dpr, 0.0, 0.0, dpr, 0.0, 0.0);
         self.compare.points.clear();
         if let Some(run) = &self.compare.run {
             for k in 0..METHODS.len() {
@@ -158,7 +145,7 @@ impl Ui {
                     }
                 }
             }
-            readout(&ctx, &layout, p, &text);
+            plot::readout(&ctx, &layout, p, &text);
         }
         self.compare.layout = Some(layout);
     }
@@ -186,21 +173,4 @@ fn marker(ctx: &CanvasRenderingContext2d, k: usize, x: f64, y: f64, r: f64) {
             ctx.close_path();
         }
     }
-}
-
-fn readout(ctx: &CanvasRenderingContext2d, layout: &Layout, p: PlotPoint, text: &str) {
-    let (x, y) = layout.to_pixel(p);
-    ctx.set_font("12px system-ui, sans-serif");
-    let width = ctx.measure_text(text).map(|m| m.width()).unwrap_or(160.0) + 10.0;
-    let bx = (x + 8.0).min(layout.width - width - 2.0).max(2.0);
-    let by = (y - 24.0).max(2.0);
-    ctx.set_fill_style_str("rgba(255,255,255,0.92)");
-    ctx.fill_rect(bx, by, width, 18.0);
-    ctx.set_stroke_style_str("#888");
-    ctx.set_line_width(1.0);
-    ctx.stroke_rect(bx, by, width, 18.0);
-    ctx.set_fill_style_str("#000");
-    ctx.set_text_align("left");
-    ctx.set_text_baseline("middle");
-    let _ = ctx.fill_text(text, bx + 5.0, by + 9.0);
 }
