@@ -222,6 +222,16 @@ impl EdgeWalk {
     fn new(n: i64, step: i64, divisor: i64) -> Self {
         let (n32, step32, d32) = (n as i32, step as i32, divisor as i32);
         debug_assert!(n32 as i64 == n && step32 as i64 == step && d32 as i64 == divisor);
+        if divisor == 1 {
+            // An edge one row tall, common in dense meshes: ⌊n/1⌋ = n, no division needed.
+            return Self {
+                quotient: n,
+                remainder: 0,
+                step_quotient: step,
+                step_remainder: 0,
+                divisor,
+            };
+        }
         Self {
             quotient: n32.div_euclid(d32) as i64,
             remainder: n32.rem_euclid(d32) as i64,
