@@ -59,6 +59,13 @@ impl ErrorField {
         self.errors[i] = error;
     }
 
+    /// The error of every grid point, row-major, to write; the row totals are stale until
+    /// [`refresh_row`](Self::refresh_row) or [`refresh_all`](Self::refresh_all).
+    #[inline]
+    pub fn errors_mut(&mut self) -> &mut [f64] {
+        &mut self.errors
+    }
+
     /// Recomputes the totals of row `y` from its errors, left to right.
     pub fn refresh_row(&mut self, y: usize) {
         let row = &self.errors[y * self.width..(y + 1) * self.width];

@@ -184,9 +184,8 @@ impl MeshState {
         let tri = canonical(self.mesh.triangle(slot as usize));
         let pts = tri.map(|i| lattice.point(i));
         let (field, hint) = (&mut self.field, &mut self.hint);
-        grid.for_each_error(pts, |i, d| {
-            field.set(i, d);
-            hint[i] = slot;
+        grid.write_errors(pts, field.errors_mut(), |first, last| {
+            hint[first..=last].fill(slot);
         });
         for v in tri {
             hint[v as usize] = slot;

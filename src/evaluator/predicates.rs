@@ -83,15 +83,20 @@ pub fn in_circle(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
         return det > 0;
     }
     // Co-circular: the most significant perturbation (smallest index) with a non-zero
-    // coefficient decides. `cd` is never zero, so this always returns.
-    let mut order = [0usize, 1, 2, 3];
-    order.sort_unstable_by_key(|&k| ids[k]);
-    for k in order {
-        if coef[k] != 0 {
-            return coef[k] > 0;
+    // coefficient decides. `cd` is never zero, so there is one. The indices are distinct, so a
+    // scan for the smallest index among the non-zero coefficients finds the same one as sorting
+    // would, without the sort (grid subsets hit this branch on a large share of their edges).
+    let mut best = 3;
+    for k in 0..3 {
+        if coef[k] != 0 && ids[k] < ids[best] {
+            best = k;
         }
     }
-    unreachable!("the coefficient of d is -orient(a, b, c), non-zero for a proper triangle")
+    debug_assert!(
+        coef[3] != 0,
+        "the coefficient of d is -orient(a, b, c), non-zero for a proper triangle"
+    );
+    coef[best] > 0
 }
 
 #[cfg(test)]
@@ -127,6 +132,58 @@ mod tests {
         let (a, b, c) = ([0, 0], [4, 0], [0, 4]);
         assert!(in_circle([a, b, c, [1, 1]], [0, 1, 2, 3]));
         assert!(!in_circle([a, b, c, [9, 9]], [0, 1, 2, 3]));
+    }
+
+    /// The tie rule as its definition reads: sort the perturbations by index, the first with a
+    /// non-zero coefficient decides.
+    fn in_circle_by_sorting(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
+        let (det, coef) = incircle_terms(pts[0], pts[1], pts[2], pts[3]);
+        if det != 0 {
+            return det > 0;
+        }
+        let mut order = [0usize, 1, 2, 3];
+        order.sort_unstable_by_key(|&k| ids[k]);
+        let first = order.into_iter().find(|&k| coef[k] != 0).unwrap();
+        coef[first] > 0
+    }
+
+    #[test]
+    fn tie_scan_agrees_with_the_sorted_definition() {
+        // Every counter-clockwise triangle and fourth point on a 4×4 grid, under every ranking
+        // of the four indices: co-circular quadruples (squares, rectangles, isosceles
+        // trapezoids, points on the circle next to a vertex) are common there, so the tie
+        // branch runs many times with every pattern of zero coefficients.
+        let grid: Vec<GridPoint> = (0..16).map(|i| [i % 4, i / 4]).collect();
+        let rankings = [
+            [0, 1, 2, 3],
+            [3, 2, 1, 0],
+            [1, 3, 0, 2],
+            [2, 0, 3, 1],
+            [0, 3, 1, 2],
+            [2, 1, 3, 0],
+        ];
+        let mut ties = 0;
+        for a in 0..16 {
+            for b in 0..16 {
+                for c in 0..16 {
+                    if orient(grid[a], grid[b], grid[c]) <= 0 {
+                        continue;
+                    }
+                    for d in (0..16).filter(|&d| d != a && d != b && d != c) {
+                        let pts = [grid[a], grid[b], grid[c], grid[d]];
+                        ties += usize::from(incircle_terms(pts[0], pts[1], pts[2], pts[3]).0 == 0);
+                        for ids in rankings {
+                            assert_eq!(
+                                in_circle(pts, ids),
+                                in_circle_by_sorting(pts, ids),
+                                "{pts:?} ranked {ids:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        assert!(ties > 1000, "only {ties} co-circular cases");
     }
 
     #[test]

@@ -149,6 +149,28 @@ impl Grid<'_> {
         });
     }
 
+    /// Writes the error |z − z̃| of every grid point the counter-clockwise triangle `tri` owns
+    /// (vertices excluded) into `errors` (row-major, one per grid point), the same bits as
+    /// [`for_each_error`](Self::for_each_error), and calls `visit(first, last)` once per row
+    /// span written. Span-wise slices instead of a call per point let the loop run without
+    /// bounds checks (the fresh build writes every grid point this way).
+    #[inline]
+    pub fn write_errors(
+        &self,
+        tri: [GridPoint; 3],
+        errors: &mut [f64],
+        mut visit: impl FnMut(usize, usize),
+    ) {
+        self.for_each_span(tri, |first, last, span| {
+            let z = &self.z[first..=last];
+            let out = &mut errors[first..=last];
+            for (k, (e, &zk)) in out.iter_mut().zip(z).enumerate() {
+                *e = (zk - span.at(k)).abs();
+            }
+            visit(first, last);
+        });
+    }
+
     /// The error sums of the points triangle `tri` owns.
     pub fn triangle_error(&self, tri: [GridPoint; 3]) -> TriangleError {
         let mut acc = TriangleError::default();
@@ -200,6 +222,16 @@ impl EdgeWalk {
     fn new(n: i64, step: i64, divisor: i64) -> Self {
         let (n32, step32, d32) = (n as i32, step as i32, divisor as i32);
         debug_assert!(n32 as i64 == n && step32 as i64 == step && d32 as i64 == divisor);
+        if divisor == 1 {
+            // An edge one row tall, common in dense meshes: ⌊n/1⌋ = n, no division needed.
+            return Self {
+                quotient: n,
+                remainder: 0,
+                step_quotient: step,
+                step_remainder: 0,
+                divisor,
+            };
+        }
         Self {
             quotient: n32.div_euclid(d32) as i64,
             remainder: n32.rem_euclid(d32) as i64,
@@ -216,6 +248,48 @@ impl EdgeWalk {
         if self.remainder >= self.divisor {
             self.remainder -= self.divisor;
             self.quotient += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn write_errors_gives_the_bits_of_for_each_error() {
+        // A 7×5 grid of uneven heights (so no error is zero by accident) and triangles with
+        // horizontal, vertical, steep and shallow edges, some on the border: every span shape.
+        let (w, h) = (7usize, 5usize);
+        let z: Vec<f64> = (0..w * h)
+            .map(|i| ((i * 37 % 11) as f64).sqrt() * 1.3)
+            .collect();
+        let grid = Grid {
+            width: w as i64,
+            height: h as i64,
+            z: &z,
+        };
+        let triangles: [[GridPoint; 3]; 4] = [
+            [[0, 0], [6, 0], [0, 4]],
+            [[6, 0], [6, 4], [0, 4]],
+            [[1, 0], [5, 3], [0, 2]],
+            [[2, 1], [6, 2], [3, 4]],
+        ];
+        for tri in triangles {
+            let mut expected = vec![-1.0; w * h];
+            grid.for_each_error(tri, |i, d| expected[i] = d);
+            let mut written = vec![-1.0; w * h];
+            let mut spans = Vec::new();
+            grid.write_errors(tri, &mut written, |first, last| spans.push((first, last)));
+            assert_eq!(
+                written.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
+                expected.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
+                "{tri:?}"
+            );
+            let in_spans = spans.iter().map(|(a, b)| b - a + 1).sum::<usize>();
+            let owned = expected.iter().filter(|&&d| d >= 0.0).count();
+            assert!(owned > 0, "{tri:?} owns no point");
+            assert_eq!(in_spans, owned, "{tri:?}");
         }
     }
 }
