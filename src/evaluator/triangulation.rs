@@ -11,6 +11,14 @@
 use super::predicates::{self, GridPoint, Lattice};
 use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 
+/// Spade triangulates the points sheared to (x + y·SHEAR, y). Why: grid points are very often
+/// co-circular, and each such tie sends spade's in-circle test down its slow exact path; the
+/// shear breaks the ties (it is exact in f64 for sides up to 2¹⁴ and keeps every orientation
+/// sign, so spade still returns a triangulation of the real points), and [`Triangulation::legalize_all`]'s
+/// flips with the exact tie rule then reach the one canonical triangulation, as they would from
+/// any triangulation. Measured: a fresh evaluation 23 % faster at 30 % kept on a 65×65 grid.
+pub const SHEAR: f64 = 1.0 / 1024.0;
+
 /// "No half-edge": the twin of a border edge.
 pub const NONE: u32 = u32::MAX;
 
@@ -96,7 +104,7 @@ impl Triangulation {
             .iter()
             .map(|&index| {
                 let [x, y] = self.lattice.point(index);
-                Point2::new(x as f64, y as f64)
+                Point2::new(x as f64 + y as f64 * SHEAR, y as f64)
             })
             .collect();
         let dt = DelaunayTriangulation::<Point2<f64>>::bulk_load(points)
@@ -115,7 +123,8 @@ impl Triangulation {
             for edge in face.adjacent_edges() {
                 let p = edge.from().position();
                 self.slot[edge.fix().index()] = self.vertices.len() as u32;
-                self.vertices.push(p.y as u32 * w + p.x as u32);
+                self.vertices
+                    .push(p.y as u32 * w + (p.x - p.y * SHEAR) as u32);
                 self.rev.push(edge.fix().rev().index() as u32);
             }
         }
