@@ -15,7 +15,7 @@ use super::render::camera::OrbitCamera;
 use super::share::{
     self, EmbeddedGrid, FileFingerprint, MAX_EMBEDDED_SIDE, ShareLink, SharedSurface,
 };
-use super::ui::Ui;
+use super::ui::{Ui, on_event};
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 use wasm_bindgen::JsCast;
@@ -422,22 +422,14 @@ pub(super) fn wire(ui: &std::rc::Rc<std::cell::RefCell<Ui>>) -> Result<(), Strin
             .unwrap_or_default();
         u.borrow_mut().open_link(&hash);
     });
-    let select: web_sys::EventTarget = by_id("surface")?;
-    let u = ui.clone();
-    dom::listen(&select, "change", move |_: web_sys::Event| {
+    on_event(ui, "surface", "change", |ui| {
         let name = by_id::<HtmlSelectElement>("surface")
             .map(|s| s.value())
             .unwrap_or_default();
         if let Some(b) = Builtin::named(&name) {
-            let mut ui = u.borrow_mut();
             ui.show_builtin(b);
             dom::show_load_message(&format!("loaded the built-in surface {}", b.name), false);
         }
-    });
-    let u = ui.clone();
-    let button: web_sys::EventTarget = by_id("share")?;
-    dom::listen(&button, "click", move |_: web_sys::Event| {
-        u.borrow_mut().share()
-    });
-    Ok(())
+    })?;
+    on_event(ui, "share", "click", Ui::share)
 }

@@ -8,7 +8,7 @@ use super::dom::{self, by_id, listen};
 use super::oax_panel;
 use super::plot::{self, Layout, Mark, PlotPoint, Scene};
 use super::teaching::{Step, Stepper, scene};
-use super::ui::Ui;
+use super::ui::{Ui, on_event};
 use crate::evolution::trace::Phase;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -276,14 +276,7 @@ pub(super) fn fill() -> Result<(), String> {
 
 /// The teaching view's listeners.
 pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
-    let on = |id: &str, event: &str, f: fn(&mut Ui)| -> Result<(), String> {
-        let ui = ui.clone();
-        let target: web_sys::EventTarget = by_id(id)?;
-        listen(&target, event, move |_: web_sys::Event| {
-            f(&mut ui.borrow_mut())
-        });
-        Ok(())
-    };
+    let on = |id: &str, event: &str, f: fn(&mut Ui)| on_event(ui, id, event, f);
     on("teach", "change", |ui| {
         dom::set_visible("teaching", is_on());
         if is_on() {

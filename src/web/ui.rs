@@ -487,6 +487,22 @@ impl Ui {
     }
 }
 
+/// Calls `f` on the page state whenever element `id` fires `event`. Fails when the page lacks
+/// the element.
+pub(super) fn on_event(
+    ui: &Rc<RefCell<Ui>>,
+    id: &str,
+    event: &str,
+    f: impl Fn(&mut Ui) + 'static,
+) -> Result<(), String> {
+    let ui = ui.clone();
+    let target: web_sys::EventTarget = by_id(id)?;
+    listen(&target, event, move |_: web_sys::Event| {
+        f(&mut ui.borrow_mut())
+    });
+    Ok(())
+}
+
 /// The app as the page's JS sees it.
 #[wasm_bindgen]
 pub struct WebApp {
@@ -694,14 +710,7 @@ impl WebApp {
 
 impl WebApp {
     fn wire(&self, canvas: &HtmlCanvasElement) -> Result<(), String> {
-        let on = |id: &str, event: &str, f: Box<dyn Fn(&mut Ui)>| -> Result<(), String> {
-            let ui = self.ui.clone();
-            let target: web_sys::EventTarget = by_id(id)?;
-            listen(&target, event, move |_: web_sys::Event| {
-                f(&mut ui.borrow_mut())
-            });
-            Ok(())
-        };
+        let on = |id: &str, event: &str, f: Box<dyn Fn(&mut Ui)>| on_event(&self.ui, id, event, f);
         on(
             "run",
             "click",

@@ -4,7 +4,7 @@
 
 use super::super::compare::{CompareRun, METHODS, Picks};
 use super::super::plot::{self, Layout, PlotPoint};
-use super::{HIT_RADIUS, Ui, WebApp, performance_now};
+use super::{HIT_RADIUS, Ui, WebApp, on_event, performance_now};
 use crate::experiment::{Method, Pick};
 use crate::front::Solution;
 use crate::web::dom::{self, by_id, listen};
@@ -228,14 +228,7 @@ impl Ui {
 /// Wires the compare panel's controls.
 pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
     set_html("compare-legend", &legend_html());
-    let on = |id: &str, event: &str, f: Box<dyn Fn(&mut Ui)>| -> Result<(), String> {
-        let ui = ui.clone();
-        let target: web_sys::EventTarget = by_id(id)?;
-        listen(&target, event, move |_: web_sys::Event| {
-            f(&mut ui.borrow_mut())
-        });
-        Ok(())
-    };
+    let on = |id: &str, event: &str, f: Box<dyn Fn(&mut Ui)>| on_event(ui, id, event, f);
     on(
         "compare-on",
         "change",
