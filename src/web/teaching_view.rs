@@ -6,8 +6,8 @@
 use super::algorithms::Algorithm;
 use super::dom::{self, by_id, listen};
 use super::oax_panel;
-use super::plot::{self, Layout, Mark, PlotPoint, Scene};
-use super::teaching::{Step, Stepper, scene};
+use super::plot::{self, Layout, PlotPoint, Scene};
+use super::teaching::{Step, Stepper, TeachingScene, scene};
 use super::ui::{Ui, on_event};
 use crate::evolution::trace::Phase;
 use std::cell::RefCell;
@@ -22,15 +22,15 @@ const HIT_RADIUS: f64 = 8.0;
 #[derive(Default)]
 pub struct TeachingUi {
     stepper: Stepper,
-    marks: Vec<Mark>,
-    legend: Vec<(String, &'static str)>,
+    /// The shown phase's marks, legend and caption, built once per (generation, phase).
+    scene: Option<TeachingScene>,
     hovered: Option<usize>,
     playing: bool,
     /// When play last advanced a phase (ms, performance clock).
     last_auto_ms: f64,
     /// The crossover generation the OAX panel was drawn for.
     oax_drawn: Option<u64>,
-    /// The (generation, phase) the marks were built for.
+    /// The (generation, phase) `scene` was built for.
     built: Option<(u64, Phase)>,
 }
 
@@ -154,20 +154,20 @@ impl Ui {
                 }
             }
         }
-        let caption = match (
-            waiting,
-            self.app.optimizer().and_then(|o| o.generation_trace()),
-        ) {
-            (Some((g, _)), _) => format!("Computing generation {g}…"),
-            (None, Some(trace)) => match shown {
-                Some(phase) => {
-                    let p = &self.app.config().params;
-                    scene(trace, phase, p.crossover, p.crossover_probability).caption
-                }
-                None => "Press “Next phase” to see the last generation's selection.".into(),
-            },
-            (None, None) => "Press “Next phase” to make the first generation and see it phase \
-                             by phase (the initial population is made first)."
+        let traced = self
+            .app
+            .optimizer()
+            .is_some_and(|o| o.generation_trace().is_some());
+        let caption = match (waiting, traced, shown) {
+            (Some((g, _)), _, _) => format!("Computing generation {g}…"),
+            (None, true, Some(_)) => self
+                .teaching_scene()
+                .map_or(String::new(), |s| s.caption.clone()),
+            (None, true, None) => {
+                "Press “Next phase” to see the last generation's selection.".into()
+            }
+            (None, false, _) => "Press “Next phase” to make the first generation and see it \
+                                 phase by phase (the initial population is made first)."
                 .into(),
         };
         dom::set_text("teach-caption", &caption);
@@ -180,8 +180,21 @@ impl Ui {
         }
     }
 
-    /// Draws the teaching plot when the view is on and has a phase to show; false otherwise
-    /// (the ordinary plot is drawn).
+    /// The scene of the shown phase of the last traced generation, built when either changed.
+    fn teaching_scene(&mut self) -> Option<&TeachingScene> {
+        let phase = self.teaching.stepper.shown?;
+        let trace = self.app.optimizer()?.generation_trace()?;
+        let key = (trace.generation, phase);
+        if self.teaching.built != Some(key) {
+            let p = &self.app.config().params;
+            self.teaching.scene = Some(scene(trace, phase, p.crossover, p.crossover_probability));
+            self.teaching.built = Some(key);
+        }
+        self.teaching.scene.as_ref()
+    }
+
+    /// Draws the teaching plot when the view is on and has a phase to show, and returns its
+    /// layout; `None` otherwise (the ordinary plot is drawn).
     pub(super) fn draw_teaching_plot(
         &mut self,
         ctx: &CanvasRenderingContext2d,
@@ -192,20 +205,12 @@ impl Ui {
         if !is_on() || !self.teaching_applies() {
             return None;
         }
-        let phase = self.teaching.stepper.shown?;
-        let trace = self.app.optimizer()?.generation_trace()?;
-        let key = (trace.generation, phase);
-        if self.teaching.built != Some(key) {
-            let p = &self.app.config().params;
-            let s = scene(trace, phase, p.crossover, p.crossover_probability);
-            self.teaching.marks = s.marks;
-            self.teaching.legend = s.legend;
-            self.teaching.built = Some(key);
-        }
+        let hovered = self.teaching.hovered;
+        let scene = self.teaching_scene()?;
         let layout = Layout::fit_scaled(
             width,
             height,
-            self.teaching.marks.iter().map(|m| &m.point),
+            scene.marks.iter().map(|m| &m.point),
             dom::checked("plot-log-e"),
         );
         let empty: [PlotPoint; 0] = [];
@@ -220,13 +225,7 @@ impl Ui {
                 z_unit,
             },
         );
-        plot::draw_marks(
-            ctx,
-            &layout,
-            &self.teaching.marks,
-            &self.teaching.legend,
-            self.teaching.hovered,
-        );
+        plot::draw_marks(ctx, &layout, &scene.marks, &scene.legend, hovered);
         Some(layout)
     }
 
@@ -236,13 +235,16 @@ impl Ui {
         if !is_on() || self.teaching.built.is_none() || self.teaching.stepper.shown.is_none() {
             return false;
         }
-        self.teaching.hovered =
-            plot::hit_test_marks(layout, &self.teaching.marks, x, y, HIT_RADIUS);
-        let text = self
+        let marks = self
             .teaching
-            .hovered
-            .and_then(|i| self.teaching.marks.get(i))
+            .scene
+            .as_ref()
+            .map_or(&[][..], |s| s.marks.as_slice());
+        let hovered = plot::hit_test_marks(layout, marks, x, y, HIT_RADIUS);
+        let text = hovered
+            .and_then(|i| marks.get(i))
             .map_or(String::new(), |m| m.label.clone());
+        self.teaching.hovered = hovered;
         dom::set_text("teach-hover", &text);
         true
     }
