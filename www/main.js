@@ -1,6 +1,6 @@
 // Boots the wasm app, wires the file drop and picker, and runs the requestAnimationFrame loop.
 // Everything else (controls, plot, 3-D view, parsing, exports) lives in Rust (src/web/).
-import init, { start, drawPreview, fnv1a64Hex } from './pkg/paretomesh.js';
+import init, { start, drawPreview } from './pkg/paretomesh.js';
 
 const $ = (id) => document.getElementById(id);
 let app = null;
@@ -67,18 +67,15 @@ async function loadFiles(files) {
     const bytes = await readWithProgress(main, (f) => progress(f * main.size));
     const side = sidecar ? await readWithProgress(sidecar, (f) => progress(main.size + f * sidecar.size)) : undefined;
     app.showLoadMessage(`parsing ${main.name}…`, false);
-    // The fingerprint a share link gives the file, taken before the bytes go to the Worker.
-    const hash = fnv1a64Hex(bytes);
-    const size = bytes.length;
     const result = await parseInWorker(main.name, bytes, side);
     if (result === null) {
       // No Worker (very old browser): parse here, after the message has painted.
       await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
       app.loadFile(main.name, bytes, side);
     } else if (result.ok && result.surface.resampled) {
-      openImportDialog(main.name, result.surface, size, hash);
+      openImportDialog(main.name, result.surface, result.size, result.hash);
     } else if (result.ok) {
-      app.loadParsed(main.name, result.surface, size, hash);
+      app.loadParsed(main.name, result.surface, result.size, result.hash);
     } else {
       app.showLoadMessage(result.error, true);
     }

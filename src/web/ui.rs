@@ -600,8 +600,8 @@ impl WebApp {
     }
 
     /// Shows a surface the Worker parsed (see [`super::transfer`]) from a file of `size` bytes
-    /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], taken before the bytes
-    /// went to the Worker); like [`WebApp::load_file`] otherwise.
+    /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], which the Worker runs
+    /// on the file's bytes); like [`WebApp::load_file`] otherwise.
     #[wasm_bindgen(js_name = loadParsed)]
     pub fn load_parsed(&self, name: &str, parsed: JsValue, size: f64, hash: &str) -> bool {
         let parsed = super::transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
