@@ -382,7 +382,11 @@ impl Nsga2 {
             let chosen: Vec<usize> = if front.len() <= room {
                 front
             } else {
-                let d = crowding_distances(&points, &front);
+                // The crowding distances within this front, computed above for the trace.
+                let d: Vec<f64> = front
+                    .iter()
+                    .map(|&i| self.trace.union[i].crowding)
+                    .collect();
                 let mut order: Vec<usize> = (0..front.len()).collect();
                 order.sort_by(|&a, &b| d[b].total_cmp(&d[a]).then(a.cmp(&b)));
                 order[..room].iter().map(|&k| front[k]).collect()
