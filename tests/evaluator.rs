@@ -115,6 +115,66 @@ fn triangulation_ignores_insertion_order() {
     }
 }
 
+/// Lawson insertion ([`Triangulation::insert_all`], what the evaluator uses) and spade's bulk
+/// load with legalisation ([`Triangulation::rebuild_with_spade`]) are independent algorithms:
+/// they must give the same canonical triangles on every point set, from sparse to the full grid
+/// (full of co-circular squares), with points on the box's border, and on a box smaller than the
+/// grid. Without the box's four corners, `insert_all` declines and the spade path is taken.
+#[test]
+fn insertion_and_spade_build_the_same_triangulation() {
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(21);
+    let canonical = |t: &Triangulation| {
+        let mut v: Vec<_> = t.triangles().into_iter().map(rotate_min_first).collect();
+        v.sort_unstable();
+        v
+    };
+    for (width, height) in [(2usize, 2usize), (9, 9), (17, 5), (33, 33), (65, 40)] {
+        let n = width * height;
+        for fraction in [0.0, 0.03, 0.1, 0.3, 0.7, 1.0] {
+            // The whole grid's box, then a box from (1, 1) to (width − 2, height − 1) when the
+            // grid is big enough: its corners kept, only points inside it.
+            let mut boxes = vec![(0, 0, width - 1, height - 1)];
+            if width > 3 && height > 3 {
+                boxes.push((1, 1, width - 2, height - 1));
+            }
+            for (x0, y0, x1, y1) in boxes {
+                let inside = |i: u32| {
+                    let (x, y) = (i as usize % width, i as usize / width);
+                    (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+                };
+                let mut kept: Vec<u32> = random_subset(n, fraction, &mut rng)
+                    .into_iter()
+                    .filter(|&i| inside(i))
+                    .collect();
+                kept.extend(
+                    [(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| (y * width + x) as u32),
+                );
+                kept.sort_unstable();
+                kept.dedup();
+                let (mut by_insertion, mut by_spade) =
+                    (Triangulation::default(), Triangulation::default());
+                assert!(by_insertion.insert_all(width, &kept));
+                by_spade.rebuild_with_spade(width, &kept);
+                assert_eq!(
+                    canonical(&by_insertion),
+                    canonical(&by_spade),
+                    "{width}×{height}, {fraction} kept, box {:?}",
+                    (x0, y0, x1, y1)
+                );
+                // Without a corner of its box the set is refused, and rebuild_delaunay falls
+                // back to spade.
+                if kept.len() > 4 {
+                    let without = &kept[1..];
+                    assert!(!by_insertion.insert_all(width, without));
+                    by_insertion.rebuild_delaunay(width, without);
+                    by_spade.rebuild_with_spade(width, without);
+                    assert_eq!(canonical(&by_insertion), canonical(&by_spade));
+                }
+            }
+        }
+    }
+}
+
 use paretomesh::evaluator::incremental::canonical as rotate_min_first;
 
 /// All triangles are counter-clockwise and proper, and there are 2n − h − 2 of them

@@ -16,7 +16,6 @@
 //! solutions.
 
 use super::ParamsError;
-use super::insertion::insert_point;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
 use crate::evaluator::predicates::{self, GridPoint};
@@ -467,13 +466,10 @@ impl GreedyInsertion {
         };
         let mut changed = std::mem::take(&mut self.changed);
         changed.clear();
-        insert_point(
-            &mut self.mesh,
-            entry.slot,
-            entry.point,
-            &mut self.stack,
-            &mut changed,
-        );
+        self.mesh
+            .insert_point(entry.slot, entry.point, &mut self.stack, |s| {
+                changed.push(s)
+            });
         self.kept[entry.point as usize] = true;
         self.kept_count += 1;
         self.insertions += 1;

@@ -9,7 +9,6 @@
 pub mod edge_decimation;
 pub mod greedy_insertion;
 pub(crate) mod hole;
-pub(crate) mod insertion;
 mod queue;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};

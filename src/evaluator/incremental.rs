@@ -7,7 +7,7 @@
 //!   triangles* as the one built from scratch. A removal deletes the vertex's star and fills the
 //!   hole with the Delaunay triangles of its boundary (the baselines' `hole::fill`); an insertion
 //!   locates the point by a visibility walk and splits and flips (the baselines'
-//!   `insertion::insert_point`). Both restore the Delaunay property under the tie rule, so each
+//!   [`Triangulation::insert_point`]). Both restore the Delaunay property under the tie rule, so each
 //!   intermediate mesh is canonical too.
 //! - Every grid point's error comes from the one triangle that owns it ([`raster`](super::raster)),
 //!   rasterised with its vertices in a canonical rotation (smallest grid index first), so a
@@ -25,7 +25,7 @@ use super::predicates::{self, GridPoint, Lattice};
 use super::raster::Grid;
 use super::triangulation::{NONE, Triangulation, next, prev};
 use super::{EvaluateError, Score};
-use crate::baselines::{hole, insertion};
+use crate::baselines::hole;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
@@ -68,7 +68,6 @@ impl Clone for MeshState {
 #[derive(Clone, Debug, Default)]
 pub(super) struct EditScratch {
     stack: Vec<u32>,
-    changed: Vec<u32>,
     /// Slots written by this edit (repeats allowed).
     touched: Vec<u32>,
     /// Slots emptied by removals, to be filled by compaction.
@@ -222,16 +221,11 @@ impl MeshState {
                 self.insertion_start(lattice, p, last),
                 lattice.point(p),
             );
-            scratch.changed.clear();
-            insertion::insert_point(
-                &mut self.mesh,
-                t,
-                p,
-                &mut scratch.stack,
-                &mut scratch.changed,
-            );
-            scratch.touched.extend_from_slice(&scratch.changed);
-            last = Some((p, scratch.changed[0]));
+            let touched = &mut scratch.touched;
+            let slot = self
+                .mesh
+                .insert_point(t, p, &mut scratch.stack, |s| touched.push(s));
+            last = Some((p, slot));
         }
         self.compact(scratch);
         // Re-rasterise every touched triangle and re-add the rows they cover.
