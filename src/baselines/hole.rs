@@ -17,10 +17,25 @@ use crate::evaluator::predicates::{self, Lattice};
 pub(crate) fn fill(boundary: &[u32], lattice: Lattice, out: &mut Vec<[u32; 3]>) -> bool {
     let point = |i: u32| lattice.point(i);
     let start = out.len();
-    let mut poly: Vec<u32> = boundary.to_vec();
+    // The polygon left to clip, on the stack for the usual small holes (no allocation per
+    // removal), else on the heap.
+    let mut small = [0u32; 32];
+    let mut large = Vec::new();
+    let mut poly: &mut [u32] = if boundary.len() <= small.len() {
+        small[..boundary.len()].copy_from_slice(boundary);
+        &mut small[..boundary.len()]
+    } else {
+        large.extend_from_slice(boundary);
+        &mut large[..]
+    };
+    // Ears before `from` were tested and failed; clipping changes only the two ears beside the
+    // clipped vertex, and an ear's test (its turn, the whole boundary outside its circle) does
+    // not change otherwise, so they still fail: the search resumes there and finds the same
+    // first ear as a search from 0.
+    let mut from = 0;
     while poly.len() > 3 {
         let n = poly.len();
-        let ear = (0..n).find(|&k| {
+        let ear = (from..n).find(|&k| {
             let (a, b, c) = (poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]);
             let (pa, pb, pc) = (point(a), point(b), point(c));
             predicates::orient(pa, pb, pc) > 0
@@ -36,7 +51,10 @@ pub(crate) fn fill(boundary: &[u32], lattice: Lattice, out: &mut Vec<[u32; 3]>) 
             return false;
         };
         out.push([poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]]);
-        poly.remove(k);
+        poly.copy_within(k + 1.., k);
+        poly = &mut poly[..n - 1];
+        // The ears at k − 1 and k changed; clipping the last vertex changes the first ear.
+        from = if k == n - 1 { 0 } else { k.saturating_sub(1) };
     }
     if predicates::orient(point(poly[0]), point(poly[1]), point(poly[2])) <= 0 {
         out.truncate(start);
