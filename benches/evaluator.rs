@@ -3,6 +3,8 @@
 //! Reads `jacksboro_65x65` and `camera_257x257` from `../shared/data` (or `$PARETOMESH_DATA`);
 //! says so and skips a grid when it is absent.
 //!
+//! `triangulate`: the evaluator's triangulation alone, so the raster's share is the difference.
+//!
 //! `incremental/*`: scoring a kept set by editing the mesh of a set d genes away
 //! ([`Evaluator::edit`], including the copy of the base mesh, as the GA's scorer does it) beside
 //! a fresh score of the same set, on `tests/data/jacksboro_65x65` (always present) at 30 %
@@ -10,7 +12,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use paretomesh::{
-    evaluator::{Evaluator, MeshState},
+    evaluator::{Evaluator, MeshState, triangulation::Triangulation as Mesh},
     heightfield,
 };
 use rand::{RngExt, SeedableRng};
@@ -65,6 +67,15 @@ fn bench(c: &mut Criterion) {
                     })
                 },
             );
+            // The evaluator's own triangulation alone (Lawson insertion), to show what the
+            // error raster adds on top.
+            let mut mesh = Mesh::default();
+            group.bench_with_input(BenchmarkId::new("triangulate", percent), &kept, |b, k| {
+                b.iter(|| {
+                    mesh.rebuild_delaunay(hf.width(), black_box(k));
+                    black_box(mesh.len())
+                })
+            });
             let mut ev = Evaluator::new(std::sync::Arc::new(hf.clone()));
             group.bench_with_input(BenchmarkId::new("evaluate", percent), &kept, |b, k| {
                 b.iter(|| black_box(ev.score(black_box(k)).unwrap()))

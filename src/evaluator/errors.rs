@@ -36,13 +36,13 @@ impl Clone for ErrorField {
 }
 
 impl ErrorField {
-    /// Resets to a `width × height` grid of zero errors (row totals zero too).
-    pub fn reset(&mut self, width: usize, height: usize) {
+    /// Resizes to a `width × height` grid. The errors and totals are unspecified until every
+    /// point's error has been set and every row refreshed: a fresh build writes them all, so
+    /// zeroing them first would be a wasted pass over the grid (it shows on large grids).
+    pub fn reshape(&mut self, width: usize, height: usize) {
         self.width = width;
-        self.errors.clear();
         self.errors.resize(width * height, 0.0);
         for rows in [&mut self.row_sum, &mut self.row_sum_sq, &mut self.row_max] {
-            rows.clear();
             rows.resize(height, 0.0);
         }
     }

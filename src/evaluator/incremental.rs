@@ -147,8 +147,9 @@ impl MeshState {
         if !self.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf)) {
             self.hf = Some(hf.clone());
         }
-        self.field.reset(hf.width(), hf.height());
-        self.hint.clear();
+        // No clearing: every point's error and hint is written below, by the triangle that owns
+        // it or, for a vertex, by one of its triangles.
+        self.field.reshape(hf.width(), hf.height());
         self.hint.resize(hf.len(), 0);
         let grid = grid_of(hf);
         let lattice = Lattice::new(hf.width());
@@ -187,6 +188,8 @@ impl MeshState {
             hint[first..=last].fill(slot);
         });
         for v in tri {
+            // A vertex is a kept point: its error is zero by definition.
+            field.set(v as usize, 0.0);
             hint[v as usize] = slot;
         }
         let ys = pts.map(|p| p[1] as usize);
