@@ -290,34 +290,18 @@ impl Triangulation {
             Some(e) => {
                 // On half-edge e = a → b of (a, b, c): that triangle becomes (a, p, c),
                 // (p, b, c), and the neighbour (b, a, d), if any, becomes (b, p, d), (p, a, d).
-                let (ne, pe) = (next(e), prev(e));
-                let b = self.vertices[ne as usize];
-                let c = self.vertices[pe as usize];
                 let f = self.twin[e as usize];
-                let twin_bc = self.twin[ne as usize];
-                self.vertices[ne as usize] = p;
-                let t1 = self.push([p, b, c]);
-                self.link(3 * t1 + 1, twin_bc);
-                self.link(ne, 3 * t1 + 2);
+                let t1 = self.split_at_edge(e, p);
                 changed(e / 3);
                 changed(t1);
-                stack.extend_from_slice(&[pe, 3 * t1 + 1]);
-                if f == NONE {
-                    self.twin[e as usize] = NONE;
-                } else {
-                    let (nf, pf) = (next(f), prev(f));
-                    let a = self.vertices[nf as usize];
-                    let d = self.vertices[pf as usize];
-                    let twin_ad = self.twin[nf as usize];
-                    self.vertices[nf as usize] = p;
-                    let s1 = self.push([p, a, d]);
-                    self.link(3 * s1 + 1, twin_ad);
-                    self.link(nf, 3 * s1 + 2);
+                stack.extend_from_slice(&[prev(e), 3 * t1 + 1]);
+                if f != NONE {
+                    let s1 = self.split_at_edge(f, p);
                     self.link(e, 3 * s1);
                     self.link(f, 3 * t1);
                     changed(f / 3);
                     changed(s1);
-                    stack.extend_from_slice(&[pf, 3 * s1 + 1]);
+                    stack.extend_from_slice(&[prev(f), 3 * s1 + 1]);
                 }
             }
         }
@@ -332,6 +316,22 @@ impl Triangulation {
         }
         // Slot t keeps vertex p through the split and every flip of its edges.
         t
+    }
+
+    /// Splits the triangle of half-edge `e` = a → b, (a, b, c), at `p` on that edge into
+    /// (a, p, c), in place, and (p, b, c), appended; returns the new slot. The triangles are
+    /// linked to each other and to c's side; `e` (now a → p) keeps its old twin, for the caller
+    /// to relink.
+    fn split_at_edge(&mut self, e: u32, p: u32) -> u32 {
+        let (ne, pe) = (next(e), prev(e));
+        let b = self.vertices[ne as usize];
+        let c = self.vertices[pe as usize];
+        let twin_bc = self.twin[ne as usize];
+        self.vertices[ne as usize] = p;
+        let t1 = self.push([p, b, c]);
+        self.link(3 * t1 + 1, twin_bc);
+        self.link(ne, 3 * t1 + 2);
+        t1
     }
 
     /// Appends triangle `v` with no neighbours yet; returns its slot.
