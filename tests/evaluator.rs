@@ -161,6 +161,14 @@ fn insertion_and_spade_build_the_same_triangulation() {
                     "{width}×{height}, {fraction} kept, box {:?}",
                     (x0, y0, x1, y1)
                 );
+                // A repeated point changes nothing.
+                if let Some(&again) = kept.get(kept.len() / 2) {
+                    let mut repeated = kept.clone();
+                    repeated.push(again);
+                    let mut with_repeat = Triangulation::default();
+                    assert!(with_repeat.insert_all(width, &repeated));
+                    assert_eq!(canonical(&with_repeat), canonical(&by_spade));
+                }
                 // Without a corner of its box the set is refused, and rebuild_delaunay falls
                 // back to spade.
                 if kept.len() > 4 {

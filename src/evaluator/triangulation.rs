@@ -180,7 +180,10 @@ impl Triangulation {
         // Counter-clockwise from the lower left.
         let corners = [index(x0, y0), index(x1, y0), index(x1, y1), index(x0, y1)];
         let is_corner = |i: u32| corners.contains(&i);
-        if kept.iter().filter(|&&i| is_corner(i)).count() != 4 {
+        let found = kept.iter().fold(0u8, |mask, i| {
+            mask | corners.iter().position(|c| c == i).map_or(0, |k| 1 << k)
+        });
+        if found != 0b1111 {
             return false;
         }
         self.lattice = lattice;
@@ -205,7 +208,11 @@ impl Triangulation {
             let mut insert = |p: u32| {
                 if !is_corner(p) {
                     let t = self.walk(last, lattice.point(p));
-                    last = self.insert_point(t, p, &mut stack, |_| {});
+                    // A repeated point is already a vertex of the triangle that holds it:
+                    // skipped, as spade skips it.
+                    if !self.triangle(t as usize).contains(&p) {
+                        last = self.insert_point(t, p, &mut stack, |_| {});
+                    }
                 }
             };
             if forward {
