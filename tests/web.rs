@@ -641,8 +641,8 @@ mod share_links {
     use paretomesh::web::loader::BUILTIN_NAME;
     use paretomesh::web::render::camera::OrbitCamera;
     use paretomesh::web::share::{
-        EmbeddedGrid, FileFingerprint, MAX_LINK_LEN, ShareError, ShareLink, SharedSurface,
-        ViewToggles, decode, encode, fnv1a64,
+        EmbeddedGrid, FileFingerprint, ImportChoice, MAX_LINK_LEN, ShareError, ShareLink,
+        SharedSurface, ViewToggles, decode, encode, fnv1a64,
     };
     use rand::{RngExt, SeedableRng};
     use serde_json::{Value, json};
@@ -773,6 +773,60 @@ mod share_links {
         // FNV-1a 64 reference values (empty input is the offset basis; "a" from the spec).
         assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
         assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+    }
+
+    #[wasm_bindgen_test]
+    fn a_mesh_files_import_choice_travels_and_is_checked() {
+        // A mesh that had to be resampled carries how: projection and the grid size it gave.
+        let mut fingerprint = FileFingerprint::of("face.stl", VOLCANO);
+        fingerprint.import = Some(ImportChoice {
+            projection: "cylindrical".into(),
+            width: 48,
+            height: 40,
+        });
+        let original = link(SharedSurface::File(fingerprint.clone()), Algorithm::Nsga2);
+        let encoded = encode(&original);
+        assert_eq!(decode(&encoded).unwrap(), original);
+        // A grid file's link has no `import` field at all (links written before it existed
+        // read the same way).
+        let plain = encode(&link(
+            SharedSurface::File(FileFingerprint::of("v.f32", VOLCANO)),
+            Algorithm::Nsga2,
+        ));
+        let json = |e: &str| {
+            String::from_utf8(
+                URL_SAFE_NO_PAD
+                    .decode(e.split('.').nth(1).unwrap())
+                    .unwrap(),
+            )
+            .unwrap()
+        };
+        assert!(!json(&plain).contains("import"), "{}", json(&plain));
+        assert!(json(&encoded).contains("\"import\":{\"projection\":\"cylindrical\""));
+        // Bad choices are refused with a message that says what is wrong.
+        for (projection, width, height, expect) in [
+            ("spherical", 48, 40, "unknown projection"),
+            ("planar", 1, 40, "sides must be 2"),
+            ("planar", 0, 0, "sides must be 2"),
+            ("auto", 16_385, 2, "sides must be 2"),
+            ("auto", 16_384, 16_384, "at most"),
+        ] {
+            fingerprint.import = Some(ImportChoice {
+                projection: projection.into(),
+                width,
+                height,
+            });
+            let bad = encode(&link(
+                SharedSurface::File(fingerprint.clone()),
+                Algorithm::Nsga2,
+            ));
+            let e = decode(&bad).unwrap_err();
+            assert!(matches!(e, ShareError::BadImport(_)), "{e:?}");
+            assert!(
+                e.to_string().contains(expect),
+                "{projection} {width}×{height}: {e}"
+            );
+        }
     }
 
     #[wasm_bindgen_test]

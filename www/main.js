@@ -73,7 +73,15 @@ async function loadFiles(files) {
       await new Promise((r) => requestAnimationFrame(() => setTimeout(r, 0)));
       app.loadFile(main.name, bytes, side);
     } else if (result.ok && result.surface.resampled) {
-      openImportDialog(main.name, result.surface, result.size, result.hash);
+      // A share link waiting for this mesh says how to grid it: no dialog, the link's choice.
+      const wanted = app.pendingImport();
+      if (wanted) {
+        const again = await parseInWorker(main.name, null, null, wanted);
+        if (again?.ok) app.loadParsed(main.name, again.surface, again.size, again.hash, wanted.projection);
+        else app.showLoadMessage(again ? again.error : 'the parser is not available', true);
+      } else {
+        openImportDialog(main.name, result.surface, result.size, result.hash);
+      }
     } else if (result.ok) {
       app.loadParsed(main.name, result.surface, result.size, result.hash);
     } else {
@@ -125,7 +133,7 @@ function wireImportDialog() {
     const key = `${$('import-projection').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
     if (key !== importing.key && !(await previewImport())) return;
     $('import-dialog').close();
-    app.loadParsed(importing.name, importing.surface, importing.size, importing.hash);
+    app.loadParsed(importing.name, importing.surface, importing.size, importing.hash, $('import-projection').value);
   });
   $('import-cancel').addEventListener('click', () => {
     $('import-dialog').close();

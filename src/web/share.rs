@@ -6,7 +6,8 @@
 //! `v1.<JSON>` or, with an embedded grid, `v1.<JSON>.<GRID>`, where
 //! - `<JSON>` is URL-safe base64 without padding of the compact JSON of the link's fields
 //!   (`surface`, `algorithm`, `params`, `generations_run`, `selected`, `camera`, `toggles`;
-//!   unknown fields are rejected);
+//!   unknown fields are rejected; a file surface made from a mesh that is not a grid also
+//!   carries its `import` choice, projection and grid size, which older links simply lack);
 //! - `<GRID>` is URL-safe base64 without padding of the zlib-deflated grid heights, f32
 //!   little-endian, row-major (index = y·width + x). It travels outside the JSON so that it is
 //!   base64-encoded once only.
@@ -25,7 +26,7 @@
 use super::algorithms::{Algorithm, Params};
 use super::loader;
 use super::render::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
-use crate::heightfield::{Heightfield, MAX_POINTS};
+use crate::heightfield::{Heightfield, MAX_POINTS, MAX_SIDE};
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
@@ -105,15 +106,53 @@ pub struct FileFingerprint {
     pub size: u64,
     /// 64-bit FNV-1a of its bytes ([`fnv1a64`]); 16 lower-case hex digits in the link.
     pub fnv1a64: u64,
+    /// How the file was turned into a grid, when it is a mesh that is not one (the import
+    /// dialog's choice); `None` for a file that is a grid.
+    pub import: Option<ImportChoice>,
+}
+
+/// How a mesh that is not a grid became one: the import dialog's projection and the grid size
+/// it gave. A link carries it so that the reader who drops the same file gets the same grid,
+/// without the dialog.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImportChoice {
+    /// "auto", "planar" or "cylindrical".
+    pub projection: String,
+    /// Grid points per row.
+    pub width: u32,
+    /// Grid rows.
+    pub height: u32,
+}
+
+impl ImportChoice {
+    /// Checks the projection name and the grid size (2 to the largest side, at most the
+    /// largest number of points).
+    pub fn validate(&self) -> Result<(), ShareError> {
+        let bad = |m: String| Err(ShareError::BadImport(m));
+        if let Err(e) = loader::options(&self.projection, self.width, self.height) {
+            return bad(e);
+        }
+        let (w, h) = (self.width as usize, self.height as usize);
+        let side = 2..=MAX_SIDE;
+        if !side.contains(&w) || !side.contains(&h) || w * h > MAX_POINTS {
+            return bad(format!(
+                "a {w}×{h} grid; sides must be 2 to {MAX_SIDE} and the grid at most {MAX_POINTS} points"
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl FileFingerprint {
-    /// The fingerprint of a file called `name` with contents `bytes`.
+    /// The fingerprint of a file called `name` with contents `bytes`, read as it is (no import
+    /// choice).
     pub fn of(name: &str, bytes: &[u8]) -> Self {
         Self {
             name: name.to_string(),
             size: bytes.len() as u64,
             fnv1a64: fnv1a64(bytes),
+            import: None,
         }
     }
 
@@ -193,6 +232,8 @@ pub enum ShareError {
     BadName,
     /// The file fingerprint's hash is not 16 hex digits, or its size is out of range.
     BadFingerprint(String),
+    /// The import choice of a file fingerprint is invalid (unknown projection, bad grid size).
+    BadImport(String),
     /// The run parameters are out of range.
     InvalidParams(String),
     /// A number is out of its range or not finite (which field, and what is allowed).
@@ -276,6 +317,11 @@ impl fmt::Display for ShareError {
                 "its surface name is empty, longer than {MAX_NAME_LEN} bytes, or has control characters."
             ),
             Self::BadFingerprint(m) => write!(f, "its file fingerprint is invalid: {m}."),
+            Self::BadImport(m) => write!(
+                f,
+                "its choice of how to turn the file into a grid is invalid: {}.",
+                clip(m, 120)
+            ),
             Self::InvalidParams(m) => write!(f, "its run parameters are invalid: {m}."),
             Self::OutOfRange { field, allowed } => {
                 write!(f, "its {field} is out of range (allowed: {allowed}).")
@@ -329,6 +375,8 @@ enum WireSurface {
         name: String,
         size: u64,
         fnv1a64: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        import: Option<ImportChoice>,
     },
     Embedded {
         name: String,
@@ -347,6 +395,7 @@ pub fn encode(link: &ShareLink) -> String {
                 name: f.name.clone(),
                 size: f.size,
                 fnv1a64: format!("{:016x}", f.fnv1a64),
+                import: f.import.clone(),
             },
             None,
         ),
@@ -422,6 +471,7 @@ pub fn decode(fragment: &str) -> Result<ShareLink, ShareError> {
             name,
             size,
             fnv1a64,
+            import,
         } => {
             if grid_part.is_some() {
                 return Err(ShareError::UnexpectedGrid);
@@ -430,6 +480,7 @@ pub fn decode(fragment: &str) -> Result<ShareLink, ShareError> {
                 name,
                 size,
                 fnv1a64: parse_hash(&fnv1a64)?,
+                import,
             })
         }
         WireSurface::Embedded {
@@ -491,6 +542,9 @@ impl ShareLink {
                         "the file size must be 1 to {MAX_FILE_SIZE} bytes, got {}",
                         f.size
                     )));
+                }
+                if let Some(choice) = &f.import {
+                    choice.validate()?;
                 }
             }
             SharedSurface::Embedded(g) => g.validate()?,

@@ -13,7 +13,7 @@ use super::examples::examples;
 use super::loader::{self, BUILTINS, Builtin};
 use super::render::camera::OrbitCamera;
 use super::share::{
-    self, EmbeddedGrid, FileFingerprint, MAX_EMBEDDED_SIDE, ShareLink, SharedSurface,
+    self, EmbeddedGrid, FileFingerprint, ImportChoice, MAX_EMBEDDED_SIDE, ShareLink, SharedSurface,
 };
 use super::ui::{Ui, on_event};
 use crate::heightfield::Heightfield;
@@ -261,6 +261,23 @@ impl Ui {
             return Ok(None);
         };
         if expected.size == fingerprint.size && expected.fnv1a64 == fingerprint.fnv1a64 {
+            if expected.import != fingerprint.import {
+                let describe = |c: &Option<ImportChoice>| {
+                    c.as_ref().map_or("read as a grid".to_string(), |c| {
+                        format!(
+                            "a {} projection on a {}×{} grid",
+                            c.projection, c.width, c.height
+                        )
+                    })
+                };
+                return Err(format!(
+                    "{} is the right file, but the share link turned it into a grid with {} and \
+                     this load used {}. Drop it again to use the link's choice.",
+                    fingerprint.name,
+                    describe(&expected.import),
+                    describe(&fingerprint.import)
+                ));
+            }
             Ok(Some(link.clone()))
         } else {
             Err(format!(
@@ -274,6 +291,15 @@ impl Ui {
                 fingerprint.size,
                 fingerprint.fnv1a64
             ))
+        }
+    }
+
+    /// How the file a share link waits for must be turned into a grid, if it is a mesh that is
+    /// not one.
+    pub(super) fn awaited_import(&self) -> Option<ImportChoice> {
+        match &self.waiting_for.as_ref()?.surface {
+            SharedSurface::File(f) => f.import.clone(),
+            _ => None,
         }
     }
 

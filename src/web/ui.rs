@@ -10,7 +10,7 @@ use super::plot::{self, Layout, PlotPoint, Scene};
 use super::render::camera::OrbitCamera;
 use super::render::geometry::{self, ViewMapping};
 use super::render::gpu::{Renderer, Style};
-use super::share::{FileFingerprint, ShareLink, ViewToggles};
+use super::share::{FileFingerprint, ImportChoice, ShareLink, ViewToggles};
 use super::share_view::{self, Origin};
 use super::teaching_view::{self, TeachingUi};
 use std::cell::RefCell;
@@ -601,16 +601,45 @@ impl WebApp {
 
     /// Shows a surface the Worker parsed (see [`super::transfer`]) from a file of `size` bytes
     /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], which the Worker runs
-    /// on the file's bytes); like [`WebApp::load_file`] otherwise.
+    /// on the file's bytes); like [`WebApp::load_file`] otherwise. `projection` is the import
+    /// dialog's projection when the file is a mesh that had to be resampled (absent for a
+    /// grid): with the grid's size it goes into share links of this surface.
     #[wasm_bindgen(js_name = loadParsed)]
-    pub fn load_parsed(&self, name: &str, parsed: JsValue, size: f64, hash: &str) -> bool {
+    pub fn load_parsed(
+        &self,
+        name: &str,
+        parsed: JsValue,
+        size: f64,
+        hash: &str,
+        projection: Option<String>,
+    ) -> bool {
         let parsed = super::transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
+        let import = match (&parsed, projection) {
+            (Ok(hf), Some(projection)) => Some(ImportChoice {
+                projection,
+                width: hf.width() as u32,
+                height: hf.height() as u32,
+            }),
+            _ => None,
+        };
         let fingerprint = FileFingerprint {
             name: name.to_string(),
             size: size as u64,
             fnv1a64: u64::from_str_radix(hash, 16).unwrap_or(0),
+            import,
         };
         self.ui.borrow_mut().load(fingerprint, parsed)
+    }
+
+    /// The import choice (`{projection, width, height}`) of the file a share link waits for,
+    /// or null: the page then re-parses a dropped mesh that way instead of asking.
+    #[wasm_bindgen(js_name = pendingImport)]
+    pub fn pending_import(&self) -> JsValue {
+        self.ui
+            .borrow()
+            .awaited_import()
+            .and_then(|choice| serde_wasm_bindgen::to_value(&choice).ok())
+            .unwrap_or(JsValue::NULL)
     }
 
     /// Opens a share link (the URL hash, with or without `#`); see [`super::share_view`].

@@ -7,28 +7,10 @@
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance } from './harness.mjs';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, wavyObj } from './harness.mjs';
 
 const DROP_FILES = (process.env.E2E_DROP ?? 'tests/data/volcano_87x61.ply').split(',');
 
-// A W×H grid with its (x, y) jittered, as OBJ: a surface mesh whose vertices are not a lattice.
-function wavyObj(w, h) {
-  let obj = '';
-  for (let y = 0; y < h; y++) {
-    for (let x = 0; x < w; x++) {
-      const jx = x + 0.3 * Math.sin(7 * x + 3 * y);
-      const jy = y + 0.3 * Math.cos(5 * x + 11 * y);
-      obj += `v ${jx} ${jy} ${3 * Math.sin(jx / 4) + 2 * Math.cos(jy / 3)}\n`;
-    }
-  }
-  for (let y = 0; y < h - 1; y++) {
-    for (let x = 0; x < w - 1; x++) {
-      const a = y * w + x + 1;
-      obj += `f ${a} ${a + 1} ${a + w}\nf ${a + 1} ${a + w + 1} ${a + w}\n`;
-    }
-  }
-  return obj;
-}
 
 const status = (page) => page.locator('#status').textContent();
 

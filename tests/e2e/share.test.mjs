@@ -12,7 +12,7 @@ import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles } from './harness.mjs';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj } from './harness.mjs';
 
 const cli = path.join(root, 'target/release/paretomesh');
 assert.ok(existsSync(cli), 'build the CLI first: cargo build --release --bin paretomesh');
@@ -151,6 +151,39 @@ await withApp(async ({ browser, url }) => {
   await embeddedReader.screenshot({ path: path.join(shots, 'share-02-embedded.png') });
   assert.deepEqual(realErrors(embeddedReader), [], 'no page errors');
   await embeddedReader.close();
+
+  // 4. A mesh that is not a grid: the link carries the import dialog's choice (projection and
+  // grid size), so the reader who drops the same file gets the same grid without the dialog.
+  const mesh = [{ name: 'wavy.obj', bytes: Buffer.from(wavyObj(30, 20)) }];
+  const meshAuthor = await newPage(browser);
+  await meshAuthor.goto(url);
+  await waitForApp(meshAuthor);
+  await dropFiles(meshAuthor, mesh);
+  await meshAuthor.waitForSelector('#import-dialog[open]', { timeout: 10000 });
+  await meshAuthor.selectOption('#import-projection', 'planar');
+  await meshAuthor.fill('#import-width', '36');
+  await meshAuthor.fill('#import-height', '22');
+  await meshAuthor.click('#import-use');
+  await meshAuthor.waitForFunction(() => window.paretomesh.surfaceName() === 'wavy.obj', null, { timeout: 10000 });
+  const meshInfo = await meshAuthor.locator('#surface-info').textContent();
+  assert.match(meshInfo, /36×22 grid/);
+  await meshAuthor.fill('#population', '20');
+  await meshAuthor.fill('#generations', '4');
+  await meshAuthor.fill('#seed', '5');
+  await meshAuthor.click('#run');
+  await meshAuthor.waitForFunction(() => /done/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+  const meshFront = await meshAuthor.evaluate(() => window.paretomesh.frontObjectives());
+  const meshLink = await shareNow(meshAuthor);
+  assert.deepEqual(realErrors(meshAuthor), [], 'no page errors while sharing a mesh');
+  await meshAuthor.close();
+  const meshReader = await openLink(browser, url, meshLink);
+  await dropFiles(meshReader, mesh);
+  await waitForReproduction(meshReader);
+  assert.equal(await meshReader.evaluate(() => document.getElementById('import-dialog').open), false, 'no import dialog: the link says how');
+  assert.equal(await meshReader.locator('#surface-info').textContent(), meshInfo, 'the same grid');
+  assert.deepEqual(await meshReader.evaluate(() => window.paretomesh.frontObjectives()), meshFront, 'mesh link: same front');
+  assert.deepEqual(realErrors(meshReader), [], 'no page errors');
+  await meshReader.close();
 
   console.log(`share e2e ok: the bunny example re-ran to the CLI's front of ${expected.length} members in ${seconds.toFixed(1)} s; ` +
     `link lengths: example ${quick.hash.length}, file ${byFingerprint.length}, embedded 33×33 ${embedded.length} characters; ` +
