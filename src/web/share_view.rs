@@ -263,9 +263,9 @@ impl Ui {
         if expected.size == fingerprint.size && expected.fnv1a64 == fingerprint.fnv1a64 {
             if expected.import != fingerprint.import {
                 let describe = |c: &Option<ImportChoice>| {
-                    c.as_ref().map_or("read as a grid".to_string(), |c| {
+                    c.as_ref().map_or("its own grid points".to_string(), |c| {
                         format!(
-                            "a {} projection on a {}×{} grid",
+                            "the {} projection on a {}×{} grid",
                             c.projection, c.width, c.height
                         )
                     })

@@ -117,13 +117,16 @@ pub fn surface_from_js(o: &JsValue) -> Result<Heightfield, String> {
     };
     let source = get(o, "source")?.as_string().unwrap_or_default();
     let filled = number(o, "filled")? as usize;
-    Ok(Heightfield::new(width, height, z.to_vec())
+    let hf = Heightfield::new(width, height, z.to_vec())
         .map_err(|e| e.to_string())?
         .with_geometry(vector(&origin, 0)?, vector(&spacing, 0)?)
         .map_err(|e| e.to_string())?
         .with_placement(placement)
         .with_source(source)
-        .with_filled(filled))
+        .with_filled(filled);
+    // A share link of a resampled mesh records how it was gridded (see `share::ImportChoice`).
+    let resampled = get(o, "resampled")?.as_bool().unwrap_or(false);
+    Ok(if resampled { hf.with_resampled() } else { hf })
 }
 
 /// Parses a file (in the Worker) with the dialog's options (see [`loader::options`]) and returns

@@ -594,16 +594,18 @@ impl WebApp {
             sidecar.as_deref(),
             &crate::heightfield::ImportOptions::default(),
         );
-        self.ui
-            .borrow_mut()
-            .load(FileFingerprint::of(name, bytes), parsed)
+        let fingerprint = FileFingerprint {
+            import: import_choice(&parsed, None),
+            ..FileFingerprint::of(name, bytes)
+        };
+        self.ui.borrow_mut().load(fingerprint, parsed)
     }
 
     /// Shows a surface the Worker parsed (see [`super::transfer`]) from a file of `size` bytes
     /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], which the Worker runs
     /// on the file's bytes); like [`WebApp::load_file`] otherwise. `projection` is the import
-    /// dialog's projection when the file is a mesh that had to be resampled (absent for a
-    /// grid): with the grid's size it goes into share links of this surface.
+    /// dialog's projection for a mesh that had to be resampled ("auto" when absent): with the
+    /// grid's size it goes into share links of this surface.
     #[wasm_bindgen(js_name = loadParsed)]
     pub fn load_parsed(
         &self,
@@ -614,19 +616,11 @@ impl WebApp {
         projection: Option<String>,
     ) -> bool {
         let parsed = super::transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
-        let import = match (&parsed, projection) {
-            (Ok(hf), Some(projection)) => Some(ImportChoice {
-                projection,
-                width: hf.width() as u32,
-                height: hf.height() as u32,
-            }),
-            _ => None,
-        };
         let fingerprint = FileFingerprint {
             name: name.to_string(),
             size: size as u64,
             fnv1a64: u64::from_str_radix(hash, 16).unwrap_or(0),
-            import,
+            import: import_choice(&parsed, projection),
         };
         self.ui.borrow_mut().load(fingerprint, parsed)
     }
@@ -904,4 +898,18 @@ impl WebApp {
         compare_view::wire(&self.ui)?;
         Ok(())
     }
+}
+
+/// How a parsed file became a grid, for its share links: `None` for a file that is a grid, else
+/// the projection chosen (`"auto"` when none was) and the grid size it gave.
+fn import_choice(
+    parsed: &Result<crate::heightfield::Heightfield, String>,
+    projection: Option<String>,
+) -> Option<ImportChoice> {
+    let hf = parsed.as_ref().ok().filter(|hf| hf.resampled())?;
+    Some(ImportChoice {
+        projection: projection.unwrap_or_else(|| "auto".to_string()),
+        width: hf.width() as u32,
+        height: hf.height() as u32,
+    })
 }

@@ -177,6 +177,11 @@ await withApp(async ({ browser, url }) => {
   assert.deepEqual(realErrors(meshAuthor), [], 'no page errors while sharing a mesh');
   await meshAuthor.close();
   const meshReader = await openLink(browser, url, meshLink);
+  // The same file gridded another way (here the page's no-Worker path, which takes the
+  // defaults) is refused, with both choices named.
+  const refused = await meshReader.evaluate((text) => window.paretomesh.loadFile('wavy.obj', new TextEncoder().encode(text)), wavyObj(30, 20));
+  assert.equal(refused, false, 'a different gridding is refused');
+  assert.match(await meshReader.locator('#load-message').textContent(), /right file, but the share link turned it into a grid with the planar projection on a 36×22 grid and this load used the auto projection/);
   await dropFiles(meshReader, mesh);
   await waitForReproduction(meshReader);
   assert.equal(await meshReader.evaluate(() => document.getElementById('import-dialog').open), false, 'no import dialog: the link says how');
