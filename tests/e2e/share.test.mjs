@@ -46,6 +46,16 @@ async function shareNow(page, { embed = false } = {}) {
   return shared.slice(shared.indexOf('#') + 1);
 }
 
+// Runs NSGA-II with population 20 on the page's surface to the end; returns its front.
+async function runSmall(page, { generations, seed }) {
+  await page.fill('#population', '20');
+  await page.fill('#generations', String(generations));
+  await page.fill('#seed', String(seed));
+  await page.click('#run');
+  await page.waitForFunction(() => /done/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+  return page.evaluate(() => window.paretomesh.frontObjectives());
+}
+
 await withApp(async ({ browser, url }) => {
   // 1. The quick curated example against the CLI.
   const home = await newPage(browser);
@@ -114,12 +124,7 @@ await withApp(async ({ browser, url }) => {
   await waitForApp(author);
   await dropFiles(author, dropped);
   await author.waitForFunction(() => window.paretomesh.surfaceName() === 'bunny_33x33.f32', null, { timeout: 30000 });
-  await author.fill('#population', '20');
-  await author.fill('#generations', '5');
-  await author.fill('#seed', '11');
-  await author.click('#run');
-  await author.waitForFunction(() => /done/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
-  const authorFront = await author.evaluate(() => window.paretomesh.frontObjectives());
+  const authorFront = await runSmall(author, { generations: 5, seed: 11 });
   const [x, y] = await author.evaluate(() => window.paretomesh.frontPointPosition(3));
   const box = await author.locator('#plot').boundingBox();
   await author.mouse.click(box.x + x, box.y + y);
@@ -167,12 +172,7 @@ await withApp(async ({ browser, url }) => {
   await meshAuthor.waitForFunction(() => window.paretomesh.surfaceName() === 'wavy.obj', null, { timeout: 10000 });
   const meshInfo = await meshAuthor.locator('#surface-info').textContent();
   assert.match(meshInfo, /36×22 grid/);
-  await meshAuthor.fill('#population', '20');
-  await meshAuthor.fill('#generations', '4');
-  await meshAuthor.fill('#seed', '5');
-  await meshAuthor.click('#run');
-  await meshAuthor.waitForFunction(() => /done/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
-  const meshFront = await meshAuthor.evaluate(() => window.paretomesh.frontObjectives());
+  const meshFront = await runSmall(meshAuthor, { generations: 4, seed: 5 });
   const meshLink = await shareNow(meshAuthor);
   assert.deepEqual(realErrors(meshAuthor), [], 'no page errors while sharing a mesh');
   await meshAuthor.close();
