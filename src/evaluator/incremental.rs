@@ -242,11 +242,8 @@ impl MeshState {
                 rows[lo..=hi].fill(true);
             }
         }
-        for &p in insert {
-            // A new vertex is owned by no triangle: its error is zero by definition.
-            self.field.set(p as usize, 0.0);
-            rows[p as usize / hf.width()] = true;
-        }
+        // A new vertex is a vertex of the touched triangles just rasterised, which set its error
+        // to zero and marked its row.
         for (y, _) in rows.iter().enumerate().filter(|(_, d)| **d) {
             self.field.refresh_row(y);
         }
