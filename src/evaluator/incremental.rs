@@ -341,9 +341,7 @@ impl MeshState {
 
     /// The live triangle whose closed area holds `p`, by a visibility walk from slot `start`
     /// (any slot: a dead one forwards to a live one nearby, an out-of-range one starts from the
-    /// first live triangle). On a
-    /// Delaunay triangulation the walk cannot cycle (Edelsbrunner 1990); a step cap guards it
-    /// anyway, with an exhaustive search behind it.
+    /// first live triangle), with an exhaustive search behind the walk's step cap.
     fn locate(&self, lattice: Lattice, start: u32, p: GridPoint) -> u32 {
         let m = &self.mesh;
         let live = |t: u32| (t as usize) < m.len() && m.vertices[3 * t as usize] != NONE;
@@ -359,29 +357,10 @@ impl MeshState {
                 .find(|&t| live(t))
                 .expect("a mesh has a triangle");
         }
-        let point = |i: u32| lattice.point(i);
-        let mut came_from = NONE;
-        for _ in 0..=2 * m.len() + 8 {
-            let base = 3 * t;
-            let mut step = None;
-            for e in base..base + 3 {
-                if e == came_from {
-                    continue;
-                }
-                let (a, b) = (m.vertices[e as usize], m.vertices[next(e) as usize]);
-                if predicates::orient(point(a), point(b), p) < 0 && m.twin[e as usize] != NONE {
-                    step = Some(m.twin[e as usize]);
-                    break;
-                }
-            }
-            match step {
-                None => return t,
-                Some(f) => {
-                    came_from = f;
-                    t = f / 3;
-                }
-            }
+        if let Some(t) = m.walk(t, p, m.walk_cap()) {
+            return t;
         }
+        let point = |i: u32| lattice.point(i);
         (0..m.len() as u32)
             .filter(|&t| live(t))
             .find(|&t| {

@@ -207,7 +207,9 @@ impl Triangulation {
             let row = &kept[start..end];
             let mut insert = |p: u32| {
                 if !is_corner(p) {
-                    let t = self.walk(last, lattice.point(p));
+                    let t = self
+                        .walk(last, lattice.point(p), self.walk_cap())
+                        .expect("a walk on a Delaunay triangulation ends");
                     // A repeated point is already a vertex of the triangle that holds it:
                     // skipped, as spade skips it.
                     if !self.triangle(t as usize).contains(&p) {
@@ -227,30 +229,35 @@ impl Triangulation {
         true
     }
 
-    /// The triangle whose closed area holds `p`, by a visibility walk from triangle `t`
-    /// (it ends on a Delaunay triangulation, which this always is between insertions).
-    fn walk(&self, mut t: u32, p: GridPoint) -> u32 {
+    /// The triangle whose closed area holds `p`, by a visibility walk from the live triangle
+    /// `start`: each step crosses an edge that has `p` strictly outside it. `None` after
+    /// `max_steps` steps; on a Delaunay triangulation the walk cannot cycle (Edelsbrunner
+    /// 1990), so a cap only guards a broken invariant.
+    pub fn walk(&self, start: u32, p: GridPoint, max_steps: usize) -> Option<u32> {
+        let mut t = start;
         let mut came_from = NONE;
-        loop {
+        for _ in 0..=max_steps {
             let base = 3 * t;
-            let mut step = NONE;
-            for e in base..base + 3 {
-                if e == came_from {
-                    continue;
-                }
-                let a = self.point(self.vertices[e as usize]);
-                let b = self.point(self.vertices[next(e) as usize]);
-                if predicates::orient(a, b, p) < 0 {
-                    step = self.twin[e as usize];
-                    break;
+            let step = (base..base + 3).find(|&e| {
+                let (a, b) = (self.vertices[e as usize], self.vertices[next(e) as usize]);
+                e != came_from
+                    && predicates::orient(self.point(a), self.point(b), p) < 0
+                    && self.twin[e as usize] != NONE
+            });
+            match step {
+                None => return Some(t),
+                Some(e) => {
+                    came_from = self.twin[e as usize];
+                    t = came_from / 3;
                 }
             }
-            if step == NONE {
-                return t;
-            }
-            came_from = step;
-            t = step / 3;
         }
+        None
+    }
+
+    /// The step cap of a walk on this triangulation: more than any walk can need.
+    pub fn walk_cap(&self) -> usize {
+        2 * self.len() + 8
     }
 
     /// Inserts grid point `p` into triangle `t`, which holds it inside or on an edge (not at a
