@@ -54,6 +54,12 @@ fn assert_matches_fresh(ev: &mut Evaluator, state: &MeshState, n: usize, what: &
     );
 }
 
+/// The points of `flip` (distinct) as an edit of `state`: the kept ones to remove, the others
+/// to insert, each in `flip`'s order.
+fn as_edit(state: &MeshState, flip: impl IntoIterator<Item = u32>) -> (Vec<u32>, Vec<u32>) {
+    flip.into_iter().partition(|&i| state.is_kept(i))
+}
+
 /// A random edit of `state`: each free point flips with probability `p` (removals of kept
 /// points, insertions of the others), corners excluded, in random order.
 fn random_edit(
@@ -63,17 +69,10 @@ fn random_edit(
     rng: &mut Pcg64Mcg,
 ) -> (Vec<u32>, Vec<u32>) {
     let corners = hf.corners();
-    let (mut remove, mut insert) = (Vec::new(), Vec::new());
-    for i in 0..hf.len() as u32 {
-        if corners.contains(&i) || rng.random::<f64>() >= p {
-            continue;
-        }
-        if state.is_kept(i) {
-            remove.push(i);
-        } else {
-            insert.push(i);
-        }
-    }
+    let flip: Vec<u32> = (0..hf.len() as u32)
+        .filter(|i| !corners.contains(i) && rng.random::<f64>() < p)
+        .collect();
+    let (mut remove, mut insert) = as_edit(state, flip);
     // Shuffle, so that the order of the edits is not always increasing.
     for list in [&mut remove, &mut insert] {
         for k in (1..list.len()).rev() {
@@ -158,20 +157,13 @@ fn block_swaps_like_crossover_rows_match() {
         }
         let (x0, y0) = (rng.random_range(0..w), rng.random_range(0..h));
         let (x1, y1) = (rng.random_range(x0 + 1..=w), rng.random_range(y0 + 1..=h));
-        let (mut remove, mut insert) = (Vec::new(), Vec::new());
-        for y in y0..y1 {
-            for x in x0..x1 {
-                let i = (y * w + x) as u32;
-                if hf.corners().contains(&i) || state.is_kept(i) == other_mark[i as usize] {
-                    continue;
-                }
-                if state.is_kept(i) {
-                    remove.push(i);
-                } else {
-                    insert.push(i);
-                }
-            }
-        }
+        let block = (y0..y1).flat_map(|y| (x0..x1).map(move |x| (y * w + x) as u32));
+        let (remove, insert) = as_edit(
+            &state,
+            block.filter(|&i| {
+                !hf.corners().contains(&i) && state.is_kept(i) != other_mark[i as usize]
+            }),
+        );
         ev.edit(&mut state, &remove, &insert).unwrap();
         let what = format!("round {round} block {x0}..{x1}×{y0}..{y1}");
         assert_matches_fresh(&mut ev, &state, hf.len(), &what);
@@ -198,18 +190,14 @@ fn edits_near_borders_and_corners_match() {
         .unwrap();
     for round in 0..200 {
         let k = rng.random_range(1..6);
-        let (mut remove, mut insert) = (Vec::new(), Vec::new());
+        let mut flip = Vec::new();
         for _ in 0..k {
             let i = near_border[rng.random_range(0..near_border.len())];
-            if remove.contains(&i) || insert.contains(&i) {
-                continue;
-            }
-            if state.is_kept(i) {
-                remove.push(i);
-            } else {
-                insert.push(i);
+            if !flip.contains(&i) {
+                flip.push(i);
             }
         }
+        let (remove, insert) = as_edit(&state, flip);
         ev.edit(&mut state, &remove, &insert).unwrap();
         assert_matches_fresh(&mut ev, &state, hf.len(), &format!("round {round}"));
     }

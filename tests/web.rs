@@ -441,6 +441,18 @@ mod app_stepping {
         }
     }
 
+    /// Ticks `app` with `budget_ms` per frame on `clock` until it stops running; returns the
+    /// number of frames (at most 100 000: a run that would take more fails).
+    fn tick_until_idle(app: &mut App, budget_ms: f64, clock: &mut impl FnMut() -> f64) -> usize {
+        let mut frames = 0;
+        while app.is_running() {
+            app.tick(budget_ms, clock);
+            frames += 1;
+            assert!(frames < 100_000, "the run must stop");
+        }
+        frames
+    }
+
     #[wasm_bindgen_test]
     fn a_tick_steps_until_its_budget_is_spent() {
         let mut app = app();
@@ -508,13 +520,7 @@ mod app_stepping {
     fn slicing_into_frames_reaches_the_front_of_one_uninterrupted_run() {
         let mut app = app();
         app.run().unwrap();
-        let mut clock = ticking_clock();
-        let mut frames = 0;
-        while app.is_running() {
-            app.tick(8.0, &mut clock);
-            frames += 1;
-            assert!(frames < 100_000, "the run must finish");
-        }
+        let frames = tick_until_idle(&mut app, 8.0, &mut ticking_clock());
         assert!(frames > 1, "the run took several frames");
         assert!(app.status().done);
         let c = config();
@@ -528,10 +534,7 @@ mod app_stepping {
     fn arrow_keys_move_the_selection_along_the_front_and_stop_at_its_ends() {
         let mut app = app();
         app.run().unwrap();
-        let mut clock = ticking_clock();
-        while app.is_running() {
-            app.tick(50.0, &mut clock);
-        }
+        tick_until_idle(&mut app, 50.0, &mut ticking_clock());
         let n = app.front().unwrap().len();
         assert!(n >= 3, "front of {n}");
         app.move_selection(1);
@@ -569,12 +572,7 @@ mod app_stepping {
         })
         .unwrap();
         let mut clock = ticking_clock();
-        let mut frames = 0;
-        while app.is_running() {
-            app.tick(8.0, &mut clock);
-            frames += 1;
-            assert!(frames < 100_000, "the re-run must stop");
-        }
+        tick_until_idle(&mut app, 8.0, &mut clock);
         assert_eq!(app.reproduction(), None);
         assert_eq!(app.status().generation, 3);
         assert!(!app.status().done, "stopped before the run's own end");
@@ -590,9 +588,7 @@ mod app_stepping {
         assert_eq!(app.selected().unwrap(), &whole.front().solutions()[2]);
         // Run resumes to the end like any paused run.
         app.run().unwrap();
-        while app.is_running() {
-            app.tick(8.0, &mut clock);
-        }
+        tick_until_idle(&mut app, 8.0, &mut clock);
         assert!(app.status().done);
     }
 
@@ -610,10 +606,7 @@ mod app_stepping {
             selected: Some(1_000_000),
         })
         .unwrap();
-        let mut clock = ticking_clock();
-        while app.is_running() {
-            app.tick(8.0, &mut clock);
-        }
+        tick_until_idle(&mut app, 8.0, &mut ticking_clock());
         assert_eq!(app.status().generation, 1);
         assert_eq!(app.selected(), None);
     }
