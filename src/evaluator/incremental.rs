@@ -74,6 +74,8 @@ pub(super) struct EditScratch {
     dead: Vec<u32>,
     dirty: Vec<bool>,
     dirty_rows: Vec<bool>,
+    /// The indices of the dirty rows.
+    dirty_list: Vec<usize>,
     boundary: Vec<u32>,
     outer: Vec<u32>,
     star: Vec<u32>,
@@ -244,9 +246,10 @@ impl MeshState {
         }
         // A new vertex is a vertex of the touched triangles just rasterised, which set its error
         // to zero and marked its row.
-        for (y, _) in rows.iter().enumerate().filter(|(_, d)| **d) {
-            self.field.refresh_row(y);
-        }
+        let list = &mut scratch.dirty_list;
+        list.clear();
+        list.extend(rows.iter().enumerate().filter(|(_, d)| **d).map(|(y, _)| y));
+        self.field.refresh_rows(list);
         Ok(self.finish(hf.len()))
     }
 
