@@ -100,6 +100,7 @@ impl ErrorField {
     /// keep the adder busy, with the same bits per row (88 → 27 µs for all 257 rows of a
     /// 257×257 grid).
     #[inline]
+    #[allow(clippy::needless_range_loop)] // x indexes R rows at once
     fn refresh_group<const R: usize>(&mut self, ys: [usize; R]) {
         let w = self.width;
         let rows = ys.map(|y| &self.errors[y * w..(y + 1) * w]);
