@@ -22,7 +22,7 @@
 //!
 //! Unit of work ([`crate::optimizer`]): one evaluation. A unit creates one initial individual,
 //! or makes the next child of the mating in progress: one OAX row, the best-levels child, or
-//! one mutated offspring (see [`super::mating`]). A child whose objectives are already known
+//! one mutated offspring (see `evolution::mating`). A child whose objectives are already known
 //! costs no evaluation and its unit does no work beyond bookkeeping; the same holds for starting
 //! a mating (two tournaments, the weight and the crossover's random choices, drawn at its first
 //! unit) and for the survival step (run by the unit that completes the offspring). The pending

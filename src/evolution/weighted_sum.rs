@@ -12,7 +12,7 @@
 //!
 //! Unit of work ([`crate::optimizer`]): one evaluation, as in NSGA-II. A unit creates one
 //! initial individual of the current run, or makes the next child of the mating in progress
-//! (one OAX row, the best-levels child, or one mutated offspring; see [`super::mating`]). The
+//! (one OAX row, the best-levels child, or one mutated offspring; see `evolution::mating`). The
 //! survival step and the end of a run happen in the unit that completes them; a run's end (its
 //! generations or its share of the evaluation cap) is only checked between matings, never in
 //! the middle of one. The pending mating lives in the optimizer's state and the random draws

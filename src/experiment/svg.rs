@@ -1,4 +1,4 @@
-//! fronts-<dataset>.svg: every method's merged front in one plot, E against T, hand-written SVG.
+//! `fronts-<dataset>.svg`: every method's merged front in one plot, E against T, hand-written SVG.
 //!
 //! Structure (stable, so tools and tests can read it): one `<g class="front"
 //! data-method="NAME">` per method holding a `<polyline>` through its points by increasing T
