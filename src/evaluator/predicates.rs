@@ -138,19 +138,15 @@ impl Circle {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
 
     #[test]
     fn circle_det_is_the_in_circle_determinant() {
         // Random quadruples on a 2¹⁴ grid (the limit the exactness bound is stated for) and on
         // a small grid (many co-circular ties): the one-circle form must give the very value the
         // full determinant gives, zero included.
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |bound: i64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % bound as u64) as i64
-        };
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x2545_f491);
+        let mut next = |bound: i64| rng.random_range(0..bound);
         let mut ties = 0;
         for round in 0..20_000 {
             let side = if round % 2 == 0 { 1 << 14 } else { 5 };

@@ -293,6 +293,7 @@ impl EdgeWalk {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
 
     /// Ownership decided point by point, straight from the rule in the module docs.
     fn owns_by_rule(grid: &Grid<'_>, tri: [GridPoint; 3], at: GridPoint) -> bool {
@@ -314,13 +315,8 @@ mod tests {
         // bottoms and tops, a middle vertex left or right of the long edge, edges one row tall,
         // slivers, and edges on the border. Each must visit exactly the points the ownership rule
         // gives it, once each, with z̃ the plane through its vertices.
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = |bound: i64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % bound as u64) as i64
-        };
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x9e37_79b9);
+        let mut next = |bound: i64| rng.random_range(0..bound);
         for round in 0..4000 {
             let (w, h) = (2 + next(12), 2 + next(12));
             let z: Vec<f64> = (0..w * h).map(|i| ((i * 37 % 11) as f64).sqrt()).collect();
