@@ -48,6 +48,9 @@ pub struct Triangulation {
     slot: Vec<u32>,
     /// Scratch: spade's reversed directed edge for each of our half-edges.
     rev: Vec<u32>,
+    /// Scratch of [`insert_all`](Self::insert_all): each row of the kept points as (start,
+    /// end, y).
+    rows: Vec<(usize, usize, i64)>,
 }
 
 impl Clone for Triangulation {
@@ -159,8 +162,9 @@ impl Triangulation {
     /// legal. Returns false, changing nothing, unless `kept` holds the box's four corners.
     ///
     /// Why not spade: every point lands inside the box, so there is no hull to maintain; the
-    /// predicates are exact integers; and the points go in row by row, alternating direction
-    /// (each next point is a neighbour of the last, so walks are about two triangles long).
+    /// predicates are exact integers; and the points go in row by row (in three rounds of rows,
+    /// see below), alternating direction, so each next point is usually a neighbour of the
+    /// last and walks are short.
     /// Measured 1.4–1.8× faster than spade's bulk load followed by the tie-rule legalisation.
     pub fn insert_all(&mut self, width: usize, kept: &[u32]) -> bool {
         let lattice = Lattice::new(width);
@@ -195,8 +199,14 @@ impl Triangulation {
         self.twin.extend_from_slice(&[NONE, NONE, 5, NONE, NONE, 2]);
         let _ = self.flip_if_illegal(2);
         let mut stack = std::mem::take(&mut self.stack);
-        let mut last = 0u32;
-        let mut forward = true;
+        // The rows (runs of one y) of `kept`, inserted in three rounds: every fourth row, then
+        // the rows halfway between, then the rest, each round in alternating directions. Why:
+        // one sweep up the grid keeps inserting points just above a front whose triangles fan
+        // out to the box's top corners, and each insertion then flips most of its fan (6.2
+        // flips per point at 30 % kept); the rounds fill in between rows already there.
+        // Measured 6–8 % faster at 2 % and 30 % kept; two rounds or four were no better.
+        let mut rows = std::mem::take(&mut self.rows);
+        rows.clear();
         let mut start = 0;
         while start < kept.len() {
             let y = lattice.point(kept[start])[1];
@@ -204,27 +214,43 @@ impl Triangulation {
             while end < kept.len() && lattice.point(kept[end])[1] == y {
                 end += 1;
             }
-            let row = &kept[start..end];
-            let mut insert = |p: u32| {
-                if !is_corner(p) {
-                    let t = self
-                        .walk(last, lattice.point(p), self.walk_cap())
-                        .expect("a walk on a Delaunay triangulation ends");
-                    // A repeated point is already a vertex of the triangle that holds it:
-                    // skipped, as spade skips it.
-                    if !self.triangle(t as usize).contains(&p) {
-                        last = self.insert_point(t, p, &mut stack, |_| {});
-                    }
-                }
-            };
-            if forward {
-                row.iter().for_each(|&p| insert(p));
-            } else {
-                row.iter().rev().for_each(|&p| insert(p));
-            }
-            forward = !forward;
+            rows.push((start, end, y));
             start = end;
         }
+        let round_of = |y: i64| match y & 3 {
+            0 => 0,
+            2 => 1,
+            _ => 2,
+        };
+        let mut last = 0u32;
+        let mut forward = true;
+        for round in 0..3 {
+            for &(start, end, y) in &rows {
+                if round_of(y) != round {
+                    continue;
+                }
+                let row = &kept[start..end];
+                let mut insert = |p: u32| {
+                    if !is_corner(p) {
+                        let t = self
+                            .walk(last, lattice.point(p), self.walk_cap())
+                            .expect("a walk on a Delaunay triangulation ends");
+                        // A repeated point is already a vertex of the triangle that holds it:
+                        // skipped, as spade skips it.
+                        if !self.triangle(t as usize).contains(&p) {
+                            last = self.insert_point(t, p, &mut stack, |_| {});
+                        }
+                    }
+                };
+                if forward {
+                    row.iter().for_each(|&p| insert(p));
+                } else {
+                    row.iter().rev().for_each(|&p| insert(p));
+                }
+                forward = !forward;
+            }
+        }
+        self.rows = rows;
         self.stack = stack;
         true
     }
