@@ -53,46 +53,38 @@ impl ErrorField {
     }
 
     /// Sets the error of grid point `i`; the row totals are stale until
-    /// [`refresh_row`](Self::refresh_row).
+    /// [`refresh_rows`](Self::refresh_rows).
     #[inline]
     pub fn set(&mut self, i: usize, error: f64) {
         self.errors[i] = error;
     }
 
     /// The error of every grid point, row-major, to write; the row totals are stale until
-    /// [`refresh_row`](Self::refresh_row) or [`refresh_all`](Self::refresh_all).
+    /// [`refresh_rows`](Self::refresh_rows) or [`refresh_all`](Self::refresh_all).
     #[inline]
     pub fn errors_mut(&mut self) -> &mut [f64] {
         &mut self.errors
     }
 
-    /// Recomputes the totals of row `y` from its errors, left to right.
-    pub fn refresh_row(&mut self, y: usize) {
-        self.refresh_group([y]);
-    }
-
-    /// Recomputes the totals of rows `ys` (as [`refresh_row`](Self::refresh_row) on each).
-    pub fn refresh_rows(&mut self, ys: &[usize]) {
-        let mut groups = ys.chunks_exact(4);
-        for g in &mut groups {
-            self.refresh_group([g[0], g[1], g[2], g[3]]);
-        }
-        for &y in groups.remainder() {
-            self.refresh_group([y]);
+    /// Recomputes the totals of rows `ys`, each from its errors, left to right.
+    pub fn refresh_rows(&mut self, ys: impl IntoIterator<Item = usize>) {
+        let mut ys = ys.into_iter();
+        loop {
+            match (ys.next(), ys.next(), ys.next(), ys.next()) {
+                (Some(a), Some(b), Some(c), Some(d)) => self.refresh_group([a, b, c, d]),
+                (a, b, c, _) => {
+                    for y in [a, b, c].into_iter().flatten() {
+                        self.refresh_group([y]);
+                    }
+                    return;
+                }
+            }
         }
     }
 
     /// Recomputes every row's totals.
     pub fn refresh_all(&mut self) {
-        let h = self.row_sum.len();
-        let mut y = 0;
-        while y + 4 <= h {
-            self.refresh_group([y, y + 1, y + 2, y + 3]);
-            y += 4;
-        }
-        for y in y..h {
-            self.refresh_group([y]);
-        }
+        self.refresh_rows(0..self.row_sum.len());
     }
 
     /// Each row of `ys` summed left to right, the rows side by side. Why: one row's sum is a

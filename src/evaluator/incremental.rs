@@ -74,8 +74,6 @@ pub(super) struct EditScratch {
     dead: Vec<u32>,
     dirty: Vec<bool>,
     dirty_rows: Vec<bool>,
-    /// The indices of the dirty rows.
-    dirty_list: Vec<usize>,
     boundary: Vec<u32>,
     outer: Vec<u32>,
     star: Vec<u32>,
@@ -246,10 +244,8 @@ impl MeshState {
         }
         // A new vertex is a vertex of the touched triangles just rasterised, which set its error
         // to zero and marked its row.
-        let list = &mut scratch.dirty_list;
-        list.clear();
-        list.extend(rows.iter().enumerate().filter(|(_, d)| **d).map(|(y, _)| y));
-        self.field.refresh_rows(list);
+        self.field
+            .refresh_rows(rows.iter().enumerate().filter(|(_, d)| **d).map(|(y, _)| y));
         Ok(self.finish(hf.len()))
     }
 

@@ -7,7 +7,7 @@
 //! point on a shared edge falls in exactly one triangle. The triangle's own vertices are skipped:
 //! they are kept points and their error is zero by definition.
 
-use super::predicates::GridPoint;
+use super::predicates::{GridPoint, orient};
 
 /// Error sums over the points one triangle owns.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -50,7 +50,7 @@ impl Grid<'_> {
         mut visit: impl FnMut(usize, usize, &Interpolant),
     ) {
         let [a, b, c] = tri;
-        let area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let area = orient(a, b, c);
         debug_assert!(area > 0, "triangle must be counter-clockwise and proper");
         if area == 1 {
             // Pick's theorem: a lattice triangle of area ½ holds no grid point but its vertices.
@@ -228,7 +228,6 @@ impl Grid<'_> {
 
 /// z̃ along one row span: z̃(k) = (s0 + k·s1) / area at the span's k-th column.
 pub struct Interpolant {
-    #[allow(missing_docs)]
     s0: f64,
     s1: f64,
     inv_area: f64,
@@ -303,9 +302,8 @@ mod tests {
         (0..3).all(|k| {
             let (p, q) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
             let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
-            let e = dx * (at[1] - p[1]) - dy * (at[0] - p[0]);
             let owned = dy < 0 || (dy == 0 && dx > 0) || grid.on_border(p, q);
-            e >= i64::from(!owned)
+            orient(p, q, at) >= i64::from(!owned)
         })
     }
 
@@ -326,8 +324,7 @@ mod tests {
                 z: &z,
             };
             let mut tri = [0; 3].map(|_| [next(w), next(h)]);
-            let turn = (tri[1][0] - tri[0][0]) * (tri[2][1] - tri[0][1])
-                - (tri[1][1] - tri[0][1]) * (tri[2][0] - tri[0][0]);
+            let turn = orient(tri[0], tri[1], tri[2]);
             if turn == 0 {
                 continue;
             }
@@ -339,9 +336,7 @@ mod tests {
                 seen[i] += 1;
                 // z̃ from barycentric weights, independently of the span arithmetic.
                 let at = [i as i64 % w, i as i64 / w];
-                let weight = |p: GridPoint, q: GridPoint| {
-                    ((q[0] - p[0]) * (at[1] - p[1]) - (q[1] - p[1]) * (at[0] - p[0])) as f64
-                };
+                let weight = |p: GridPoint, q: GridPoint| orient(p, q, at) as f64;
                 let zv = tri.map(|v| z[(v[1] * w + v[0]) as usize]);
                 let expected = (weight(tri[1], tri[2]) * zv[0]
                     + weight(tri[2], tri[0]) * zv[1]
