@@ -265,12 +265,24 @@ impl Triangulation {
         let mut came_from = NONE;
         for _ in 0..=max_steps {
             let base = 3 * t;
-            let step = (base..base + 3).find(|&e| {
-                let (a, b) = (self.vertices[e as usize], self.vertices[next(e) as usize]);
+            // The triangle's three corners converted once (each is the origin of one edge and
+            // the end of another); the edges are tried in order, the first that has `p`
+            // strictly outside it deciding the step.
+            let [a, b, c] = self.triangle(t as usize).map(|v| self.point(v));
+            let crosses = |e: u32, from: GridPoint, to: GridPoint| {
                 e != came_from
-                    && predicates::orient(self.point(a), self.point(b), p) < 0
+                    && predicates::orient(from, to, p) < 0
                     && self.twin[e as usize] != NONE
-            });
+            };
+            let step = if crosses(base, a, b) {
+                Some(base)
+            } else if crosses(base + 1, b, c) {
+                Some(base + 1)
+            } else if crosses(base + 2, c, a) {
+                Some(base + 2)
+            } else {
+                None
+            };
             match step {
                 None => return Some(t),
                 Some(e) => {
