@@ -436,39 +436,18 @@ impl MeshState {
             let Some(k) = (0..3).find(|&k| m.vertices[3 * t as usize + k] == v) else {
                 return false;
             };
-            let first = 3 * t + k as u32;
-            let mut add = |e: u32| {
+            // Every half-edge leaving v, counter-clockwise from the fan's first.
+            let first = m.fan_start(3 * t + k as u32);
+            let mut e = first;
+            loop {
                 let slot = (e / 3) as usize;
                 if !scratch.in_region[slot] {
                     scratch.in_region[slot] = true;
                     scratch.region.push(slot as u32);
                 }
-            };
-            // Half-edges leaving v: clockwise (next of the twin) until the border or back at
-            // the start, then counter-clockwise (twin of the previous) from the start.
-            let mut e = first;
-            let mut closed = false;
-            loop {
-                add(e);
-                let f = m.twin[e as usize];
-                if f == NONE {
+                e = m.fan_next(e);
+                if e == NONE || e == first {
                     break;
-                }
-                e = next(f);
-                if e == first {
-                    closed = true;
-                    break;
-                }
-            }
-            if !closed {
-                let mut e = first;
-                loop {
-                    let f = m.twin[prev(e) as usize];
-                    if f == NONE {
-                        break;
-                    }
-                    e = f;
-                    add(e);
                 }
             }
         }
@@ -643,20 +622,9 @@ impl MeshState {
         let k = (0..3)
             .find(|&k| m.vertices[3 * t as usize + k] == v)
             .expect("a kept point is a vertex of the triangle that holds it");
-        // Half-edges v → a leave v; rotate clockwise to the first triangle of the fan (a border
-        // vertex's fan is open) or once around.
-        let first = 3 * t + k as u32;
-        let mut e = first;
-        loop {
-            let f = m.twin[e as usize];
-            if f == NONE {
-                break;
-            }
-            e = next(f);
-            if e == first {
-                break;
-            }
-        }
+        // Half-edges v → a leave v; from the first triangle of the fan (a border vertex's fan is
+        // open)...
+        let mut e = m.fan_start(3 * t + k as u32);
         // Then counter-clockwise: triangle (v, aᵢ, aᵢ₊₁) gives the boundary edge aᵢ → aᵢ₊₁.
         let start = e;
         scratch.star.clear();
@@ -667,7 +635,7 @@ impl MeshState {
             let link = next(e);
             scratch.boundary.push(m.vertices[link as usize]);
             scratch.outer.push(m.twin[link as usize]);
-            let back = m.twin[prev(e) as usize];
+            let back = m.fan_next(e);
             if back == NONE {
                 // A border vertex: the chain ends at aₖ, closed by a border segment.
                 scratch.boundary.push(m.vertices[prev(e) as usize]);
@@ -776,36 +744,21 @@ impl MeshState {
     }
 }
 
-/// The half-edge of `mesh` from the origin of its half-edge `leaving` to `to`, by rotating
-/// around that origin both ways.
+/// The half-edge of `mesh` from the origin of its half-edge `leaving` to `to`, by walking that
+/// origin's fan.
 fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
     if leaving == NONE {
         return None;
     }
-    let ends_at = |e: u32| mesh.vertices[next(e) as usize] == to;
-    let mut e = leaving;
+    let first = mesh.fan_start(leaving);
+    let mut e = first;
     loop {
-        if ends_at(e) {
+        if mesh.vertices[next(e) as usize] == to {
             return Some(e);
         }
-        let f = mesh.twin[e as usize];
-        if f == NONE {
-            break;
-        }
-        e = next(f);
-        if e == leaving {
+        e = mesh.fan_next(e);
+        if e == NONE || e == first {
             return None;
-        }
-    }
-    let mut e = leaving;
-    loop {
-        let f = mesh.twin[prev(e) as usize];
-        if f == NONE {
-            return None;
-        }
-        e = f;
-        if ends_at(e) {
-            return Some(e);
         }
     }
 }

@@ -200,8 +200,7 @@ impl Grid<'_> {
         self.for_each_span(tri, |first, last, span| {
             let z = &self.z[first..=last];
             let out = &mut errors[first..=last][..z.len()];
-            // An i32 counter (spans are shorter than 2¹⁴): its conversion to f64 is one
-            // instruction and vectorises, where a usize's is a branchy sequence on x86-64.
+            // An i32 counter (see `Interpolant::at_i32`), which also lets the loop vectorise.
             for k in 0..z.len() as i32 {
                 let i = k as usize;
                 out[i] = (z[i] - span.at_i32(k)).abs();
@@ -240,10 +239,12 @@ impl Interpolant {
     /// z̃ at column `k` of the span.
     #[inline]
     pub fn at(&self, k: usize) -> f64 {
-        (self.s0 + k as f64 * self.s1) * self.inv_area
+        // Exact: a span is shorter than the grid's side, < 2¹⁴.
+        self.at_i32(k as i32)
     }
 
-    /// [`at`](Self::at) for an `i32` column, the same bits.
+    /// [`at`](Self::at) for an `i32` column, the same bits; an `i32` converts to f64 in one
+    /// instruction, a `usize` in a branchy sequence on x86-64.
     #[inline]
     fn at_i32(&self, k: i32) -> f64 {
         (self.s0 + k as f64 * self.s1) * self.inv_area

@@ -294,6 +294,29 @@ impl Triangulation {
         None
     }
 
+    /// The first half-edge of the fan around the origin of half-edge `e`: rotating clockwise
+    /// (from a half-edge to the next of its twin) until the grid border, where a border vertex's
+    /// fan is open, or once around back to `e`.
+    pub fn fan_start(&self, e: u32) -> u32 {
+        let mut at = e;
+        loop {
+            let f = self.twin[at as usize];
+            if f == NONE {
+                return at;
+            }
+            at = next(f);
+            if at == e {
+                return at;
+            }
+        }
+    }
+
+    /// The half-edge after `e` counter-clockwise around their common origin (the twin of `e`'s
+    /// previous half-edge), or [`NONE`] past the border.
+    pub fn fan_next(&self, e: u32) -> u32 {
+        self.twin[prev(e) as usize]
+    }
+
     /// The step cap of a walk on this triangulation: more than any walk can need.
     pub fn walk_cap(&self) -> usize {
         2 * self.len() + 8
