@@ -29,8 +29,9 @@ CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
 echo "== browser app: build and end-to-end test (headless Chromium)"
 bash scripts/build-web.sh
 node tests/e2e/app.test.mjs
-# The share-link test compares the browser's front with the CLI's.
-cargo build --release --bin paretomesh
+# The share-link test compares the browser's front with the CLI's (the debug build, which
+# `cargo test` above has built already).
+cargo build --bin paretomesh
 node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
 node tests/e2e/compare.test.mjs

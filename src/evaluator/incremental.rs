@@ -217,9 +217,7 @@ impl MeshState {
         let tri = canonical(self.mesh.triangle(slot as usize));
         let pts = tri.map(|i| lattice.point(i));
         let (field, hint) = (&mut self.field, &mut self.hint);
-        grid.write_errors(pts, field.errors_mut(), |first, last| {
-            hint[first..=last].fill(slot);
-        });
+        grid.write_errors(pts, field.errors_mut(), hint, slot);
         for v in tri {
             // A vertex is a kept point: its error is zero by definition.
             field.set(v as usize, 0.0);

@@ -187,25 +187,29 @@ impl Grid<'_> {
 
     /// Writes the error |z − z̃| of every grid point the counter-clockwise triangle `tri` owns
     /// (vertices excluded) into `errors` (row-major, one per grid point), the same bits as
-    /// [`for_each_error`](Self::for_each_error), and calls `visit(first, last)` once per row
-    /// span written. Span-wise slices instead of a call per point let the loop run without
-    /// bounds checks (the fresh build writes every grid point this way).
+    /// [`for_each_error`](Self::for_each_error), and `slot` into `owner` at the same points.
+    /// Span-wise slices instead of a call per point let the loop run without bounds checks (the
+    /// fresh build writes every grid point this way); both stores in one loop, because the
+    /// spans of a sparse mesh are short (≈4 points at 2 % kept) and a second pass per span
+    /// costs its own set-up (5 % fewer instructions per evaluation at 2 % kept).
     #[inline]
     pub fn write_errors(
         &self,
         tri: [GridPoint; 3],
         errors: &mut [f64],
-        mut visit: impl FnMut(usize, usize),
+        owner: &mut [u32],
+        slot: u32,
     ) {
         self.for_each_span(tri, |first, last, span| {
             let z = &self.z[first..=last];
             let out = &mut errors[first..=last][..z.len()];
+            let own = &mut owner[first..=last][..z.len()];
             // An i32 counter (see `Interpolant::at_i32`), which also lets the loop vectorise.
             for k in 0..z.len() as i32 {
                 let i = k as usize;
                 out[i] = (z[i] - span.at_i32(k)).abs();
+                own[i] = slot;
             }
-            visit(first, last);
         });
     }
 
@@ -392,17 +396,21 @@ mod tests {
             let mut expected = vec![-1.0; w * h];
             grid.for_each_error(tri, |i, d| expected[i] = d);
             let mut written = vec![-1.0; w * h];
-            let mut spans = Vec::new();
-            grid.write_errors(tri, &mut written, |first, last| spans.push((first, last)));
+            let mut owner = vec![0u32; w * h];
+            grid.write_errors(tri, &mut written, &mut owner, 9);
             assert_eq!(
                 written.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
                 expected.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
                 "{tri:?}"
             );
-            let in_spans = spans.iter().map(|(a, b)| b - a + 1).sum::<usize>();
-            let owned = expected.iter().filter(|&&d| d >= 0.0).count();
-            assert!(owned > 0, "{tri:?} owns no point");
-            assert_eq!(in_spans, owned, "{tri:?}");
+            // The owner is marked at exactly the points written.
+            let owned: Vec<bool> = expected.iter().map(|&d| d >= 0.0).collect();
+            assert!(owned.contains(&true), "{tri:?} owns no point");
+            assert_eq!(
+                owner.iter().map(|&o| o == 9).collect::<Vec<_>>(),
+                owned,
+                "{tri:?}"
+            );
         }
     }
 }

@@ -6,7 +6,9 @@
 // 3. a run on a dropped file shared by fingerprint asks for the file, refuses a wrong one and
 //    reproduces with the right one; the same run shared with the grid embedded reproduces with
 //    no file at all.
-// Needs the release CLI (cargo build --release --bin paretomesh) and www/pkg.
+// Needs the CLI (cargo build --bin paretomesh; `cargo test` builds it too) and www/pkg. The
+// debug build: its numbers are the same bits as the release build's (no fast-math anywhere),
+// and it saves CI a release build of its own.
 import { readFileSync, existsSync, mkdtempSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
@@ -14,8 +16,8 @@ import path from 'node:path';
 import assert from 'node:assert/strict';
 import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj } from './harness.mjs';
 
-const cli = path.join(root, 'target/release/paretomesh');
-assert.ok(existsSync(cli), 'build the CLI first: cargo build --release --bin paretomesh');
+const cli = path.join(root, 'target/debug/paretomesh');
+assert.ok(existsSync(cli), 'build the CLI first: cargo build --bin paretomesh');
 
 // The CLI's front for a run, as [T, E] pairs and the raw file.
 function cliFront(args) {
