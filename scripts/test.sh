@@ -29,8 +29,9 @@ CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
 echo "== browser app: build and end-to-end test (headless Chromium)"
 bash scripts/build-web.sh
 node tests/e2e/app.test.mjs
-# The share-link test compares the browser's front with the CLI's (the debug build, which
-# `cargo test` above has built already).
+# The share-link test compares the browser's front with the CLI's debug build (the same bits as
+# a release build, and cheaper: `cargo test` above built most of it; only the dependencies whose
+# features dev-dependencies unify differently are compiled again).
 cargo build --bin paretomesh
 node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
