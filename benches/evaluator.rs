@@ -9,6 +9,10 @@
 //! ([`Evaluator::edit`], including the copy of the base mesh, as the GA's scorer does it) beside
 //! a fresh score of the same set, on `tests/data/jacksboro_65x65` (always present) at 30 %
 //! density: where the two cross is the scorer's edit limit.
+//!
+//! `compose/*`: a child of two parents (35 % and 25 % kept) taking each of 7 spatial blocks
+//! from one of them, as the rows of an OAX crossover do: composed from both parents' meshes
+//! ([`Evaluator::compose`]), edited from parent A's, and scored fresh.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use paretomesh::{
@@ -135,5 +139,62 @@ fn bench_incremental(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench, bench_incremental);
+fn bench_compose(c: &mut Criterion) {
+    use paretomesh::evolution::{chromosome::Chromosome, oax::spatial_blocks};
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/jacksboro_65x65.f32");
+    let hf = std::sync::Arc::new(heightfield::load(&path).expect("fixture"));
+    let (w, n) = (hf.width(), hf.len());
+    let mut ev = Evaluator::new(hf.clone());
+    let kept = [kept_subset(n, 0.35, 11), kept_subset(n, 0.25, 12)];
+    let parents = kept.clone().map(|k| {
+        let mut s = MeshState::default();
+        ev.score_into(&k, &mut s).unwrap();
+        s.ensure_discs();
+        s
+    });
+    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+    let blocks = spatial_blocks(w, hf.height(), 7, &mut rng);
+    let mut group = c.benchmark_group("compose");
+    group.sample_size(20);
+    // Rows 1, 2 and 5 of L8 (level = parity of popcount(row & column)).
+    for row in [1u32, 2, 5] {
+        let mut from_b = Chromosome::empty(n);
+        for (k, b) in blocks.iter().enumerate() {
+            if ((k as u32 + 1) & row).count_ones() % 2 == 1 {
+                for y in b.y0..b.y1 {
+                    from_b.set_range(y * w + b.x0, y * w + b.x1);
+                }
+            }
+        }
+        let in_child = |i: u32| {
+            let side = usize::from(from_b.get(i as usize));
+            parents[side].is_kept(i)
+        };
+        let child: Vec<u32> = (0..n as u32).filter(|&i| in_child(i)).collect();
+        let (remove, insert): (Vec<u32>, Vec<u32>) = (0..n as u32)
+            .filter(|&i| parents[0].is_kept(i) != in_child(i))
+            .partition(|&i| parents[0].is_kept(i));
+        let mut state = MeshState::default();
+        group.bench_function(BenchmarkId::new("compose", row), |b| {
+            b.iter(|| {
+                black_box(
+                    ev.compose(&mut state, &parents[0], &parents[1], from_b.words())
+                        .unwrap(),
+                )
+            })
+        });
+        group.bench_function(BenchmarkId::new("edit", row), |b| {
+            b.iter(|| {
+                state.clone_from(&parents[0]);
+                black_box(ev.edit(&mut state, &remove, &insert).unwrap())
+            })
+        });
+        group.bench_function(BenchmarkId::new("fresh", row), |b| {
+            b.iter(|| black_box(ev.score_into(&child, &mut state).unwrap()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, bench_incremental, bench_compose);
 criterion_main!(benches);

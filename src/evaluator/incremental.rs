@@ -36,14 +36,19 @@ use std::sync::Arc;
 #[derive(Debug, Default)]
 pub struct MeshState {
     /// The height field it was scored on (`None` until scored).
-    hf: Option<Arc<Heightfield>>,
-    kept: Vec<bool>,
-    mesh: Triangulation,
-    field: ErrorField,
+    pub(super) hf: Option<Arc<Heightfield>>,
+    pub(super) kept: Vec<bool>,
+    pub(super) mesh: Triangulation,
+    pub(super) field: ErrorField,
     /// Per grid point, a triangle slot: the triangle that owns it, or for a kept point one of
     /// its triangles. Exact after every build or edit; a walk starts there.
-    hint: Vec<u32>,
-    score: Option<Score>,
+    pub(super) hint: Vec<u32>,
+    pub(super) score: Option<Score>,
+    /// Per triangle slot, the grid box of its circumcircle's disc (see
+    /// [`compose`](super::compose)); valid only while `discs_valid`. Filled on demand, not by
+    /// builds and edits, which would pay for it on every triangle.
+    pub(super) discs: Vec<super::compose::DiscBox>,
+    pub(super) discs_valid: bool,
 }
 
 impl Clone for MeshState {
@@ -61,6 +66,9 @@ impl Clone for MeshState {
         self.field.clone_from(&source.field);
         self.hint.clone_from(&source.hint);
         self.score = source.score;
+        // A copy is about to be edited (that is what the scorer copies for): its disc boxes
+        // would go stale, so they are not copied.
+        self.discs_valid = false;
     }
 }
 
@@ -198,7 +206,8 @@ impl MeshState {
         self.hf = None;
     }
 
-    fn finish(&mut self, n: usize) -> Score {
+    pub(super) fn finish(&mut self, n: usize) -> Score {
+        self.discs_valid = false;
         let (sum, sum_sq, max) = self.field.totals();
         let score = Score {
             e_sum: sum,
@@ -213,7 +222,12 @@ impl MeshState {
     /// Writes the errors of the points triangle `slot` owns, and points its points' and
     /// vertices' hints at it. Returns its lowest and highest row.
     #[inline]
-    fn rasterise(&mut self, grid: &Grid<'_>, lattice: Lattice, slot: u32) -> (usize, usize) {
+    pub(super) fn rasterise(
+        &mut self,
+        grid: &Grid<'_>,
+        lattice: Lattice,
+        slot: u32,
+    ) -> (usize, usize) {
         let tri = canonical(self.mesh.triangle(slot as usize));
         let pts = tri.map(|i| lattice.point(i));
         let (field, hint) = (&mut self.field, &mut self.hint);
@@ -744,7 +758,7 @@ impl MeshState {
 
 /// The half-edge of `mesh` from the origin of its half-edge `leaving` to `to`, by walking that
 /// origin's fan.
-fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
+pub(super) fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
     if leaving == NONE {
         return None;
     }
@@ -761,7 +775,7 @@ fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
     }
 }
 
-fn grid_of(hf: &Heightfield) -> Grid<'_> {
+pub(super) fn grid_of(hf: &Heightfield) -> Grid<'_> {
     Grid {
         width: hf.width() as i64,
         height: hf.height() as i64,

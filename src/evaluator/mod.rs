@@ -31,6 +31,7 @@
 //! assert_eq!((with_bump.score.e_sum, with_bump.score.t), (0.0, 4));
 //! ```
 
+pub mod compose;
 pub mod errors;
 pub mod incremental;
 pub mod predicates;
@@ -146,6 +147,7 @@ pub struct Evaluator {
     /// [`score_triangulation`](Self::score_triangulation).
     state: MeshState,
     scratch: EditScratch,
+    compose_scratch: compose::ComposeScratch,
 }
 
 impl Evaluator {
@@ -157,6 +159,7 @@ impl Evaluator {
             kept: Vec::new(),
             state: MeshState::default(),
             scratch: EditScratch::default(),
+            compose_scratch: compose::ComposeScratch::default(),
         }
     }
 
@@ -238,6 +241,23 @@ impl Evaluator {
         insert: &[u32],
     ) -> Result<Score, EvaluateError> {
         state.edit(&self.hf, remove, insert, &mut self.scratch)
+    }
+
+    /// Scores, into `state`, the child that keeps `a`'s kept points where the bitset `from_b`
+    /// (bit `i` of word `i / 64` for grid point `i`) is clear and `b`'s where it is set, by
+    /// reusing the triangles and errors of both parents' meshes (see [`compose`]). The result
+    /// is bit for bit what [`score`](Self::score) gives for the child's kept set, and `state`
+    /// becomes its mesh, ready to edit. `a` and `b` must come from this evaluator and have their
+    /// disc boxes filled ([`MeshState::ensure_discs`]); otherwise, or when a guard fails, returns
+    /// `None` and `state` is left unscored (score it another way).
+    pub fn compose(
+        &mut self,
+        state: &mut MeshState,
+        a: &MeshState,
+        b: &MeshState,
+        from_b: &[u64],
+    ) -> Option<Score> {
+        state.compose(&self.hf, a, b, from_b, &mut self.compose_scratch)
     }
 
     /// The kept points of the last [`score`](Self::score) call, increasing, corners included.

@@ -70,6 +70,14 @@ impl Clone for Triangulation {
 }
 
 impl Triangulation {
+    /// Empties `self` for triangles of points on a grid `width` wide, to be filled by hand
+    /// (scratch buffers kept).
+    pub(super) fn clear_for(&mut self, width: usize) {
+        self.lattice = Lattice::new(width);
+        self.vertices.clear();
+        self.twin.clear();
+    }
+
     /// Number of triangles.
     pub fn len(&self) -> usize {
         self.vertices.len() / 3

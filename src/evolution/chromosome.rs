@@ -132,6 +132,28 @@ impl Chromosome {
         out
     }
 
+    /// The genes as `u64` words, gene `i` in bit `i % 64` of word `i / 64` (bits past `len`
+    /// clear).
+    pub fn words(&self) -> &[u64] {
+        &self.words
+    }
+
+    /// Sets genes `start..end`, leaving the rest unchanged.
+    pub fn set_range(&mut self, start: usize, end: usize) {
+        debug_assert!(start <= end && end <= self.len);
+        for i in start..end.min(start.next_multiple_of(64)) {
+            self.set(i, true);
+        }
+        let mut i = start.next_multiple_of(64);
+        while i + 64 <= end {
+            self.words[i / 64] = u64::MAX;
+            i += 64;
+        }
+        for i in i.max(start)..end {
+            self.set(i, true);
+        }
+    }
+
     /// Copies genes `start..end` from `other` (same length), leaving the rest unchanged.
     pub fn copy_range_from(&mut self, other: &Chromosome, start: usize, end: usize) {
         debug_assert!(start <= end && end <= self.len && other.len == self.len);

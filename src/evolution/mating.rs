@@ -131,7 +131,12 @@ impl PendingMating {
         match &mut self.stage {
             Stage::Oax(crossover) => {
                 let scalar = self.scalar;
-                crossover.next_child(&mut score, &|o| scalar.value(o));
+                let mut score_crossed = |c: &Chromosome, made: oax::Parentage<'_>| {
+                    let o = scorer.score_crossed(c, made);
+                    seen(c, &o);
+                    o
+                };
+                crossover.next_child(&mut score_crossed, &|o| scalar.value(o));
                 if crossover.is_complete() {
                     let placeholder = Stage::Mutation {
                         crossed: [None, None],
@@ -163,7 +168,10 @@ impl PendingMating {
                 let flipped = operators::mutate(&mut genes, &corners, mutation, rng);
                 self.flipped[self.offspring.len().min(1)] = flipped;
                 let objectives = match known {
-                    Some(o) if flipped == 0 => o,
+                    Some(o) if flipped == 0 => {
+                        scorer.promote(&genes);
+                        o
+                    }
                     _ => score(&genes),
                 };
                 self.offspring.push((genes, objectives));

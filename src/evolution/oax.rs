@@ -131,6 +131,24 @@ fn copy_block(to: &mut Chromosome, from: &Chromosome, block: &Block, width: usiz
     }
 }
 
+/// Sets, in `mask`, the genes of `block` of a `width`-wide grid.
+fn mark_block(mask: &mut Chromosome, block: &Block, width: usize) {
+    for y in block.y0..block.y1 {
+        mask.set_range(y * width + block.x0, y * width + block.x1);
+    }
+}
+
+/// How a child of a crossover is made, for a scorer that reuses the parents' meshes
+/// ([`Scorer::score_crossed`](super::objectives::Scorer::score_crossed)): each gene comes from
+/// `parents[0]` where `from_b` is clear and from `parents[1]` where it is set.
+#[derive(Clone, Copy, Debug)]
+pub struct Parentage<'a> {
+    /// Parents A and B.
+    pub parents: [&'a Chromosome; 2],
+    /// The genes taken from B.
+    pub from_b: &'a Chromosome,
+}
+
 /// One child of a crossover, as the teaching view shows it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct OaxChild {
@@ -186,7 +204,8 @@ impl OaxRecord {
 }
 
 /// Runs one orthogonal-array crossover of `parent_a` and `parent_b` (same length, on a grid
-/// `width` wide) over `blocks` (one per factor). `evaluate` scores a chromosome (the caller
+/// `width` wide) over `blocks` (one per factor). `evaluate` scores a child made as its
+/// [`Parentage`] says (the caller
 /// counts it); `fitness` is the scalar to minimise, reported as `weight` in the record.
 pub fn crossover(
     parent_a: (&Chromosome, Objectives),
@@ -194,7 +213,7 @@ pub fn crossover(
     width: usize,
     blocks: Vec<Block>,
     weight: f64,
-    mut evaluate: impl FnMut(&Chromosome) -> Objectives,
+    mut evaluate: impl FnMut(&Chromosome, Parentage<'_>) -> Objectives,
     fitness: impl Fn(&Objectives) -> f64,
 ) -> OaxRecord {
     let mut pending = OaxInProgress::new(parent_a, parent_b, width, blocks, weight);
@@ -262,7 +281,7 @@ impl OaxInProgress {
     /// of one crossover. Does nothing once complete.
     pub fn next_child(
         &mut self,
-        evaluate: &mut impl FnMut(&Chromosome) -> Objectives,
+        evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Objectives,
         fitness: &impl Fn(&Objectives) -> f64,
     ) {
         let factors = self.blocks.len();
@@ -282,13 +301,15 @@ impl OaxInProgress {
     fn child(
         &self,
         levels: Vec<u8>,
-        evaluate: &mut impl FnMut(&Chromosome) -> Objectives,
+        evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Objectives,
         fitness: &impl Fn(&Objectives) -> f64,
     ) -> OaxChild {
         let [(a, a_objectives), (b, b_objectives)] = &self.parents;
         let mut genes = a.clone();
+        let mut from_b = Chromosome::empty(a.len());
         for (block, _) in self.blocks.iter().zip(&levels).filter(|(_, l)| **l == 1) {
             copy_block(&mut genes, b, block, self.width);
+            mark_block(&mut from_b, block, self.width);
         }
         // A child identical to a parent or to an earlier child is not evaluated again.
         let known = if genes == *a {
@@ -303,7 +324,13 @@ impl OaxInProgress {
         };
         let (objectives, evaluated) = match known {
             Some(o) => (o, false),
-            None => (evaluate(&genes), true),
+            None => {
+                let parentage = Parentage {
+                    parents: [a, b],
+                    from_b: &from_b,
+                };
+                (evaluate(&genes, parentage), true)
+            }
         };
         OaxChild {
             fitness: fitness(&objectives),
@@ -392,7 +419,7 @@ mod tests {
             8,
             blocks,
             1.0,
-            |c| {
+            |c, _| {
                 evaluations += 1;
                 score(c)
             },
@@ -429,8 +456,14 @@ mod tests {
             8,
             blocks,
             1.0,
-            |c| {
+            |c, made: Parentage<'_>| {
                 evaluations += 1;
+                // The parentage says where each gene came from.
+                for i in 0..c.len() {
+                    let from = made.parents[usize::from(made.from_b.get(i))];
+                    assert_eq!(c.get(i), from.get(i), "gene {i}");
+                }
+                assert_eq!(made.parents, [&a, &b]);
                 score(c)
             },
             |o| o.e_sum,
@@ -459,12 +492,12 @@ mod tests {
             t: 0,
         };
         let (pa, pb) = ((&a, score(&a)), (&b, score(&b)));
-        let whole = crossover(pa, pb, 8, blocks.clone(), 0.5, score, |o| o.e_sum);
+        let whole = crossover(pa, pb, 8, blocks.clone(), 0.5, |c, _| score(c), |o| o.e_sum);
         let mut pending = OaxInProgress::new(pa, pb, 8, blocks, 0.5);
         for call in 1..=9 {
             assert!(!pending.is_complete());
             let mut evaluations = 0;
-            let mut counted = |c: &Chromosome| {
+            let mut counted = |c: &Chromosome, _: Parentage<'_>| {
                 evaluations += 1;
                 score(c)
             };

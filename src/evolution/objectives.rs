@@ -14,8 +14,15 @@
 //! evaluation count is exactly what scoring every chromosome from scratch gives. A chromosome
 //! equal to a pooled one takes its objectives (still one evaluation in the count: the GA's
 //! accounting does not depend on the pool).
+//!
+//! A crossed child ([`Scorer::score_crossed`]) is usually hundreds of genes from every pooled
+//! chromosome but block by block equal to one of its two parents; when both parents are pooled
+//! its mesh is composed from theirs ([`Evaluator::compose`]), which re-triangulates only the
+//! seams between blocks. Crossed children are replaced in the pool before other chromosomes
+//! (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers are among the others.
 
 use super::chromosome::Chromosome;
+use super::oax::Parentage;
 use crate::evaluator::{Evaluator, MeshState};
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
@@ -73,12 +80,32 @@ impl Scalarisation {
 /// the same time, 0.3 about 10 % more and 0.15 twice as much.
 pub const EDIT_LIMIT_PER_POINT: f64 = 0.5;
 
+/// A crossed child is composed from its parents' meshes ([`Scorer::score_crossed`]) only when
+/// every pooled chromosome is more than [`COMPOSE_MIN_GENES`] + (T_A + T_B) / this many genes
+/// from it (T_A, T_B the parents' triangle counts); nearer, an edit of that one is cheaper.
+/// Measured (`cargo bench --bench evaluator -- compose`, jacksboro_65x65, parents warm in
+/// cache): composing costs ≈ 25 ns per parent triangle, an edit ≈ 27 µs plus ≈ 0.45 µs per
+/// differing gene; in the GA runs (parents cold) composing cost more, hence the offset.
+pub const COMPOSE_TRIANGLES_PER_GENE: usize = 20;
+
+/// See [`COMPOSE_TRIANGLES_PER_GENE`]. Without it the weighted-sum GA, whose children are near
+/// their parents, composed where an edit was cheaper and ran slower.
+pub const COMPOSE_MIN_GENES: usize = 100;
+
+/// How many crossed children the pool keeps before it replaces them ahead of other
+/// chromosomes: a crossover's rows (at most 8 with L8, plus the best-levels child) and some
+/// slack, so that the children a mutant is edited from stay pooled.
+pub const CROSSED_POOLED: usize = 24;
+
 /// Most meshes the [`Scorer`] keeps: about one population and one offspring generation of the
 /// paper's size (μ = λ = 100) plus a crossover's children. Smaller pools find worse bases: on
-/// the paper run on jacksboro_65x65, 100 meshes take about 5 % longer, 32 about 14 %.
+/// the paper run on jacksboro_65x65, 100 meshes take about 5 % longer, 32 about 14 %. (Larger
+/// ones keep more parents to compose from: 400 made that run ≈10 % faster but the weighted-sum
+/// GA's ≈10–30 % slower, in noisy timings; not taken.)
 pub const POOL_STATES: usize = 216;
 
-/// Memory the pool may use, in bytes; on large grids it keeps fewer meshes (at least one).
+/// Memory the pool may use, in bytes (206 meshes of a 65×65 grid); on large grids it keeps
+/// fewer meshes (at least one).
 pub const POOL_BYTES: usize = 64 << 20;
 
 /// A scored chromosome with its mesh, in the [`Scorer`]'s pool.
@@ -90,6 +117,9 @@ struct Pooled {
     objectives: Objectives,
     /// When it was last scored or used as a base (a tick of the scorer), for replacement.
     used: u64,
+    /// Scored as a crossed child ([`Scorer::score_crossed`]): an intermediate that is a base
+    /// for its mutant at most, replaced before the chromosomes that may become parents.
+    crossed: bool,
 }
 
 /// Scores chromosomes on one height field and counts every evaluation. Incremental: see the
@@ -117,8 +147,9 @@ impl Scorer {
             .e_sum;
         let t0 = hf.full_triangles().max(1) as f64;
         // A mesh state: per point an error (8 bytes), a hint (4), a kept mark (1) and a gene
-        // bit; per triangle (at most 2 per point) 6 half-edge words of 4 bytes.
-        let state_bytes = hf.len() * (8 + 4 + 1 + 2 * 24) + hf.len() / 8;
+        // bit; per triangle (at most 2 per point) 6 half-edge words of 4 bytes and a disc box
+        // of 8.
+        let state_bytes = hf.len() * (8 + 4 + 1 + 2 * (24 + 8)) + hf.len() / 8;
         Self {
             evaluator,
             indices: Vec::new(),
@@ -135,6 +166,18 @@ impl Scorer {
     /// Evaluates `c` (one evaluation). The result is exactly [`Evaluator::score`]'s for `c`'s
     /// kept set, whether it was built from scratch or edited from a pooled mesh.
     pub fn score(&mut self, c: &Chromosome) -> Objectives {
+        self.score_made(c, None)
+    }
+
+    /// [`score`](Self::score) for a child of a crossover made as `made` says: when both
+    /// parents' meshes are in the pool and no pooled chromosome is near the child (see
+    /// [`COMPOSE_TRIANGLES_PER_GENE`]), its mesh is composed from theirs
+    /// ([`Evaluator::compose`]). The same objectives, bit for bit, either way.
+    pub fn score_crossed(&mut self, c: &Chromosome, made: Parentage<'_>) -> Objectives {
+        self.score_made(c, Some(made))
+    }
+
+    fn score_made(&mut self, c: &Chromosome, made: Option<Parentage<'_>>) -> Objectives {
         self.evaluations += 1;
         self.tick += 1;
         // The nearest pooled chromosome within the edit limit (the first of equals). The
@@ -159,9 +202,32 @@ impl Scorer {
             self.pool[i].used = self.tick;
             return self.pool[i].objectives;
         }
+        // Both parents pooled, and the child far enough from every pooled chromosome that
+        // composing beats an edit?
+        let parents = made
+            .filter(|_| self.capacity >= 3)
+            .and_then(|m| {
+                let find = |g: &Chromosome| {
+                    let ones = g.count_ones();
+                    self.pool
+                        .iter()
+                        .position(|p| p.ones == ones && p.genes == *g)
+                };
+                Some(([find(m.parents[0])?, find(m.parents[1])?], m.from_b))
+            })
+            .filter(|([a, b], _)| {
+                let triangles = self.pool[*a].objectives.t + self.pool[*b].objectives.t;
+                a != b
+                    && nearest.is_none_or(|(d, _)| {
+                        d * COMPOSE_TRIANGLES_PER_GENE
+                            > triangles + COMPOSE_MIN_GENES * COMPOSE_TRIANGLES_PER_GENE
+                    })
+            });
         let base = nearest.map(|(_, i)| i);
+        let keep = [base, parents.map(|p| p.0[0]), parents.map(|p| p.0[1])];
         // The slot to score into: a new one while the pool grows, else the least recently used
-        // other than the base (the base itself when the pool holds one mesh).
+        // one that is neither the base nor a parent (the base itself when the pool holds one
+        // mesh).
         let slot = if self.pool.len() < self.capacity {
             self.pool.push(Pooled {
                 genes: c.clone(),
@@ -173,16 +239,39 @@ impl Scorer {
                     t: 0,
                 },
                 used: 0,
+                crossed: false,
             });
             self.pool.len() - 1
         } else {
+            // Crossed children are replaced first once there are CROSSED_POOLED of them: the
+            // parents of later crossovers are among the others, and composing needs both.
+            let crossed = self.pool.iter().filter(|p| p.crossed).count();
             (0..self.pool.len())
-                .filter(|&i| Some(i) != base || self.pool.len() == 1)
-                .min_by_key(|&i| self.pool[i].used)
+                .filter(|&i| !keep.contains(&Some(i)) || self.pool.len() == 1)
+                .min_by_key(|&i| {
+                    let p = &self.pool[i];
+                    (crossed < CROSSED_POOLED || !p.crossed, p.used)
+                })
                 .expect("the pool is not empty")
         };
-        let score = match base {
-            Some(b) => {
+        let mut score = None;
+        if let Some(([a, b], from_b)) = parents {
+            for p in [a, b] {
+                self.pool[p].state.ensure_discs();
+                self.pool[p].used = self.tick;
+            }
+            let mut state = std::mem::take(&mut self.pool[slot].state);
+            score = self.evaluator.compose(
+                &mut state,
+                &self.pool[a].state,
+                &self.pool[b].state,
+                from_b.words(),
+            );
+            self.pool[slot].state = state;
+        }
+        let score = match (score, base) {
+            (Some(s), _) => Ok(s),
+            (None, Some(b)) => {
                 self.pool[b]
                     .genes
                     .write_differences(c, &mut self.removed, &mut self.inserted);
@@ -204,7 +293,7 @@ impl Scorer {
                 self.evaluator
                     .edit(&mut self.pool[slot].state, &self.removed, &self.inserted)
             }
-            None => {
+            (None, None) => {
                 c.write_indices(&mut self.indices);
                 self.evaluator
                     .score_into(&self.indices, &mut self.pool[slot].state)
@@ -223,7 +312,23 @@ impl Scorer {
         entry.ones = ones;
         entry.objectives = objectives;
         entry.used = self.tick;
+        entry.crossed = made.is_some();
         objectives
+    }
+
+    /// Tells the scorer that `c`, scored as a crossed child, goes on unchanged (a mutation that
+    /// flipped no gene): it may become a parent, so its mesh is kept like the other offspring's.
+    /// Spends no evaluation.
+    pub fn promote(&mut self, c: &Chromosome) {
+        let ones = c.count_ones();
+        if let Some(p) = self
+            .pool
+            .iter_mut()
+            .find(|p| p.ones == ones && p.genes == *c)
+        {
+            p.crossed = false;
+            p.used = self.tick;
+        }
     }
 
     /// Evaluations so far.

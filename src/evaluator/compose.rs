@@ -1,0 +1,456 @@
+//! Scoring a crossed child by composing its two parents' meshes.
+//!
+//! An orthogonal-array child takes each grid point's gene from one of two parents A and B,
+//! block by block: its kept set is A's on the points labelled A and B's on those labelled B.
+//! Most of its canonical triangulation is already in the parents' meshes, with every error
+//! rasterised: [`MeshState::compose`] keeps those triangles and their errors, and triangulates
+//! and rasterises only what is new along the seams between the blocks.
+//!
+//! Why it is exact: under the tie rule (a Simulation of Simplicity, see
+//! [`predicates`](super::predicates)) a triangle belongs to the canonical triangulation of a
+//! point set exactly when its vertices are in the set and no other point of the set is inside
+//! its (perturbed) circumcircle. A triangle of A whose vertices the child keeps has no point of
+//! A inside its circle, so only the child's points labelled B can spoil it; those are looked up
+//! inside the circle's grid box (and there are none in most boxes, which a summed-area table of
+//! the labels tells in four reads). Each kept triangle is taken from the parent its smallest
+//! vertex's label names, so none is taken twice. Whatever the taken triangles do not cover (the
+//! region R) is tiled by the child's other triangles, which are those of the canonical
+//! triangulation of R's points that lie in R (as for a region removal in
+//! [`incremental`](super::incremental)). A taken triangle owns the same grid points with the
+//! same errors as in its parent, so only R's triangles are rasterised.
+
+use super::incremental::{MeshState, edge_from, grid_of};
+use super::predicates::{Circle, GridPoint, Lattice, in_circle, orient};
+use super::triangulation::{NONE, Triangulation, next};
+use crate::heightfield::Heightfield;
+use std::sync::Arc;
+
+/// The grid box of a triangle's circumcircle disc, clipped to the grid: columns `x0..=x1`, rows
+/// `y0..=y1`. Conservative: it holds every grid point on or inside the circle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DiscBox {
+    x0: u16,
+    x1: u16,
+    y0: u16,
+    y1: u16,
+}
+
+impl DiscBox {
+    /// The box of the counter-clockwise triangle `p` on a `width × height` grid.
+    pub fn of(p: [GridPoint; 3], width: usize, height: usize) -> Self {
+        let [a, b, c] = p;
+        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
+        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
+        let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
+        // Exact integers below 2⁴⁴; one rounding each in the division.
+        let d = 2.0 * (bx * cy - by * cx) as f64;
+        let ux = (cy * lb - by * lc) as f64 / d;
+        let uy = (bx * lc - cx * lb) as f64 / d;
+        let r = (ux * ux + uy * uy).sqrt();
+        // Far above the rounding error (a few ulps of numbers below 2³⁰), so no point on the
+        // circle falls out of the box.
+        let margin = 1e-6 * (1.0 + r);
+        let clip = |v: f64, hi: usize| v.clamp(0.0, hi as f64) as u16;
+        let (ox, oy) = (a[0] as f64 + ux, a[1] as f64 + uy);
+        Self {
+            x0: clip((ox - r - margin).floor(), width - 1),
+            x1: clip((ox + r + margin).ceil(), width - 1),
+            y0: clip((oy - r - margin).floor(), height - 1),
+            y1: clip((oy + r + margin).ceil(), height - 1),
+        }
+    }
+
+    fn area(&self) -> usize {
+        (self.x1 - self.x0 + 1) as usize * (self.y1 - self.y0 + 1) as usize
+    }
+}
+
+/// Boxes holding more grid points than this are not searched for spoiling points: their
+/// triangle is left to R instead (rare: a sliver's circle, clipped to the grid).
+const MAX_SEARCHED_BOX: usize = 1024;
+
+/// Scratch buffers of [`MeshState::compose`], kept between calls.
+#[derive(Clone, Debug, Default)]
+pub struct ComposeScratch {
+    /// Summed-area table of the B labels, `(W + 1) × (H + 1)`.
+    sat: Vec<u32>,
+    /// Per slot of A and of B: its slot in the child, or [`NONE`] when not taken.
+    map: [Vec<u32>; 2],
+    /// The taken slots of A, then of B.
+    taken: [Vec<u32>; 2],
+    /// Per grid point: `epoch` when it is a vertex of a taken triangle.
+    mark: Vec<u32>,
+    epoch: u32,
+    /// Half-edges of taken triangles with R across: (child half-edge, from, to).
+    open: Vec<(u32, u32, u32)>,
+    /// Per grid point: listed in `points`.
+    listed: Vec<bool>,
+    /// R's points and the grid corners.
+    points: Vec<u32>,
+    sub: Triangulation,
+    leaving: Vec<u32>,
+    /// Per half-edge of `sub`: the child's half-edge across R's boundary, or [`NONE`].
+    across: Vec<u32>,
+    /// Per triangle of `sub`: its slot in the child once inside R, else [`NONE`].
+    slot: Vec<u32>,
+    inside: Vec<u32>,
+}
+
+impl MeshState {
+    /// Fills the disc boxes of this state's triangles if they are stale (a build or an edit
+    /// leaves them so). A parent is composed from many times, so this is paid once per parent.
+    pub fn ensure_discs(&mut self) {
+        if self.discs_valid {
+            return;
+        }
+        let Some(hf) = self.hf.clone() else {
+            return;
+        };
+        let lattice = Lattice::new(hf.width());
+        self.discs.clear();
+        self.discs.extend((0..self.mesh.len()).map(|t| {
+            let p = self.mesh.triangle(t).map(|i| lattice.point(i));
+            DiscBox::of(p, hf.width(), hf.height())
+        }));
+        self.discs_valid = true;
+    }
+
+    /// Makes `self` the scored mesh of the child that keeps `a`'s kept points where `from_b`
+    /// is clear and `b`'s where it is set (`from_b` a bitset over the grid indices, bit `i` of
+    /// word `i / 64`), reusing the parents' triangles and errors. The score is bit for bit the
+    /// fresh evaluation's. Returns `None`, with `self` unscored, when `a` and `b` are not both
+    /// scored on `hf` with their disc boxes filled ([`ensure_discs`](Self::ensure_discs)), or
+    /// when a guard fails; the caller then scores the child another way.
+    #[allow(clippy::needless_range_loop)] // slots and grid indices index several arrays at once
+    pub(super) fn compose(
+        &mut self,
+        hf: &Arc<Heightfield>,
+        a: &MeshState,
+        b: &MeshState,
+        from_b: &[u64],
+        scratch: &mut ComposeScratch,
+    ) -> Option<super::Score> {
+        self.score = None;
+        self.hf = None;
+        let ours = |s: &MeshState| {
+            s.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf)) && s.score.is_some() && s.discs_valid
+        };
+        let (w, h, n) = (hf.width(), hf.height(), hf.len());
+        if !ours(a) || !ours(b) || from_b.len() < n.div_ceil(64) {
+            return None;
+        }
+        let parents = [a, b];
+        let label = |i: u32| (from_b[(i / 64) as usize] >> (i % 64)) & 1;
+        let kept_in_child = |i: u32| parents[label(i) as usize].kept[i as usize];
+        let lattice = Lattice::new(w);
+
+        // The labels' summed-area table: B labels in columns < x of rows < y at (y, x).
+        let sw = w + 1;
+        scratch.sat.clear();
+        scratch.sat.resize(sw * (h + 1), 0);
+        for y in 0..h {
+            let mut row = 0;
+            for x in 0..w {
+                row += label((y * w + x) as u32) as u32;
+                scratch.sat[(y + 1) * sw + x + 1] = scratch.sat[y * sw + x + 1] + row;
+            }
+        }
+        let sat = &scratch.sat;
+        let labelled_b = |d: &DiscBox| {
+            let (x0, x1, y0, y1) = (
+                d.x0 as usize,
+                d.x1 as usize + 1,
+                d.y0 as usize,
+                d.y1 as usize + 1,
+            );
+            (sat[y1 * sw + x1] + sat[y0 * sw + x0] - sat[y0 * sw + x1] - sat[y1 * sw + x0]) as usize
+        };
+
+        // Which triangles of each parent the child keeps.
+        let mut next_slot = 0u32;
+        for side in 0..2 {
+            let parent = parents[side];
+            let m = &parent.mesh;
+            let (map, taken) = (&mut scratch.map[side], &mut scratch.taken[side]);
+            map.clear();
+            map.resize(m.len(), NONE);
+            taken.clear();
+            for t in 0..m.len() {
+                let tri = m.triangle(t);
+                let first = tri[0].min(tri[1]).min(tri[2]);
+                if label(first) as usize != side || !tri.iter().all(|&v| kept_in_child(v)) {
+                    continue;
+                }
+                let disc = &parent.discs[t];
+                let b_points = labelled_b(disc);
+                let other = if side == 0 {
+                    b_points
+                } else {
+                    disc.area() - b_points
+                };
+                let keep = other == 0
+                    || (disc.area() <= MAX_SEARCHED_BOX
+                        && !spoiled(tri, disc, side as u64, lattice, w, &label, &kept_in_child));
+                if keep {
+                    map[t] = next_slot;
+                    next_slot += 1;
+                    taken.push(t as u32);
+                }
+            }
+        }
+        if next_slot == 0 {
+            // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled B): the
+            // child is built from scratch.
+            let kept: Vec<u32> = (0..n as u32).filter(|&i| kept_in_child(i)).collect();
+            let score = self.rebuild(hf, &kept);
+            self.ensure_discs();
+            return Some(score);
+        }
+
+        // The taken triangles, linked to each other where they meet; the half-edges with R
+        // across are listed.
+        scratch.epoch = scratch.epoch.wrapping_add(1);
+        if scratch.epoch == 0 || scratch.mark.len() != n {
+            scratch.mark.clear();
+            scratch.mark.resize(n, 0);
+            scratch.epoch = 1;
+        }
+        let epoch = scratch.epoch;
+        self.kept.clear();
+        self.kept.resize(n, false);
+        self.hint.resize(n, 0);
+        self.field.reshape(w, h);
+        self.mesh.clear_for(w);
+        self.discs.clear();
+        scratch.open.clear();
+        for side in 0..2 {
+            let (parent, other) = (parents[side], parents[1 - side]);
+            let (map, other_map) = (&scratch.map[side], &scratch.map[1 - side]);
+            for &t in &scratch.taken[side] {
+                let slot = map[t as usize];
+                for k in 0..3 {
+                    let e = 3 * t as usize + k;
+                    let (u, v) = (
+                        parent.mesh.vertices[e],
+                        parent.mesh.vertices[next(e as u32) as usize],
+                    );
+                    self.mesh.vertices.push(u);
+                    self.hint[u as usize] = slot;
+                    scratch.mark[u as usize] = epoch;
+                    let g = parent.mesh.twin[e];
+                    let twin = if g == NONE {
+                        NONE
+                    } else if map[(g / 3) as usize] != NONE {
+                        3 * map[(g / 3) as usize] + g % 3
+                    } else {
+                        match twin_in(other, other_map, v, u) {
+                            Some(f) => f,
+                            None => {
+                                scratch.open.push((3 * slot + k as u32, u, v));
+                                NONE
+                            }
+                        }
+                    };
+                    self.mesh.twin.push(twin);
+                }
+                self.discs.push(parent.discs[t as usize]);
+            }
+        }
+
+        // Every grid point: kept, or owned by a taken triangle (its error as in that parent), or
+        // in R (rasterised below). R's points are the kept points no taken triangle has, and the
+        // ends of the half-edges with R across.
+        scratch.listed.resize(n, false);
+        scratch.points.clear();
+        {
+            let errors = self.field.errors_mut();
+            for i in 0..n {
+                let side = label(i as u32) as usize;
+                if parents[side].kept[i] {
+                    self.kept[i] = true;
+                    errors[i] = 0.0;
+                    if scratch.mark[i] != epoch {
+                        scratch.listed[i] = true;
+                        scratch.points.push(i as u32);
+                    }
+                    continue;
+                }
+                for s in [side, 1 - side] {
+                    let slot = scratch.map[s][parents[s].hint[i] as usize];
+                    if slot != NONE {
+                        errors[i] = parents[s].field.errors()[i];
+                        self.hint[i] = slot;
+                        break;
+                    }
+                }
+            }
+        }
+        let (taken_len, open_len) = (next_slot, scratch.open.len());
+        if open_len > 0 {
+            for j in 0..open_len {
+                let (_, u, v) = scratch.open[j];
+                for p in [u, v] {
+                    if !std::mem::replace(&mut scratch.listed[p as usize], true) {
+                        scratch.points.push(p);
+                    }
+                }
+            }
+            for c in hf.corners() {
+                if !std::mem::replace(&mut scratch.listed[c as usize], true) {
+                    scratch.points.push(c);
+                }
+            }
+        }
+        for &p in &scratch.points {
+            scratch.listed[p as usize] = false;
+        }
+        let full_area = 2 * (w as i64 - 1) * (h as i64 - 1);
+        let area = |v: &[u32]| {
+            let [p, q, r] = [v[0], v[1], v[2]].map(|i| lattice.point(i));
+            orient(p, q, r)
+        };
+        let taken_area: i64 = self.mesh.vertices.chunks_exact(3).map(area).sum();
+        if open_len == 0 {
+            // Nothing is new: the parents' triangles tile the grid (or the guard fails).
+            if taken_area != full_area || !scratch.points.is_empty() {
+                return None;
+            }
+        } else {
+            // R: the canonical triangulation of its points, the triangles found by a flood
+            // from R's boundary that never crosses it.
+            scratch.points.sort_unstable();
+            let sub = &mut scratch.sub;
+            if !sub.insert_all(w, &scratch.points) {
+                return None;
+            }
+            scratch.leaving.resize(n, NONE);
+            for (e, &v) in sub.vertices.iter().enumerate() {
+                scratch.leaving[v as usize] = e as u32;
+            }
+            scratch.across.clear();
+            scratch.across.resize(sub.vertices.len(), NONE);
+            scratch.slot.clear();
+            scratch.slot.resize(sub.len(), NONE);
+            scratch.inside.clear();
+            let mut next_new = taken_len;
+            for &(outer, u, v) in &scratch.open {
+                // R lies left of v → u.
+                let e = edge_from(sub, scratch.leaving[v as usize], u)?;
+                scratch.across[e as usize] = outer;
+                let t = (e / 3) as usize;
+                if scratch.slot[t] == NONE {
+                    scratch.slot[t] = next_new;
+                    next_new += 1;
+                    scratch.inside.push(t as u32);
+                }
+            }
+            let mut at = 0;
+            while at < scratch.inside.len() {
+                let t = scratch.inside[at];
+                at += 1;
+                for e in 3 * t..3 * t + 3 {
+                    let f = sub.twin[e as usize];
+                    if scratch.across[e as usize] == NONE
+                        && f != NONE
+                        && scratch.slot[(f / 3) as usize] == NONE
+                    {
+                        scratch.slot[(f / 3) as usize] = next_new;
+                        next_new += 1;
+                        scratch.inside.push(f / 3);
+                    }
+                }
+            }
+            let new_area: i64 = scratch
+                .inside
+                .iter()
+                .map(|&t| area(&sub.vertices[3 * t as usize..]))
+                .sum();
+            if taken_area + new_area != full_area {
+                debug_assert!(
+                    false,
+                    "composed triangles cover {} of {full_area}",
+                    taken_area + new_area
+                );
+                return None;
+            }
+            // R's triangles after the taken ones, in the order found, linked inside R and
+            // across its boundary.
+            for &t in &scratch.inside {
+                let slot = scratch.slot[t as usize];
+                for k in 0..3 {
+                    let e = (3 * t + k) as usize;
+                    self.mesh.vertices.push(sub.vertices[e]);
+                    let outer = scratch.across[e];
+                    let twin = if outer != NONE {
+                        self.mesh.twin[outer as usize] = 3 * slot + k;
+                        outer
+                    } else {
+                        let f = sub.twin[e];
+                        if f == NONE {
+                            NONE
+                        } else {
+                            3 * scratch.slot[(f / 3) as usize] + f % 3
+                        }
+                    };
+                    self.mesh.twin.push(twin);
+                }
+                let p = sub.triangle(t as usize).map(|i| lattice.point(i));
+                self.discs.push(DiscBox::of(p, w, h));
+            }
+            let grid = grid_of(hf);
+            for slot in taken_len..next_new {
+                self.rasterise(&grid, lattice, slot);
+            }
+        }
+        self.field.refresh_all();
+        self.hf = Some(hf.clone());
+        let score = self.finish(n);
+        self.discs_valid = true;
+        Some(score)
+    }
+}
+
+/// Is a grid point of the child labelled `1 − side` inside the circle of `tri` (a triangle of
+/// the parent `side`)? Points labelled `side` are that parent's and cannot be.
+fn spoiled(
+    tri: [u32; 3],
+    disc: &DiscBox,
+    side: u64,
+    lattice: Lattice,
+    width: usize,
+    label: &impl Fn(u32) -> u64,
+    kept_in_child: &impl Fn(u32) -> bool,
+) -> bool {
+    let p = tri.map(|i| lattice.point(i));
+    let circle = Circle::new(p[0], p[1], p[2]);
+    for y in disc.y0 as usize..=disc.y1 as usize {
+        for x in disc.x0 as usize..=disc.x1 as usize {
+            let i = (y * width + x) as u32;
+            if label(i) == side || !kept_in_child(i) || tri.contains(&i) {
+                continue;
+            }
+            let d = [x as i64, y as i64];
+            let det = circle.det(d);
+            if det > 0
+                || (det == 0 && in_circle([p[0], p[1], p[2], d], [tri[0], tri[1], tri[2], i]))
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// The child's half-edge `from → to` when it is an edge of a triangle taken from `parent`
+/// (`map` its taken slots).
+fn twin_in(parent: &MeshState, map: &[u32], from: u32, to: u32) -> Option<u32> {
+    if !parent.kept[from as usize] || !parent.kept[to as usize] {
+        return None;
+    }
+    let t = parent.hint[from as usize];
+    let m = &parent.mesh;
+    let k = (0..3).find(|&k| m.vertices[3 * t as usize + k] == from)?;
+    let e = edge_from(m, 3 * t + k as u32, to)?;
+    let slot = map[(e / 3) as usize];
+    (slot != NONE).then(|| 3 * slot + e % 3)
+}

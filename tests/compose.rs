@@ -1,0 +1,206 @@
+//! Composed children ([`Evaluator::compose`]) against fresh evaluation: the same triangles, the
+//! same error at every grid point and the same score, bit for bit, for children of seeded
+//! random parents cut by block masks like an orthogonal-array crossover's and by scattered
+//! masks; and a composed mesh must edit and compose further like any other.
+
+use paretomesh::evaluator::incremental::canonical_set as triangle_set;
+use paretomesh::evaluator::{Evaluator, MeshState, Score};
+use paretomesh::heightfield::{self, Heightfield};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::path::Path;
+use std::sync::Arc;
+
+fn fixture(name: &str) -> Arc<Heightfield> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(format!("{name}.f32"));
+    Arc::new(heightfield::load(&path).expect("fixture"))
+}
+
+/// Integer heights (exact ties in the interpolation) for even seeds, random reals for odd.
+fn synthetic(width: usize, height: usize, seed: u64) -> Arc<Heightfield> {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let z = (0..width * height)
+        .map(|_| {
+            if seed % 2 == 0 {
+                rng.random_range(0..5) as f64
+            } else {
+                rng.random::<f64>() * 100.0 - 50.0
+            }
+        })
+        .collect();
+    Arc::new(Heightfield::new(width, height, z).unwrap())
+}
+
+fn bits(s: Score) -> (u64, u64, u64, usize) {
+    (s.e_sum.to_bits(), s.e_max.to_bits(), s.rms.to_bits(), s.t)
+}
+
+fn random_kept(n: usize, density: f64, rng: &mut Pcg64Mcg) -> Vec<u32> {
+    (0..n as u32)
+        .filter(|_| rng.random::<f64>() < density)
+        .collect()
+}
+
+/// A bitset over `n` points with the points of `from_b` set.
+fn bitset(n: usize, mut from_b: impl FnMut(usize) -> bool) -> Vec<u64> {
+    let mut words = vec![0u64; n.div_ceil(64)];
+    for i in (0..n).filter(|&i| from_b(i)) {
+        words[i / 64] |= 1 << (i % 64);
+    }
+    words
+}
+
+/// Rectangles from recursive bisection of the grid, each labelled B with probability ½ (as
+/// the spatial blocks of OAX and one row of its array).
+fn block_mask(w: usize, h: usize, blocks: usize, rng: &mut Pcg64Mcg) -> Vec<u64> {
+    let mut rects = vec![(0, 0, w, h)];
+    while rects.len() < blocks {
+        let at = rng.random_range(0..rects.len());
+        let (x0, y0, x1, y1) = rects[at];
+        if x1 - x0 >= y1 - y0 && x1 - x0 > 1 {
+            let cut = rng.random_range(x0 + 1..x1);
+            rects[at] = (x0, y0, cut, y1);
+            rects.push((cut, y0, x1, y1));
+        } else if y1 - y0 > 1 {
+            let cut = rng.random_range(y0 + 1..y1);
+            rects[at] = (x0, y0, x1, cut);
+            rects.push((x0, cut, x1, y1));
+        } else {
+            break;
+        }
+    }
+    let from_b: Vec<bool> = rects.iter().map(|_| rng.random::<bool>()).collect();
+    bitset(w * h, |i| {
+        let (x, y) = (i % w, i / w);
+        rects
+            .iter()
+            .zip(&from_b)
+            .any(|(&(x0, y0, x1, y1), &b)| b && (x0..x1).contains(&x) && (y0..y1).contains(&y))
+    })
+}
+
+/// Checks `state` against a fresh evaluation of its kept set: score, triangles, and the error
+/// of every grid point.
+fn assert_matches_fresh(ev: &mut Evaluator, state: &MeshState, what: &str) {
+    let n = ev.heightfield().len();
+    let kept: Vec<u32> = (0..n as u32).filter(|&i| state.is_kept(i)).collect();
+    let mut fresh = MeshState::default();
+    let score = ev.score_into(&kept, &mut fresh).unwrap();
+    assert_eq!(bits(state.score().unwrap()), bits(score), "{what}: score");
+    assert_eq!(
+        triangle_set(&state.triangles()),
+        triangle_set(&fresh.triangles()),
+        "{what}: triangles"
+    );
+    let as_bits = |s: &MeshState| s.errors().iter().map(|e| e.to_bits()).collect::<Vec<_>>();
+    assert_eq!(as_bits(state), as_bits(&fresh), "{what}: errors");
+}
+
+/// Composes children of random parents on `hf` and checks each, then edits it and composes
+/// from it.
+fn compose_children(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let mut ev = Evaluator::new(hf.clone());
+    let (w, h, n) = (hf.width(), hf.height(), hf.len());
+    let densities = [0.0, 0.02, 0.1, 0.3, 0.7, 1.0];
+    let parent = |rng: &mut Pcg64Mcg, ev: &mut Evaluator| {
+        let density = densities[rng.random_range(0..densities.len())];
+        let mut s = MeshState::default();
+        ev.score_into(&random_kept(n, density, rng), &mut s)
+            .unwrap();
+        s.ensure_discs();
+        s
+    };
+    let mut a = parent(&mut rng, &mut ev);
+    for round in 0..rounds {
+        let b = parent(&mut rng, &mut ev);
+        let mask = if rng.random::<f64>() < 0.8 {
+            block_mask(w, h, rng.random_range(1..9), &mut rng)
+        } else {
+            let p = rng.random::<f64>();
+            bitset(n, |_| rng.random::<f64>() < p)
+        };
+        let mut child = MeshState::default();
+        let what = format!("{w}×{h} seed {seed} round {round}");
+        let score = ev.compose(&mut child, &a, &b, &mask);
+        assert!(score.is_some(), "{what}: compose gave up");
+        assert_eq!(score, child.score(), "{what}");
+        assert_matches_fresh(&mut ev, &child, &what);
+        // A composed mesh is linked and hinted like a built one: it edits, and composes again.
+        let flips: Vec<u32> = (0..n as u32)
+            .filter(|i| !hf.corners().contains(i) && rng.random::<f64>() < 3.0 / n as f64)
+            .collect();
+        let mut edited = child.clone();
+        let (remove, insert): (Vec<u32>, Vec<u32>) =
+            flips.iter().partition(|&&i| edited.is_kept(i));
+        ev.edit(&mut edited, &remove, &insert).unwrap();
+        assert_matches_fresh(&mut ev, &edited, &format!("{what}, edited"));
+        a = if round % 2 == 0 { child } else { b };
+    }
+}
+
+#[test]
+fn composed_children_match_fresh_evaluation_on_synthetic_grids() {
+    // Thin grids (every point on the border), odd shapes, integer heights (exact ties, many
+    // co-circular points) and real heights.
+    for (w, h) in [
+        (2, 2),
+        (2, 7),
+        (7, 2),
+        (3, 3),
+        (5, 4),
+        (9, 9),
+        (17, 11),
+        (30, 8),
+    ] {
+        for seed in 0..6 {
+            compose_children(synthetic(w, h, seed), seed, 20);
+        }
+    }
+}
+
+#[test]
+fn composed_children_match_fresh_evaluation_on_real_data() {
+    for (name, seed) in [
+        ("jacksboro_33x33", 1),
+        ("volcano_33x33", 2),
+        ("camera_33x33", 3),
+        ("jacksboro_65x65", 4),
+    ] {
+        compose_children(fixture(name), seed, 25);
+    }
+}
+
+#[test]
+fn a_child_equal_to_a_parent_takes_all_its_triangles() {
+    // All genes from A (an empty mask), or from B (a full one): every triangle of that parent
+    // is taken and nothing is triangulated anew; the result is still the parent's mesh.
+    let hf = fixture("jacksboro_33x33");
+    let n = hf.len();
+    let mut ev = Evaluator::new(hf.clone());
+    let mut rng = Pcg64Mcg::seed_from_u64(5);
+    let mut a = MeshState::default();
+    let mut b = MeshState::default();
+    ev.score_into(&random_kept(n, 0.2, &mut rng), &mut a)
+        .unwrap();
+    ev.score_into(&random_kept(n, 0.05, &mut rng), &mut b)
+        .unwrap();
+    let mut child = MeshState::default();
+    assert_eq!(
+        ev.compose(&mut child, &a, &b, &bitset(n, |_| false)),
+        None,
+        "parents without disc boxes are refused"
+    );
+    a.ensure_discs();
+    b.ensure_discs();
+    for (mask, parent) in [(bitset(n, |_| false), &a), (bitset(n, |_| true), &b)] {
+        let score = ev.compose(&mut child, &a, &b, &mask).unwrap();
+        assert_eq!(bits(score), bits(parent.score().unwrap()));
+        assert_eq!(
+            triangle_set(&child.triangles()),
+            triangle_set(&parent.triangles())
+        );
+    }
+}
