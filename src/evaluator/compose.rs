@@ -20,7 +20,7 @@
 //! same errors as in its parent, so only R's triangles are rasterised.
 
 use super::incremental::{MeshState, edge_from, grid_of};
-use super::predicates::{Circle, GridPoint, Lattice, in_circle, orient};
+use super::predicates::{Circle, GridPoint, Lattice, in_circle};
 use super::triangulation::{NONE, Triangulation, next};
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
@@ -141,7 +141,16 @@ impl MeshState {
         }
         let parents = [a, b];
         let label = |i: u32| (from_b[(i / 64) as usize] >> (i % 64)) & 1;
-        let kept_in_child = |i: u32| parents[label(i) as usize].kept[i as usize];
+        // The child's kept points, once (the tests below read them per triangle vertex).
+        self.kept.clear();
+        self.kept.resize(n, false);
+        let mut vertices = 0usize;
+        for (i, k) in self.kept.iter_mut().enumerate() {
+            *k = parents[label(i as u32) as usize].kept[i];
+            vertices += usize::from(*k);
+        }
+        let child_kept = &self.kept;
+        let kept_in_child = |i: u32| child_kept[i as usize];
         let lattice = Lattice::new(w);
 
         // The labels' summed-area table: B labels in columns < x of rows < y at (y, x).
@@ -216,8 +225,6 @@ impl MeshState {
             scratch.epoch = 1;
         }
         let epoch = scratch.epoch;
-        self.kept.clear();
-        self.kept.resize(n, false);
         self.hint.resize(n, 0);
         self.field.reshape(w, h);
         self.mesh.clear_for(w);
@@ -266,8 +273,7 @@ impl MeshState {
             let errors = self.field.errors_mut();
             for i in 0..n {
                 let side = label(i as u32) as usize;
-                if parents[side].kept[i] {
-                    self.kept[i] = true;
+                if self.kept[i] {
                     errors[i] = 0.0;
                     if scratch.mark[i] != epoch {
                         scratch.listed[i] = true;
@@ -304,15 +310,18 @@ impl MeshState {
         for &p in &scratch.points {
             scratch.listed[p as usize] = false;
         }
-        let full_area = 2 * (w as i64 - 1) * (h as i64 - 1);
-        let area = |v: &[u32]| {
-            let [p, q, r] = [v[0], v[1], v[2]].map(|i| lattice.point(i));
-            orient(p, q, r)
-        };
-        let taken_area: i64 = self.mesh.vertices.chunks_exact(3).map(area).sum();
+        // A guard on the reasoning above: a triangulation of the grid rectangle with V
+        // vertices, B of them on its border, has 2V − B − 2 triangles (Euler); a leak or a gap
+        // would change the count.
+        let on_border = (0..w)
+            .flat_map(|x| [x, (h - 1) * w + x])
+            .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
+            .filter(|&i| self.kept[i])
+            .count();
+        let expected = (2 * vertices).checked_sub(on_border + 2)? as u32;
         if open_len == 0 {
             // Nothing is new: the parents' triangles tile the grid (or the guard fails).
-            if taken_area != full_area || !scratch.points.is_empty() {
+            if taken_len != expected || !scratch.points.is_empty() {
                 return None;
             }
         } else {
@@ -360,17 +369,8 @@ impl MeshState {
                     }
                 }
             }
-            let new_area: i64 = scratch
-                .inside
-                .iter()
-                .map(|&t| area(&sub.vertices[3 * t as usize..]))
-                .sum();
-            if taken_area + new_area != full_area {
-                debug_assert!(
-                    false,
-                    "composed triangles cover {} of {full_area}",
-                    taken_area + new_area
-                );
+            if next_new != expected {
+                debug_assert!(false, "composed {next_new} triangles, not {expected}");
                 return None;
             }
             // R's triangles after the taken ones, in the order found, linked inside R and

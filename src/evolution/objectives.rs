@@ -97,22 +97,59 @@ pub const COMPOSE_MIN_GENES: usize = 100;
 /// slack, so that the children a mutant is edited from stay pooled.
 pub const CROSSED_POOLED: usize = 24;
 
-/// Most meshes the [`Scorer`] keeps: about one population and one offspring generation of the
-/// paper's size (μ = λ = 100) plus a crossover's children. Smaller pools find worse bases: on
-/// the paper run on jacksboro_65x65, 100 meshes take about 5 % longer, 32 about 14 %. (Larger
-/// ones keep more parents to compose from: 400 made that run ≈10 % faster but the weighted-sum
-/// GA's ≈10–30 % slower, in noisy timings; not taken.)
-pub const POOL_STATES: usize = 216;
+/// How many of the most recently scored chromosomes the [`Scorer`] compares with first.
+const RECENT: usize = 16;
 
-/// Memory the pool may use, in bytes (206 meshes of a 65×65 grid); on large grids it keeps
-/// fewer meshes (at least one).
-pub const POOL_BYTES: usize = 64 << 20;
+/// Most meshes the [`Scorer`] keeps: the population and about three offspring generations of
+/// the paper's size (μ = λ = 100) plus a crossover's children, so that both parents of most
+/// crossovers are still pooled to compose from (85 % of the crossed children's parent pairs
+/// over the paper run on jacksboro_65x65, against 30 % with 216 meshes). That run took 3.0 s
+/// (min user time of three) with 400 meshes, 3.7 s with 216. Smaller pools also find worse
+/// bases to edit.
+pub const POOL_STATES: usize = 400;
+
+/// Memory the pool may use, in bytes (≈130 MB for 400 meshes of a 65×65 grid); on large grids
+/// it keeps fewer meshes (at least one).
+pub const POOL_BYTES: usize = 160 << 20;
+
+/// The gene counts of [`PROFILE_PARTS`] consecutive stretches of a chromosome. The Hamming
+/// distance of two chromosomes is at least the sum of the differences of their counts, a lower
+/// bound far cheaper than the distance (16 subtractions instead of a pass over the words), which
+/// lets the [`Scorer`]'s search skip most pooled chromosomes of a population whose total gene
+/// counts are alike.
+#[derive(Clone, Copy, Debug, Default)]
+struct Profile([u32; PROFILE_PARTS]);
+
+const PROFILE_PARTS: usize = 16;
+
+impl Profile {
+    fn of(c: &Chromosome) -> Self {
+        let words = c.words();
+        let per = words.len().div_ceil(PROFILE_PARTS).max(1);
+        let mut counts = [0u32; PROFILE_PARTS];
+        for (count, part) in counts.iter_mut().zip(words.chunks(per)) {
+            *count = part.iter().map(|w| w.count_ones()).sum();
+        }
+        Self(counts)
+    }
+
+    /// The lower bound on the Hamming distance of the two chromosomes.
+    fn distance_below(&self, other: &Self) -> usize {
+        self.0
+            .iter()
+            .zip(&other.0)
+            .map(|(a, b)| a.abs_diff(*b) as usize)
+            .sum()
+    }
+}
 
 /// A scored chromosome with its mesh, in the [`Scorer`]'s pool.
 struct Pooled {
     genes: Chromosome,
     /// Its number of set genes.
     ones: usize,
+    /// Its [`Profile`].
+    profile: Profile,
     state: MeshState,
     objectives: Objectives,
     /// When it was last scored or used as a base (a tick of the scorer), for replacement.
@@ -134,6 +171,9 @@ pub struct Scorer {
     capacity: usize,
     tick: u64,
     removed: Vec<u32>,
+    /// The last [`RECENT`] pool slots scored (a ring; `usize::MAX` while unfilled).
+    recent: [usize; RECENT],
+    recent_at: usize,
     inserted: Vec<u32>,
 }
 
@@ -159,6 +199,8 @@ impl Scorer {
             capacity: (POOL_BYTES / state_bytes.max(1)).clamp(1, POOL_STATES),
             tick: 0,
             removed: Vec::new(),
+            recent: [usize::MAX; RECENT],
+            recent_at: 0,
             inserted: Vec::new(),
         }
     }
@@ -180,14 +222,36 @@ impl Scorer {
     fn score_made(&mut self, c: &Chromosome, made: Option<Parentage<'_>>) -> Objectives {
         self.evaluations += 1;
         self.tick += 1;
-        // The nearest pooled chromosome within the edit limit (the first of equals). The
-        // difference of the gene counts bounds the distance from below and skips most.
-        let limit = (EDIT_LIMIT_PER_POINT * c.len() as f64) as usize;
+        // Both parents pooled? Then a base is worth editing only if it is nearer than where
+        // composing becomes cheaper, which also cuts the search short.
+        let parents = made.filter(|_| self.capacity >= 3).and_then(|m| {
+            let find = |g: &Chromosome| {
+                let ones = g.count_ones();
+                self.pool
+                    .iter()
+                    .position(|p| p.ones == ones && p.genes == *g)
+            };
+            let [a, b] = [find(m.parents[0])?, find(m.parents[1])?];
+            (a != b).then_some(([a, b], m.from_b))
+        });
+        let mut limit = (EDIT_LIMIT_PER_POINT * c.len() as f64) as usize;
+        if let Some(([a, b], _)) = parents {
+            let triangles = self.pool[a].objectives.t + self.pool[b].objectives.t;
+            limit = limit.min(COMPOSE_MIN_GENES + triangles / COMPOSE_TRIANGLES_PER_GENE);
+        }
+        // The nearest pooled chromosome within the limit (the first of equals). The difference
+        // of the gene counts bounds the distance from below and skips most.
         let ones = c.count_ones();
+        let profile = Profile::of(c);
         let mut nearest = None;
         let mut bound = limit + 1;
-        for (i, p) in self.pool.iter().enumerate() {
-            if p.ones.abs_diff(ones) >= bound {
+        // The most recently scored first: a mutant's base is the crossed child scored just
+        // before it, and a tight bound early makes the rest of the scan stop early (it halved
+        // the search in the weighted-sum GA, whose population is close together).
+        let recent = self.recent.into_iter().filter(|&i| i < self.pool.len());
+        for i in recent.chain(0..self.pool.len()) {
+            let p = &self.pool[i];
+            if p.ones.abs_diff(ones) >= bound || p.profile.distance_below(&profile) >= bound {
                 continue;
             }
             if let Some(d) = p.genes.hamming_below(c, bound) {
@@ -200,29 +264,11 @@ impl Scorer {
         }
         if let Some((0, i)) = nearest {
             self.pool[i].used = self.tick;
+            self.remember(i);
             return self.pool[i].objectives;
         }
-        // Both parents pooled, and the child far enough from every pooled chromosome that
-        // composing beats an edit?
-        let parents = made
-            .filter(|_| self.capacity >= 3)
-            .and_then(|m| {
-                let find = |g: &Chromosome| {
-                    let ones = g.count_ones();
-                    self.pool
-                        .iter()
-                        .position(|p| p.ones == ones && p.genes == *g)
-                };
-                Some(([find(m.parents[0])?, find(m.parents[1])?], m.from_b))
-            })
-            .filter(|([a, b], _)| {
-                let triangles = self.pool[*a].objectives.t + self.pool[*b].objectives.t;
-                a != b
-                    && nearest.is_none_or(|(d, _)| {
-                        d * COMPOSE_TRIANGLES_PER_GENE
-                            > triangles + COMPOSE_MIN_GENES * COMPOSE_TRIANGLES_PER_GENE
-                    })
-            });
+        // Compose when no base is near enough.
+        let parents = parents.filter(|_| nearest.is_none());
         let base = nearest.map(|(_, i)| i);
         let keep = [base, parents.map(|p| p.0[0]), parents.map(|p| p.0[1])];
         // The slot to score into: a new one while the pool grows, else the least recently used
@@ -232,6 +278,7 @@ impl Scorer {
             self.pool.push(Pooled {
                 genes: c.clone(),
                 ones,
+                profile,
                 state: MeshState::default(),
                 objectives: Objectives {
                     e_sum: 0.0,
@@ -310,10 +357,18 @@ impl Scorer {
         let entry = &mut self.pool[slot];
         entry.genes.clone_from(c);
         entry.ones = ones;
+        entry.profile = profile;
         entry.objectives = objectives;
         entry.used = self.tick;
         entry.crossed = made.is_some();
+        self.remember(slot);
         objectives
+    }
+
+    /// Puts pool slot `i` among the recently scored ones.
+    fn remember(&mut self, i: usize) {
+        self.recent[self.recent_at] = i;
+        self.recent_at = (self.recent_at + 1) % RECENT;
     }
 
     /// Tells the scorer that `c`, scored as a crossed child, goes on unchanged (a mutation that
