@@ -246,8 +246,9 @@ impl Scorer {
         let mut nearest = None;
         let mut bound = limit + 1;
         // The most recently scored first: a mutant's base is the crossed child scored just
-        // before it, and a tight bound early makes the rest of the scan stop early (it halved
-        // the search in the weighted-sum GA, whose population is close together).
+        // before it, and a tight bound early lets the rest of the scan skip or stop early
+        // (measured without it, min of two: the paper run 2.97 → 3.46 s, the weighted-sum GA
+        // 9.33 → 9.75 s).
         let recent = self.recent.into_iter().filter(|&i| i < self.pool.len());
         for i in recent.chain(0..self.pool.len()) {
             let p = &self.pool[i];
