@@ -21,7 +21,7 @@
 
 use super::incremental::{MeshState, edge_from, grid_of};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
-use super::triangulation::{NONE, Triangulation, next};
+use super::triangulation::{NONE, Triangulation};
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
@@ -74,6 +74,8 @@ const MAX_SEARCHED_BOX: usize = 1024;
 pub struct ComposeScratch {
     /// Summed-area table of the B labels, `(W + 1) × (H + 1)`.
     sat: Vec<u32>,
+    /// Per grid point: 1 when labelled B.
+    labels: Vec<u8>,
     /// Per slot of A and of B: its slot in the child, or [`NONE`] when not taken.
     map: [Vec<u32>; 2],
     /// The taken slots of A, then of B.
@@ -140,30 +142,35 @@ impl MeshState {
             return None;
         }
         let parents = [a, b];
-        let label = |i: u32| (from_b[(i / 64) as usize] >> (i % 64)) & 1;
-        // The child's kept points, once (the tests below read them per triangle vertex).
+        // Per grid point its label (one byte: read per triangle vertex and per point below),
+        // the child's kept marks, and the labels' summed-area table (B labels in columns < x
+        // of rows < y at (y, x)), in one pass.
         self.kept.clear();
         self.kept.resize(n, false);
-        let mut vertices = 0usize;
-        for (i, k) in self.kept.iter_mut().enumerate() {
-            *k = parents[label(i as u32) as usize].kept[i];
-            vertices += usize::from(*k);
-        }
-        let child_kept = &self.kept;
-        let kept_in_child = |i: u32| child_kept[i as usize];
-        let lattice = Lattice::new(w);
-
-        // The labels' summed-area table: B labels in columns < x of rows < y at (y, x).
+        scratch.labels.clear();
+        scratch.labels.resize(n, 0);
         let sw = w + 1;
         scratch.sat.clear();
         scratch.sat.resize(sw * (h + 1), 0);
+        let mut vertices = 0usize;
         for y in 0..h {
             let mut row = 0;
             for x in 0..w {
-                row += label((y * w + x) as u32) as u32;
+                let i = y * w + x;
+                let l = ((from_b[i / 64] >> (i % 64)) & 1) as u8;
+                scratch.labels[i] = l;
+                let k = parents[l as usize].kept[i];
+                self.kept[i] = k;
+                vertices += usize::from(k);
+                row += u32::from(l);
                 scratch.sat[(y + 1) * sw + x + 1] = scratch.sat[y * sw + x + 1] + row;
             }
         }
+        let labels = &scratch.labels;
+        let label = |i: u32| u64::from(labels[i as usize]);
+        let child_kept = &self.kept;
+        let kept_in_child = |i: u32| child_kept[i as usize];
+        let lattice = Lattice::new(w);
         let sat = &scratch.sat;
         let labelled_b = |d: &DiscBox| {
             let (x0, x1, y0, y1) = (
@@ -228,20 +235,21 @@ impl MeshState {
         self.hint.resize(n, 0);
         self.field.reshape(w, h);
         self.mesh.clear_for(w);
+        self.mesh.vertices.resize(3 * next_slot as usize, NONE);
+        self.mesh.twin.resize(3 * next_slot as usize, NONE);
         self.discs.clear();
+        self.discs.resize(next_slot as usize, DiscBox::default());
         scratch.open.clear();
         for side in 0..2 {
             let (parent, other) = (parents[side], parents[1 - side]);
             let (map, other_map) = (&scratch.map[side], &scratch.map[1 - side]);
             for &t in &scratch.taken[side] {
                 let slot = map[t as usize];
+                let tri = parent.mesh.triangle(t as usize);
                 for k in 0..3 {
                     let e = 3 * t as usize + k;
-                    let (u, v) = (
-                        parent.mesh.vertices[e],
-                        parent.mesh.vertices[next(e as u32) as usize],
-                    );
-                    self.mesh.vertices.push(u);
+                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                    self.mesh.vertices[3 * slot as usize + k] = u;
                     self.hint[u as usize] = slot;
                     scratch.mark[u as usize] = epoch;
                     let g = parent.mesh.twin[e];
@@ -258,9 +266,9 @@ impl MeshState {
                             }
                         }
                     };
-                    self.mesh.twin.push(twin);
+                    self.mesh.twin[3 * slot as usize + k] = twin;
                 }
-                self.discs.push(parent.discs[t as usize]);
+                self.discs[slot as usize] = parent.discs[t as usize];
             }
         }
 
@@ -327,6 +335,8 @@ impl MeshState {
         } else {
             // R: the canonical triangulation of its points, the triangles found by a flood
             // from R's boundary that never crosses it.
+            // (Most of its cost is flips: R's points lie along thin seams. Inserting them in
+            // Morton order or at random instead of by rows changed nothing, measured.)
             scratch.points.sort_unstable();
             let sub = &mut scratch.sub;
             if !sub.insert_all(w, &scratch.points) {
