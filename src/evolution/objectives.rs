@@ -83,9 +83,10 @@ pub const EDIT_LIMIT_PER_POINT: f64 = 0.5;
 /// A crossed child is composed from its parents' meshes ([`Scorer::score_crossed`]) only when
 /// every pooled chromosome is more than [`COMPOSE_MIN_GENES`] + (T_A + T_B) / this many genes
 /// from it (T_A, T_B the parents' triangle counts); nearer, an edit of that one is cheaper.
-/// Measured (`cargo bench --bench evaluator -- compose`, jacksboro_65x65, parents warm in
-/// cache): composing costs ≈ 25 ns per parent triangle, an edit ≈ 27 µs plus ≈ 0.45 µs per
-/// differing gene; in the GA runs (parents cold) composing cost more, hence the offset.
+/// Measured (`cargo bench --bench evaluator -- compose`, jacksboro_65x65): composing costs
+/// ≈ 20–25 ns per parent triangle, an edit ≈ 27 µs plus ≈ 0.45 µs per differing gene; in the
+/// paper run a composition took ≈ 207 µs for ≈ 6 000 parent triangles, more than the bench
+/// predicts, hence the offset.
 pub const COMPOSE_TRIANGLES_PER_GENE: usize = 20;
 
 /// See [`COMPOSE_TRIANGLES_PER_GENE`]. Without it the weighted-sum GA, whose children are near
@@ -103,9 +104,9 @@ const RECENT: usize = 16;
 /// Most meshes the [`Scorer`] keeps: the population and about three offspring generations of
 /// the paper's size (μ = λ = 100) plus a crossover's children, so that both parents of most
 /// crossovers are still pooled to compose from (85 % of the crossed children's parent pairs
-/// over the paper run on jacksboro_65x65, against 30 % with 216 meshes). That run took 3.0 s
-/// (min user time of three) with 400 meshes, 3.7 s with 216. Smaller pools also find worse
-/// bases to edit.
+/// over the paper run on jacksboro_65x65, against 30 % with 216 meshes). That run took 3.1 s
+/// (min user time of three) with 400 meshes and 3.7 s with 216 (side by side, before the
+/// search's profile bound); 600 gained 2 %. Smaller pools also find worse bases to edit.
 pub const POOL_STATES: usize = 400;
 
 /// Memory the pool may use, in bytes (≈130 MB for 400 meshes of a 65×65 grid); on large grids
