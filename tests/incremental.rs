@@ -2,39 +2,15 @@
 //! the same triangles and the same score, bit for bit, over seeded random kept sets and random
 //! edit sequences, plus tiny hand-made cases.
 
+mod common;
+
+use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::evaluator::incremental::canonical_set as triangle_set;
-use paretomesh::evaluator::{EvaluateError, Evaluator, MeshState, Score};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::evaluator::{EvaluateError, Evaluator, MeshState};
+use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
-use std::path::Path;
 use std::sync::Arc;
-
-fn fixture(name: &str) -> Arc<Heightfield> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(format!("{name}.f32"));
-    Arc::new(heightfield::load(&path).expect("fixture"))
-}
-
-/// A grid of integer-valued heights (many exact ties in the interpolation) or random reals.
-fn synthetic(width: usize, height: usize, seed: u64) -> Arc<Heightfield> {
-    let mut rng = Pcg64Mcg::seed_from_u64(seed);
-    let z = (0..width * height)
-        .map(|_| {
-            if seed % 2 == 0 {
-                rng.random_range(0..5) as f64
-            } else {
-                rng.random::<f64>() * 100.0 - 50.0
-            }
-        })
-        .collect();
-    Arc::new(Heightfield::new(width, height, z).unwrap())
-}
-
-fn bits(s: Score) -> (u64, u64, u64, usize) {
-    (s.e_sum.to_bits(), s.e_max.to_bits(), s.rms.to_bits(), s.t)
-}
 
 /// Checks `state` (after edits) against a fresh evaluation of its kept set.
 fn assert_matches_fresh(ev: &mut Evaluator, state: &MeshState, n: usize, what: &str) {
@@ -80,12 +56,6 @@ fn random_edit(
         }
     }
     (remove, insert)
-}
-
-fn random_kept(n: usize, density: f64, rng: &mut Pcg64Mcg) -> Vec<u32> {
-    (0..n as u32)
-        .filter(|_| rng.random::<f64>() < density)
-        .collect()
 }
 
 /// Runs `rounds` random edits of random sizes from a random start on `hf`.
