@@ -363,22 +363,19 @@ impl MeshState {
                     scratch.inside.push(t as u32);
                 }
             }
-            let mut at = 0;
-            while at < scratch.inside.len() {
-                let t = scratch.inside[at];
-                at += 1;
-                for e in 3 * t..3 * t + 3 {
-                    let f = sub.twin[e as usize];
-                    if scratch.across[e as usize] == NONE
-                        && f != NONE
-                        && scratch.slot[(f / 3) as usize] == NONE
-                    {
-                        scratch.slot[(f / 3) as usize] = next_new;
+            let (across, slots) = (&scratch.across, &mut scratch.slot);
+            sub.flood(
+                &mut scratch.inside,
+                |e| across[e as usize] != NONE,
+                |t| {
+                    let free = slots[t as usize] == NONE;
+                    if free {
+                        slots[t as usize] = next_new;
                         next_new += 1;
-                        scratch.inside.push(f / 3);
                     }
-                }
-            }
+                    free
+                },
+            );
             if next_new != expected {
                 debug_assert!(false, "composed {next_new} triangles, not {expected}");
                 return None;

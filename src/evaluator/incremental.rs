@@ -534,21 +534,12 @@ impl MeshState {
             scratch.inside.extend(0..sub.len() as u32);
         } else {
             // Flood from the triangles on the boundary, never across it.
-            let mut at = 0;
-            while at < scratch.inside.len() {
-                let t = scratch.inside[at];
-                at += 1;
-                for e in 3 * t..3 * t + 3 {
-                    let f = sub.twin[e as usize];
-                    if scratch.across[e as usize] == INSIDE
-                        && f != NONE
-                        && scratch.taken[(f / 3) as usize] == NONE
-                    {
-                        scratch.taken[(f / 3) as usize] = 0;
-                        scratch.inside.push(f / 3);
-                    }
-                }
-            }
+            let (across, taken) = (&scratch.across, &mut scratch.taken);
+            sub.flood(
+                &mut scratch.inside,
+                |e| across[e as usize] != INSIDE,
+                |t| std::mem::replace(&mut taken[t as usize], 0) == NONE,
+            );
         }
         // A guard on the reasoning above: the new triangles cover exactly the region's area.
         let area = |v: &[u32]| -> i64 {

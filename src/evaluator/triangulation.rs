@@ -325,6 +325,30 @@ impl Triangulation {
         self.twin[prev(e) as usize]
     }
 
+    /// Grows `inside` (triangles already claimed) by a flood: every triangle reachable from
+    /// them across half-edges that are neither on the border nor `wall`s, each appended once,
+    /// when `claim` takes it (`claim` returns false for a triangle already claimed). Used to
+    /// find the triangles of a sub-triangulation that lie in a region, from the region's
+    /// boundary edges.
+    pub(super) fn flood(
+        &self,
+        inside: &mut Vec<u32>,
+        wall: impl Fn(u32) -> bool,
+        mut claim: impl FnMut(u32) -> bool,
+    ) {
+        let mut at = 0;
+        while at < inside.len() {
+            let t = inside[at];
+            at += 1;
+            for e in 3 * t..3 * t + 3 {
+                let f = self.twin[e as usize];
+                if f != NONE && !wall(e) && claim(f / 3) {
+                    inside.push(f / 3);
+                }
+            }
+        }
+    }
+
     /// The step cap of a walk on this triangulation: more than any walk can need.
     pub fn walk_cap(&self) -> usize {
         2 * self.len() + 8

@@ -226,13 +226,7 @@ impl Scorer {
         // Both parents pooled? Then a base is worth editing only if it is nearer than where
         // composing becomes cheaper, which also cuts the search short.
         let parents = made.filter(|_| self.capacity >= 3).and_then(|m| {
-            let find = |g: &Chromosome| {
-                let ones = g.count_ones();
-                self.pool
-                    .iter()
-                    .position(|p| p.ones == ones && p.genes == *g)
-            };
-            let [a, b] = [find(m.parents[0])?, find(m.parents[1])?];
+            let [a, b] = [self.pooled(m.parents[0])?, self.pooled(m.parents[1])?];
             (a != b).then_some(([a, b], m.from_b))
         });
         let mut limit = (EDIT_LIMIT_PER_POINT * c.len() as f64) as usize;
@@ -377,15 +371,18 @@ impl Scorer {
     /// flipped no gene): it may become a parent, so its mesh is kept like the other offspring's.
     /// Spends no evaluation.
     pub fn promote(&mut self, c: &Chromosome) {
-        let ones = c.count_ones();
-        if let Some(p) = self
-            .pool
-            .iter_mut()
-            .find(|p| p.ones == ones && p.genes == *c)
-        {
-            p.crossed = false;
-            p.used = self.tick;
+        if let Some(i) = self.pooled(c) {
+            self.pool[i].crossed = false;
+            self.pool[i].used = self.tick;
         }
+    }
+
+    /// The pool slot holding exactly `c`, if any.
+    fn pooled(&self, c: &Chromosome) -> Option<usize> {
+        let ones = c.count_ones();
+        self.pool
+            .iter()
+            .position(|p| p.ones == ones && p.genes == *c)
     }
 
     /// Evaluations so far.
