@@ -145,25 +145,27 @@ impl MeshState {
         // Per grid point its label (one byte: read per triangle vertex and per point below),
         // the child's kept marks, and the labels' summed-area table (B labels in columns < x
         // of rows < y at (y, x)), in one pass.
+        // Each entry is written once, in order: pushed, rather than zeroed first and then
+        // overwritten (a second pass over ≈30 KB per composition).
         self.kept.clear();
-        self.kept.resize(n, false);
         scratch.labels.clear();
-        scratch.labels.resize(n, 0);
         let sw = w + 1;
         scratch.sat.clear();
-        scratch.sat.resize(sw * (h + 1), 0);
+        scratch.sat.resize(sw, 0);
         let mut vertices = 0usize;
         for y in 0..h {
             let mut row = 0;
+            scratch.sat.push(0);
             for x in 0..w {
                 let i = y * w + x;
                 let l = ((from_b[i / 64] >> (i % 64)) & 1) as u8;
-                scratch.labels[i] = l;
+                scratch.labels.push(l);
                 let k = parents[l as usize].kept[i];
-                self.kept[i] = k;
+                self.kept.push(k);
                 vertices += usize::from(k);
                 row += u32::from(l);
-                scratch.sat[(y + 1) * sw + x + 1] = scratch.sat[y * sw + x + 1] + row;
+                let below = scratch.sat[y * sw + x + 1];
+                scratch.sat.push(below + row);
             }
         }
         let labels = &scratch.labels;
@@ -234,22 +236,25 @@ impl MeshState {
         let epoch = scratch.epoch;
         self.hint.resize(n, 0);
         self.field.reshape(w, h);
+        // The taken slots were numbered in the order visited below, so their triangles are
+        // pushed (not written into arrays filled with NONE first: ≈100 KB per composition).
         self.mesh.clear_for(w);
-        self.mesh.vertices.resize(3 * next_slot as usize, NONE);
-        self.mesh.twin.resize(3 * next_slot as usize, NONE);
+        self.mesh.vertices.reserve(3 * next_slot as usize);
+        self.mesh.twin.reserve(3 * next_slot as usize);
         self.discs.clear();
-        self.discs.resize(next_slot as usize, DiscBox::default());
+        self.discs.reserve(next_slot as usize);
         scratch.open.clear();
         for side in 0..2 {
             let (parent, other) = (parents[side], parents[1 - side]);
             let (map, other_map) = (&scratch.map[side], &scratch.map[1 - side]);
             for &t in &scratch.taken[side] {
                 let slot = map[t as usize];
+                debug_assert_eq!(3 * slot as usize, self.mesh.vertices.len());
                 let tri = parent.mesh.triangle(t as usize);
                 for k in 0..3 {
                     let e = 3 * t as usize + k;
                     let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                    self.mesh.vertices[3 * slot as usize + k] = u;
+                    self.mesh.vertices.push(u);
                     self.hint[u as usize] = slot;
                     scratch.mark[u as usize] = epoch;
                     let g = parent.mesh.twin[e];
@@ -266,9 +271,9 @@ impl MeshState {
                             }
                         }
                     };
-                    self.mesh.twin[3 * slot as usize + k] = twin;
+                    self.mesh.twin.push(twin);
                 }
-                self.discs[slot as usize] = parent.discs[t as usize];
+                self.discs.push(parent.discs[t as usize]);
             }
         }
 

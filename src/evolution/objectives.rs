@@ -267,10 +267,15 @@ impl Scorer {
         let parents = parents.filter(|_| nearest.is_none());
         let base = nearest.map(|(_, i)| i);
         let keep = [base, parents.map(|p| p.0[0]), parents.map(|p| p.0[1])];
-        // The slot to score into: a new one while the pool grows, else the least recently used
-        // one that is neither the base nor a parent (the base itself when the pool holds one
-        // mesh).
-        let slot = if self.pool.len() < self.capacity {
+        // The slot to score into: the base itself when it is a crossed child and `c` is not
+        // (a mutant of it: the crossed child is an intermediate that nothing needs once its
+        // mutant is scored, so its mesh is edited in place instead of copied first); else a new
+        // one while the pool grows, else the least recently used one that is neither the base
+        // nor a parent (the base itself when the pool holds one mesh).
+        let consumed = base.filter(|&b| made.is_none() && self.pool[b].crossed);
+        let slot = if let Some(b) = consumed {
+            b
+        } else if self.pool.len() < self.capacity {
             self.pool.push(Pooled {
                 genes: c.clone(),
                 ones,
