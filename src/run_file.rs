@@ -10,6 +10,7 @@
 
 use crate::evaluator::incremental::canonical_set;
 use crate::evaluator::{EvaluateError, Evaluator, MeshState};
+use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
@@ -79,16 +80,28 @@ impl RunFile {
         // half its kept points, else from scratch: the triangles are the same either way (the
         // evaluator's contract), listed in canonical order so that the file does not depend on
         // which way they were made.
-        let corners = hf.corners();
+        let (n, corners) = (hf.len(), hf.corners());
         let mut state = MeshState::default();
-        let mut previous: Option<&[u32]> = None;
+        let mut previous: Option<Chromosome> = None;
         let (mut removed, mut inserted) = (Vec::new(), Vec::new());
         let mut members = Vec::with_capacity(front.solutions().len());
         for s in front.solutions() {
-            let near = previous.is_some_and(|p| {
-                sorted_difference(p, &s.kept, &corners, &mut removed, &mut inserted)
-                    && 2 * (removed.len() + inserted.len()) < s.kept.len()
-            });
+            // An index out of range is left to the fresh evaluation, which reports it.
+            let genes = s
+                .kept
+                .iter()
+                .all(|&i| (i as usize) < n)
+                .then(|| Chromosome::from_indices(n, &s.kept));
+            let near = match (&previous, &genes) {
+                (Some(p), Some(g)) => {
+                    p.write_differences(g, &mut removed, &mut inserted);
+                    // The evaluator keeps the corners whatever the list says.
+                    removed.retain(|i| !corners.contains(i));
+                    inserted.retain(|i| !corners.contains(i));
+                    2 * (removed.len() + inserted.len()) < s.kept.len()
+                }
+                _ => false,
+            };
             if !near || evaluator.edit(&mut state, &removed, &inserted).is_err() {
                 evaluator.score_into(&s.kept, &mut state)?;
             }
@@ -96,7 +109,7 @@ impl RunFile {
                 triangles: canonical_set(&state.triangles()),
                 solution: s.clone(),
             });
-            previous = Some(&s.kept);
+            previous = genes;
         }
         Ok(Self {
             grid,
@@ -119,76 +132,11 @@ impl RunFile {
     }
 }
 
-/// Splits the difference of two increasing index lists into `removed` (in `from` only) and
-/// `inserted` (in `to` only), leaving out the grid `corners` (the evaluator keeps them anyway).
-/// Returns false, with the lists unspecified, when either list is not strictly increasing.
-fn sorted_difference(
-    from: &[u32],
-    to: &[u32],
-    corners: &[u32; 4],
-    removed: &mut Vec<u32>,
-    inserted: &mut Vec<u32>,
-) -> bool {
-    removed.clear();
-    inserted.clear();
-    if !from.is_sorted_by(|a, b| a < b) || !to.is_sorted_by(|a, b| a < b) {
-        return false;
-    }
-    let (mut i, mut j) = (0, 0);
-    while i < from.len() || j < to.len() {
-        match (from.get(i), to.get(j)) {
-            (Some(a), Some(b)) if a == b => {
-                i += 1;
-                j += 1;
-            }
-            (Some(&a), Some(&b)) if a < b => {
-                removed.push(a);
-                i += 1;
-            }
-            (Some(&a), None) => {
-                removed.push(a);
-                i += 1;
-            }
-            (_, Some(&b)) => {
-                inserted.push(b);
-                j += 1;
-            }
-            (None, None) => unreachable!("the loop runs while one list has items"),
-        }
-    }
-    removed.retain(|i| !corners.contains(i));
-    inserted.retain(|i| !corners.contains(i));
-    true
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
     use std::sync::Arc;
-
-    #[test]
-    fn sorted_difference_splits_a_change_and_skips_the_corners() {
-        let corners = [0, 4, 20, 24];
-        let (mut removed, mut inserted) = (Vec::new(), Vec::new());
-        assert!(sorted_difference(
-            &[0, 3, 4, 7, 12, 20, 24],
-            &[0, 4, 7, 9, 13, 24],
-            &corners,
-            &mut removed,
-            &mut inserted
-        ));
-        // 20 leaves and is a corner: the evaluator keeps it anyway, so it is no removal.
-        assert_eq!((removed, inserted), (vec![3, 12], vec![9, 13]));
-        let (mut removed, mut inserted) = (Vec::new(), Vec::new());
-        assert!(!sorted_difference(
-            &[0, 7, 3],
-            &[0],
-            &corners,
-            &mut removed,
-            &mut inserted
-        ));
-    }
 
     #[test]
     fn triangles_are_the_canonical_fresh_ones_whether_edited_or_rebuilt() {
