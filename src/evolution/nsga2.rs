@@ -398,6 +398,8 @@ impl Nsga2 {
             }
         }
         rank_and_crowd(&mut self.population);
+        self.scorer
+            .keep_alive(self.population.iter().map(|i| &i.genes));
         self.last_trace = Some(std::mem::take(&mut self.trace));
     }
 }

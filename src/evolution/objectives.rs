@@ -19,7 +19,8 @@
 //! chromosome but block by block equal to one of its two parents; when both parents are pooled
 //! its mesh is composed from theirs ([`Evaluator::compose`]), which re-triangulates only the
 //! seams between blocks. Crossed children are replaced in the pool before other chromosomes
-//! (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers are among the others.
+//! (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers are among the others,
+//! and the GA's current population last of all ([`Scorer::keep_alive`]).
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
@@ -101,15 +102,16 @@ pub const CROSSED_POOLED: usize = 24;
 /// How many of the most recently scored chromosomes the [`Scorer`] compares with first.
 const RECENT: usize = 16;
 
-/// Most meshes the [`Scorer`] keeps: the population and about three offspring generations of
-/// the paper's size (μ = λ = 100) plus a crossover's children, so that both parents of most
-/// crossovers are still pooled to compose from (85 % of the crossed children's parent pairs
-/// over the paper run on jacksboro_65x65, against 30 % with 216 meshes). That run took 3.1 s
-/// (min user time of three) with 400 meshes and 3.7 s with 216 (side by side, before the
-/// search's profile bound); 600 gained 2 %. Smaller pools also find worse bases to edit.
-pub const POOL_STATES: usize = 400;
+/// Most meshes the [`Scorer`] keeps: the population, which the GAs declare alive
+/// ([`Scorer::keep_alive`]) so that both parents of every crossover are pooled to compose from,
+/// and about two offspring generations of the paper's size (μ = λ = 100) plus a crossover's
+/// children, as bases to edit. Before populations were kept alive, 400 meshes left both parents
+/// pooled for 85 % of the crossed children of the paper run on jacksboro_65x65 (30 % with 216).
+/// With them kept alive (min of four to six alternating runs of that run): 400 meshes 2.94 s,
+/// 320 meshes 2.83 s, 250 meshes 2.86 s, against 3.13 s before at 400.
+pub const POOL_STATES: usize = 320;
 
-/// Memory the pool may use, in bytes (≈130 MB for 400 meshes of a 65×65 grid); on large grids
+/// Memory the pool may use, in bytes (≈105 MB for 320 meshes of a 65×65 grid); on large grids
 /// it keeps fewer meshes (at least one).
 pub const POOL_BYTES: usize = 160 << 20;
 
@@ -158,6 +160,9 @@ struct Pooled {
     /// Scored as a crossed child ([`Scorer::score_crossed`]): an intermediate that is a base
     /// for its mutant at most, replaced before the chromosomes that may become parents.
     crossed: bool,
+    /// In the GA's current population ([`Scorer::keep_alive`]): a parent of the coming
+    /// crossovers, replaced only after every other chromosome.
+    alive: bool,
 }
 
 /// Scores chromosomes on one height field and counts every evaluation. Incremental: see the
@@ -288,6 +293,7 @@ impl Scorer {
                 },
                 used: 0,
                 crossed: false,
+                alive: false,
             });
             self.pool.len() - 1
         } else {
@@ -298,7 +304,7 @@ impl Scorer {
                 .filter(|&i| !keep.contains(&Some(i)) || self.pool.len() == 1)
                 .min_by_key(|&i| {
                     let p = &self.pool[i];
-                    (crossed < CROSSED_POOLED || !p.crossed, p.used)
+                    (p.alive, crossed < CROSSED_POOLED || !p.crossed, p.used)
                 })
                 .expect("the pool is not empty")
         };
@@ -379,6 +385,20 @@ impl Scorer {
         if let Some(i) = self.pooled(c) {
             self.pool[i].crossed = false;
             self.pool[i].used = self.tick;
+        }
+    }
+
+    /// Tells the scorer which chromosomes make up the GA's population now: their meshes are
+    /// replaced only after every other one, so that the parents of the coming crossovers stay
+    /// pooled to compose from. Spends no evaluation.
+    pub fn keep_alive<'a>(&mut self, population: impl IntoIterator<Item = &'a Chromosome>) {
+        for p in &mut self.pool {
+            p.alive = false;
+        }
+        for c in population {
+            if let Some(i) = self.pooled(c) {
+                self.pool[i].alive = true;
+            }
         }
     }
 
@@ -514,6 +534,40 @@ mod tests {
                 seen.push(c);
             }
         }
+    }
+
+    #[test]
+    fn the_population_stays_pooled_while_others_come_and_go() {
+        // A pool of 4 meshes: two chromosomes declared alive must survive 40 other scorings,
+        // which evict everything else; once no longer alive, they are replaced like the rest.
+        let hf = bumpy(5);
+        let n = hf.len();
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(8);
+        let mut random = |density: f64| {
+            let kept: Vec<u32> = (0..n as u32)
+                .filter(|_| rng.random::<f64>() < density)
+                .chain(hf.corners())
+                .collect();
+            Chromosome::from_indices(n, &kept)
+        };
+        let alive = [random(0.3), random(0.6)];
+        let mut scorer = Scorer::new(hf.clone());
+        scorer.capacity = 4;
+        for c in &alive {
+            scorer.score(c);
+        }
+        scorer.keep_alive(alive.iter());
+        let others: Vec<Chromosome> = (0..40).map(|k| random(0.1 + 0.02 * k as f64)).collect();
+        for c in &others {
+            scorer.score(c);
+        }
+        assert!(alive.iter().all(|c| scorer.pooled(c).is_some()));
+        assert!(scorer.pooled(&others[0]).is_none(), "the pool is full");
+        scorer.keep_alive([]);
+        for c in &others[..4] {
+            scorer.score(c);
+        }
+        assert!(alive.iter().all(|c| scorer.pooled(c).is_none()));
     }
 
     #[test]

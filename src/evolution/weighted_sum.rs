@@ -271,6 +271,8 @@ impl WeightedSum {
             .iter()
             .map(|&k| slots[k].take().expect("each index once"))
             .collect();
+        self.scorer
+            .keep_alive(self.population.iter().map(|m| &m.genes));
     }
 
     fn finish_run(&mut self) {
@@ -287,6 +289,8 @@ impl WeightedSum {
         }
         self.population.clear();
         self.offspring.clear();
+        // The next run starts from a new population: nothing of this one needs keeping.
+        self.scorer.keep_alive([]);
         self.run_generation = 0;
         self.run_start = self.scorer.evaluations();
         self.run += 1;
