@@ -12,11 +12,13 @@
 //!
 //! `compose/*`: a child of two parents (35 % and 25 % kept) taking each of 7 spatial blocks
 //! from one of them, as the rows of an OAX crossover do: composed from both parents' meshes
-//! ([`Evaluator::compose`]), edited from parent A's, and scored fresh.
+//! ([`Evaluator::compose`]), composed with both parents' triangles classified once for the
+//! crossover's blocks ([`Evaluator::compose_parts`]; `classify` is that classification, paid
+//! once per crossover), edited from parent A's, and scored fresh.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use paretomesh::{
-    evaluator::{Evaluator, MeshState, triangulation::Triangulation as Mesh},
+    evaluator::{Evaluator, MeshState, PartClasses, triangulation::Triangulation as Mesh},
     heightfield,
 };
 use rand::{RngExt, SeedableRng};
@@ -156,11 +158,18 @@ fn bench_compose(c: &mut Criterion) {
     let blocks = spatial_blocks(w, hf.height(), 7, &mut rng);
     let mut group = c.benchmark_group("compose");
     group.sample_size(20);
+    let rects: Vec<[usize; 4]> = blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]).collect();
+    let mut classes = PartClasses::default();
+    group.bench_function("classify", |b| {
+        b.iter(|| black_box(classes.reset(&hf, &parents[0], &parents[1], &rects)))
+    });
     // Rows 1, 2 and 5 of L8 (level = parity of popcount(row & column)).
     for row in [1u32, 2, 5] {
+        let mut levels = 0u32;
         let mut from_b = Chromosome::empty(n);
         for (k, b) in blocks.iter().enumerate() {
             if ((k as u32 + 1) & row).count_ones() % 2 == 1 {
+                levels |= 1 << k;
                 for y in b.y0..b.y1 {
                     from_b.set_range(y * w + b.x0, y * w + b.x1);
                 }
@@ -179,6 +188,14 @@ fn bench_compose(c: &mut Criterion) {
             b.iter(|| {
                 black_box(
                     ev.compose(&mut state, &parents[0], &parents[1], from_b.words())
+                        .unwrap(),
+                )
+            })
+        });
+        group.bench_function(BenchmarkId::new("compose_parts", row), |b| {
+            b.iter(|| {
+                black_box(
+                    ev.compose_parts(&mut state, &parents[0], &parents[1], &classes, levels)
                         .unwrap(),
                 )
             })

@@ -7,7 +7,7 @@ mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::evaluator::incremental::canonical_set as triangle_set;
-use paretomesh::evaluator::{Evaluator, MeshState};
+use paretomesh::evaluator::{Evaluator, MeshState, PartClasses};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -22,33 +22,44 @@ fn bitset(n: usize, mut from_b: impl FnMut(usize) -> bool) -> Vec<u64> {
     words
 }
 
-/// Rectangles from recursive bisection of the grid, each labelled B with probability ½ (as
-/// the spatial blocks of OAX and one row of its array).
-fn block_mask(w: usize, h: usize, blocks: usize, rng: &mut Pcg64Mcg) -> Vec<u64> {
-    let mut rects = vec![(0, 0, w, h)];
+/// Rectangles `[x0, y0, x1, y1]` (half-open) from recursive bisection of the grid, as the
+/// spatial blocks of OAX.
+fn rectangles(w: usize, h: usize, blocks: usize, rng: &mut Pcg64Mcg) -> Vec<[usize; 4]> {
+    let mut rects = vec![[0, 0, w, h]];
     while rects.len() < blocks {
         let at = rng.random_range(0..rects.len());
-        let (x0, y0, x1, y1) = rects[at];
+        let [x0, y0, x1, y1] = rects[at];
         if x1 - x0 >= y1 - y0 && x1 - x0 > 1 {
             let cut = rng.random_range(x0 + 1..x1);
-            rects[at] = (x0, y0, cut, y1);
-            rects.push((cut, y0, x1, y1));
+            rects[at] = [x0, y0, cut, y1];
+            rects.push([cut, y0, x1, y1]);
         } else if y1 - y0 > 1 {
             let cut = rng.random_range(y0 + 1..y1);
-            rects[at] = (x0, y0, x1, cut);
-            rects.push((x0, cut, x1, y1));
+            rects[at] = [x0, y0, x1, cut];
+            rects.push([x0, cut, x1, y1]);
         } else {
             break;
         }
     }
-    let from_b: Vec<bool> = rects.iter().map(|_| rng.random::<bool>()).collect();
+    rects
+}
+
+/// The bitset of the points of the rectangles whose bit of `levels` is set.
+fn rectangles_mask(w: usize, h: usize, rects: &[[usize; 4]], levels: u32) -> Vec<u64> {
     bitset(w * h, |i| {
         let (x, y) = (i % w, i / w);
-        rects
-            .iter()
-            .zip(&from_b)
-            .any(|(&(x0, y0, x1, y1), &b)| b && (x0..x1).contains(&x) && (y0..y1).contains(&y))
+        rects.iter().enumerate().any(|(k, &[x0, y0, x1, y1])| {
+            (levels >> k) & 1 == 1 && (x0..x1).contains(&x) && (y0..y1).contains(&y)
+        })
     })
+}
+
+/// Rectangles from recursive bisection of the grid, each labelled B with probability ½ (as
+/// the spatial blocks of OAX and one row of its array).
+fn block_mask(w: usize, h: usize, blocks: usize, rng: &mut Pcg64Mcg) -> Vec<u64> {
+    let rects = rectangles(w, h, blocks, rng);
+    let levels = rng.random::<u32>();
+    rectangles_mask(w, h, &rects, levels)
 }
 
 /// Checks `state` against a fresh evaluation of its kept set: score, triangles, and the error
@@ -173,4 +184,117 @@ fn a_child_equal_to_a_parent_takes_all_its_triangles() {
             triangle_set(&parent.triangles())
         );
     }
+}
+
+/// Composes every child of random parents over random rectangles both ways, by parts and by
+/// the equivalent bitset, and requires the same mesh (slot for slot) and bits.
+fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let mut ev = Evaluator::new(hf.clone());
+    let (w, h, n) = (hf.width(), hf.height(), hf.len());
+    let densities = [0.0, 0.02, 0.1, 0.3, 0.7, 1.0];
+    let parent = |rng: &mut Pcg64Mcg, ev: &mut Evaluator| {
+        let density = densities[rng.random_range(0..densities.len())];
+        let mut s = MeshState::default();
+        ev.score_into(&random_kept(n, density, rng), &mut s)
+            .unwrap();
+        s.ensure_discs();
+        s
+    };
+    let as_bits = |s: &MeshState| s.errors().iter().map(|e| e.to_bits()).collect::<Vec<_>>();
+    for round in 0..rounds {
+        let (a, b) = (parent(&mut rng, &mut ev), parent(&mut rng, &mut ev));
+        let mut rects = rectangles(w, h, rng.random_range(1..9), &mut rng);
+        if rng.random::<f64>() < 0.2 {
+            // An empty block, as OAX makes when the grid has fewer points than factors.
+            rects.insert(rng.random_range(0..=rects.len()), [0, 0, 0, 0]);
+        }
+        let classes = PartClasses::new(&hf, &a, &b, &rects).expect("the rectangles tile the grid");
+        let all = 1u32 << rects.len();
+        let levels: Vec<u32> = if all <= 16 {
+            (0..all).collect()
+        } else {
+            (0..12).map(|_| rng.random_range(0..all)).collect()
+        };
+        for (k, &level) in levels.iter().enumerate() {
+            let what = format!("{w}×{h} seed {seed} round {round} levels {level:b}");
+            let mut by_parts = MeshState::default();
+            let mut by_bits = MeshState::default();
+            let score = ev.compose_parts(&mut by_parts, &a, &b, &classes, level);
+            assert!(score.is_some(), "{what}: gave up");
+            let mask = rectangles_mask(w, h, &rects, level);
+            assert_eq!(score, ev.compose(&mut by_bits, &a, &b, &mask), "{what}");
+            assert_eq!(by_parts.triangles(), by_bits.triangles(), "{what}");
+            assert_eq!(as_bits(&by_parts), as_bits(&by_bits), "{what}");
+            if k < 3 {
+                assert_matches_fresh(&mut ev, &by_parts, &what);
+            }
+        }
+    }
+}
+
+#[test]
+fn children_composed_by_parts_equal_those_composed_by_bitset() {
+    for (w, h) in [(2, 2), (2, 7), (7, 2), (5, 4), (9, 9), (17, 11), (30, 8)] {
+        for seed in 0..4 {
+            compose_by_parts(synthetic(w, h, seed), 40 + seed, 8);
+        }
+    }
+    for (name, seed) in [
+        ("jacksboro_33x33", 1),
+        ("camera_33x33", 3),
+        ("jacksboro_65x65", 4),
+    ] {
+        compose_by_parts(fixture(name), seed, 10);
+    }
+}
+
+#[test]
+fn a_part_classification_serves_only_its_parents_and_tilings() {
+    let hf = fixture("jacksboro_33x33");
+    let (w, h, n) = (hf.width(), hf.height(), hf.len());
+    let mut ev = Evaluator::new(hf.clone());
+    let mut rng = Pcg64Mcg::seed_from_u64(9);
+    let mut states: Vec<MeshState> = (0..3)
+        .map(|_| {
+            let mut s = MeshState::default();
+            ev.score_into(&random_kept(n, 0.2, &mut rng), &mut s)
+                .unwrap();
+            s.ensure_discs();
+            s
+        })
+        .collect();
+    let halves = [[0, 0, w / 2, h], [w / 2, 0, w, h]];
+    // Rectangles that overlap, leave a gap, or leave the grid are not a tiling.
+    for bad in [
+        vec![[0, 0, w / 2 + 1, h], [w / 2, 0, w, h]],
+        vec![[0, 0, w / 2, h], [w / 2 + 1, 0, w, h]],
+        vec![[0, 0, w / 2, h], [w / 2, 0, w + 1, h]],
+    ] {
+        assert!(PartClasses::new(&hf, &states[0], &states[1], &bad).is_none());
+    }
+    let too_many: Vec<[usize; 4]> = (0..33).map(|x| [x, 0, x + 1, h]).collect();
+    assert!(PartClasses::new(&hf, &states[0], &states[1], &too_many).is_none());
+    let classes = PartClasses::new(&hf, &states[0], &states[1], &halves).unwrap();
+    let mut child = MeshState::default();
+    assert!(
+        ev.compose_parts(&mut child, &states[0], &states[1], &classes, 0b10)
+            .is_some()
+    );
+    // Other parents, the parents swapped, or a parent changed since: refused.
+    assert!(
+        ev.compose_parts(&mut child, &states[0], &states[2], &classes, 0b10)
+            .is_none()
+    );
+    assert!(
+        ev.compose_parts(&mut child, &states[1], &states[0], &classes, 0b10)
+            .is_none()
+    );
+    let inserted = (0..n as u32).find(|&i| !states[1].is_kept(i)).unwrap();
+    ev.edit(&mut states[1], &[], &[inserted]).unwrap();
+    states[1].ensure_discs();
+    assert!(
+        ev.compose_parts(&mut child, &states[0], &states[1], &classes, 0b10)
+            .is_none()
+    );
 }

@@ -3,8 +3,9 @@
 //! An orthogonal-array child takes each grid point's gene from one of two parents A and B,
 //! block by block: its kept set is A's on the points labelled A and B's on those labelled B.
 //! Most of its canonical triangulation is already in the parents' meshes, with every error
-//! rasterised: [`MeshState::compose`] keeps those triangles and their errors, and triangulates
-//! and rasterises only what is new along the seams between the blocks.
+//! rasterised: [`Evaluator::compose`](super::Evaluator::compose) keeps those triangles and
+//! their errors, and triangulates and rasterises only what is new along the seams between the
+//! blocks.
 //!
 //! Why it is exact: under the tie rule (a Simulation of Simplicity, see
 //! [`predicates`](super::predicates)) a triangle belongs to the canonical triangulation of a
@@ -18,6 +19,12 @@
 //! triangulation of R's points that lie in R (as for a region removal in
 //! [`incremental`](super::incremental)). A taken triangle owns the same grid points with the
 //! same errors as in its parent, so only R's triangles are rasterised.
+//!
+//! The children of one orthogonal-array crossover share their parents and their blocks, and
+//! differ only in which parent gives each block. [`PartClasses`] classifies both parents'
+//! triangles once against the blocks: each triangle gets the set of blocks whose labelling for
+//! the other parent would drop it, so each child's classification is a mask test per triangle
+//! ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)) instead of a summed-area lookup and a circle search.
 
 use super::incremental::{MeshState, edge_from, grid_of};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
@@ -69,7 +76,7 @@ impl DiscBox {
 /// triangle is left to R instead (rare: a sliver's circle, clipped to the grid).
 const MAX_SEARCHED_BOX: usize = 1024;
 
-/// Scratch buffers of [`MeshState::compose`], kept between calls.
+/// Scratch buffers of [`Evaluator::compose`](super::Evaluator::compose), kept between calls.
 #[derive(Clone, Debug, Default)]
 pub struct ComposeScratch {
     /// Summed-area table of the B labels, `(W + 1) × (H + 1)`.
@@ -98,6 +105,237 @@ pub struct ComposeScratch {
     inside: Vec<u32>,
 }
 
+/// Where a child's labels come from: a bitset over the grid (bit set: from B), or parts of
+/// a [`PartClasses`] with a level per part (bit `part` set: from B).
+#[derive(Clone, Copy)]
+enum Labels<'a> {
+    Bits(&'a [u64]),
+    Parts(&'a PartClasses, u32),
+}
+
+/// Is `s` scored on `hf` with its disc boxes filled?
+fn composable(s: &MeshState, hf: &Arc<Heightfield>) -> bool {
+    s.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf)) && s.score.is_some() && s.discs_valid
+}
+
+/// Both parents' triangles classified once against a partition of the grid into rectangles
+/// (an orthogonal-array crossover's blocks), for all the children that take each rectangle
+/// whole from one parent ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)).
+///
+/// Why it is exact: a child labels each part for A or B. A triangle of parent P (the other
+/// parent Q) is taken by [`compose`](super::Evaluator::compose) exactly when its smallest vertex's part
+/// is labelled P, each vertex is kept by the child, and no point the child takes from Q spoils
+/// its circle (or, for a circle whose grid box is too large to search, no point of the box is
+/// labelled Q). Each of these conditions fails exactly when some part labelled Q is among a set
+/// of parts that depends on the triangle and the parents alone: the parts of its vertices that Q
+/// does not keep, and the parts of the points of Q inside its circle (or of the whole box). That
+/// set, the triangle's *kill mask*, is found once here, so a child's classification is one mask
+/// test per triangle instead of a search per child.
+#[derive(Clone, Debug, Default)]
+pub struct PartClasses {
+    /// The parts, as rectangles `[x0, y0, x1, y1]` (half-open).
+    rects: Vec<[usize; 4]>,
+    /// The part of every grid point.
+    part: Vec<u8>,
+    /// Number of parts (at most 32).
+    count: usize,
+    /// Per parent, per triangle slot: the part of its smallest vertex.
+    first: [Vec<u8>; 2],
+    /// Per parent, per triangle slot: its kill mask (bit `p` for part `p`).
+    kill: [Vec<u32>; 2],
+    /// The parents' [`MeshState`] revisions, to refuse other meshes.
+    made_from: [u64; 2],
+    /// Scratch: a summed-area table of one parent's kept points.
+    sat: Vec<u32>,
+}
+
+impl PartClasses {
+    /// Most parts a classification holds (bits of a mask).
+    pub const MAX_PARTS: usize = 32;
+
+    /// Classifies the triangles of `a` and `b` (scored on `hf`, disc boxes filled) against the
+    /// rectangles `parts` (`[x0, y0, x1, y1]`, half-open; empty ones allowed), which must tile the
+    /// grid. `None` when they do not, when there are more than [`MAX_PARTS`](Self::MAX_PARTS),
+    /// or when a parent is not ready to compose from.
+    pub fn new(
+        hf: &Arc<Heightfield>,
+        a: &MeshState,
+        b: &MeshState,
+        parts: &[[usize; 4]],
+    ) -> Option<Self> {
+        let mut classes = Self::default();
+        classes.reset(hf, a, b, parts).then_some(classes)
+    }
+
+    /// [`new`](Self::new) into this classification's buffers; false (and unusable) on refusal.
+    pub fn reset(
+        &mut self,
+        hf: &Arc<Heightfield>,
+        a: &MeshState,
+        b: &MeshState,
+        parts: &[[usize; 4]],
+    ) -> bool {
+        self.made_from = [0; 2];
+        let (w, h, n) = (hf.width(), hf.height(), hf.len());
+        if parts.len() > Self::MAX_PARTS || !composable(a, hf) || !composable(b, hf) {
+            return false;
+        }
+        // The part of every point; the rectangles must cover each exactly once.
+        self.part.clear();
+        self.part.resize(n, u8::MAX);
+        let mut covered = 0usize;
+        for (p, &[x0, y0, x1, y1]) in parts.iter().enumerate() {
+            if x0 > x1 || y0 > y1 || x1 > w || y1 > h {
+                return false;
+            }
+            for y in y0..y1 {
+                for slot in &mut self.part[y * w + x0..y * w + x1] {
+                    if *slot != u8::MAX {
+                        return false;
+                    }
+                    *slot = p as u8;
+                }
+            }
+            covered += (x1 - x0) * (y1 - y0);
+        }
+        if covered != n {
+            return false;
+        }
+        self.count = parts.len();
+        self.rects.clear();
+        self.rects.extend_from_slice(parts);
+        let lattice = Lattice::new(w);
+        let parents = [a, b];
+        for side in 0..2 {
+            let (parent, other) = (parents[side], parents[1 - side]);
+            // The summed-area table of the other parent's kept points: (W + 1) × (H + 1),
+            // points in columns < x of rows < y at (y, x).
+            let sw = w + 1;
+            self.sat.clear();
+            self.sat.resize(sw, 0);
+            for y in 0..h {
+                let mut row = 0;
+                self.sat.push(0);
+                for x in 0..w {
+                    row += u32::from(other.kept[y * w + x]);
+                    let below = self.sat[y * sw + x + 1];
+                    self.sat.push(below + row);
+                }
+            }
+            let m = &parent.mesh;
+            let (first, kill) = (&mut self.first[side], &mut self.kill[side]);
+            first.clear();
+            kill.clear();
+            for t in 0..m.len() {
+                let tri = m.triangle(t);
+                let lowest = tri[0].min(tri[1]).min(tri[2]);
+                let own = self.part[lowest as usize];
+                first.push(own);
+                let mut mask = 0u32;
+                for v in tri {
+                    if !other.kept[v as usize] {
+                        mask |= 1 << self.part[v as usize];
+                    }
+                }
+                let disc = &parent.discs[t];
+                // The parts the box meets, besides the smallest vertex's own (labelled for
+                // this parent whenever the triangle can be taken, so never spoiling). Most
+                // boxes lie inside that part: one test.
+                let within = |[x0, y0, x1, y1]: [usize; 4]| {
+                    (x0 <= disc.x0 as usize)
+                        & ((disc.x1 as usize) < x1)
+                        & (y0 <= disc.y0 as usize)
+                        & ((disc.y1 as usize) < y1)
+                };
+                if within(parts[own as usize]) {
+                    kill.push(mask);
+                    continue;
+                }
+                let mut met = 0u32;
+                for (p, &[x0, y0, x1, y1]) in parts.iter().enumerate() {
+                    let meets = ((disc.x0 as usize) < x1)
+                        & (x0 <= disc.x1 as usize)
+                        & ((disc.y0 as usize) < y1)
+                        & (y0 <= disc.y1 as usize);
+                    met |= u32::from(meets) << p;
+                }
+                met &= !(1 << own);
+                if met != 0 && disc.area() > MAX_SEARCHED_BOX {
+                    mask |= met;
+                } else {
+                    // Each met part, where the box overlaps it, holds a spoiling point of the
+                    // other parent or not; most overlaps hold no such point at all, which the
+                    // summed-area table tells in four reads.
+                    while met != 0 {
+                        let p = met.trailing_zeros();
+                        met &= met - 1;
+                        let [x0, y0, x1, y1] = parts[p as usize];
+                        let overlap = [
+                            x0.max(disc.x0 as usize),
+                            y0.max(disc.y0 as usize),
+                            x1.min(disc.x1 as usize + 1),
+                            y1.min(disc.y1 as usize + 1),
+                        ];
+                        if kept_in(&self.sat, w, overlap) > 0
+                            && spoils(tri, overlap, lattice, w, &other.kept)
+                        {
+                            mask |= 1 << p;
+                        }
+                    }
+                }
+                kill.push(mask);
+            }
+        }
+        self.made_from = [a.revision, b.revision];
+        true
+    }
+
+    /// Was this classification made for parents `a` and `b`, as they are now?
+    pub fn is_for(&self, a: &MeshState, b: &MeshState) -> bool {
+        self.made_from == [a.revision, b.revision] && a.revision != 0
+    }
+}
+
+/// Number of points counted by the summed-area table `sat` (of a `width`-wide grid) in the
+/// rectangle `[x0, y0, x1, y1]` (half-open; 0 when empty).
+fn kept_in(sat: &[u32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> u32 {
+    if x0 >= x1 || y0 >= y1 {
+        return 0;
+    }
+    let sw = width + 1;
+    sat[y1 * sw + x1] + sat[y0 * sw + x0] - sat[y0 * sw + x1] - sat[y1 * sw + x0]
+}
+
+/// Is a point that `other_kept` marks, in the rectangle `[x0, y0, x1, y1]` (half-open), inside
+/// the circle of `tri` (its vertices excluded), by the tie rule of [`spoiled`]?
+fn spoils(
+    tri: [u32; 3],
+    [x0, y0, x1, y1]: [usize; 4],
+    lattice: Lattice,
+    width: usize,
+    other_kept: &[bool],
+) -> bool {
+    let p = tri.map(|i| lattice.point(i));
+    let circle = Circle::new(p[0], p[1], p[2]);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let i = y * width + x;
+            if !other_kept[i] || tri.contains(&(i as u32)) {
+                continue;
+            }
+            let d = [x as i64, y as i64];
+            let det = circle.det(d);
+            if det > 0
+                || (det == 0
+                    && in_circle([p[0], p[1], p[2], d], [tri[0], tri[1], tri[2], i as u32]))
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
+
 impl MeshState {
     /// Fills the disc boxes of this state's triangles if they are stale (a build or an edit
     /// leaves them so). A parent is composed from many times, so this is paid once per parent.
@@ -123,7 +361,6 @@ impl MeshState {
     /// fresh evaluation's. Returns `None`, with `self` unscored, when `a` and `b` are not both
     /// scored on `hf` with their disc boxes filled ([`ensure_discs`](Self::ensure_discs)), or
     /// when a guard fails; the caller then scores the child another way.
-    #[allow(clippy::needless_range_loop)] // slots and grid indices index several arrays at once
     pub(super) fn compose(
         &mut self,
         hf: &Arc<Heightfield>,
@@ -132,40 +369,96 @@ impl MeshState {
         from_b: &[u64],
         scratch: &mut ComposeScratch,
     ) -> Option<super::Score> {
+        if from_b.len() < hf.len().div_ceil(64) {
+            self.score = None;
+            self.hf = None;
+            return None;
+        }
+        self.compose_with(hf, a, b, Labels::Bits(from_b), scratch)
+    }
+
+    /// [`compose`](Self::compose) for the child that takes each part of `classes` from `b`
+    /// where bit `part` of `levels` is set and from `a` elsewhere, with both parents'
+    /// triangles classified once for all such children ([`PartClasses::new`]). The same mesh
+    /// and bits as [`compose`](Self::compose) with the equivalent bitset. Returns `None`, with
+    /// `self` unscored, also when `classes` was not made for `a` and `b`.
+    pub(super) fn compose_parts(
+        &mut self,
+        hf: &Arc<Heightfield>,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+        levels: u32,
+        scratch: &mut ComposeScratch,
+    ) -> Option<super::Score> {
+        if !classes.is_for(a, b) || classes.part.len() != hf.len() {
+            self.score = None;
+            self.hf = None;
+            return None;
+        }
+        self.compose_with(hf, a, b, Labels::Parts(classes, levels), scratch)
+    }
+
+    #[allow(clippy::needless_range_loop)] // slots and grid indices index several arrays at once
+    fn compose_with(
+        &mut self,
+        hf: &Arc<Heightfield>,
+        a: &MeshState,
+        b: &MeshState,
+        source: Labels<'_>,
+        scratch: &mut ComposeScratch,
+    ) -> Option<super::Score> {
         self.score = None;
         self.hf = None;
-        let ours = |s: &MeshState| {
-            s.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf)) && s.score.is_some() && s.discs_valid
-        };
+        self.revision = 0;
         let (w, h, n) = (hf.width(), hf.height(), hf.len());
-        if !ours(a) || !ours(b) || from_b.len() < n.div_ceil(64) {
+        if !composable(a, hf) || !composable(b, hf) {
             return None;
         }
         let parents = [a, b];
         // Per grid point its label (one byte: read per triangle vertex and per point below),
-        // the child's kept marks, and the labels' summed-area table (B labels in columns < x
-        // of rows < y at (y, x)), in one pass.
+        // the child's kept marks, and for a bitset the labels' summed-area table (B labels in
+        // columns < x of rows < y at (y, x)), in one pass.
         // Each entry is written once, in order: pushed, rather than zeroed first and then
         // overwritten (a second pass over ≈30 KB per composition).
         self.kept.clear();
         scratch.labels.clear();
         let sw = w + 1;
         scratch.sat.clear();
-        scratch.sat.resize(sw, 0);
         let mut vertices = 0usize;
-        for y in 0..h {
-            let mut row = 0;
-            scratch.sat.push(0);
-            for x in 0..w {
-                let i = y * w + x;
-                let l = ((from_b[i / 64] >> (i % 64)) & 1) as u8;
-                scratch.labels.push(l);
-                let k = parents[l as usize].kept[i];
-                self.kept.push(k);
-                vertices += usize::from(k);
-                row += u32::from(l);
-                let below = scratch.sat[y * sw + x + 1];
-                scratch.sat.push(below + row);
+        match source {
+            Labels::Bits(from_b) => {
+                scratch.sat.resize(sw, 0);
+                for y in 0..h {
+                    let mut row = 0;
+                    scratch.sat.push(0);
+                    for x in 0..w {
+                        let i = y * w + x;
+                        let l = ((from_b[i / 64] >> (i % 64)) & 1) as u8;
+                        scratch.labels.push(l);
+                        let k = parents[l as usize].kept[i];
+                        self.kept.push(k);
+                        vertices += usize::from(k);
+                        row += u32::from(l);
+                        let below = scratch.sat[y * sw + x + 1];
+                        scratch.sat.push(below + row);
+                    }
+                }
+            }
+            Labels::Parts(classes, levels) => {
+                // Part by part, row by row: copies of the labelled parent's kept marks.
+                self.kept.resize(n, false);
+                scratch.labels.resize(n, 0);
+                for (p, &[x0, y0, x1, y1]) in classes.rects.iter().enumerate() {
+                    let l = (levels >> p) & 1;
+                    let from = &parents[l as usize].kept;
+                    for y in y0..y1 {
+                        let row = y * w + x0..y * w + x1;
+                        self.kept[row.clone()].copy_from_slice(&from[row.clone()]);
+                        scratch.labels[row].fill(l as u8);
+                    }
+                }
+                vertices = self.kept.iter().map(|&k| usize::from(k)).sum();
             }
         }
         let labels = &scratch.labels;
@@ -193,6 +486,31 @@ impl MeshState {
             map.clear();
             map.resize(m.len(), NONE);
             taken.clear();
+            if let Labels::Parts(classes, levels) = source {
+                // The parts labelled for the other parent; a triangle is taken when the part
+                // of its smallest vertex is labelled for this one and none of its kill parts
+                // is labelled for the other (see `PartClasses`).
+                let all = if classes.count >= 32 {
+                    u32::MAX
+                } else {
+                    (1u32 << classes.count) - 1
+                };
+                let other = if side == 0 { levels } else { !levels } & all;
+                let (first, kill) = (&classes.first[side], &classes.kill[side]);
+                // Without branches: which triangles a row takes follows the blocks, which the
+                // slot order does not.
+                taken.resize(m.len(), 0);
+                let mut count = 0usize;
+                for (t, (&f, &k)) in first.iter().zip(kill).enumerate() {
+                    let take = ((other >> f) & 1 == 0) & (k & other == 0);
+                    map[t] = if take { next_slot + count as u32 } else { NONE };
+                    taken[count] = t as u32;
+                    count += usize::from(take);
+                }
+                taken.truncate(count);
+                next_slot += count as u32;
+                continue;
+            }
             for t in 0..m.len() {
                 let tri = m.triangle(t);
                 let first = tri[0].min(tri[1]).min(tri[2]);

@@ -49,6 +49,17 @@ pub struct MeshState {
     /// builds and edits, which would pay for it on every triangle.
     pub(super) discs: Vec<super::compose::DiscBox>,
     pub(super) discs_valid: bool,
+    /// Changes whenever the mesh does (a new number from [`next_revision`] at every scoring),
+    /// so that what was derived from one mesh ([`PartClasses`](super::compose::PartClasses))
+    /// can tell it from later ones; 0 until scored. A copy keeps it: it is the same mesh.
+    pub(super) revision: u64,
+}
+
+/// A number no mesh state had before (in this process).
+fn next_revision() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
 impl Clone for MeshState {
@@ -66,6 +77,7 @@ impl Clone for MeshState {
         self.field.clone_from(&source.field);
         self.hint.clone_from(&source.hint);
         self.score = source.score;
+        self.revision = source.revision;
         // A copy is about to be edited (that is what the scorer copies for): its disc boxes
         // would go stale, so they are not copied.
         self.discs_valid = false;
@@ -112,7 +124,7 @@ pub(super) struct EditScratch {
 /// [`EditScratch::across`] of a half-edge that is not on the region's boundary.
 const INSIDE: u32 = u32::MAX - 1;
 
-/// An edit removes its points region by region ([`MeshState::remove_region`]) when it removes
+/// An edit removes its points region by region (`MeshState::remove_region`) when it removes
 /// at least this many.
 pub const REGION_MIN_REMOVALS: usize = 16;
 
@@ -204,10 +216,12 @@ impl MeshState {
     /// Marks this state as not editable (its mesh is not a linked Delaunay triangulation).
     pub(super) fn forget(&mut self) {
         self.hf = None;
+        self.revision = 0;
     }
 
     pub(super) fn finish(&mut self, n: usize) -> Score {
         self.discs_valid = false;
+        self.revision = next_revision();
         let (sum, sum_sq, max) = self.field.totals();
         let score = Score {
             e_sum: sum,

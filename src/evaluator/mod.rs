@@ -40,6 +40,7 @@ pub mod reference;
 pub mod triangulation;
 
 use crate::heightfield::Heightfield;
+pub use compose::PartClasses;
 use incremental::EditScratch;
 pub use incremental::MeshState;
 use raster::Grid;
@@ -258,6 +259,24 @@ impl Evaluator {
         from_b: &[u64],
     ) -> Option<Score> {
         state.compose(&self.hf, a, b, from_b, &mut self.compose_scratch)
+    }
+
+    /// [`compose`](Self::compose) for the child that takes part `p` of `classes` (a tiling of
+    /// the grid by rectangles, such as a crossover's blocks) from `b` where bit `p` of `levels`
+    /// is set and from `a` elsewhere. `classes` classifies both parents' triangles once for all
+    /// such children ([`PartClasses::new`]), so each child costs one mask test per parent
+    /// triangle where [`compose`](Self::compose) searches their circles. The same mesh and bits
+    /// as [`compose`](Self::compose); `None` also when `classes` was made for other meshes
+    /// (or for these before they changed).
+    pub fn compose_parts(
+        &mut self,
+        state: &mut MeshState,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+        levels: u32,
+    ) -> Option<Score> {
+        state.compose_parts(&self.hf, a, b, classes, levels, &mut self.compose_scratch)
     }
 
     /// The kept points of the last [`score`](Self::score) call, increasing, corners included.

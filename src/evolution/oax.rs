@@ -140,13 +140,18 @@ fn mark_block(mask: &mut Chromosome, block: &Block, width: usize) {
 
 /// How a child of a crossover is made, for a scorer that reuses the parents' meshes
 /// ([`Scorer::score_crossed`](super::objectives::Scorer::score_crossed)): each gene comes from
-/// `parents[0]` where `from_b` is clear and from `parents[1]` where it is set.
+/// `parents[0]` where `from_b` is clear and from `parents[1]` where it is set, which is block
+/// by block: from B in the blocks whose level is 1.
 #[derive(Clone, Copy, Debug)]
 pub struct Parentage<'a> {
     /// Parents A and B.
     pub parents: [&'a Chromosome; 2],
     /// The genes taken from B.
     pub from_b: &'a Chromosome,
+    /// The crossover's blocks, which tile the grid.
+    pub blocks: &'a [Block],
+    /// The level of each block (0 = from A, 1 = from B).
+    pub levels: &'a [u8],
 }
 
 /// One child of a crossover, as the teaching view shows it.
@@ -328,6 +333,8 @@ impl OaxInProgress {
                 let parentage = Parentage {
                     parents: [a, b],
                     from_b: &from_b,
+                    blocks: &self.blocks,
+                    levels: &levels,
                 };
                 (evaluate(&genes, parentage), true)
             }

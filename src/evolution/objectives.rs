@@ -18,13 +18,14 @@
 //! A crossed child ([`Scorer::score_crossed`]) is usually hundreds of genes from every pooled
 //! chromosome but block by block equal to one of its two parents; when both parents are pooled
 //! its mesh is composed from theirs ([`Evaluator::compose`]), which re-triangulates only the
-//! seams between blocks. Crossed children are replaced in the pool before other chromosomes
+//! seams between blocks; the parents' triangles are classified against the crossover's blocks
+//! once for all its rows ([`PartClasses`]). Crossed children are replaced in the pool before other chromosomes
 //! (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers are among the others,
 //! and the GA's current population last of all ([`Scorer::keep_alive`]).
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
-use crate::evaluator::{Evaluator, MeshState};
+use crate::evaluator::{Evaluator, MeshState, PartClasses};
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
@@ -181,6 +182,12 @@ pub struct Scorer {
     recent: [usize; RECENT],
     recent_at: usize,
     inserted: Vec<u32>,
+    /// The blocks of the crossover composed last, as rectangles, and its parents' triangles
+    /// classified against them: the rows of a crossover share both, so each row's
+    /// composition tests a mask per triangle instead of searching circles.
+    crossing_blocks: Vec<[usize; 4]>,
+    crossing: PartClasses,
+    crossing_ready: bool,
 }
 
 impl Scorer {
@@ -208,6 +215,9 @@ impl Scorer {
             recent: [usize::MAX; RECENT],
             recent_at: 0,
             inserted: Vec::new(),
+            crossing_blocks: Vec::new(),
+            crossing: PartClasses::default(),
+            crossing_ready: false,
         }
     }
 
@@ -315,12 +325,33 @@ impl Scorer {
                 self.pool[p].used = self.tick;
             }
             let mut state = std::mem::take(&mut self.pool[slot].state);
-            score = self.evaluator.compose(
-                &mut state,
-                &self.pool[a].state,
-                &self.pool[b].state,
-                from_b.words(),
-            );
+            let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
+            let blocks = made
+                .map(|m| (m.blocks, m.levels))
+                .filter(|(blocks, _)| blocks.len() <= PartClasses::MAX_PARTS);
+            score = match blocks {
+                Some((blocks, levels)) => {
+                    let rects = blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]);
+                    if !self.crossing_blocks.iter().copied().eq(rects.clone())
+                        || !self.crossing.is_for(pa, pb)
+                    {
+                        self.crossing_blocks.clear();
+                        self.crossing_blocks.extend(rects);
+                        let hf = self.evaluator.heightfield().clone();
+                        self.crossing_ready =
+                            self.crossing.reset(&hf, pa, pb, &self.crossing_blocks);
+                    }
+                    let levels = (levels.iter().enumerate())
+                        .fold(0u32, |acc, (k, &l)| acc | (u32::from(l & 1) << k));
+                    if self.crossing_ready {
+                        self.evaluator
+                            .compose_parts(&mut state, pa, pb, &self.crossing, levels)
+                    } else {
+                        self.evaluator.compose(&mut state, pa, pb, from_b.words())
+                    }
+                }
+                None => self.evaluator.compose(&mut state, pa, pb, from_b.words()),
+            };
             self.pool[slot].state = state;
         }
         let score = match (score, base) {
