@@ -87,9 +87,6 @@ pub struct ComposeScratch {
     map: [Vec<u32>; 2],
     /// The taken slots of A, then of B.
     taken: [Vec<u32>; 2],
-    /// Per grid point: `epoch` when it is a vertex of a taken triangle.
-    mark: Vec<u32>,
-    epoch: u32,
     /// Half-edges of taken triangles with R across: (child half-edge, from, to).
     open: Vec<(u32, u32, u32)>,
     /// Per grid point: listed in `points`.
@@ -545,13 +542,6 @@ impl MeshState {
 
         // The taken triangles, linked to each other where they meet; the half-edges with R
         // across are listed.
-        scratch.epoch = scratch.epoch.wrapping_add(1);
-        if scratch.epoch == 0 || scratch.mark.len() != n {
-            scratch.mark.clear();
-            scratch.mark.resize(n, 0);
-            scratch.epoch = 1;
-        }
-        let epoch = scratch.epoch;
         self.hint.resize(n, 0);
         self.field.reshape(w, h);
         // The taken slots were numbered in the order visited below, so their triangles are
@@ -573,8 +563,6 @@ impl MeshState {
                     let e = 3 * t as usize + k;
                     let (u, v) = (tri[k], tri[(k + 1) % 3]);
                     self.mesh.vertices.push(u);
-                    self.hint[u as usize] = slot;
-                    scratch.mark[u as usize] = epoch;
                     let g = parent.mesh.twin[e];
                     let twin = if g == NONE {
                         NONE
@@ -597,7 +585,10 @@ impl MeshState {
 
         // Every grid point: kept, or owned by a taken triangle (its error as in that parent), or
         // in R (rasterised below). R's points are the kept points no taken triangle has, and the
-        // ends of the half-edges with R across.
+        // ends of the half-edges with R across. A kept point's hint is a taken triangle of its
+        // star in a parent that keeps it (usually the parent's own hint; R's triangles set the
+        // others' when rasterised), found here rather than written by every triangle of the star
+        // while linking.
         scratch.listed.resize(n, false);
         scratch.points.clear();
         {
@@ -606,9 +597,25 @@ impl MeshState {
                 let side = label(i as u32) as usize;
                 if self.kept[i] {
                     errors[i] = 0.0;
-                    if scratch.mark[i] != epoch {
-                        scratch.listed[i] = true;
-                        scratch.points.push(i as u32);
+                    let maps = &scratch.map;
+                    let slot = [side, 1 - side].into_iter().find_map(|s| {
+                        let p = parents[s];
+                        if !p.kept[i] {
+                            return None;
+                        }
+                        let t = p.hint[i];
+                        let slot = maps[s][t as usize];
+                        if slot != NONE {
+                            return Some(slot);
+                        }
+                        taken_in_star(&p.mesh, &maps[s], t, i as u32)
+                    });
+                    match slot {
+                        Some(slot) => self.hint[i] = slot,
+                        None => {
+                            scratch.listed[i] = true;
+                            scratch.points.push(i as u32);
+                        }
                     }
                     continue;
                 }
@@ -769,6 +776,24 @@ fn spoiled(
         }
     }
     false
+}
+
+/// The child's slot of a taken triangle (by `map`) around vertex `v` of `mesh`, starting
+/// from `t`, one of its triangles.
+fn taken_in_star(mesh: &Triangulation, map: &[u32], t: u32, v: u32) -> Option<u32> {
+    let k = (0..3).find(|&k| mesh.vertices[3 * t as usize + k] == v)?;
+    let first = mesh.fan_start(3 * t + k as u32);
+    let mut e = first;
+    loop {
+        let slot = map[(e / 3) as usize];
+        if slot != NONE {
+            return Some(slot);
+        }
+        e = mesh.fan_next(e);
+        if e == NONE || e == first {
+            return None;
+        }
+    }
 }
 
 /// The child's half-edge `from → to` when it is an edge of a triangle taken from `parent`
