@@ -24,7 +24,8 @@
 //! differ only in which parent gives each block. [`PartClasses`] classifies both parents'
 //! triangles once against the blocks: each triangle gets the set of blocks whose labelling for
 //! the other parent would drop it, so each child's classification is a mask test per triangle
-//! ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)) instead of a summed-area lookup and a circle search.
+//! ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)) instead of a summed-area
+//! lookup and a circle search.
 
 use super::incremental::{MeshState, edge_from, grid_of};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
@@ -120,14 +121,14 @@ fn composable(s: &MeshState, hf: &Arc<Heightfield>) -> bool {
 /// whole from one parent ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)).
 ///
 /// Why it is exact: a child labels each part for A or B. A triangle of parent P (the other
-/// parent Q) is taken by [`compose`](super::Evaluator::compose) exactly when its smallest vertex's part
-/// is labelled P, each vertex is kept by the child, and no point the child takes from Q spoils
-/// its circle (or, for a circle whose grid box is too large to search, no point of the box is
-/// labelled Q). Each of these conditions fails exactly when some part labelled Q is among a set
-/// of parts that depends on the triangle and the parents alone: the parts of its vertices that Q
-/// does not keep, and the parts of the points of Q inside its circle (or of the whole box). That
-/// set, the triangle's *kill mask*, is found once here, so a child's classification is one mask
-/// test per triangle instead of a search per child.
+/// parent Q) is taken by [`compose`](super::Evaluator::compose) exactly when its smallest
+/// vertex's part is labelled P, each vertex is kept by the child, and no point the child takes
+/// from Q spoils its circle (or, for a circle whose grid box is too large to search, no point
+/// of the box is labelled Q). Each of these conditions fails exactly when some part labelled Q
+/// is among a set of parts that depends on the triangle and the parents alone: the parts of its
+/// vertices that Q does not keep, and the parts of the points of Q inside its circle (or of the
+/// whole box). That set, the triangle's *kill mask*, is found once here, so a child's
+/// classification is one mask test per triangle instead of a search per child.
 #[derive(Clone, Debug, Default)]
 pub struct PartClasses {
     /// The parts, as rectangles `[x0, y0, x1, y1]` (half-open).

@@ -268,6 +268,26 @@ impl Evaluator {
     /// triangle where [`compose`](Self::compose) searches their circles. The same mesh and bits
     /// as [`compose`](Self::compose); `None` also when `classes` was made for other meshes
     /// (or for these before they changed).
+    ///
+    /// ```
+    /// use paretomesh::evaluator::{Evaluator, MeshState, PartClasses};
+    /// use paretomesh::heightfield::Heightfield;
+    /// use std::sync::Arc;
+    /// let z: Vec<f64> = (0..25).map(|i| ((i * 7) % 5) as f64).collect();
+    /// let hf = Arc::new(Heightfield::new(5, 5, z).unwrap());
+    /// let mut ev = Evaluator::new(hf.clone());
+    /// let (mut a, mut b) = (MeshState::default(), MeshState::default());
+    /// ev.score_into(&[6, 12, 18], &mut a).unwrap();
+    /// ev.score_into(&[8, 16], &mut b).unwrap();
+    /// a.ensure_discs();
+    /// b.ensure_discs();
+    /// // Two parts: columns 0–1 and columns 2–4.
+    /// let classes = PartClasses::new(&hf, &a, &b, &[[0, 0, 2, 5], [2, 0, 5, 5]]).unwrap();
+    /// // Part 0 from A (its point 6), part 1 from B (its point 8).
+    /// let mut child = MeshState::default();
+    /// let score = ev.compose_parts(&mut child, &a, &b, &classes, 0b10).unwrap();
+    /// assert_eq!(score, ev.score(&[6, 8]).unwrap());
+    /// ```
     pub fn compose_parts(
         &mut self,
         state: &mut MeshState,

@@ -19,9 +19,10 @@
 //! chromosome but block by block equal to one of its two parents; when both parents are pooled
 //! its mesh is composed from theirs ([`Evaluator::compose`]), which re-triangulates only the
 //! seams between blocks; the parents' triangles are classified against the crossover's blocks
-//! once for all its rows ([`PartClasses`]). Crossed children are replaced in the pool before other chromosomes
-//! (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers are among the others,
-//! and the GA's current population last of all ([`Scorer::keep_alive`]).
+//! once for all its rows ([`PartClasses`]). Crossed children are replaced in the pool before
+//! other chromosomes (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers
+//! are among the others, and the GA's current population last of all
+//! ([`Scorer::keep_alive`]).
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
