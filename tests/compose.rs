@@ -62,6 +62,27 @@ fn block_mask(w: usize, h: usize, blocks: usize, rng: &mut Pcg64Mcg) -> Vec<u64>
     rectangles_mask(w, h, &rects, levels)
 }
 
+/// The error bits of every grid point of `state`.
+fn error_bits(state: &MeshState) -> Vec<u64> {
+    state.errors().iter().map(|e| e.to_bits()).collect()
+}
+
+/// A parent mesh ready to compose from (disc boxes filled) keeping `density` of the points.
+fn parent(ev: &mut Evaluator, density: f64, rng: &mut Pcg64Mcg) -> MeshState {
+    let mut s = MeshState::default();
+    ev.score_into(&random_kept(ev.heightfield().len(), density, rng), &mut s)
+        .unwrap();
+    s.ensure_discs();
+    s
+}
+
+/// A parent of a random density, from empty to full.
+fn random_parent(ev: &mut Evaluator, rng: &mut Pcg64Mcg) -> MeshState {
+    let densities = [0.0, 0.02, 0.1, 0.3, 0.7, 1.0];
+    let density = densities[rng.random_range(0..densities.len())];
+    parent(ev, density, rng)
+}
+
 /// Checks `state` against a fresh evaluation of its kept set: score, triangles, and the error
 /// of every grid point.
 fn assert_matches_fresh(ev: &mut Evaluator, state: &MeshState, what: &str) {
@@ -75,8 +96,7 @@ fn assert_matches_fresh(ev: &mut Evaluator, state: &MeshState, what: &str) {
         triangle_set(&fresh.triangles()),
         "{what}: triangles"
     );
-    let as_bits = |s: &MeshState| s.errors().iter().map(|e| e.to_bits()).collect::<Vec<_>>();
-    assert_eq!(as_bits(state), as_bits(&fresh), "{what}: errors");
+    assert_eq!(error_bits(state), error_bits(&fresh), "{what}: errors");
 }
 
 /// Composes children of random parents on `hf` and checks each, then edits it and composes
@@ -85,18 +105,9 @@ fn compose_children(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let mut ev = Evaluator::new(hf.clone());
     let (w, h, n) = (hf.width(), hf.height(), hf.len());
-    let densities = [0.0, 0.02, 0.1, 0.3, 0.7, 1.0];
-    let parent = |rng: &mut Pcg64Mcg, ev: &mut Evaluator| {
-        let density = densities[rng.random_range(0..densities.len())];
-        let mut s = MeshState::default();
-        ev.score_into(&random_kept(n, density, rng), &mut s)
-            .unwrap();
-        s.ensure_discs();
-        s
-    };
-    let mut a = parent(&mut rng, &mut ev);
+    let mut a = random_parent(&mut ev, &mut rng);
     for round in 0..rounds {
-        let b = parent(&mut rng, &mut ev);
+        let b = random_parent(&mut ev, &mut rng);
         let mask = if rng.random::<f64>() < 0.8 {
             block_mask(w, h, rng.random_range(1..9), &mut rng)
         } else {
@@ -191,19 +202,12 @@ fn a_child_equal_to_a_parent_takes_all_its_triangles() {
 fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let mut ev = Evaluator::new(hf.clone());
-    let (w, h, n) = (hf.width(), hf.height(), hf.len());
-    let densities = [0.0, 0.02, 0.1, 0.3, 0.7, 1.0];
-    let parent = |rng: &mut Pcg64Mcg, ev: &mut Evaluator| {
-        let density = densities[rng.random_range(0..densities.len())];
-        let mut s = MeshState::default();
-        ev.score_into(&random_kept(n, density, rng), &mut s)
-            .unwrap();
-        s.ensure_discs();
-        s
-    };
-    let as_bits = |s: &MeshState| s.errors().iter().map(|e| e.to_bits()).collect::<Vec<_>>();
+    let (w, h) = (hf.width(), hf.height());
     for round in 0..rounds {
-        let (a, b) = (parent(&mut rng, &mut ev), parent(&mut rng, &mut ev));
+        let (a, b) = (
+            random_parent(&mut ev, &mut rng),
+            random_parent(&mut ev, &mut rng),
+        );
         let mut rects = rectangles(w, h, rng.random_range(1..9), &mut rng);
         if rng.random::<f64>() < 0.2 {
             // An empty block, as OAX makes when the grid has fewer points than factors.
@@ -225,7 +229,7 @@ fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
             let mask = rectangles_mask(w, h, &rects, level);
             assert_eq!(score, ev.compose(&mut by_bits, &a, &b, &mask), "{what}");
             assert_eq!(by_parts.triangles(), by_bits.triangles(), "{what}");
-            assert_eq!(as_bits(&by_parts), as_bits(&by_bits), "{what}");
+            assert_eq!(error_bits(&by_parts), error_bits(&by_bits), "{what}");
             if k < 3 {
                 assert_matches_fresh(&mut ev, &by_parts, &what);
             }
@@ -255,15 +259,7 @@ fn a_part_classification_serves_only_its_parents_and_tilings() {
     let (w, h, n) = (hf.width(), hf.height(), hf.len());
     let mut ev = Evaluator::new(hf.clone());
     let mut rng = Pcg64Mcg::seed_from_u64(9);
-    let mut states: Vec<MeshState> = (0..3)
-        .map(|_| {
-            let mut s = MeshState::default();
-            ev.score_into(&random_kept(n, 0.2, &mut rng), &mut s)
-                .unwrap();
-            s.ensure_discs();
-            s
-        })
-        .collect();
+    let mut states: Vec<MeshState> = (0..3).map(|_| parent(&mut ev, 0.2, &mut rng)).collect();
     let halves = [[0, 0, w / 2, h], [w / 2, 0, w, h]];
     // Rectangles that overlap, leave a gap, or leave the grid are not a tiling.
     for bad in [

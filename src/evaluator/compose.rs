@@ -71,6 +71,16 @@ impl DiscBox {
     fn area(&self) -> usize {
         (self.x1 - self.x0 + 1) as usize * (self.y1 - self.y0 + 1) as usize
     }
+
+    /// The box as a half-open rectangle `[x0, y0, x1, y1]`.
+    fn rect(&self) -> [usize; 4] {
+        [
+            self.x0 as usize,
+            self.y0 as usize,
+            self.x1 as usize + 1,
+            self.y1 as usize + 1,
+        ]
+    }
 }
 
 /// Boxes holding more grid points than this are not searched for spoiling points: their
@@ -135,8 +145,6 @@ pub struct PartClasses {
     rects: Vec<[usize; 4]>,
     /// The part of every grid point.
     part: Vec<u8>,
-    /// Number of parts (at most 32).
-    count: usize,
     /// Per parent, per triangle slot: the part of its smallest vertex.
     first: [Vec<u8>; 2],
     /// Per parent, per triangle slot: its kill mask (bit `p` for part `p`).
@@ -199,7 +207,6 @@ impl PartClasses {
         if covered != n {
             return false;
         }
-        self.count = parts.len();
         self.rects.clear();
         self.rects.extend_from_slice(parts);
         let lattice = Lattice::new(w);
@@ -235,30 +242,20 @@ impl PartClasses {
                         mask |= 1 << self.part[v as usize];
                     }
                 }
-                let disc = &parent.discs[t];
+                let disc = parent.discs[t].rect();
                 // The parts the box meets, besides the smallest vertex's own (labelled for
                 // this parent whenever the triangle can be taken, so never spoiling). Most
                 // boxes lie inside that part: one test.
-                let within = |[x0, y0, x1, y1]: [usize; 4]| {
-                    (x0 <= disc.x0 as usize)
-                        & ((disc.x1 as usize) < x1)
-                        & (y0 <= disc.y0 as usize)
-                        & ((disc.y1 as usize) < y1)
-                };
-                if within(parts[own as usize]) {
+                if overlap(parts[own as usize], disc) == disc {
                     kill.push(mask);
                     continue;
                 }
                 let mut met = 0u32;
-                for (p, &[x0, y0, x1, y1]) in parts.iter().enumerate() {
-                    let meets = ((disc.x0 as usize) < x1)
-                        & (x0 <= disc.x1 as usize)
-                        & ((disc.y0 as usize) < y1)
-                        & (y0 <= disc.y1 as usize);
-                    met |= u32::from(meets) << p;
+                for (p, &part) in parts.iter().enumerate() {
+                    met |= u32::from(!is_empty(overlap(part, disc))) << p;
                 }
                 met &= !(1 << own);
-                if met != 0 && disc.area() > MAX_SEARCHED_BOX {
+                if met != 0 && parent.discs[t].area() > MAX_SEARCHED_BOX {
                     mask |= met;
                 } else {
                     // Each met part, where the box overlaps it, holds a spoiling point of the
@@ -267,15 +264,9 @@ impl PartClasses {
                     while met != 0 {
                         let p = met.trailing_zeros();
                         met &= met - 1;
-                        let [x0, y0, x1, y1] = parts[p as usize];
-                        let overlap = [
-                            x0.max(disc.x0 as usize),
-                            y0.max(disc.y0 as usize),
-                            x1.min(disc.x1 as usize + 1),
-                            y1.min(disc.y1 as usize + 1),
-                        ];
-                        if kept_in(&self.sat, w, overlap) > 0
-                            && spoils(tri, overlap, lattice, w, &other.kept)
+                        let both = overlap(parts[p as usize], disc);
+                        if counted_in(&self.sat, w, both) > 0
+                            && spoils(tri, both, lattice, w, |i| other.kept[i])
                         {
                             mask |= 1 << p;
                         }
@@ -294,31 +285,50 @@ impl PartClasses {
     }
 }
 
-/// Number of points counted by the summed-area table `sat` (of a `width`-wide grid) in the
-/// rectangle `[x0, y0, x1, y1]` (half-open; 0 when empty).
-fn kept_in(sat: &[u32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> u32 {
-    if x0 >= x1 || y0 >= y1 {
+/// The intersection of two half-open rectangles `[x0, y0, x1, y1]` (empty when they do not
+/// meet: see [`is_empty`]).
+fn overlap(a: [usize; 4], b: [usize; 4]) -> [usize; 4] {
+    [
+        a[0].max(b[0]),
+        a[1].max(b[1]),
+        a[2].min(b[2]),
+        a[3].min(b[3]),
+    ]
+}
+
+/// Does the half-open rectangle `[x0, y0, x1, y1]` hold no point?
+fn is_empty([x0, y0, x1, y1]: [usize; 4]) -> bool {
+    x0 >= x1 || y0 >= y1
+}
+
+/// The number of points the summed-area table `sat` (of a `width`-wide grid: `(W + 1) ×
+/// (H + 1)`, points in columns < x of rows < y at (y, x)) counts in the half-open rectangle
+/// `[x0, y0, x1, y1]`; 0 when it is empty.
+fn counted_in(sat: &[u32], width: usize, rect: [usize; 4]) -> u32 {
+    if is_empty(rect) {
         return 0;
     }
+    let [x0, y0, x1, y1] = rect;
     let sw = width + 1;
     sat[y1 * sw + x1] + sat[y0 * sw + x0] - sat[y0 * sw + x1] - sat[y1 * sw + x0]
 }
 
-/// Is a point that `other_kept` marks, in the rectangle `[x0, y0, x1, y1]` (half-open), inside
-/// the circle of `tri` (its vertices excluded), by the tie rule of [`spoiled`]?
+/// Is a grid point that `counts` accepts, in the half-open rectangle `[x0, y0, x1, y1]`, inside
+/// the circle of `tri` (its vertices excluded)? Points on the circle are inside or not by the
+/// tie rule of [`in_circle`].
 fn spoils(
     tri: [u32; 3],
     [x0, y0, x1, y1]: [usize; 4],
     lattice: Lattice,
     width: usize,
-    other_kept: &[bool],
+    counts: impl Fn(usize) -> bool,
 ) -> bool {
     let p = tri.map(|i| lattice.point(i));
     let circle = Circle::new(p[0], p[1], p[2]);
     for y in y0..y1 {
         for x in x0..x1 {
             let i = y * width + x;
-            if !other_kept[i] || tri.contains(&(i as u32)) {
+            if !counts(i) || tri.contains(&(i as u32)) {
                 continue;
             }
             let d = [x as i64, y as i64];
@@ -367,11 +377,6 @@ impl MeshState {
         from_b: &[u64],
         scratch: &mut ComposeScratch,
     ) -> Option<super::Score> {
-        if from_b.len() < hf.len().div_ceil(64) {
-            self.score = None;
-            self.hf = None;
-            return None;
-        }
         self.compose_with(hf, a, b, Labels::Bits(from_b), scratch)
     }
 
@@ -389,11 +394,6 @@ impl MeshState {
         levels: u32,
         scratch: &mut ComposeScratch,
     ) -> Option<super::Score> {
-        if !classes.is_for(a, b) || classes.part.len() != hf.len() {
-            self.score = None;
-            self.hf = None;
-            return None;
-        }
         self.compose_with(hf, a, b, Labels::Parts(classes, levels), scratch)
     }
 
@@ -410,7 +410,11 @@ impl MeshState {
         self.hf = None;
         self.revision = 0;
         let (w, h, n) = (hf.width(), hf.height(), hf.len());
-        if !composable(a, hf) || !composable(b, hf) {
+        let labels_fit = match source {
+            Labels::Bits(from_b) => from_b.len() >= n.div_ceil(64),
+            Labels::Parts(classes, _) => classes.is_for(a, b) && classes.part.len() == n,
+        };
+        if !labels_fit || !composable(a, hf) || !composable(b, hf) {
             return None;
         }
         let parents = [a, b];
@@ -465,15 +469,7 @@ impl MeshState {
         let kept_in_child = |i: u32| child_kept[i as usize];
         let lattice = Lattice::new(w);
         let sat = &scratch.sat;
-        let labelled_b = |d: &DiscBox| {
-            let (x0, x1, y0, y1) = (
-                d.x0 as usize,
-                d.x1 as usize + 1,
-                d.y0 as usize,
-                d.y1 as usize + 1,
-            );
-            (sat[y1 * sw + x1] + sat[y0 * sw + x0] - sat[y0 * sw + x1] - sat[y1 * sw + x0]) as usize
-        };
+        let labelled_b = |d: &DiscBox| counted_in(sat, w, d.rect()) as usize;
 
         // Which triangles of each parent the child keeps.
         let mut next_slot = 0u32;
@@ -488,11 +484,8 @@ impl MeshState {
                 // The parts labelled for the other parent; a triangle is taken when the part
                 // of its smallest vertex is labelled for this one and none of its kill parts
                 // is labelled for the other (see `PartClasses`).
-                let all = if classes.count >= 32 {
-                    u32::MAX
-                } else {
-                    (1u32 << classes.count) - 1
-                };
+                // (A classification has one to 32 parts.)
+                let all = u32::MAX >> (32 - classes.rects.len());
                 let other = if side == 0 { levels } else { !levels } & all;
                 let (first, kill) = (&classes.first[side], &classes.kill[side]);
                 // Without branches: which triangles a row takes follows the blocks, which the
@@ -524,7 +517,9 @@ impl MeshState {
                 };
                 let keep = other == 0
                     || (disc.area() <= MAX_SEARCHED_BOX
-                        && !spoiled(tri, disc, side as u64, lattice, w, &label, &kept_in_child));
+                        && !spoils(tri, disc.rect(), lattice, w, |i| {
+                            label(i as u32) != side as u64 && kept_in_child(i as u32)
+                        }));
                 if keep {
                     map[t] = next_slot;
                     next_slot += 1;
@@ -748,53 +743,12 @@ impl MeshState {
     }
 }
 
-/// Is a grid point of the child labelled `1 − side` inside the circle of `tri` (a triangle of
-/// the parent `side`)? Points labelled `side` are that parent's and cannot be.
-fn spoiled(
-    tri: [u32; 3],
-    disc: &DiscBox,
-    side: u64,
-    lattice: Lattice,
-    width: usize,
-    label: &impl Fn(u32) -> u64,
-    kept_in_child: &impl Fn(u32) -> bool,
-) -> bool {
-    let p = tri.map(|i| lattice.point(i));
-    let circle = Circle::new(p[0], p[1], p[2]);
-    for y in disc.y0 as usize..=disc.y1 as usize {
-        for x in disc.x0 as usize..=disc.x1 as usize {
-            let i = (y * width + x) as u32;
-            if label(i) == side || !kept_in_child(i) || tri.contains(&i) {
-                continue;
-            }
-            let d = [x as i64, y as i64];
-            let det = circle.det(d);
-            if det > 0
-                || (det == 0 && in_circle([p[0], p[1], p[2], d], [tri[0], tri[1], tri[2], i]))
-            {
-                return true;
-            }
-        }
-    }
-    false
-}
-
 /// The child's slot of a taken triangle (by `map`) around vertex `v` of `mesh`, starting
 /// from `t`, one of its triangles.
 fn taken_in_star(mesh: &Triangulation, map: &[u32], t: u32, v: u32) -> Option<u32> {
-    let k = (0..3).find(|&k| mesh.vertices[3 * t as usize + k] == v)?;
-    let first = mesh.fan_start(3 * t + k as u32);
-    let mut e = first;
-    loop {
-        let slot = map[(e / 3) as usize];
-        if slot != NONE {
-            return Some(slot);
-        }
-        e = mesh.fan_next(e);
-        if e == NONE || e == first {
-            return None;
-        }
-    }
+    mesh.fan(mesh.leaving(t, v)?)
+        .map(|e| map[(e / 3) as usize])
+        .find(|&slot| slot != NONE)
 }
 
 /// The child's half-edge `from → to` when it is an edge of a triangle taken from `parent`
@@ -805,8 +759,7 @@ fn twin_in(parent: &MeshState, map: &[u32], from: u32, to: u32) -> Option<u32> {
     }
     let t = parent.hint[from as usize];
     let m = &parent.mesh;
-    let k = (0..3).find(|&k| m.vertices[3 * t as usize + k] == from)?;
-    let e = edge_from(m, 3 * t + k as u32, to)?;
+    let e = edge_from(m, m.leaving(t, from)?, to)?;
     let slot = map[(e / 3) as usize];
     (slot != NONE).then(|| 3 * slot + e % 3)
 }

@@ -459,21 +459,14 @@ impl MeshState {
         // The stars, by rotating around each removed vertex from a triangle that has it.
         for &v in remove {
             let t = self.locate(lattice, self.hint[v as usize], lattice.point(v));
-            let Some(k) = (0..3).find(|&k| m.vertices[3 * t as usize + k] == v) else {
+            let Some(e) = m.leaving(t, v) else {
                 return false;
             };
-            // Every half-edge leaving v, counter-clockwise from the fan's first.
-            let first = m.fan_start(3 * t + k as u32);
-            let mut e = first;
-            loop {
+            for e in m.fan(e) {
                 let slot = (e / 3) as usize;
                 if !scratch.in_region[slot] {
                     scratch.in_region[slot] = true;
                     scratch.region.push(slot as u32);
-                }
-                e = m.fan_next(e);
-                if e == NONE || e == first {
-                    break;
                 }
             }
         }
@@ -636,12 +629,12 @@ impl MeshState {
     fn remove_vertex(&mut self, lattice: Lattice, v: u32, scratch: &mut EditScratch) {
         let t = self.locate(lattice, self.hint[v as usize], lattice.point(v));
         let m = &mut self.mesh;
-        let k = (0..3)
-            .find(|&k| m.vertices[3 * t as usize + k] == v)
+        let leaving = m
+            .leaving(t, v)
             .expect("a kept point is a vertex of the triangle that holds it");
         // Half-edges v → a leave v; from the first triangle of the fan (a border vertex's fan is
         // open)...
-        let mut e = m.fan_start(3 * t + k as u32);
+        let mut e = m.fan_start(leaving);
         // Then counter-clockwise: triangle (v, aᵢ, aᵢ₊₁) gives the boundary edge aᵢ → aᵢ₊₁.
         let start = e;
         scratch.star.clear();
@@ -767,17 +760,8 @@ pub(super) fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u
     if leaving == NONE {
         return None;
     }
-    let first = mesh.fan_start(leaving);
-    let mut e = first;
-    loop {
-        if mesh.vertices[next(e) as usize] == to {
-            return Some(e);
-        }
-        e = mesh.fan_next(e);
-        if e == NONE || e == first {
-            return None;
-        }
-    }
+    mesh.fan(leaving)
+        .find(|&e| mesh.vertices[next(e) as usize] == to)
 }
 
 pub(super) fn grid_of(hf: &Heightfield) -> Grid<'_> {

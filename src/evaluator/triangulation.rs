@@ -325,6 +325,21 @@ impl Triangulation {
         self.twin[prev(e) as usize]
     }
 
+    /// The half-edges leaving the origin of half-edge `e`, one per triangle of its star,
+    /// counter-clockwise from the fan's first ([`fan_start`](Self::fan_start)).
+    pub fn fan(&self, e: u32) -> impl Iterator<Item = u32> + '_ {
+        let first = self.fan_start(e);
+        std::iter::successors(Some(first), move |&at| {
+            let after = self.fan_next(at);
+            (after != NONE && after != first).then_some(after)
+        })
+    }
+
+    /// The half-edge of triangle `t` that leaves vertex `v`, if `v` is one of its vertices.
+    pub fn leaving(&self, t: u32, v: u32) -> Option<u32> {
+        (3 * t..3 * t + 3).find(|&e| self.vertices[e as usize] == v)
+    }
+
     /// Grows `inside` (triangles already claimed) by a flood: every triangle reachable from
     /// them across half-edges that are neither on the border nor `wall`s, each appended once,
     /// when `claim` takes it (`claim` returns false for a triangle already claimed). Used to

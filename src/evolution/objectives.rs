@@ -188,7 +188,6 @@ pub struct Scorer {
     /// composition tests a mask per triangle instead of searching circles.
     crossing_blocks: Vec<[usize; 4]>,
     crossing: PartClasses,
-    crossing_ready: bool,
 }
 
 impl Scorer {
@@ -218,7 +217,6 @@ impl Scorer {
             inserted: Vec::new(),
             crossing_blocks: Vec::new(),
             crossing: PartClasses::default(),
-            crossing_ready: false,
         }
     }
 
@@ -327,29 +325,28 @@ impl Scorer {
             }
             let mut state = std::mem::take(&mut self.pool[slot].state);
             let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
-            let blocks = made
-                .map(|m| (m.blocks, m.levels))
-                .filter(|(blocks, _)| blocks.len() <= PartClasses::MAX_PARTS);
-            score = match blocks {
-                Some((blocks, levels)) => {
-                    let rects = blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]);
-                    if !self.crossing_blocks.iter().copied().eq(rects.clone())
-                        || !self.crossing.is_for(pa, pb)
-                    {
-                        self.crossing_blocks.clear();
-                        self.crossing_blocks.extend(rects);
-                        let hf = self.evaluator.heightfield().clone();
-                        self.crossing_ready =
-                            self.crossing.reset(&hf, pa, pb, &self.crossing_blocks);
-                    }
-                    let levels = (levels.iter().enumerate())
-                        .fold(0u32, |acc, (k, &l)| acc | (u32::from(l & 1) << k));
-                    if self.crossing_ready {
-                        self.evaluator
-                            .compose_parts(&mut state, pa, pb, &self.crossing, levels)
-                    } else {
-                        self.evaluator.compose(&mut state, pa, pb, from_b.words())
-                    }
+            // The crossover's classification, made at its first composed row (a failed one is
+            // not `is_for` these parents, so the row falls back to the bitset).
+            let mut by_parts = None;
+            if let Some(m) = made.filter(|m| m.blocks.len() <= PartClasses::MAX_PARTS) {
+                let rects = m.blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]);
+                if !self.crossing_blocks.iter().copied().eq(rects.clone())
+                    || !self.crossing.is_for(pa, pb)
+                {
+                    self.crossing_blocks.clear();
+                    self.crossing_blocks.extend(rects);
+                    let hf = self.evaluator.heightfield().clone();
+                    self.crossing.reset(&hf, pa, pb, &self.crossing_blocks);
+                }
+                by_parts = self.crossing.is_for(pa, pb).then(|| {
+                    (m.levels.iter().enumerate())
+                        .fold(0u32, |acc, (k, &l)| acc | (u32::from(l & 1) << k))
+                });
+            }
+            score = match by_parts {
+                Some(levels) => {
+                    self.evaluator
+                        .compose_parts(&mut state, pa, pb, &self.crossing, levels)
                 }
                 None => self.evaluator.compose(&mut state, pa, pb, from_b.words()),
             };
