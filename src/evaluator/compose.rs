@@ -27,6 +27,7 @@
 //! ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)) instead of a summed-area
 //! lookup and a circle search.
 
+use super::errors::ErrorUnits;
 use super::incremental::{MeshState, edge_from, grid_of};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
 use super::triangulation::{NONE, Triangulation};
@@ -539,7 +540,7 @@ impl MeshState {
         // The taken triangles, linked to each other where they meet; the half-edges with R
         // across are listed.
         self.hint.resize(n, 0);
-        self.field.reshape(w, h);
+        self.field.reshape(w, h, ErrorUnits::of(hf));
         // The taken slots were numbered in the order visited below, so their triangles are
         // pushed (not written into arrays filled with NONE first: ≈100 KB per composition).
         self.mesh.clear_for(w);

@@ -20,7 +20,7 @@
 //! Cost: an edit costs about its walk, its flips or hole fill, and the area of the triangles it
 //! changed; a state costs ≈ 13 bytes per grid point plus 24 bytes per triangle.
 
-use super::errors::ErrorField;
+use super::errors::{ErrorField, ErrorTotals, ErrorUnits};
 use super::predicates::{self, GridPoint, Lattice};
 use super::raster::Grid;
 use super::triangulation::{NONE, Triangulation, next, prev};
@@ -202,7 +202,8 @@ impl MeshState {
         }
         // No clearing: every point's error and hint is written below, by the triangle that owns
         // it or, for a vertex, by one of its triangles.
-        self.field.reshape(hf.width(), hf.height());
+        self.field
+            .reshape(hf.width(), hf.height(), ErrorUnits::of(hf));
         self.hint.resize(hf.len(), 0);
         let grid = grid_of(hf);
         let lattice = Lattice::new(hf.width());
@@ -211,6 +212,24 @@ impl MeshState {
         }
         self.field.refresh_all();
         self.finish(hf.len())
+    }
+
+    /// Scores the triangles in `self.mesh` in one pass, without the per-point errors and hints
+    /// an edit needs: the same score as [`rescore_all`](Self::rescore_all) (the totals are exact
+    /// integers, so the order the triangles are summed in does not matter), about twice as fast
+    /// on a sparse mesh. The state is left not editable.
+    pub(super) fn score_once(&mut self, hf: &Heightfield) -> Score {
+        let grid = grid_of(hf);
+        let units = ErrorUnits::of(hf);
+        let lattice = Lattice::new(hf.width());
+        let mut all = ErrorTotals::default();
+        for t in 0..self.mesh.len() {
+            let tri = canonical(self.mesh.triangle(t)).map(|i| lattice.point(i));
+            all.add(&grid.error_totals(tri, units));
+        }
+        self.forget();
+        self.discs_valid = false;
+        self.score_from(units.values(&all), hf.len())
     }
 
     /// Marks this state as not editable (its mesh is not a linked Delaunay triangulation).
@@ -222,7 +241,10 @@ impl MeshState {
     pub(super) fn finish(&mut self, n: usize) -> Score {
         self.discs_valid = false;
         self.revision = next_revision();
-        let (sum, sum_sq, max) = self.field.totals();
+        self.score_from(self.field.totals(), n)
+    }
+
+    fn score_from(&mut self, (sum, sum_sq, max): (f64, f64, f64), n: usize) -> Score {
         let score = Score {
             e_sum: sum,
             e_max: max,

@@ -178,12 +178,15 @@ impl Evaluator {
         })
     }
 
-    /// Triangulates `kept` (plus the corners) and scores it.
+    /// Triangulates `kept` (plus the corners) and scores it, in one pass over the triangles
+    /// that keeps no per-point error (see [`score_into`](Self::score_into) for a mesh that can
+    /// be edited; both give the same score).
     pub fn score(&mut self, kept: &[u32]) -> Result<Score, EvaluateError> {
-        let mut state = std::mem::take(&mut self.state);
-        let score = self.score_into(kept, &mut state);
-        self.state = state;
-        score
+        self.gather(kept)?;
+        self.state
+            .mesh_mut()
+            .rebuild_delaunay(self.hf.width(), &self.kept);
+        Ok(self.state.score_once(&self.hf))
     }
 
     /// Like [`score`](Self::score), but builds the mesh into `state`, which can then be edited
@@ -193,6 +196,12 @@ impl Evaluator {
         kept: &[u32],
         state: &mut MeshState,
     ) -> Result<Score, EvaluateError> {
+        self.gather(kept)?;
+        Ok(state.rebuild(&self.hf, &self.kept))
+    }
+
+    /// Checks `kept` and sets `self.kept` to it plus the corners, increasing, without repeats.
+    fn gather(&mut self, kept: &[u32]) -> Result<(), EvaluateError> {
         let n = self.hf.len();
         if let Some(&bad) = kept.iter().find(|&&i| i as usize >= n) {
             return Err(EvaluateError::IndexOutOfRange {
@@ -226,7 +235,7 @@ impl Evaluator {
         if !self.kept.is_sorted() {
             self.kept.sort_unstable();
         }
-        Ok(state.rebuild(&self.hf, &self.kept))
+        Ok(())
     }
 
     /// Scores the kept set of `state` with the kept points `remove` taken out and the grid
@@ -369,9 +378,7 @@ impl Evaluator {
         for t in &oriented {
             mesh.vertices.extend_from_slice(t);
         }
-        let score = self.state.rescore_all(&self.hf);
         // Not a linked Delaunay triangulation: this state cannot be edited.
-        self.state.forget();
-        Ok(score)
+        Ok(self.state.score_once(&self.hf))
     }
 }

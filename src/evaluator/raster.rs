@@ -7,6 +7,7 @@
 //! point on a shared edge falls in exactly one triangle. The triangle's own vertices are skipped:
 //! they are kept points and their error is zero by definition.
 
+use super::errors::{ErrorTotals, ErrorUnits};
 use super::predicates::{GridPoint, orient};
 
 /// Error sums over the points one triangle owns.
@@ -211,6 +212,24 @@ impl Grid<'_> {
                 own[i] = slot;
             }
         });
+    }
+
+    /// The totals, in `units`, of the errors of the points the counter-clockwise triangle `tri`
+    /// owns (vertices excluded): the same errors as [`write_errors`](Self::write_errors) writes,
+    /// without writing them, for a score that keeps no per-point error.
+    #[inline]
+    pub fn error_totals(&self, tri: [GridPoint; 3], units: ErrorUnits) -> ErrorTotals {
+        let mut acc = ErrorTotals::default();
+        self.for_each_span(tri, |first, last, span| {
+            let z = &self.z[first..=last];
+            for k in 0..z.len() as i32 {
+                let d = (z[k as usize] - span.at_i32(k)).abs();
+                acc.sum += units.units(d);
+                acc.sum_sq += units.units_sq(d);
+                acc.max = if d > acc.max { d } else { acc.max };
+            }
+        });
+        acc
     }
 
     /// The error sums of the points triangle `tri` owns.

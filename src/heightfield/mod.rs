@@ -126,6 +126,8 @@ pub struct Heightfield {
     width: usize,
     height: usize,
     z: Vec<f64>,
+    /// (min z, max z), found once: the evaluator's error units depend on it.
+    z_range: (f64, f64),
     origin: [f64; 2],
     spacing: [f64; 2],
     placement: Placement,
@@ -147,10 +149,16 @@ impl Heightfield {
         if let Some(index) = z.iter().position(|v| !v.is_finite()) {
             return Err(HeightfieldError::NotFinite { index });
         }
+        let z_range = z
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            });
         Ok(Self {
             width,
             height,
             z,
+            z_range,
             origin: [0.0, 0.0],
             spacing: [1.0, 1.0],
             placement: Placement::Grid,
@@ -246,11 +254,7 @@ impl Heightfield {
     }
     /// (min z, max z).
     pub fn z_range(&self) -> (f64, f64) {
-        self.z
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            })
+        self.z_range
     }
     /// Grid coordinates of point (0, 0).
     pub fn origin(&self) -> [f64; 2] {
