@@ -26,6 +26,7 @@ use super::ParamsError;
 use super::hole;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
+use crate::evaluator::incremental::canonical;
 use crate::evaluator::predicates::{GridPoint, Lattice};
 use crate::evaluator::raster::Grid;
 use crate::evaluator::triangulation::Triangulation;
@@ -191,7 +192,9 @@ impl EdgeDecimation {
             height: self.hf.height() as i64,
             z: self.hf.z(),
         };
-        grid.triangle_error(tri.map(|i| self.point(i))).sum
+        // The evaluator's rotation, so that a triangle's sum does not depend on how it was made.
+        grid.triangle_error(canonical(tri).map(|i| self.point(i)))
+            .sum
     }
 
     /// The ordered hole boundary of `v` into `self.boundary` and its Delaunay fill into

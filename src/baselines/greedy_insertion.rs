@@ -18,6 +18,7 @@
 use super::ParamsError;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
+use crate::evaluator::incremental::canonical;
 use crate::evaluator::predicates::{self, GridPoint};
 use crate::evaluator::raster::Grid;
 use crate::evaluator::triangulation::Triangulation;
@@ -270,8 +271,10 @@ impl GreedyInsertion {
         self.mesh.lattice().point(i)
     }
 
+    /// Triangle `t`'s corners in the evaluator's rotation ([`canonical`]), so that its errors
+    /// are the evaluator's bits.
     fn corners_of(&self, t: u32) -> [GridPoint; 3] {
-        self.mesh.triangle(t as usize).map(|i| self.point(i))
+        canonical(self.mesh.triangle(t as usize)).map(|i| self.point(i))
     }
 
     /// Recomputes triangle `t`'s error sum and candidates and queues them.

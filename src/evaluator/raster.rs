@@ -63,22 +63,20 @@ impl Grid<'_> {
         let za = self.z[(a[1] as usize) * w + a[0] as usize];
         let zb = self.z[(b[1] as usize) * w + b[0] as usize];
         let zc = self.z[(c[1] as usize) * w + c[0] as usize];
-        // Edge k runs p → q, opposite vertex k; its function E(x, y) = slope·x + offset(y) is the
+        // Edge k runs p → q, opposite vertex k; its function E(x, y) = −dy·x + offset(y) is the
         // (unnormalised) barycentric weight of vertex k. The point is owned iff E ≥ bias (bias 0
-        // on an owned edge, 1 otherwise). With n(y) = offset(y) − bias and d = |slope|:
-        // slope > 0 ⇔ x ≥ −⌊n/d⌋ (a left edge) and slope < 0 ⇔ x ≤ ⌊n/d⌋ (a right edge).
-        let edges = [(b, c, za), (c, a, zb), (a, b, zc)];
-        let dx = edges.map(|(p, q, _)| q[0] - p[0]);
-        let dy = edges.map(|(p, q, _)| q[1] - p[1]);
-        let slope = dy.map(|d| -d);
+        // on an owned edge, 1 otherwise). With n(y) = offset(y) − bias and d = |dy|:
+        // dy < 0 ⇔ x ≥ −⌊n/d⌋ (a left edge) and dy > 0 ⇔ x ≤ ⌊n/d⌋ (a right edge).
+        let edges = [(b, c), (c, a), (a, b)];
+        let dx = edges.map(|(p, q)| q[0] - p[0]);
+        let dy = edges.map(|(p, q)| q[1] - p[1]);
         let bias = [0, 1, 2].map(|k| {
-            let (p, q, _) = edges[k];
+            let (p, q) = edges[k];
             i64::from(!(dy[k] < 0 || (dy[k] == 0 && dx[k] > 0) || self.on_border(p, q)))
         });
-        let offset_at = |k: usize, y: i64| dx[k] * (y - edges[k].0[1]) + dy[k] * edges[k].0[0];
         // Each walk starts at its edge's lower end (p when the edge runs up, q when down).
         let walk_up = |k: usize| {
-            let (p, q, _) = edges[k];
+            let (p, q) = edges[k];
             let signed_x = if dy[k] > 0 { p[0] } else { -q[0] };
             EdgeWalk::from_lower_end(signed_x, bias[k], dx[k], dy[k].abs())
         };
@@ -107,9 +105,14 @@ impl Grid<'_> {
             .into_iter()
             .find(|&k| dy[k] == 0 && bias[k] == 1)
             .map(|k| edges[k].0[1]);
-        let s1: f64 = (0..3).map(|k| slope[k] as f64 * edges[k].2).sum();
+        // The plane through the vertices as z̃ = z_a + gx·(x − x_a) + gy·(y − y_a), from height
+        // differences (a flat triangle has exactly zero gradient, so no rounding noise).
+        let (dzb, dzc) = (zb - za, zc - za);
+        let (bx, by) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
+        let (cx, cy) = ((c[0] - a[0]) as f64, (c[1] - a[1]) as f64);
         let inv_area = 1.0 / area as f64;
-        let mut offset = [0, 1, 2].map(|k| offset_at(k, y0));
+        let gx = (dzb * cy - dzc * by) * inv_area;
+        let gy = (dzc * bx - dzb * cx) * inv_area;
         let mut long_walk = walk_up(long);
         // Below the middle row the lower edge; from it up, the upper edge. (On the middle row the
         // lower edge would give the same span: both short edges end at the middle vertex, and
@@ -144,18 +147,13 @@ impl Grid<'_> {
                 }
             }
             if lo <= hi && skip_row != Some(y) {
-                let s0: f64 = (0..3)
-                    .map(|k| (slope[k] * lo + offset[k]) as f64 * edges[k].2)
-                    .sum();
+                let start = za + gy * (y - a[1]) as f64 + gx * (lo - a[0]) as f64;
                 let row = (y as usize) * w;
                 visit(
                     row + lo as usize,
                     row + hi as usize,
-                    &Interpolant { s0, s1, inv_area },
+                    &Interpolant { start, step: gx },
                 );
-            }
-            for k in 0..3 {
-                offset[k] += dx[k];
             }
             long_walk.advance();
             short_walk.advance();
@@ -251,11 +249,10 @@ impl Grid<'_> {
     }
 }
 
-/// z̃ along one row span: z̃(k) = (s0 + k·s1) / area at the span's k-th column.
+/// z̃ along one row span: z̃(k) = start + k·step at the span's k-th column.
 pub struct Interpolant {
-    s0: f64,
-    s1: f64,
-    inv_area: f64,
+    start: f64,
+    step: f64,
 }
 
 impl Interpolant {
@@ -270,7 +267,7 @@ impl Interpolant {
     /// instruction, a `usize` in a branchy sequence on x86-64.
     #[inline]
     fn at_i32(&self, k: i32) -> f64 {
-        (self.s0 + k as f64 * self.s1) * self.inv_area
+        self.start + k as f64 * self.step
     }
 }
 
