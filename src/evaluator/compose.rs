@@ -247,7 +247,7 @@ impl PartClasses {
                 // The parts the box meets, besides the smallest vertex's own (labelled for
                 // this parent whenever the triangle can be taken, so never spoiling). Most
                 // boxes lie inside that part: one test.
-                if overlap(parts[own as usize], disc) == disc {
+                if contains(parts[own as usize], disc) {
                     kill.push(mask);
                     continue;
                 }
@@ -295,6 +295,13 @@ fn overlap(a: [usize; 4], b: [usize; 4]) -> [usize; 4] {
         a[2].min(b[2]),
         a[3].min(b[3]),
     ]
+}
+
+/// Does rectangle `outer` contain rectangle `inner`? (Compared field by field: an array
+/// comparison reads the just-built arrays as one vector and stalls on the stores.)
+#[inline]
+fn contains(outer: [usize; 4], inner: [usize; 4]) -> bool {
+    outer[0] <= inner[0] && outer[1] <= inner[1] && inner[2] <= outer[2] && inner[3] <= outer[3]
 }
 
 /// Does the half-open rectangle `[x0, y0, x1, y1]` hold no point?

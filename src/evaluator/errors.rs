@@ -67,13 +67,13 @@ impl ErrorUnits {
     /// d·2ᵏ rounded to the nearest integer (ties to even), for an error `d` ≥ 0.
     #[inline]
     pub fn units(&self, d: f64) -> u64 {
-        to_integer((d * self.scale).min(self.cap))
+        to_integer(at_most(d * self.scale, self.cap))
     }
 
     /// The units of d².
     #[inline]
     pub fn units_sq(&self, d: f64) -> u64 {
-        to_integer((d * d * self.scale_sq).min(self.cap))
+        to_integer(at_most(d * d * self.scale_sq, self.cap))
     }
 
     /// A sum of [`units`](Self::units) as a number.
@@ -94,6 +94,13 @@ impl ErrorUnits {
             totals.max,
         )
     }
+}
+
+/// min(x, cap) for a non-NaN `x` in one comparison (`f64::min`'s NaN rule costs several
+/// instructions per point).
+#[inline]
+fn at_most(x: f64, cap: f64) -> f64 {
+    if x < cap { x } else { cap }
 }
 
 /// `x` ∈ [0, 2⁵¹] rounded to the nearest integer: x + 2⁵² has a unit last place, so the sum
@@ -214,23 +221,25 @@ impl ErrorField {
 /// The totals of `errors` in `units`.
 #[inline]
 fn totals_of(units: ErrorUnits, errors: &[f64]) -> ErrorTotals {
-    // Two chains per total, so that the maximum's dependent comparisons do not pace the loop.
-    let mut t = [ErrorTotals::default(); 2];
-    let mut pairs = errors.chunks_exact(2);
-    for pair in &mut pairs {
-        for (acc, &d) in t.iter_mut().zip(pair) {
+    // Four chains per total, so that the maximum's dependent comparisons do not pace the loop.
+    let mut t = [ErrorTotals::default(); 4];
+    let mut quads = errors.chunks_exact(4);
+    for quad in &mut quads {
+        for (acc, &d) in t.iter_mut().zip(quad) {
             acc.sum += units.units(d);
             acc.sum_sq += units.units_sq(d);
             acc.max = if d > acc.max { d } else { acc.max };
         }
     }
-    for &d in pairs.remainder() {
-        t[0].sum += units.units(d);
-        t[0].sum_sq += units.units_sq(d);
-        t[0].max = if d > t[0].max { d } else { t[0].max };
+    for (acc, &d) in t.iter_mut().zip(quads.remainder()) {
+        acc.sum += units.units(d);
+        acc.sum_sq += units.units_sq(d);
+        acc.max = if d > acc.max { d } else { acc.max };
     }
-    let [mut a, b] = t;
-    a.add(&b);
+    let [mut a, b, c, d] = t;
+    for other in [b, c, d] {
+        a.add(&other);
+    }
     a
 }
 

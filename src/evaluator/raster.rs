@@ -124,7 +124,8 @@ impl Grid<'_> {
             walk_up(upper)
         };
         let switch_row = if y0 < y1 && y1 < y2 { y1 } else { i64::MIN };
-        for y in y0..=y2 {
+        // An exclusive range: an inclusive one carries an extra flag through the loop.
+        for y in y0..y2 + 1 {
             if y == switch_row {
                 short_walk = walk_up(upper);
             }
