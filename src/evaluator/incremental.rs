@@ -14,8 +14,8 @@
 //!   triangle gives the same bits whichever way it was created. A triangle that no edit touched
 //!   owns the same points with the same errors as before; only the touched triangles are
 //!   rasterised again.
-//! - The totals are summed in the grid's fixed order ([`ErrorField`]): only rows that contain a
-//!   re-rasterised point are re-added.
+//! - The totals are exact fixed-point integers ([`ErrorField`]), the same in any order: only rows
+//!   that contain a re-rasterised point are re-added.
 //!
 //! Cost: an edit costs about its walk, its flips or hole fill, and the area of the triangles it
 //! changed; a state costs ≈ 13 bytes per grid point plus 24 bytes per triangle.
