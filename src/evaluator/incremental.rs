@@ -216,8 +216,8 @@ impl MeshState {
 
     /// Scores the triangles in `self.mesh` in one pass, without the per-point errors and hints
     /// an edit needs: the same score as [`rescore_all`](Self::rescore_all) (the totals are exact
-    /// integers, so the order the triangles are summed in does not matter), about twice as fast
-    /// on a sparse mesh. The state is left not editable.
+    /// integers, so the order the triangles are summed in does not matter), with no store per
+    /// grid point and no pass over the row totals. The state is left not editable.
     pub(super) fn score_once(&mut self, hf: &Heightfield) -> Score {
         let grid = grid_of(hf);
         let units = ErrorUnits::of(hf);
