@@ -123,6 +123,14 @@ pub struct ErrorTotals {
 }
 
 impl ErrorTotals {
+    /// Adds one point's error `d` (≥ 0, not NaN), in `units`.
+    #[inline]
+    pub fn add_error(&mut self, units: ErrorUnits, d: f64) {
+        self.sum += units.units(d);
+        self.sum_sq += units.units_sq(d);
+        self.max = if d > self.max { d } else { self.max };
+    }
+
     /// Adds `other`'s points to these.
     #[inline]
     pub fn add(&mut self, other: &Self) {
@@ -226,15 +234,11 @@ fn totals_of(units: ErrorUnits, errors: &[f64]) -> ErrorTotals {
     let mut quads = errors.chunks_exact(4);
     for quad in &mut quads {
         for (acc, &d) in t.iter_mut().zip(quad) {
-            acc.sum += units.units(d);
-            acc.sum_sq += units.units_sq(d);
-            acc.max = if d > acc.max { d } else { acc.max };
+            acc.add_error(units, d);
         }
     }
     for (acc, &d) in t.iter_mut().zip(quads.remainder()) {
-        acc.sum += units.units(d);
-        acc.sum_sq += units.units_sq(d);
-        acc.max = if d > acc.max { d } else { acc.max };
+        acc.add_error(units, d);
     }
     let [mut a, b, c, d] = t;
     for other in [b, c, d] {

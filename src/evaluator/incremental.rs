@@ -228,14 +228,15 @@ impl MeshState {
             all.add(&grid.error_totals(tri, units));
         }
         self.forget();
-        self.discs_valid = false;
         self.score_from(units.values(&all), hf.len())
     }
 
-    /// Marks this state as not editable (its mesh is not a linked Delaunay triangulation).
+    /// Marks this state as not editable (its mesh is not a linked Delaunay triangulation, or
+    /// its per-point errors and hints were not written), and its disc boxes as stale.
     pub(super) fn forget(&mut self) {
         self.hf = None;
         self.revision = 0;
+        self.discs_valid = false;
     }
 
     pub(super) fn finish(&mut self, n: usize) -> Score {

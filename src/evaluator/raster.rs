@@ -222,10 +222,7 @@ impl Grid<'_> {
         self.for_each_span(tri, |first, last, span| {
             let z = &self.z[first..=last];
             for k in 0..z.len() as i32 {
-                let d = (z[k as usize] - span.at_i32(k)).abs();
-                acc.sum += units.units(d);
-                acc.sum_sq += units.units_sq(d);
-                acc.max = if d > acc.max { d } else { acc.max };
+                acc.add_error(units, (z[k as usize] - span.at_i32(k)).abs());
             }
         });
         acc
