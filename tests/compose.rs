@@ -7,7 +7,7 @@ mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::evaluator::incremental::canonical_set as triangle_set;
-use paretomesh::evaluator::{Evaluator, MeshState, PartClasses};
+use paretomesh::evaluator::{Evaluator, MeshState, PartClasses, PartScores};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -198,7 +198,8 @@ fn a_child_equal_to_a_parent_takes_all_its_triangles() {
 }
 
 /// Composes every child of random parents over random rectangles both ways, by parts and by
-/// the equivalent bitset, and requires the same mesh (slot for slot) and bits.
+/// the equivalent bitset, and requires the same mesh (slot for slot) and bits; scores each
+/// without a mesh too ([`Evaluator::score_parts`]), which must give the same bits.
 fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let mut ev = Evaluator::new(hf.clone());
@@ -214,6 +215,8 @@ fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
             rects.insert(rng.random_range(0..=rects.len()), [0, 0, 0, 0]);
         }
         let classes = PartClasses::new(&hf, &a, &b, &rects).expect("the rectangles tile the grid");
+        let mut scores = PartScores::default();
+        assert!(scores.prepare(&hf, &a, &b, &classes));
         let all = 1u32 << rects.len();
         let levels: Vec<u32> = if all <= 16 {
             (0..all).collect()
@@ -228,6 +231,9 @@ fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
             assert!(score.is_some(), "{what}: gave up");
             let mask = rectangles_mask(w, h, &rects, level);
             assert_eq!(score, ev.compose(&mut by_bits, &a, &b, &mask), "{what}");
+            // Scored without a mesh: the same bits.
+            let scored = ev.score_parts(&a, &b, &classes, &mut scores, level);
+            assert_eq!(scored.map(bits), score.map(bits), "{what}: score_parts");
             assert_eq!(by_parts.triangles(), by_bits.triangles(), "{what}");
             assert_eq!(error_bits(&by_parts), error_bits(&by_bits), "{what}");
             if k < 3 {
@@ -272,6 +278,20 @@ fn a_part_classification_serves_only_its_parents_and_tilings() {
     let too_many: Vec<[usize; 4]> = (0..33).map(|x| [x, 0, x + 1, h]).collect();
     assert!(PartClasses::new(&hf, &states[0], &states[1], &too_many).is_none());
     let classes = PartClasses::new(&hf, &states[0], &states[1], &halves).unwrap();
+    // Scores prepared from one classification serve that one only, even for the same parents
+    // (the weighted-sum GA crosses the same pair again with other blocks).
+    let mut scores = PartScores::default();
+    assert!(scores.prepare(&hf, &states[0], &states[1], &classes));
+    let thirds = [[0, 0, w / 3, h], [w / 3, 0, w, h]];
+    let other_classes = PartClasses::new(&hf, &states[0], &states[1], &thirds).unwrap();
+    assert!(
+        ev.score_parts(&states[0], &states[1], &other_classes, &mut scores, 0b10)
+            .is_none()
+    );
+    assert!(
+        ev.score_parts(&states[0], &states[1], &classes, &mut scores, 0b10)
+            .is_some()
+    );
     let mut child = MeshState::default();
     assert!(
         ev.compose_parts(&mut child, &states[0], &states[1], &classes, 0b10)
@@ -291,6 +311,10 @@ fn a_part_classification_serves_only_its_parents_and_tilings() {
     states[1].ensure_discs();
     assert!(
         ev.compose_parts(&mut child, &states[0], &states[1], &classes, 0b10)
+            .is_none()
+    );
+    assert!(
+        ev.score_parts(&states[0], &states[1], &classes, &mut scores, 0b10)
             .is_none()
     );
 }

@@ -30,6 +30,7 @@
 use super::errors::ErrorUnits;
 use super::incremental::{MeshState, edge_from, grid_of};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
+use super::region::{BOUNDARY, Region, for_each_in};
 use super::triangulation::{NONE, Triangulation};
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
@@ -74,7 +75,7 @@ impl DiscBox {
     }
 
     /// The box as a half-open rectangle `[x0, y0, x1, y1]`.
-    fn rect(&self) -> [usize; 4] {
+    pub(super) fn rect(&self) -> [usize; 4] {
         [
             self.x0 as usize,
             self.y0 as usize,
@@ -105,13 +106,8 @@ pub struct ComposeScratch {
     listed: Vec<bool>,
     /// R's points and the grid corners.
     points: Vec<u32>,
-    sub: Triangulation,
-    leaving: Vec<u32>,
-    /// Per half-edge of `sub`: the child's half-edge across R's boundary, or [`NONE`].
-    across: Vec<u32>,
-    /// Per triangle of `sub`: its slot in the child once inside R, else [`NONE`].
-    slot: Vec<u32>,
-    inside: Vec<u32>,
+    /// R's triangles (the tags of its boundary edges are the child's half-edges across).
+    region: Region,
 }
 
 /// Where a child's labels come from: a bitset over the grid (bit set: from B), or parts of
@@ -143,17 +139,22 @@ fn composable(s: &MeshState, hf: &Arc<Heightfield>) -> bool {
 #[derive(Clone, Debug, Default)]
 pub struct PartClasses {
     /// The parts, as rectangles `[x0, y0, x1, y1]` (half-open).
-    rects: Vec<[usize; 4]>,
+    pub(super) rects: Vec<[usize; 4]>,
     /// The part of every grid point.
-    part: Vec<u8>,
+    pub(super) part: Vec<u8>,
     /// Per parent, per triangle slot: the part of its smallest vertex.
-    first: [Vec<u8>; 2],
+    pub(super) first: [Vec<u8>; 2],
     /// Per parent, per triangle slot: its kill mask (bit `p` for part `p`).
-    kill: [Vec<u32>; 2],
+    pub(super) kill: [Vec<u32>; 2],
     /// The parents' [`MeshState`] revisions, to refuse other meshes.
-    made_from: [u64; 2],
+    pub(super) made_from: [u64; 2],
+    /// A number no other classification had (0 until made), so that what is derived from this
+    /// one ([`PartScores`](super::PartScores)) can tell it from a later one of the same parents.
+    pub(super) id: u64,
     /// Scratch: a summed-area table of one parent's kept points.
     sat: Vec<u32>,
+    /// Scratch: the same points as a bitset.
+    bits: Vec<u64>,
 }
 
 impl PartClasses {
@@ -183,6 +184,7 @@ impl PartClasses {
         parts: &[[usize; 4]],
     ) -> bool {
         self.made_from = [0; 2];
+        self.id = 0;
         let (w, h, n) = (hf.width(), hf.height(), hf.len());
         if parts.len() > Self::MAX_PARTS || !composable(a, hf) || !composable(b, hf) {
             return false;
@@ -215,15 +217,20 @@ impl PartClasses {
         for side in 0..2 {
             let (parent, other) = (parents[side], parents[1 - side]);
             // The summed-area table of the other parent's kept points: (W + 1) × (H + 1),
-            // points in columns < x of rows < y at (y, x).
+            // points in columns < x of rows < y at (y, x); and the points as a bitset.
             let sw = w + 1;
             self.sat.clear();
             self.sat.resize(sw, 0);
+            self.bits.clear();
+            self.bits.resize(n.div_ceil(64), 0);
             for y in 0..h {
                 let mut row = 0;
                 self.sat.push(0);
                 for x in 0..w {
-                    row += u32::from(other.kept[y * w + x]);
+                    let i = y * w + x;
+                    let k = other.kept[i];
+                    row += u32::from(k);
+                    self.bits[i / 64] |= u64::from(k) << (i % 64);
                     let below = self.sat[y * sw + x + 1];
                     self.sat.push(below + row);
                 }
@@ -267,7 +274,7 @@ impl PartClasses {
                         met &= met - 1;
                         let both = overlap(parts[p as usize], disc);
                         if counted_in(&self.sat, w, both) > 0
-                            && spoils(tri, both, lattice, w, |i| other.kept[i])
+                            && spoils_bits(tri, both, lattice, w, &self.bits)
                         {
                             mask |= 1 << p;
                         }
@@ -277,6 +284,7 @@ impl PartClasses {
             }
         }
         self.made_from = [a.revision, b.revision];
+        self.id = super::incremental::next_revision();
         true
     }
 
@@ -350,6 +358,31 @@ fn spoils(
         }
     }
     false
+}
+
+/// [`spoils`] for the points set in `bits` (bit `i` of word `i / 64` for grid point `i`): only
+/// the set bits of each row of the rectangle are tested, not every grid point in it. Why: a
+/// classification tests the circles of a thousand triangles that reach into another block
+/// against the other parent's points there, which are a fraction of the rectangle's points;
+/// testing each point's mark mispredicted about as often as there were marks.
+fn spoils_bits(
+    tri: [u32; 3],
+    [x0, y0, x1, y1]: [usize; 4],
+    lattice: Lattice,
+    width: usize,
+    bits: &[u64],
+) -> bool {
+    let p = tri.map(|i| lattice.point(i));
+    let circle = Circle::new(p[0], p[1], p[2]);
+    let rect = [x0, y0, x1, y1].map(|v| v as i64);
+    for_each_in(bits, width, rect, |i| {
+        if tri.contains(&i) {
+            return false;
+        }
+        let d = lattice.point(i);
+        let det = circle.det(d);
+        det > 0 || (det == 0 && in_circle([p[0], p[1], p[2], d], [tri[0], tri[1], tri[2], i]))
+    })
 }
 
 impl MeshState {
@@ -634,18 +667,11 @@ impl MeshState {
             }
         }
         let (taken_len, open_len) = (next_slot, scratch.open.len());
-        if open_len > 0 {
-            for j in 0..open_len {
-                let (_, u, v) = scratch.open[j];
-                for p in [u, v] {
-                    if !std::mem::replace(&mut scratch.listed[p as usize], true) {
-                        scratch.points.push(p);
-                    }
-                }
-            }
-            for c in hf.corners() {
-                if !std::mem::replace(&mut scratch.listed[c as usize], true) {
-                    scratch.points.push(c);
+        for j in 0..open_len {
+            let (_, u, v) = scratch.open[j];
+            for p in [u, v] {
+                if !std::mem::replace(&mut scratch.listed[p as usize], true) {
+                    scratch.points.push(p);
                 }
             }
         }
@@ -667,75 +693,33 @@ impl MeshState {
                 return None;
             }
         } else {
-            // R: the canonical triangulation of its points, the triangles found by a flood
-            // from R's boundary that never crosses it.
-            // (Most of its cost is flips: R's points lie along thin seams. Inserting them in
-            // Morton order or at random instead of by rows changed nothing, measured.)
-            scratch.points.sort_unstable();
-            let sub = &mut scratch.sub;
-            if !sub.insert_all(w, &scratch.points) {
-                return None;
-            }
-            scratch.leaving.resize(n, NONE);
-            for (e, &v) in sub.vertices.iter().enumerate() {
-                scratch.leaving[v as usize] = e as u32;
-            }
-            scratch.across.clear();
-            scratch.across.resize(sub.vertices.len(), NONE);
-            scratch.slot.clear();
-            scratch.slot.resize(sub.len(), NONE);
-            scratch.inside.clear();
-            let mut next_new = taken_len;
-            for &(outer, u, v) in &scratch.open {
-                // R lies left of v → u.
-                let e = edge_from(sub, scratch.leaving[v as usize], u)?;
-                scratch.across[e as usize] = outer;
-                let t = (e / 3) as usize;
-                if scratch.slot[t] == NONE {
-                    scratch.slot[t] = next_new;
-                    next_new += 1;
-                    scratch.inside.push(t as u32);
-                }
-            }
-            let (across, slots) = (&scratch.across, &mut scratch.slot);
-            sub.flood(
-                &mut scratch.inside,
-                |e| across[e as usize] != NONE,
-                |t| {
-                    let free = slots[t as usize] == NONE;
-                    if free {
-                        slots[t as usize] = next_new;
-                        next_new += 1;
-                    }
-                    free
-                },
-            );
+            // R's triangles, wrapped from its boundary (see `region`).
+            let region = &mut scratch.region;
+            region.wrap(w, h, &scratch.points, &scratch.open)?;
+            let next_new = taken_len + region.triangles.len() as u32;
             if next_new != expected {
                 debug_assert!(false, "composed {next_new} triangles, not {expected}");
                 return None;
             }
             // R's triangles after the taken ones, in the order found, linked inside R and
             // across its boundary.
-            for &t in &scratch.inside {
-                let slot = scratch.slot[t as usize];
+            for (t, tri) in region.triangles.iter().enumerate() {
+                let slot = taken_len + t as u32;
+                self.mesh.vertices.extend_from_slice(tri);
                 for k in 0..3 {
-                    let e = (3 * t + k) as usize;
-                    self.mesh.vertices.push(sub.vertices[e]);
-                    let outer = scratch.across[e];
-                    let twin = if outer != NONE {
-                        self.mesh.twin[outer as usize] = 3 * slot + k;
+                    let twin = region.twins[3 * t + k];
+                    let twin = if twin == NONE {
+                        NONE
+                    } else if twin & BOUNDARY != 0 {
+                        let outer = scratch.open[(twin & !BOUNDARY) as usize].0;
+                        self.mesh.twin[outer as usize] = 3 * slot + k as u32;
                         outer
                     } else {
-                        let f = sub.twin[e];
-                        if f == NONE {
-                            NONE
-                        } else {
-                            3 * scratch.slot[(f / 3) as usize] + f % 3
-                        }
+                        3 * taken_len + twin
                     };
                     self.mesh.twin.push(twin);
                 }
-                let p = sub.triangle(t as usize).map(|i| lattice.point(i));
+                let p = tri.map(|i| lattice.point(i));
                 self.discs.push(DiscBox::of(p, w, h));
             }
             let grid = grid_of(hf);

@@ -20,17 +20,17 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ErrorUnits {
     /// 2ᵏ for |z − z̃|.
-    scale: f64,
+    pub(super) scale: f64,
     /// The same for (z − z̃)², with R² in place of R.
-    scale_sq: f64,
+    pub(super) scale_sq: f64,
     /// 2^top, the largest term: a bound only heights beyond 10¹⁵⁰ (whose squares overflow)
     /// could reach, so that no sum can overflow whatever the input.
-    cap: f64,
+    pub(super) cap: f64,
 }
 
 /// 2⁵²: added to a number in [0, 2⁵¹], it leaves that number rounded to an integer in the low
 /// bits of the sum's mantissa.
-const ROUNDER: f64 = 4_503_599_627_370_496.0;
+pub(super) const ROUNDER: f64 = 4_503_599_627_370_496.0;
 
 impl ErrorUnits {
     /// The units for `points` grid points with heights spanning `z_range` (max − min, ≥ 0).

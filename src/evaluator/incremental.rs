@@ -56,7 +56,7 @@ pub struct MeshState {
 }
 
 /// A number no mesh state had before (in this process).
-fn next_revision() -> u64 {
+pub(super) fn next_revision() -> u64 {
     use std::sync::atomic::{AtomicU64, Ordering};
     static NEXT: AtomicU64 = AtomicU64::new(1);
     NEXT.fetch_add(1, Ordering::Relaxed)
@@ -223,10 +223,9 @@ impl MeshState {
         let units = ErrorUnits::of(hf);
         let lattice = Lattice::new(hf.width());
         let mut all = ErrorTotals::default();
-        for t in 0..self.mesh.len() {
-            let tri = canonical(self.mesh.triangle(t)).map(|i| lattice.point(i));
-            all.add(&grid.error_totals(tri, units));
-        }
+        let mesh = &self.mesh;
+        let tris = (0..mesh.len()).map(|t| canonical(mesh.triangle(t)).map(|i| lattice.point(i)));
+        grid.sum_triangles(units, tris, |_, t| all.add(&t));
         self.forget();
         self.score_from(units.values(&all), hf.len())
     }

@@ -35,15 +35,19 @@
 pub mod compose;
 pub mod errors;
 pub mod incremental;
+pub mod part_scores;
 pub mod predicates;
 pub mod raster;
 pub mod reference;
+pub mod region;
+pub mod span_sum;
 pub mod triangulation;
 
 use crate::heightfield::Heightfield;
 pub use compose::PartClasses;
 use incremental::EditScratch;
 pub use incremental::MeshState;
+pub use part_scores::PartScores;
 use raster::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -150,6 +154,7 @@ pub struct Evaluator {
     state: MeshState,
     scratch: EditScratch,
     compose_scratch: compose::ComposeScratch,
+    row_scratch: part_scores::RowScratch,
 }
 
 impl Evaluator {
@@ -162,6 +167,7 @@ impl Evaluator {
             state: MeshState::default(),
             scratch: EditScratch::default(),
             compose_scratch: compose::ComposeScratch::default(),
+            row_scratch: part_scores::RowScratch::default(),
         }
     }
 
@@ -307,6 +313,42 @@ impl Evaluator {
         levels: u32,
     ) -> Option<Score> {
         state.compose_parts(&self.hf, a, b, classes, levels, &mut self.compose_scratch)
+    }
+
+    /// The score [`compose_parts`](Self::compose_parts) gives for `levels`, bit for bit, without
+    /// building the child's mesh: from what the children of `classes` share, which `scores`
+    /// holds once [prepared](PartScores::prepare) for the same parents (see
+    /// [`part_scores`]). `None` when `scores` or `classes` were made for other meshes, or when a
+    /// guard fails.
+    ///
+    /// ```
+    /// use paretomesh::evaluator::{Evaluator, MeshState, PartClasses, PartScores};
+    /// use paretomesh::heightfield::Heightfield;
+    /// use std::sync::Arc;
+    /// let z: Vec<f64> = (0..25).map(|i| ((i * 7) % 5) as f64).collect();
+    /// let hf = Arc::new(Heightfield::new(5, 5, z).unwrap());
+    /// let mut ev = Evaluator::new(hf.clone());
+    /// let (mut a, mut b) = (MeshState::default(), MeshState::default());
+    /// ev.score_into(&[6, 12, 18], &mut a).unwrap();
+    /// ev.score_into(&[8, 16], &mut b).unwrap();
+    /// a.ensure_discs();
+    /// b.ensure_discs();
+    /// let classes = PartClasses::new(&hf, &a, &b, &[[0, 0, 2, 5], [2, 0, 5, 5]]).unwrap();
+    /// let mut scores = PartScores::default();
+    /// assert!(scores.prepare(&hf, &a, &b, &classes));
+    /// // Part 0 from A (its point 6), part 1 from B (its point 8).
+    /// let score = ev.score_parts(&a, &b, &classes, &mut scores, 0b10).unwrap();
+    /// assert_eq!(score, ev.score(&[6, 8]).unwrap());
+    /// ```
+    pub fn score_parts(
+        &mut self,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+        scores: &mut PartScores,
+        levels: u32,
+    ) -> Option<Score> {
+        scores.score(&self.hf, a, b, classes, levels, &mut self.row_scratch)
     }
 
     /// The kept points of the last [`score`](Self::score) call, increasing, corners included.

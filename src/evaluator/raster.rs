@@ -9,6 +9,7 @@
 
 use super::errors::{ErrorTotals, ErrorUnits};
 use super::predicates::{GridPoint, orient};
+use super::span_sum::{self, Kernel};
 
 /// Error sums over the points one triangle owns.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -41,15 +42,10 @@ impl Grid<'_> {
             || (a[1] == b[1] && (a[1] == 0 || a[1] == self.height - 1))
     }
 
-    /// Visits every grid point the counter-clockwise triangle `tri` owns (vertices excluded) one
-    /// row span at a time: `visit(first_index, last_index, interpolant)`. Spans are never empty
-    /// and never contain a vertex.
-    #[inline]
-    fn for_each_span(
-        &self,
-        tri: [GridPoint; 3],
-        mut visit: impl FnMut(usize, usize, &Interpolant),
-    ) {
+    /// The set-up of a triangle's row spans (see [`Spans`]), or `None` for a triangle of area ½,
+    /// which owns no grid point.
+    #[inline(always)]
+    fn spans(&self, tri: [GridPoint; 3]) -> Option<Spans> {
         let [a, b, c] = tri;
         let area = orient(a, b, c);
         debug_assert!(area > 0, "triangle must be counter-clockwise and proper");
@@ -57,7 +53,7 @@ impl Grid<'_> {
             // Pick's theorem: a lattice triangle of area ½ holds no grid point but its vertices.
             // A fifth of the triangles of a 30 %-dense mesh are such; skipping their set-up
             // saves about a tenth of a dense mesh's raster time.
-            return;
+            return None;
         }
         let w = self.width as usize;
         let za = self.z[(a[1] as usize) * w + a[0] as usize];
@@ -74,9 +70,14 @@ impl Grid<'_> {
             let (p, q) = edges[k];
             i64::from(!(dy[k] < 0 || (dy[k] == 0 && dx[k] > 0) || self.on_border(p, q)))
         });
-        // Each walk starts at its edge's lower end (p when the edge runs up, q when down).
+        // Each walk starts at its edge's lower end (p when the edge runs up, q when down). A
+        // horizontal edge bounds no row (a flat bottom or top: see `middle` below) and gets an
+        // unused walk.
         let walk_up = |k: usize| {
             let (p, q) = edges[k];
+            if dy[k] == 0 {
+                return EdgeWalk::default();
+            }
             let signed_x = if dy[k] > 0 { p[0] } else { -q[0] };
             EdgeWalk::from_lower_end(signed_x, bias[k], dx[k], dy[k].abs())
         };
@@ -99,65 +100,62 @@ impl Grid<'_> {
         // Edge k is opposite vertex k: the long edge joins bottom and top, the lower edge bottom
         // and middle, the upper edge middle and top. The long edge is a right edge iff it runs up.
         let (long, lower, upper) = (v1, v2, v0);
-        let long_is_right = dy[long] > 0;
         // A horizontal edge the triangle does not own: its row holds only that edge's points.
         let skip_row = [lower, upper]
             .into_iter()
             .find(|&k| dy[k] == 0 && bias[k] == 1)
-            .map(|k| edges[k].0[1]);
+            .map_or(i64::MIN, |k| edges[k].0[1]);
         // The plane through the vertices as z̃ = z_a + gx·(x − x_a) + gy·(y − y_a), from height
         // differences (a flat triangle has exactly zero gradient, so no rounding noise).
         let (dzb, dzc) = (zb - za, zc - za);
         let (bx, by) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
         let (cx, cy) = ((c[0] - a[0]) as f64, (c[1] - a[1]) as f64);
         let inv_area = 1.0 / area as f64;
-        let gx = (dzb * cy - dzc * by) * inv_area;
-        let gy = (dzc * bx - dzb * cx) * inv_area;
-        let mut long_walk = walk_up(long);
         // Below the middle row the lower edge; from it up, the upper edge. (On the middle row the
         // lower edge would give the same span: both short edges end at the middle vertex, and
         // whichever excludes it, the vertex rule does too.) A flat top keeps the lower edge to
         // the end; a flat bottom starts on the upper edge.
-        let mut short_walk = if y0 < y1 {
-            walk_up(lower)
-        } else {
-            walk_up(upper)
+        let middle = if y1 < y2 { y1 } else { y2 + 1 };
+        Some(Spans {
+            tri,
+            ys: [y0, y1, y2],
+            middle,
+            long: walk_up(long),
+            lower: walk_up(lower),
+            upper: walk_up(upper),
+            long_is_right: dy[long] > 0,
+            skip_row,
+            za,
+            gx: (dzb * cy - dzc * by) * inv_area,
+            gy: (dzc * bx - dzb * cx) * inv_area,
+            width: w,
+        })
+    }
+
+    /// Visits every grid point the counter-clockwise triangle `tri` owns (vertices excluded) one
+    /// row span at a time: `visit(first_index, last_index, interpolant)`. Spans are never empty
+    /// and never contain a vertex.
+    #[inline]
+    fn for_each_span(
+        &self,
+        tri: [GridPoint; 3],
+        mut visit: impl FnMut(usize, usize, &Interpolant),
+    ) {
+        let Some(mut s) = self.spans(tri) else {
+            return;
         };
-        let switch_row = if y0 < y1 && y1 < y2 { y1 } else { i64::MIN };
+        let [y0, _, y2] = s.ys;
+        let mut short = s.lower;
         // An exclusive range: an inclusive one carries an extra flag through the loop.
         for y in y0..y2 + 1 {
-            if y == switch_row {
-                short_walk = walk_up(upper);
+            if y == s.middle {
+                short = s.upper;
             }
-            let (mut lo, mut hi) = if long_is_right {
-                (-short_walk.quotient, long_walk.quotient)
-            } else {
-                (-long_walk.quotient, short_walk.quotient)
-            };
-            if y == y0 || y == y1 || y == y2 {
-                // Vertices are kept points and contribute nothing. A vertex is an extreme point
-                // of the triangle, so on its row it can only be an end of the span.
-                for v in tri {
-                    if v[1] == y {
-                        if v[0] == lo {
-                            lo += 1;
-                        } else if v[0] == hi {
-                            hi -= 1;
-                        }
-                    }
-                }
+            if let Some((first, len, span)) = s.span(y, &short) {
+                visit(first, first + len - 1, &span);
             }
-            if lo <= hi && skip_row != Some(y) {
-                let start = za + gy * (y - a[1]) as f64 + gx * (lo - a[0]) as f64;
-                let row = (y as usize) * w;
-                visit(
-                    row + lo as usize,
-                    row + hi as usize,
-                    &Interpolant { start, step: gx },
-                );
-            }
-            long_walk.advance();
-            short_walk.advance();
+            s.long.advance();
+            short.advance();
         }
     }
 
@@ -216,16 +214,119 @@ impl Grid<'_> {
     /// The totals, in `units`, of the errors of the points the counter-clockwise triangle `tri`
     /// owns (vertices excluded): the same errors as [`write_errors`](Self::write_errors) writes,
     /// without writing them, for a score that keeps no per-point error.
-    #[inline]
     pub fn error_totals(&self, tri: [GridPoint; 3], units: ErrorUnits) -> ErrorTotals {
-        let mut acc = ErrorTotals::default();
-        self.for_each_span(tri, |first, last, span| {
-            let z = &self.z[first..=last];
-            for k in 0..z.len() as i32 {
-                acc.add_error(units, (z[k as usize] - span.at_i32(k)).abs());
+        let mut out = ErrorTotals::default();
+        self.sum_triangles(units, std::iter::once(tri), |_, t| out = t);
+        out
+    }
+
+    /// [`error_totals`](Self::error_totals) of every triangle `tris` yields (counter-clockwise),
+    /// each given to `done` with its position in `tris`: with the fastest kernel this CPU has
+    /// (see [`span_sum`](super::span_sum); every kernel gives the same bits).
+    pub fn sum_triangles(
+        &self,
+        units: ErrorUnits,
+        tris: impl IntoIterator<Item = [GridPoint; 3]>,
+        done: impl FnMut(usize, ErrorTotals),
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(k) = span_sum::Avx2::detect(units) {
+            // SAFETY: `detect` found AVX2 on this CPU.
+            unsafe { self.sum_triangles_avx2(k, tris, done) };
+            return;
+        }
+        self.sum_triangles_with(span_sum::Scalar(units), tris, done);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sum_triangles_avx2(
+        &self,
+        k: span_sum::Avx2,
+        tris: impl IntoIterator<Item = [GridPoint; 3]>,
+        done: impl FnMut(usize, ErrorTotals),
+    ) {
+        self.sum_triangles_with(k, tris, done);
+    }
+
+    #[inline(always)]
+    fn sum_triangles_with<K: Kernel>(
+        &self,
+        k: K,
+        tris: impl IntoIterator<Item = [GridPoint; 3]>,
+        mut done: impl FnMut(usize, ErrorTotals),
+    ) {
+        for (i, tri) in tris.into_iter().enumerate() {
+            done(i, self.triangle_totals(&k, tri));
+        }
+    }
+
+    /// One triangle's totals with kernel `k`.
+    #[inline(always)]
+    fn triangle_totals<K: Kernel>(&self, k: &K, tri: [GridPoint; 3]) -> ErrorTotals {
+        let Some(mut s) = self.spans(tri) else {
+            return ErrorTotals::default();
+        };
+        let mut sums = k.sums();
+        let step = k.step(s.gx);
+        let [y0, _, y2] = s.ys;
+        // Rows below the middle one on the lower edge, the rest on the upper edge. Only the
+        // first row, the middle one and the last can hold a vertex, so those are taken apart
+        // from the rest: a test on every row mispredicted on the first and last.
+        let mut short = s.lower;
+        let lower_end = s.middle.min(y2 + 1);
+        if y0 < lower_end {
+            self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, y0);
+            let last = if lower_end == y2 + 1 { y2 } else { lower_end };
+            for y in y0 + 1..last {
+                self.total_row::<K, false>(k, &mut s, &mut short, &mut sums, &step, y);
             }
-        });
-        acc
+            if last < lower_end {
+                self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, last);
+            }
+        }
+        let mut short = s.upper;
+        let middle = s.middle;
+        if middle <= y2 {
+            self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, middle);
+            for y in middle + 1..y2 {
+                self.total_row::<K, false>(k, &mut s, &mut short, &mut sums, &step, y);
+            }
+            if middle < y2 {
+                self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, y2);
+            }
+        }
+        k.totals(&sums)
+    }
+
+    /// Row `y` of `s` into `sums` (`VERTICES`: the row may hold a vertex), then the walks
+    /// advance.
+    #[inline(always)]
+    fn total_row<K: Kernel, const VERTICES: bool>(
+        &self,
+        k: &K,
+        s: &mut Spans,
+        short: &mut EdgeWalk,
+        sums: &mut K::Sums,
+        step: &K::Step,
+        y: i64,
+    ) {
+        let (mut lo, mut hi) = if s.long_is_right {
+            (-short.quotient, s.long.quotient)
+        } else {
+            (-s.long.quotient, short.quotient)
+        };
+        if VERTICES {
+            (lo, hi) = s.without_vertices(y, lo, hi);
+        }
+        if y == s.skip_row {
+            hi = lo - 1;
+        }
+        let first = y as usize * s.width + lo as usize;
+        let z = &self.z[first.min(self.z.len())..];
+        k.add_span(sums, step, z, hi - lo + 1, s.start(y, lo));
+        s.long.advance();
+        short.advance();
     }
 
     /// The error sums of the points triangle `tri` owns.
@@ -266,6 +367,87 @@ impl Interpolant {
     #[inline]
     fn at_i32(&self, k: i32) -> f64 {
         self.start + k as f64 * self.step
+    }
+}
+
+/// The row spans of one triangle: its rows, the walks along its edges, its plane.
+#[derive(Clone, Copy)]
+struct Spans {
+    tri: [GridPoint; 3],
+    /// The rows of the bottom, middle and top vertex.
+    ys: [i64; 3],
+    /// The first row bounded by the upper edge rather than the lower (past the top for a flat
+    /// top).
+    middle: i64,
+    long: EdgeWalk,
+    lower: EdgeWalk,
+    upper: EdgeWalk,
+    long_is_right: bool,
+    /// The row of a horizontal edge the triangle does not own, or `i64::MIN`.
+    skip_row: i64,
+    za: f64,
+    gx: f64,
+    gy: f64,
+    width: usize,
+}
+
+impl Spans {
+    /// Row `y`'s span as (first column, last column), vertices excluded; empty when last < first.
+    #[inline(always)]
+    fn columns(&self, y: i64, short: &EdgeWalk) -> (i64, i64) {
+        let (mut lo, mut hi) = if self.long_is_right {
+            (-short.quotient, self.long.quotient)
+        } else {
+            (-self.long.quotient, short.quotient)
+        };
+        let [y0, y1, y2] = self.ys;
+        if y == y0 || y == y1 || y == y2 {
+            (lo, hi) = self.without_vertices(y, lo, hi);
+        }
+        if y == self.skip_row {
+            hi = lo - 1;
+        }
+        (lo, hi)
+    }
+
+    /// The span `lo..=hi` of row `y` without the triangle's vertices on it. Vertices are kept
+    /// points and contribute nothing; a vertex is an extreme point of the triangle, so on its
+    /// row it can only be an end of the span.
+    #[inline(always)]
+    fn without_vertices(&self, y: i64, mut lo: i64, mut hi: i64) -> (i64, i64) {
+        for v in self.tri {
+            if v[1] == y {
+                if v[0] == lo {
+                    lo += 1;
+                } else if v[0] == hi {
+                    hi -= 1;
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    /// z̃ at the first column `lo` of row `y`'s span.
+    #[inline(always)]
+    fn start(&self, y: i64, lo: i64) -> f64 {
+        let a = self.tri[0];
+        self.za + self.gy * (y - a[1]) as f64 + self.gx * (lo - a[0]) as f64
+    }
+
+    /// Row `y`'s span as (first grid index, length, interpolant), if not empty.
+    #[inline(always)]
+    fn span(&self, y: i64, short: &EdgeWalk) -> Option<(usize, usize, Interpolant)> {
+        let (lo, hi) = self.columns(y, short);
+        (lo <= hi).then(|| {
+            (
+                y as usize * self.width + lo as usize,
+                (hi - lo + 1) as usize,
+                Interpolant {
+                    start: self.start(y, lo),
+                    step: self.gx,
+                },
+            )
+        })
     }
 }
 

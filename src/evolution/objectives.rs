@@ -26,7 +26,7 @@
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
-use crate::evaluator::{Evaluator, MeshState, PartClasses};
+use crate::evaluator::{Evaluator, MeshState, PartClasses, PartScores};
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
@@ -95,6 +95,10 @@ pub const COMPOSE_TRIANGLES_PER_GENE: usize = 20;
 /// See [`COMPOSE_TRIANGLES_PER_GENE`]. Without it the weighted-sum GA, whose children are near
 /// their parents, composed where an edit was cheaper and ran slower.
 pub const COMPOSE_MIN_GENES: usize = 100;
+
+/// A crossed child is scored without a mesh ([`Scorer::score_crossed`]) unless a pooled
+/// chromosome is within this many genes of it, which is then edited instead.
+pub const ROW_EDIT_GENES: usize = 40;
 
 /// How many crossed children the pool keeps before it replaces them ahead of other
 /// chromosomes: a crossover's rows (at most 8 with L8, plus the best-levels child) and some
@@ -188,6 +192,31 @@ pub struct Scorer {
     /// composition tests a mask per triangle instead of searching circles.
     crossing_blocks: Vec<[usize; 4]>,
     crossing: PartClasses,
+    /// The pool slots of the classified crossover's parents A and B.
+    crossing_parents: [usize; 2],
+    /// What that crossover's children share, for scoring them without their meshes.
+    crossing_scores: PartScores,
+    /// The children of that crossover scored without their meshes.
+    rows: Vec<Row>,
+}
+
+/// A child of the current crossover scored without its mesh ([`Scorer::crossing_row`]).
+#[derive(Clone, Debug)]
+struct Row {
+    genes: Chromosome,
+    ones: usize,
+    profile: Profile,
+    /// Bit k: block k from parent B.
+    levels: u32,
+    objectives: Objectives,
+}
+
+/// The base of an edit: a pooled chromosome, or a row of the current crossover (whose mesh is
+/// composed first).
+#[derive(Clone, Copy, Debug)]
+enum Base {
+    Pool(usize),
+    Row(usize),
 }
 
 impl Scorer {
@@ -217,6 +246,9 @@ impl Scorer {
             inserted: Vec::new(),
             crossing_blocks: Vec::new(),
             crossing: PartClasses::default(),
+            crossing_parents: [usize::MAX; 2],
+            crossing_scores: PartScores::default(),
+            rows: Vec::new(),
         }
     }
 
@@ -237,85 +269,60 @@ impl Scorer {
     fn score_made(&mut self, c: &Chromosome, made: Option<Parentage<'_>>) -> Objectives {
         self.evaluations += 1;
         self.tick += 1;
-        // Both parents pooled? Then a base is worth editing only if it is nearer than where
-        // composing becomes cheaper, which also cuts the search short.
+        // Both parents pooled?
         let parents = made.filter(|_| self.capacity >= 3).and_then(|m| {
             let [a, b] = [self.pooled(m.parents[0])?, self.pooled(m.parents[1])?];
             (a != b).then_some(([a, b], m.from_b))
         });
+        let ones = c.count_ones();
+        let profile = Profile::of(c);
+        // A crossed child whose crossover's parents are classified is scored without a mesh
+        // (see `crossing_row`), unless a pooled chromosome is so near that editing it is
+        // cheaper (or equal to it).
+        if let (Some(m), Some(([a, b], _))) = (made, parents)
+            && self
+                .nearest(c, ones, &profile, ROW_EDIT_GENES + 1)
+                .is_none()
+            && let Some(levels) = self.classify(m, [a, b])
+            && let Some(o) = self.crossing_row(c, ones, profile, levels)
+        {
+            return o;
+        }
+        // Otherwise a base is worth editing only if it is nearer than where composing becomes
+        // cheaper, which also cuts the search short.
         let mut limit = (EDIT_LIMIT_PER_POINT * c.len() as f64) as usize;
         if let Some(([a, b], _)) = parents {
             let triangles = self.pool[a].objectives.t + self.pool[b].objectives.t;
             limit = limit.min(COMPOSE_MIN_GENES + triangles / COMPOSE_TRIANGLES_PER_GENE);
         }
-        // The nearest pooled chromosome within the limit (the first of equals). The difference
-        // of the gene counts bounds the distance from below and skips most.
-        let ones = c.count_ones();
-        let profile = Profile::of(c);
-        let mut nearest = None;
-        let mut bound = limit + 1;
-        // The most recently scored first: a mutant's base is the crossed child scored just
-        // before it, and a tight bound early lets the rest of the scan skip or stop early
-        // (measured without it, min of two: the paper run 2.97 → 3.46 s, the weighted-sum GA
-        // 9.33 → 9.75 s).
-        let recent = self.recent.into_iter().filter(|&i| i < self.pool.len());
-        for i in recent.chain(0..self.pool.len()) {
-            let p = &self.pool[i];
-            if p.ones.abs_diff(ones) >= bound || p.profile.distance_below(&profile) >= bound {
-                continue;
-            }
-            if let Some(d) = p.genes.hamming_below(c, bound) {
-                nearest = Some((d, i));
-                bound = d;
-                if d == 0 {
-                    break;
-                }
-            }
-        }
-        if let Some((0, i)) = nearest {
+        let mut nearest = self.nearest(c, ones, &profile, limit + 1);
+        if let Some((Base::Pool(i), 0)) = nearest {
             self.pool[i].used = self.tick;
             self.remember(i);
             return self.pool[i].objectives;
         }
+        // A crossed child scored without its mesh is the base of its mutant: its mesh is
+        // composed now (not an evaluation: its objectives are known).
+        if let Some((Base::Row(r), d)) = nearest {
+            nearest = self.materialize(r, true).map(|slot| (Base::Pool(slot), d));
+        }
+        let nearest = nearest.map(|(base, d)| match base {
+            Base::Pool(i) => (d, i),
+            Base::Row(_) => unreachable!("rows are materialised above"),
+        });
         // Compose when no base is near enough.
         let parents = parents.filter(|_| nearest.is_none());
         let base = nearest.map(|(_, i)| i);
-        let keep = [base, parents.map(|p| p.0[0]), parents.map(|p| p.0[1])];
         // The slot to score into: the base itself when it is a crossed child and `c` is not
         // (a mutant of it: the crossed child is an intermediate that nothing needs once its
         // mutant is scored, so its mesh is edited in place instead of copied first); else a new
         // one while the pool grows, else the least recently used one that is neither the base
         // nor a parent (the base itself when the pool holds one mesh).
         let consumed = base.filter(|&b| made.is_none() && self.pool[b].crossed);
-        let slot = if let Some(b) = consumed {
-            b
-        } else if self.pool.len() < self.capacity {
-            self.pool.push(Pooled {
-                genes: c.clone(),
-                ones,
-                profile,
-                state: MeshState::default(),
-                objectives: Objectives {
-                    e_sum: 0.0,
-                    e_max: 0.0,
-                    t: 0,
-                },
-                used: 0,
-                crossed: false,
-                alive: false,
-            });
-            self.pool.len() - 1
-        } else {
-            // Crossed children are replaced first once there are CROSSED_POOLED of them: the
-            // parents of later crossovers are among the others, and composing needs both.
-            let crossed = self.pool.iter().filter(|p| p.crossed).count();
-            (0..self.pool.len())
-                .filter(|&i| !keep.contains(&Some(i)) || self.pool.len() == 1)
-                .min_by_key(|&i| {
-                    let p = &self.pool[i];
-                    (p.alive, crossed < CROSSED_POOLED || !p.crossed, p.used)
-                })
-                .expect("the pool is not empty")
+        let keep = [base, parents.map(|p| p.0[0]), parents.map(|p| p.0[1])];
+        let slot = match consumed {
+            Some(b) => b,
+            None => self.free_slot(c, ones, profile, keep),
         };
         let mut score = None;
         if let Some(([a, b], from_b)) = parents {
@@ -325,24 +332,11 @@ impl Scorer {
             }
             let mut state = std::mem::take(&mut self.pool[slot].state);
             let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
-            // The crossover's classification, made at its first composed row (a failed one is
-            // not `is_for` these parents, so the row falls back to the bitset).
-            let mut by_parts = None;
-            if let Some(m) = made.filter(|m| m.blocks.len() <= PartClasses::MAX_PARTS) {
-                let rects = m.blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]);
-                if !self.crossing_blocks.iter().copied().eq(rects.clone())
-                    || !self.crossing.is_for(pa, pb)
-                {
-                    self.crossing_blocks.clear();
-                    self.crossing_blocks.extend(rects);
-                    let hf = self.evaluator.heightfield().clone();
-                    self.crossing.reset(&hf, pa, pb, &self.crossing_blocks);
-                }
-                by_parts = self.crossing.is_for(pa, pb).then(|| {
-                    (m.levels.iter().enumerate())
-                        .fold(0u32, |acc, (k, &l)| acc | (u32::from(l & 1) << k))
-                });
-            }
+            // The crossover's classification, when there is one for these parents (a failed
+            // one is not `is_for` them, so the row falls back to the bitset).
+            let by_parts = made
+                .filter(|_| self.crossing.is_for(pa, pb))
+                .and_then(|m| self.levels_of(m));
             score = match by_parts {
                 Some(levels) => {
                     self.evaluator
@@ -401,6 +395,193 @@ impl Scorer {
         objectives
     }
 
+    /// The nearest chromosome to `c` (`ones` set genes, `profile`) closer than `bound` genes,
+    /// and its distance: a pooled one or, when strictly nearer, a child of the current
+    /// crossover scored without its mesh. The first of equals among the pooled ones.
+    fn nearest(
+        &self,
+        c: &Chromosome,
+        ones: usize,
+        profile: &Profile,
+        mut bound: usize,
+    ) -> Option<(Base, usize)> {
+        let mut nearest = None;
+        // The most recently scored first: a mutant's base is the crossed child scored just
+        // before it, and a tight bound early lets the rest of the scan skip or stop early
+        // (measured without it, min of two: the paper run 2.97 → 3.46 s, the weighted-sum GA
+        // 9.33 → 9.75 s).
+        let recent = self.recent.into_iter().filter(|&i| i < self.pool.len());
+        for i in recent.chain(0..self.pool.len()) {
+            let p = &self.pool[i];
+            if p.ones.abs_diff(ones) >= bound || p.profile.distance_below(profile) >= bound {
+                continue;
+            }
+            if let Some(d) = p.genes.hamming_below(c, bound) {
+                nearest = Some((Base::Pool(i), d));
+                bound = d;
+                if d == 0 {
+                    return nearest;
+                }
+            }
+        }
+        for (r, row) in self.rows.iter().enumerate() {
+            if row.ones.abs_diff(ones) >= bound || row.profile.distance_below(profile) >= bound {
+                continue;
+            }
+            if let Some(d) = row.genes.hamming_below(c, bound) {
+                nearest = Some((Base::Row(r), d));
+                bound = d;
+            }
+        }
+        nearest
+    }
+
+    /// A pool slot to score `c` into: a new one while the pool grows, else the least recently
+    /// used one not in `keep` (crossed children first once there are [`CROSSED_POOLED`] of
+    /// them, the GA's population last).
+    fn free_slot(
+        &mut self,
+        c: &Chromosome,
+        ones: usize,
+        profile: Profile,
+        keep: [Option<usize>; 3],
+    ) -> usize {
+        if self.pool.len() < self.capacity {
+            self.pool.push(Pooled {
+                genes: c.clone(),
+                ones,
+                profile,
+                state: MeshState::default(),
+                objectives: Objectives {
+                    e_sum: 0.0,
+                    e_max: 0.0,
+                    t: 0,
+                },
+                used: 0,
+                crossed: false,
+                alive: false,
+            });
+            return self.pool.len() - 1;
+        }
+        // Crossed children are replaced first once there are CROSSED_POOLED of them: the
+        // parents of later crossovers are among the others, and composing needs both.
+        let crossed = self.pool.iter().filter(|p| p.crossed).count();
+        (0..self.pool.len())
+            .filter(|&i| !keep.contains(&Some(i)) || self.pool.len() == 1)
+            .min_by_key(|&i| {
+                let p = &self.pool[i];
+                (p.alive, crossed < CROSSED_POOLED || !p.crossed, p.used)
+            })
+            .expect("the pool is not empty")
+    }
+
+    /// The levels of `made`'s blocks as a mask (bit k: block k from B).
+    fn levels_of(&self, made: Parentage<'_>) -> Option<u32> {
+        (made.blocks.len() <= PartClasses::MAX_PARTS).then(|| {
+            (made.levels.iter().enumerate())
+                .fold(0u32, |acc, (k, &l)| acc | (u32::from(l & 1) << k))
+        })
+    }
+
+    /// Makes sure the current crossover's classification is for `made`'s blocks and the pooled
+    /// parents `[a, b]` (making it at the crossover's first row), and returns `made`'s levels;
+    /// `None` when it cannot be made.
+    fn classify(&mut self, made: Parentage<'_>, [a, b]: [usize; 2]) -> Option<u32> {
+        let levels = self.levels_of(made)?;
+        for p in [a, b] {
+            self.pool[p].state.ensure_discs();
+            self.pool[p].used = self.tick;
+        }
+        let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
+        let rects = made.blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]);
+        if !self.crossing_blocks.iter().copied().eq(rects.clone()) || !self.crossing.is_for(pa, pb)
+        {
+            self.crossing_blocks.clear();
+            self.crossing_blocks.extend(rects);
+            let hf = self.evaluator.heightfield().clone();
+            self.crossing.reset(&hf, pa, pb, &self.crossing_blocks);
+            self.rows.clear();
+        }
+        self.crossing_parents = [a, b];
+        self.crossing.is_for(pa, pb).then_some(levels)
+    }
+
+    /// Scores the child `c` with `levels` of the current crossover without building its mesh
+    /// ([`Evaluator::score_parts`]) and remembers it among the crossover's rows, to compose
+    /// its mesh should a mutant need it ([`materialize`](Self::materialize)). `None` when a
+    /// guard refuses (the child is then scored another way).
+    fn crossing_row(
+        &mut self,
+        c: &Chromosome,
+        ones: usize,
+        profile: Profile,
+        levels: u32,
+    ) -> Option<Objectives> {
+        let [a, b] = self.crossing_parents;
+        let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
+        if !self.crossing_scores.is_for(&self.crossing, pa, pb) {
+            let hf = self.evaluator.heightfield().clone();
+            if !self.crossing_scores.prepare(&hf, pa, pb, &self.crossing) {
+                return None;
+            }
+        }
+        let s = self.evaluator.score_parts(
+            pa,
+            pb,
+            &self.crossing,
+            &mut self.crossing_scores,
+            levels,
+        )?;
+        let objectives = Objectives {
+            e_sum: s.e_sum,
+            e_max: s.e_max,
+            t: s.t,
+        };
+        self.rows.push(Row {
+            genes: c.clone(),
+            ones,
+            profile,
+            levels,
+            objectives,
+        });
+        Some(objectives)
+    }
+
+    /// Composes the mesh of the current crossover's row `r` into a pool slot (`crossed`: as an
+    /// intermediate, replaced early) and returns the slot; `None` when its parents changed or
+    /// composing refused.
+    fn materialize(&mut self, r: usize, crossed: bool) -> Option<usize> {
+        let [a, b] = self.crossing_parents;
+        if a >= self.pool.len() || b >= self.pool.len() {
+            return None;
+        }
+        let row = self.rows[r].clone();
+        let slot = self.free_slot(&row.genes, row.ones, row.profile, [Some(a), Some(b), None]);
+        let mut state = std::mem::take(&mut self.pool[slot].state);
+        let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
+        let score = self
+            .evaluator
+            .compose_parts(&mut state, pa, pb, &self.crossing, row.levels);
+        self.pool[slot].state = state;
+        if score.is_none() {
+            // The slot's mesh is unscored now: nothing may match it.
+            let entry = &mut self.pool[slot];
+            entry.genes = Chromosome::empty(0);
+            entry.ones = usize::MAX;
+            return None;
+        }
+        let entry = &mut self.pool[slot];
+        entry.genes = row.genes;
+        entry.ones = row.ones;
+        entry.profile = row.profile;
+        entry.objectives = row.objectives;
+        entry.used = self.tick;
+        entry.crossed = crossed;
+        entry.alive = false;
+        self.remember(slot);
+        Some(slot)
+    }
+
     /// Puts pool slot `i` among the recently scored ones.
     fn remember(&mut self, i: usize) {
         self.recent[self.recent_at] = i;
@@ -411,7 +592,11 @@ impl Scorer {
     /// flipped no gene): it may become a parent, so its mesh is kept like the other offspring's.
     /// Spends no evaluation.
     pub fn promote(&mut self, c: &Chromosome) {
-        if let Some(i) = self.pooled(c) {
+        let i = self.pooled(c).or_else(|| {
+            let r = self.rows.iter().position(|r| r.genes == *c)?;
+            self.materialize(r, false)
+        });
+        if let Some(i) = i {
             self.pool[i].crossed = false;
             self.pool[i].used = self.tick;
         }

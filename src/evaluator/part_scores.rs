@@ -1,0 +1,429 @@
+//! Scoring the children of one orthogonal-array crossover without building their meshes.
+//!
+//! A crossover's children take each part (block) of the grid whole from parent A or B
+//! ([`PartClasses`]). [`compose_parts`](super::Evaluator::compose_parts) builds such a child's
+//! mesh from the triangles it reuses and the region R they leave uncovered; but factor analysis
+//! needs only the children's scores, and only two of a crossover's children go on. Here a child
+//! is scored from what its crossover's children share, found once per crossover
+//! ([`PartScores::prepare`]):
+//!
+//! - **Classes.** Whether a parent's triangle is reused depends only on its *class*: the parent,
+//!   the part of its smallest vertex and its kill mask. The error totals of each class are
+//!   summed once, so the reused triangles' share of a child's score is a sum over classes.
+//! - **Candidate edges.** R's boundary is made of edges between a reused triangle and one that
+//!   is not, so only edges between triangles of different classes can be on it.
+//! - **Variable points.** A child's point lies inside R only if none of its triangles is reused,
+//!   which a point whose triangles all have its own part's plain class (reused whenever the
+//!   point is in the child) never is.
+//!
+//! Then a child costs a pass over the candidate edges and variable points, the triangulation of
+//! R, and the raster of R's triangles: the same triangles as `compose_parts`, each with the same
+//! error bits, so the score is bit for bit the same as the composed (and the fresh) one.
+
+use super::Score;
+use super::compose::PartClasses;
+use super::errors::{ErrorTotals, ErrorUnits};
+use super::incremental::{MeshState, canonical, edge_from, grid_of};
+use super::predicates::Lattice;
+use super::region::Region;
+use super::triangulation::{NONE, Triangulation, next};
+use crate::heightfield::Heightfield;
+
+/// A class of parent triangles (see the module docs) and the totals of its triangles.
+#[derive(Clone, Copy, Debug)]
+struct Class {
+    side: u8,
+    /// The part of the triangles' smallest vertex.
+    home: u8,
+    /// The kill mask, without the home part's bit (which never matters: a triangle is reused
+    /// only where its home part is labelled for its own parent).
+    kill: u32,
+    totals: ErrorTotals,
+    count: u32,
+}
+
+/// A half-edge between triangles of two different classes of one parent.
+#[derive(Clone, Copy, Debug)]
+struct Candidate {
+    side: u8,
+    /// The half-edge, u → v.
+    edge: u32,
+    /// The other parent's half-edge v → u: [`NONE`] when it has none, [`UNKNOWN`] until looked
+    /// up (on the first child that needs it).
+    cross: u32,
+}
+
+/// [`Candidate::cross`] not looked up yet.
+const UNKNOWN: u32 = u32::MAX - 1;
+
+/// What the children of one crossover share, for scoring them without their meshes (see the
+/// module docs). Made by [`prepare`](Self::prepare) from a [`PartClasses`] and its parents.
+#[derive(Clone, Debug, Default)]
+pub struct PartScores {
+    /// The classification it was made from ([`PartClasses`]' id; 0 when not made).
+    made_from: u64,
+    units: ErrorUnits,
+    classes: Vec<Class>,
+    /// Per parent, per triangle slot: its class.
+    class_of: [Vec<u32>; 2],
+    candidates: Vec<Candidate>,
+    /// Per parent: its kept points that are variable (see the module docs).
+    variable: [Vec<u32>; 2],
+    /// Per parent: its triangles with a vertex variable in either parent.
+    coverage: [Vec<u32>; 2],
+    /// Per parent, per part: (kept points, kept points on the grid border).
+    counts: [Vec<(u32, u32)>; 2],
+    /// Scratch of `prepare`: per grid point, is it variable in parent A, B?
+    is_variable: [Vec<bool>; 2],
+}
+
+/// Per-child scratch of [`PartScores::score`], kept by the evaluator between calls.
+#[derive(Clone, Debug, Default)]
+pub struct RowScratch {
+    /// Per class: is it reused by the child?
+    taken: Vec<bool>,
+    /// Per grid point: the stamp of the last child one of whose reused triangles has it.
+    covered: Vec<u32>,
+    stamp: u32,
+    /// Per grid point: listed in `points`.
+    listed: Vec<bool>,
+    /// R's points and the grid corners.
+    points: Vec<u32>,
+    /// R's boundary edges (0, u, v): R lies left of v → u.
+    open: Vec<(u32, u32, u32)>,
+    region: Region,
+    /// A child built from scratch (when it reuses nothing).
+    sub: Triangulation,
+}
+
+impl PartScores {
+    /// Was this made from `classes`, for parents `a` and `b` as they are now?
+    pub fn is_for(&self, classes: &PartClasses, a: &MeshState, b: &MeshState) -> bool {
+        self.made_from == classes.id && classes.id != 0 && classes.is_for(a, b)
+    }
+
+    /// Prepares the children of `classes` (made for `a` and `b`, scored on `hf`) to be scored
+    /// by [`score`](Self::score). False (and unusable) when `classes` is not for `a` and `b`.
+    #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
+    pub fn prepare(
+        &mut self,
+        hf: &Heightfield,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+    ) -> bool {
+        self.made_from = 0;
+        let n = hf.len();
+        if !classes.is_for(a, b) || classes.part.len() != n {
+            return false;
+        }
+        let parents = [a, b];
+        let parts = classes.rects.len();
+        self.units = ErrorUnits::of(hf);
+        // Classes: those with an empty kill mask are numbered side · parts + home; the others
+        // follow, found by a linear search (they are few: a triangle gets kill bits only when
+        // its circle reaches into another part).
+        self.classes.clear();
+        for side in 0..2 {
+            for home in 0..parts {
+                self.classes.push(Class {
+                    side: side as u8,
+                    home: home as u8,
+                    kill: 0,
+                    totals: ErrorTotals::default(),
+                    count: 0,
+                });
+            }
+        }
+        let plain = self.classes.len();
+        for side in 0..2 {
+            let (first, kill) = (&classes.first[side], &classes.kill[side]);
+            let class_of = &mut self.class_of[side];
+            class_of.clear();
+            for (&home, &k) in first.iter().zip(kill) {
+                let k = k & !(1 << home);
+                let c = if k == 0 {
+                    side * parts + home as usize
+                } else {
+                    match self.classes[plain..]
+                        .iter()
+                        .position(|c| c.side == side as u8 && c.home == home && c.kill == k)
+                    {
+                        Some(i) => plain + i,
+                        None => {
+                            self.classes.push(Class {
+                                side: side as u8,
+                                home,
+                                kill: k,
+                                totals: ErrorTotals::default(),
+                                count: 0,
+                            });
+                            self.classes.len() - 1
+                        }
+                    }
+                };
+                self.classes[c].count += 1;
+                class_of.push(c as u32);
+            }
+            // The totals of each class from its triangles' points (a kept point's error is 0).
+            let parent = parents[side];
+            let errors = parent.field.errors();
+            for i in 0..n {
+                if !parent.kept[i] {
+                    let c = class_of[parent.hint[i] as usize] as usize;
+                    self.classes[c].totals.add_error(self.units, errors[i]);
+                }
+            }
+        }
+        // Variable points: a vertex of a triangle whose class is not its own part's plain one.
+        for side in 0..2 {
+            let m = &parents[side].mesh;
+            let is_variable = &mut self.is_variable[side];
+            is_variable.clear();
+            is_variable.resize(n, false);
+            let variable = &mut self.variable[side];
+            variable.clear();
+            for t in 0..m.len() {
+                let class = &self.classes[self.class_of[side][t] as usize];
+                for v in m.triangle(t) {
+                    if (class.kill != 0 || classes.part[v as usize] != class.home)
+                        && !std::mem::replace(&mut is_variable[v as usize], true)
+                    {
+                        variable.push(v);
+                    }
+                }
+            }
+        }
+        for side in 0..2 {
+            let m = &parents[side].mesh;
+            let coverage = &mut self.coverage[side];
+            coverage.clear();
+            let [va, vb] = &self.is_variable;
+            for t in 0..m.len() {
+                if m.triangle(t)
+                    .iter()
+                    .any(|&v| va[v as usize] || vb[v as usize])
+                {
+                    coverage.push(t as u32);
+                }
+            }
+        }
+        // Candidate edges, from both of their triangles (either may be the reused one).
+        self.candidates.clear();
+        for side in 0..2 {
+            let m = &parents[side].mesh;
+            let class_of = &self.class_of[side];
+            for (e, &g) in m.twin.iter().enumerate() {
+                if g != NONE && class_of[e / 3] != class_of[(g / 3) as usize] {
+                    self.candidates.push(Candidate {
+                        side: side as u8,
+                        edge: e as u32,
+                        cross: UNKNOWN,
+                    });
+                }
+            }
+        }
+        // Kept points per part, and those on the grid border, for Euler's count.
+        let (w, h) = (hf.width(), hf.height());
+        for side in 0..2 {
+            let counts = &mut self.counts[side];
+            counts.clear();
+            counts.resize(parts, (0, 0));
+            let kept = &parents[side].kept;
+            for (i, &k) in kept.iter().enumerate() {
+                if k {
+                    let (x, y) = (i % w, i / w);
+                    let c = &mut counts[classes.part[i] as usize];
+                    c.0 += 1;
+                    c.1 += u32::from(x == 0 || y == 0 || x == w - 1 || y == h - 1);
+                }
+            }
+        }
+        self.made_from = classes.id;
+        true
+    }
+
+    /// The score of the child that takes part `p` from `b` where bit `p` of `levels` is set and
+    /// from `a` elsewhere: bit for bit what [`compose_parts`](super::Evaluator::compose_parts)
+    /// (and a fresh evaluation) gives, without building the child's mesh. `None` when this was
+    /// not prepared for `a` and `b` as they are now, or when a guard fails (the caller then
+    /// scores the child another way).
+    #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
+    pub fn score(
+        &mut self,
+        hf: &Heightfield,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+        levels: u32,
+        scratch: &mut RowScratch,
+    ) -> Option<Score> {
+        if !self.is_for(classes, a, b) {
+            return None;
+        }
+        let (w, n) = (hf.width(), hf.len());
+        let parents = [a, b];
+        let parts = classes.rects.len();
+        let all = u32::MAX >> (32 - parts);
+        // The parts labelled for the other parent, by side.
+        let other = [levels & all, !levels & all];
+        let label = |part: u8| ((levels >> part) & 1) as u8;
+        // Which classes the child reuses, and their totals.
+        let mut totals = ErrorTotals::default();
+        let mut taken_count = 0u32;
+        scratch.taken.clear();
+        for c in &self.classes {
+            let take = label(c.home) == c.side && c.kill & other[c.side as usize] == 0;
+            scratch.taken.push(take);
+            if take {
+                totals.add(&c.totals);
+                taken_count += c.count;
+            }
+        }
+        if taken_count == 0 {
+            // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled for the
+            // other): the child is scored from scratch.
+            return Some(self.fresh(hf, parents, classes, levels, scratch));
+        }
+        let taken = &scratch.taken;
+        let class_of = &self.class_of;
+        let is_taken = |side: usize, t: u32| taken[class_of[side][t as usize] as usize];
+        // Euler's count of the child's triangles: 2V − B − 2.
+        let (mut vertices, mut on_border) = (0u32, 0u32);
+        for p in 0..parts {
+            let (k, border) = self.counts[usize::from(label(p as u8))][p];
+            vertices += k;
+            on_border += border;
+        }
+        let expected = (2 * vertices).checked_sub(on_border + 2)?;
+        // The child's points that a reused triangle has.
+        scratch.stamp = scratch.stamp.wrapping_add(1);
+        if scratch.stamp == 0 {
+            scratch.covered.clear();
+            scratch.stamp = 1;
+        }
+        scratch.covered.resize(n, 0);
+        let stamp = scratch.stamp;
+        for side in 0..2 {
+            let m = &parents[side].mesh;
+            for &t in &self.coverage[side] {
+                if is_taken(side, t) {
+                    for v in m.triangle(t as usize) {
+                        scratch.covered[v as usize] = stamp;
+                    }
+                }
+            }
+        }
+        // R's points: the child's variable points no reused triangle has, and the ends of R's
+        // boundary edges.
+        scratch.listed.resize(n, false);
+        scratch.points.clear();
+        for side in 0..2 {
+            for &p in &self.variable[side] {
+                let p = p as usize;
+                if usize::from(label(classes.part[p])) == side
+                    && scratch.covered[p] != stamp
+                    && !std::mem::replace(&mut scratch.listed[p], true)
+                {
+                    scratch.points.push(p as u32);
+                }
+            }
+        }
+        scratch.open.clear();
+        for cand in &mut self.candidates {
+            let side = cand.side as usize;
+            let m = &parents[side].mesh;
+            let e = cand.edge;
+            let g = m.twin[e as usize];
+            if !is_taken(side, e / 3) || is_taken(side, g / 3) {
+                continue;
+            }
+            let (u, v) = (m.vertices[e as usize], m.vertices[next(e) as usize]);
+            if cand.cross == UNKNOWN {
+                cand.cross = cross_twin(parents[1 - side], u, v);
+            }
+            if cand.cross != NONE && is_taken(1 - side, cand.cross / 3) {
+                continue;
+            }
+            scratch.open.push((0, u, v));
+            for p in [u, v] {
+                if !std::mem::replace(&mut scratch.listed[p as usize], true) {
+                    scratch.points.push(p);
+                }
+            }
+        }
+        if scratch.open.is_empty() {
+            for &p in &scratch.points {
+                scratch.listed[p as usize] = false;
+            }
+            // Nothing is new: the parents' triangles tile the grid (or the guard fails).
+            return (taken_count == expected && scratch.points.is_empty())
+                .then(|| score_of(self.units, &totals, taken_count, n));
+        }
+        for &p in &scratch.points {
+            scratch.listed[p as usize] = false;
+        }
+        let region = &mut scratch.region;
+        region.wrap(w, hf.height(), &scratch.points, &scratch.open)?;
+        if taken_count + region.triangles.len() as u32 != expected {
+            debug_assert!(false, "R's triangles do not complete the child");
+            return None;
+        }
+        // R's triangles, each in the canonical rotation every triangle is rasterised in.
+        let lattice = Lattice::new(w);
+        let tris = region
+            .triangles
+            .iter()
+            .map(|&t| canonical(t).map(|i| lattice.point(i)));
+        grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
+        Some(score_of(self.units, &totals, expected, n))
+    }
+}
+
+impl PartScores {
+    /// The child's score from its canonical triangulation built from scratch.
+    fn fresh(
+        &self,
+        hf: &Heightfield,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+        levels: u32,
+        scratch: &mut RowScratch,
+    ) -> Score {
+        let w = hf.width();
+        scratch.points.clear();
+        for (i, &part) in classes.part.iter().enumerate() {
+            if parents[((levels >> part) & 1) as usize].kept[i] {
+                scratch.points.push(i as u32);
+            }
+        }
+        let sub = &mut scratch.sub;
+        sub.rebuild_delaunay(w, &scratch.points);
+        let lattice = Lattice::new(w);
+        let mut totals = ErrorTotals::default();
+        let tris = (0..sub.len()).map(|t| canonical(sub.triangle(t)).map(|i| lattice.point(i)));
+        grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
+        score_of(self.units, &totals, sub.len() as u32, hf.len())
+    }
+}
+
+/// The half-edge `v → u` of `parent`, or [`NONE`] when it has no such edge.
+fn cross_twin(parent: &MeshState, u: u32, v: u32) -> u32 {
+    if !parent.kept[u as usize] || !parent.kept[v as usize] {
+        return NONE;
+    }
+    let m = &parent.mesh;
+    m.leaving(parent.hint[v as usize], v)
+        .and_then(|e| edge_from(m, e, u))
+        .unwrap_or(NONE)
+}
+
+fn score_of(units: ErrorUnits, totals: &ErrorTotals, t: u32, n: usize) -> Score {
+    let (sum, sum_sq, max) = units.values(totals);
+    Score {
+        e_sum: sum,
+        e_max: max,
+        rms: (sum_sq / n as f64).sqrt(),
+        t: t as usize,
+    }
+}
