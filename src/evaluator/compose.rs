@@ -27,11 +27,11 @@
 //! ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)) instead of a summed-area
 //! lookup and a circle search.
 
-use super::errors::ErrorUnits;
-use super::incremental::{MeshState, edge_from, grid_of};
+use super::errors::ErrorTotals;
+use super::incremental::{MeshState, edge_from};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
 use super::region::{BOUNDARY, Region, for_each_in};
-use super::triangulation::{NONE, Triangulation};
+use super::triangulation::NONE;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
@@ -151,10 +151,6 @@ pub struct PartClasses {
     /// A number no other classification had (0 until made), so that what is derived from this
     /// one ([`PartScores`](super::PartScores)) can tell it from a later one of the same parents.
     pub(super) id: u64,
-    /// Scratch: a summed-area table of one parent's kept points.
-    sat: Vec<u32>,
-    /// Scratch: the same points as a bitset.
-    bits: Vec<u64>,
 }
 
 impl PartClasses {
@@ -186,7 +182,12 @@ impl PartClasses {
         self.made_from = [0; 2];
         self.id = 0;
         let (w, h, n) = (hf.width(), hf.height(), hf.len());
-        if parts.len() > Self::MAX_PARTS || !composable(a, hf) || !composable(b, hf) {
+        if parts.len() > Self::MAX_PARTS
+            || !composable(a, hf)
+            || !composable(b, hf)
+            || !a.lookup_valid
+            || !b.lookup_valid
+        {
             return false;
         }
         // The part of every point; the rectangles must cover each exactly once.
@@ -216,25 +217,8 @@ impl PartClasses {
         let parents = [a, b];
         for side in 0..2 {
             let (parent, other) = (parents[side], parents[1 - side]);
-            // The summed-area table of the other parent's kept points: (W + 1) × (H + 1),
-            // points in columns < x of rows < y at (y, x); and the points as a bitset.
-            let sw = w + 1;
-            self.sat.clear();
-            self.sat.resize(sw, 0);
-            self.bits.clear();
-            self.bits.resize(n.div_ceil(64), 0);
-            for y in 0..h {
-                let mut row = 0;
-                self.sat.push(0);
-                for x in 0..w {
-                    let i = y * w + x;
-                    let k = other.kept[i];
-                    row += u32::from(k);
-                    self.bits[i / 64] |= u64::from(k) << (i % 64);
-                    let below = self.sat[y * sw + x + 1];
-                    self.sat.push(below + row);
-                }
-            }
+            // The other parent's kept points, as a summed-area table and a bitset.
+            let (sat, bits) = (&other.kept_sat, &other.kept_bits);
             let m = &parent.mesh;
             let (first, kill) = (&mut self.first[side], &mut self.kill[side]);
             first.clear();
@@ -265,16 +249,19 @@ impl PartClasses {
                 met &= !(1 << own);
                 if met != 0 && parent.discs[t].area() > MAX_SEARCHED_BOX {
                     mask |= met;
-                } else {
+                } else if met != 0 {
                     // Each met part, where the box overlaps it, holds a spoiling point of the
-                    // other parent or not; most overlaps hold no such point at all, which the
-                    // summed-area table tells in four reads.
+                    // other parent or not. The box is square, so an overlap is often a corner
+                    // of it that the circle does not reach; most others hold no point of the
+                    // other parent at all, which the summed-area table tells in four reads.
+                    let circle = Circumcircle::of(tri.map(|i| lattice.point(i)));
                     while met != 0 {
                         let p = met.trailing_zeros();
                         met &= met - 1;
                         let both = overlap(parts[p as usize], disc);
-                        if counted_in(&self.sat, w, both) > 0
-                            && spoils_bits(tri, both, lattice, w, &self.bits)
+                        if circle.reaches(both)
+                            && counted_in(sat, w, both) > 0
+                            && spoils_bits(tri, both, &circle, lattice, w, bits)
                         {
                             mask |= 1 << p;
                         }
@@ -368,40 +355,142 @@ fn spoils(
 fn spoils_bits(
     tri: [u32; 3],
     [x0, y0, x1, y1]: [usize; 4],
+    circumcircle: &Circumcircle,
     lattice: Lattice,
     width: usize,
     bits: &[u64],
 ) -> bool {
     let p = tri.map(|i| lattice.point(i));
     let circle = Circle::new(p[0], p[1], p[2]);
-    let rect = [x0, y0, x1, y1].map(|v| v as i64);
-    for_each_in(bits, width, rect, |i| {
-        if tri.contains(&i) {
-            return false;
+    // Each row only where the circle crosses it (a conservative chord: the exact test decides).
+    for y in y0..y1 {
+        let Some([cx0, cx1]) = circumcircle.chord(y as f64) else {
+            continue;
+        };
+        let row = [
+            (x0 as i64).max(cx0),
+            y as i64,
+            (x1 as i64).min(cx1),
+            y as i64 + 1,
+        ];
+        let found = for_each_in(bits, width, row, |i| {
+            if tri.contains(&i) {
+                return false;
+            }
+            let d = lattice.point(i);
+            let det = circle.det(d);
+            det > 0 || (det == 0 && in_circle([p[0], p[1], p[2], d], [tri[0], tri[1], tri[2], i]))
+        });
+        if found {
+            return true;
         }
-        let d = lattice.point(i);
-        let det = circle.det(d);
-        det > 0 || (det == 0 && in_circle([p[0], p[1], p[2], d], [tri[0], tri[1], tri[2], i]))
-    })
+    }
+    false
+}
+
+/// A triangle's circumcircle in floating point, for conservative geometric pre-filters (the
+/// exact in-circle test decides): a margin far above the rounding error keeps every grid point
+/// on or inside the circle inside every region these say the circle reaches.
+#[derive(Clone, Copy, Debug)]
+struct Circumcircle {
+    cx: f64,
+    cy: f64,
+    /// The square of the radius grown by the margin.
+    r2: f64,
+}
+
+impl Circumcircle {
+    /// The circle of the counter-clockwise triangle `p`.
+    fn of(p: [GridPoint; 3]) -> Self {
+        let [a, b, c] = p;
+        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
+        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
+        let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
+        // Exact integers below 2⁴⁴; one rounding each in the division.
+        let d = 2.0 * (bx * cy - by * cx) as f64;
+        let ux = (cy * lb - by * lc) as f64 / d;
+        let uy = (bx * lc - cx * lb) as f64 / d;
+        let r = (ux * ux + uy * uy).sqrt();
+        let r = r + 1e-6 * (1.0 + r);
+        Self {
+            cx: a[0] as f64 + ux,
+            cy: a[1] as f64 + uy,
+            r2: r * r,
+        }
+    }
+
+    /// Might the circle reach a grid point of the half-open rectangle `[x0, y0, x1, y1]`?
+    fn reaches(&self, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+        // The rectangle's grid points span [x0, x1 − 1] × [y0, y1 − 1].
+        let gap = |lo: usize, hi: usize, c: f64| {
+            let (lo, hi) = (lo as f64, hi as f64 - 1.0);
+            if c < lo {
+                lo - c
+            } else if c > hi {
+                c - hi
+            } else {
+                0.0
+            }
+        };
+        let (dx, dy) = (gap(x0, x1, self.cx), gap(y0, y1, self.cy));
+        dx * dx + dy * dy <= self.r2
+    }
+
+    /// The columns `[x0, x1)` (a superset) of the grid points of row `y` on or inside the
+    /// circle, if any.
+    fn chord(&self, y: f64) -> Option<[i64; 2]> {
+        let dy = y - self.cy;
+        let h2 = self.r2 - dy * dy;
+        if h2 < 0.0 {
+            return None;
+        }
+        let h = h2.sqrt();
+        Some([
+            (self.cx - h).floor() as i64,
+            (self.cx + h).floor() as i64 + 1,
+        ])
+    }
 }
 
 impl MeshState {
-    /// Fills the disc boxes of this state's triangles if they are stale (a build or an edit
-    /// leaves them so). A parent is composed from many times, so this is paid once per parent.
+    /// Fills the disc boxes of this state's triangles, and its kept points' bitset and
+    /// summed-area table, if they are stale (a build or an edit leaves them so). A parent is
+    /// composed from many times, so this is paid once per parent.
     pub fn ensure_discs(&mut self) {
-        if self.discs_valid {
-            return;
-        }
         let Some(hf) = self.hf.clone() else {
             return;
         };
-        let lattice = Lattice::new(hf.width());
-        self.discs.clear();
-        self.discs.extend((0..self.mesh.len()).map(|t| {
-            let p = self.mesh.triangle(t).map(|i| lattice.point(i));
-            DiscBox::of(p, hf.width(), hf.height())
-        }));
-        self.discs_valid = true;
+        let (w, h) = (hf.width(), hf.height());
+        if !self.discs_valid {
+            let lattice = Lattice::new(w);
+            self.discs.clear();
+            self.discs.extend((0..self.mesh.len()).map(|t| {
+                let p = self.mesh.triangle(t).map(|i| lattice.point(i));
+                DiscBox::of(p, w, h)
+            }));
+            self.discs_valid = true;
+        }
+        if !self.lookup_valid {
+            let kept = &self.kept[..w * h];
+            self.kept_bits.clear();
+            self.kept_bits.extend(kept.chunks(64).map(|c| {
+                c.iter()
+                    .enumerate()
+                    .fold(0u64, |word, (k, &b)| word | (u64::from(b) << k))
+            }));
+            let sat = &mut self.kept_sat;
+            sat.clear();
+            sat.resize((w + 1) * (h + 1), 0);
+            for (y, row) in kept.chunks_exact(w).enumerate() {
+                let (below, here) = sat[y * (w + 1)..].split_at_mut(w + 1);
+                let mut run = 0;
+                for (x, &k) in row.iter().enumerate() {
+                    run += u32::from(k);
+                    here[x + 1] = below[x + 1] + run;
+                }
+            }
+            self.lookup_valid = true;
+        }
     }
 
     /// Makes `self` the scored mesh of the child that keeps `a`'s kept points where `from_b`
@@ -577,10 +666,12 @@ impl MeshState {
             return Some(score);
         }
 
-        // The taken triangles, linked to each other where they meet; the half-edges with R
-        // across are listed.
-        self.hint.resize(n, 0);
-        self.field.reshape(w, h, ErrorUnits::of(hf));
+        // The taken triangles, linked to each other where they meet, with their totals; the
+        // half-edges with R across are listed, and each vertex's hint points at one of them.
+        self.hint.clear();
+        self.hint.resize(n, NONE);
+        self.totals.clear();
+        self.totals.reserve(next_slot as usize);
         // The taken slots were numbered in the order visited below, so their triangles are
         // pushed (not written into arrays filled with NONE first: ≈100 KB per composition).
         self.mesh.clear_for(w);
@@ -600,6 +691,7 @@ impl MeshState {
                     let e = 3 * t as usize + k;
                     let (u, v) = (tri[k], tri[(k + 1) % 3]);
                     self.mesh.vertices.push(u);
+                    self.hint[u as usize] = slot;
                     let g = parent.mesh.twin[e];
                     let twin = if g == NONE {
                         NONE
@@ -617,53 +709,18 @@ impl MeshState {
                     self.mesh.twin.push(twin);
                 }
                 self.discs.push(parent.discs[t as usize]);
+                self.totals.push(parent.totals[t as usize]);
             }
         }
 
-        // Every grid point: kept, or owned by a taken triangle (its error as in that parent), or
-        // in R (rasterised below). R's points are the kept points no taken triangle has, and the
-        // ends of the half-edges with R across. A kept point's hint is a taken triangle of its
-        // star in a parent that keeps it (usually the parent's own hint; R's triangles set the
-        // others' when rasterised), found here rather than written by every triangle of the star
-        // while linking.
+        // R's points: the kept points no taken triangle has (their hint is still unset), and
+        // the ends of the half-edges with R across.
         scratch.listed.resize(n, false);
         scratch.points.clear();
-        {
-            let errors = self.field.errors_mut();
-            for i in 0..n {
-                let side = label(i as u32) as usize;
-                if self.kept[i] {
-                    errors[i] = 0.0;
-                    let maps = &scratch.map;
-                    let slot = [side, 1 - side].into_iter().find_map(|s| {
-                        let p = parents[s];
-                        if !p.kept[i] {
-                            return None;
-                        }
-                        let t = p.hint[i];
-                        let slot = maps[s][t as usize];
-                        if slot != NONE {
-                            return Some(slot);
-                        }
-                        taken_in_star(&p.mesh, &maps[s], t, i as u32)
-                    });
-                    match slot {
-                        Some(slot) => self.hint[i] = slot,
-                        None => {
-                            scratch.listed[i] = true;
-                            scratch.points.push(i as u32);
-                        }
-                    }
-                    continue;
-                }
-                for s in [side, 1 - side] {
-                    let slot = scratch.map[s][parents[s].hint[i] as usize];
-                    if slot != NONE {
-                        errors[i] = parents[s].field.errors()[i];
-                        self.hint[i] = slot;
-                        break;
-                    }
-                }
+        for i in 0..n {
+            if self.kept[i] && self.hint[i] == NONE {
+                scratch.listed[i] = true;
+                scratch.points.push(i as u32);
             }
         }
         let (taken_len, open_len) = (next_slot, scratch.open.len());
@@ -722,25 +779,15 @@ impl MeshState {
                 let p = tri.map(|i| lattice.point(i));
                 self.discs.push(DiscBox::of(p, w, h));
             }
-            let grid = grid_of(hf);
-            for slot in taken_len..next_new {
-                self.rasterise(&grid, lattice, slot);
-            }
+            self.totals
+                .resize(next_new as usize, ErrorTotals::default());
+            self.rasterise(hf, taken_len..next_new);
         }
-        self.field.refresh_all();
         self.hf = Some(hf.clone());
-        let score = self.finish(n);
+        let score = self.finish(hf);
         self.discs_valid = true;
         Some(score)
     }
-}
-
-/// The child's slot of a taken triangle (by `map`) around vertex `v` of `mesh`, starting
-/// from `t`, one of its triangles.
-fn taken_in_star(mesh: &Triangulation, map: &[u32], t: u32, v: u32) -> Option<u32> {
-    mesh.fan(mesh.leaving(t, v)?)
-        .map(|e| map[(e / 3) as usize])
-        .find(|&slot| slot != NONE)
 }
 
 /// The child's half-edge `from → to` when it is an edge of a triangle taken from `parent`

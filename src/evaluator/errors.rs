@@ -1,12 +1,13 @@
-//! The error of every grid point of one mesh, and its totals, summed exactly.
+//! The errors of a mesh's grid points, summed exactly.
 //!
 //! Floating-point addition is not associative, so a float E_sum would depend on the order its
 //! terms are added in: on how the triangulation was built or numbered. The evaluator therefore
 //! sums in fixed point ([`ErrorUnits`]): each error is rounded to a whole number of units of
 //! one power of two, chosen per height field so that no sum can overflow, and the integers are
 //! added, which is exact in any order. A mesh scored from scratch, the same mesh reached by local
-//! edits ([`MeshState`](super::MeshState)), and a one-pass score that keeps no per-point error all
-//! get the same bits; and an edit re-adds only the rows it touched.
+//! edits or composed from two parents ([`MeshState`](super::MeshState), which keeps each
+//! triangle's totals), and a one-pass score all get the same bits; an edit re-rasterises only
+//! the triangles it touched, and a composition reuses its parents' triangles' totals.
 
 /// The fixed-point units E_sum and Σ error² are summed in, for one height field.
 ///
@@ -145,112 +146,19 @@ impl ErrorTotals {
     }
 }
 
-/// |z − z̃| per grid point, with per-row totals.
-#[derive(Debug, Default)]
-pub struct ErrorField {
-    width: usize,
-    units: ErrorUnits,
-    errors: Vec<f64>,
-    rows: Vec<ErrorTotals>,
-}
-
-impl Clone for ErrorField {
-    fn clone(&self) -> Self {
-        let mut copy = Self::default();
-        copy.clone_from(self);
-        copy
-    }
-
-    /// Reuses this field's buffers (the derived one would reallocate).
-    fn clone_from(&mut self, source: &Self) {
-        self.width = source.width;
-        self.units = source.units;
-        self.errors.clone_from(&source.errors);
-        self.rows.clone_from(&source.rows);
-    }
-}
-
-impl ErrorField {
-    /// Resizes to a `width × height` grid summed in `units`. The errors and totals are
-    /// unspecified until every point's error has been set and every row refreshed: a fresh build
-    /// writes them all, so zeroing them first would be a wasted pass over the grid (it shows on
-    /// large grids).
-    pub fn reshape(&mut self, width: usize, height: usize, units: ErrorUnits) {
-        self.width = width;
-        self.units = units;
-        self.errors.resize(width * height, 0.0);
-        self.rows.resize(height, ErrorTotals::default());
-    }
-
-    /// The error of every grid point, row-major.
-    pub fn errors(&self) -> &[f64] {
-        &self.errors
-    }
-
-    /// Sets the error of grid point `i`; the row totals are stale until
-    /// [`refresh_rows`](Self::refresh_rows).
-    #[inline]
-    pub fn set(&mut self, i: usize, error: f64) {
-        self.errors[i] = error;
-    }
-
-    /// The error of every grid point, row-major, to write; the row totals are stale until
-    /// [`refresh_rows`](Self::refresh_rows) or [`refresh_all`](Self::refresh_all).
-    #[inline]
-    pub fn errors_mut(&mut self) -> &mut [f64] {
-        &mut self.errors
-    }
-
-    /// Recomputes the totals of rows `ys` from their errors.
-    pub fn refresh_rows(&mut self, ys: impl IntoIterator<Item = usize>) {
-        let w = self.width;
-        let units = self.units;
-        for y in ys {
-            self.rows[y] = totals_of(units, &self.errors[y * w..(y + 1) * w]);
-        }
-    }
-
-    /// Recomputes every row's totals.
-    pub fn refresh_all(&mut self) {
-        self.refresh_rows(0..self.rows.len());
-    }
-
-    /// (Σ error, Σ error², max error) over the grid, from the row totals. Valid when every row
-    /// changed since the last refresh has been refreshed.
-    pub fn totals(&self) -> (f64, f64, f64) {
-        let mut all = ErrorTotals::default();
-        for row in &self.rows {
-            all.add(row);
-        }
-        self.units.values(&all)
-    }
-}
-
-/// The totals of `errors` in `units`.
-#[inline]
-fn totals_of(units: ErrorUnits, errors: &[f64]) -> ErrorTotals {
-    // Four chains per total, so that the maximum's dependent comparisons do not pace the loop.
-    let mut t = [ErrorTotals::default(); 4];
-    let mut quads = errors.chunks_exact(4);
-    for quad in &mut quads {
-        for (acc, &d) in t.iter_mut().zip(quad) {
-            acc.add_error(units, d);
-        }
-    }
-    for (acc, &d) in t.iter_mut().zip(quads.remainder()) {
-        acc.add_error(units, d);
-    }
-    let [mut a, b, c, d] = t;
-    for other in [b, c, d] {
-        a.add(&other);
-    }
-    a
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
+
+    /// The totals of `errors` in `units`, point by point.
+    fn totals_of(units: ErrorUnits, errors: &[f64]) -> ErrorTotals {
+        let mut t = ErrorTotals::default();
+        for &d in errors {
+            t.add_error(units, d);
+        }
+        t
+    }
 
     /// Errors like a mesh's: mostly small, a few near the range, some exactly zero.
     fn errors(n: usize, range: f64, seed: u64) -> Vec<f64> {

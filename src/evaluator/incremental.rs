@@ -11,16 +11,16 @@
 //!   intermediate mesh is canonical too.
 //! - Every grid point's error comes from the one triangle that owns it ([`raster`](super::raster)),
 //!   rasterised with its vertices in a canonical rotation (smallest grid index first), so a
-//!   triangle gives the same bits whichever way it was created. A triangle that no edit touched
-//!   owns the same points with the same errors as before; only the touched triangles are
-//!   rasterised again.
-//! - The totals are exact fixed-point integers ([`ErrorField`]), the same in any order: only rows
-//!   that contain a re-rasterised point are re-added.
+//!   triangle gives the same bits whichever way it was created. The state keeps each triangle's
+//!   error totals; a triangle that no edit touched owns the same points with the same totals as
+//!   before, and only the touched triangles are rasterised again.
+//! - The totals are exact fixed-point integers ([`errors`](super::errors)), so the mesh's score,
+//!   their sum over its triangles, is the same in any order.
 //!
 //! Cost: an edit costs about its walk, its flips or hole fill, and the area of the triangles it
-//! changed; a state costs ≈ 13 bytes per grid point plus 24 bytes per triangle.
+//! changed; a state costs ≈ 5 bytes per grid point plus 48 bytes per triangle.
 
-use super::errors::{ErrorField, ErrorTotals, ErrorUnits};
+use super::errors::{ErrorTotals, ErrorUnits};
 use super::predicates::{self, GridPoint, Lattice};
 use super::raster::Grid;
 use super::triangulation::{NONE, Triangulation, next, prev};
@@ -39,9 +39,10 @@ pub struct MeshState {
     pub(super) hf: Option<Arc<Heightfield>>,
     pub(super) kept: Vec<bool>,
     pub(super) mesh: Triangulation,
-    pub(super) field: ErrorField,
-    /// Per grid point, a triangle slot: the triangle that owns it, or for a kept point one of
-    /// its triangles. Exact after every build or edit; a walk starts there.
+    /// Per triangle slot, the error totals of the grid points it owns (its vertices excluded).
+    pub(super) totals: Vec<ErrorTotals>,
+    /// Per kept grid point, a triangle slot of its star: exact after every build, edit or
+    /// composition (walks and star walks start there). Unspecified for other points.
     pub(super) hint: Vec<u32>,
     pub(super) score: Option<Score>,
     /// Per triangle slot, the grid box of its circumcircle's disc (see
@@ -49,6 +50,13 @@ pub struct MeshState {
     /// builds and edits, which would pay for it on every triangle.
     pub(super) discs: Vec<super::compose::DiscBox>,
     pub(super) discs_valid: bool,
+    /// The kept points as a bitset (bit `i` of word `i / 64`) and as a summed-area table
+    /// (`(W + 1) × (H + 1)`, kept points in columns < x of rows < y at (y, x)); valid only while
+    /// `lookup_valid`. Filled on demand with the disc boxes, for the crossovers this mesh is a
+    /// parent of.
+    pub(super) kept_bits: Vec<u64>,
+    pub(super) kept_sat: Vec<u32>,
+    pub(super) lookup_valid: bool,
     /// Changes whenever the mesh does (a new number from [`next_revision`] at every scoring),
     /// so that what was derived from one mesh ([`PartClasses`](super::compose::PartClasses))
     /// can tell it from later ones; 0 until scored. A copy keeps it: it is the same mesh.
@@ -74,13 +82,14 @@ impl Clone for MeshState {
         self.hf.clone_from(&source.hf);
         self.kept.clone_from(&source.kept);
         self.mesh.clone_from(&source.mesh);
-        self.field.clone_from(&source.field);
+        self.totals.clone_from(&source.totals);
         self.hint.clone_from(&source.hint);
         self.score = source.score;
         self.revision = source.revision;
         // A copy is about to be edited (that is what the scorer copies for): its disc boxes
-        // would go stale, so they are not copied.
+        // and lookups would go stale, so they are not copied.
         self.discs_valid = false;
+        self.lookup_valid = false;
     }
 }
 
@@ -93,7 +102,6 @@ pub(super) struct EditScratch {
     /// Slots emptied by removals, to be filled by compaction.
     dead: Vec<u32>,
     dirty: Vec<bool>,
-    dirty_rows: Vec<bool>,
     boundary: Vec<u32>,
     outer: Vec<u32>,
     star: Vec<u32>,
@@ -173,9 +181,19 @@ impl MeshState {
         self.kept.get(i as usize).copied().unwrap_or(false)
     }
 
-    /// The error |z − z̃| of every grid point (0 at kept points), row-major.
-    pub fn errors(&self) -> &[f64] {
-        self.field.errors()
+    /// The error |z − z̃| of every grid point (0 at kept points), row-major, rasterised from the
+    /// mesh (the state keeps only each triangle's totals).
+    pub fn errors(&self) -> Vec<f64> {
+        let Some(hf) = &self.hf else {
+            return Vec::new();
+        };
+        let mut errors = vec![0.0; hf.len()];
+        let (grid, lattice) = (grid_of(hf), Lattice::new(hf.width()));
+        for t in 0..self.mesh.len() {
+            let tri = canonical(self.mesh.triangle(t)).map(|i| lattice.point(i));
+            grid.for_each_error(tri, |i, d| errors[i] = d);
+        }
+        errors
     }
 
     pub(super) fn mesh_mut(&mut self) -> &mut Triangulation {
@@ -200,18 +218,12 @@ impl MeshState {
         if !self.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf)) {
             self.hf = Some(hf.clone());
         }
-        // No clearing: every point's error and hint is written below, by the triangle that owns
-        // it or, for a vertex, by one of its triangles.
-        self.field
-            .reshape(hf.width(), hf.height(), ErrorUnits::of(hf));
+        // No clearing: every kept point's hint is written below, by one of its triangles.
         self.hint.resize(hf.len(), 0);
-        let grid = grid_of(hf);
-        let lattice = Lattice::new(hf.width());
-        for slot in 0..self.mesh.len() as u32 {
-            self.rasterise(&grid, lattice, slot);
-        }
-        self.field.refresh_all();
-        self.finish(hf.len())
+        self.totals.clear();
+        self.totals.resize(self.mesh.len(), ErrorTotals::default());
+        self.rasterise(hf, 0..self.mesh.len() as u32);
+        self.finish(hf)
     }
 
     /// Scores the triangles in `self.mesh` in one pass, without the per-point errors and hints
@@ -224,7 +236,8 @@ impl MeshState {
         let lattice = Lattice::new(hf.width());
         let mut all = ErrorTotals::default();
         let mesh = &self.mesh;
-        let tris = (0..mesh.len()).map(|t| canonical(mesh.triangle(t)).map(|i| lattice.point(i)));
+        let tris =
+            (0..mesh.len()).map(|t| ((), canonical(mesh.triangle(t)).map(|i| lattice.point(i))));
         grid.sum_triangles(units, tris, |_, t| all.add(&t));
         self.forget();
         self.score_from(units.values(&all), hf.len())
@@ -236,12 +249,21 @@ impl MeshState {
         self.hf = None;
         self.revision = 0;
         self.discs_valid = false;
+        self.lookup_valid = false;
     }
 
-    pub(super) fn finish(&mut self, n: usize) -> Score {
+    /// Scores the state from its triangles' totals, as a new mesh (a new revision, disc boxes
+    /// stale).
+    pub(super) fn finish(&mut self, hf: &Heightfield) -> Score {
         self.discs_valid = false;
+        self.lookup_valid = false;
         self.revision = next_revision();
-        self.score_from(self.field.totals(), n)
+        let units = ErrorUnits::of(hf);
+        let mut all = ErrorTotals::default();
+        for t in &self.totals[..self.mesh.len()] {
+            all.add(t);
+        }
+        self.score_from(units.values(&all), hf.len())
     }
 
     fn score_from(&mut self, (sum, sum_sq, max): (f64, f64, f64), n: usize) -> Score {
@@ -255,26 +277,21 @@ impl MeshState {
         score
     }
 
-    /// Writes the errors of the points triangle `slot` owns, and points its points' and
-    /// vertices' hints at it. Returns its lowest and highest row.
-    #[inline]
-    pub(super) fn rasterise(
-        &mut self,
-        grid: &Grid<'_>,
-        lattice: Lattice,
-        slot: u32,
-    ) -> (usize, usize) {
-        let tri = canonical(self.mesh.triangle(slot as usize));
-        let pts = tri.map(|i| lattice.point(i));
-        let (field, hint) = (&mut self.field, &mut self.hint);
-        grid.write_errors(pts, field.errors_mut(), hint, slot);
-        for v in tri {
-            // A vertex is a kept point: its error is zero by definition.
-            field.set(v as usize, 0.0);
-            hint[v as usize] = slot;
-        }
-        let ys = pts.map(|p| p[1] as usize);
-        (ys[0].min(ys[1]).min(ys[2]), ys[0].max(ys[1]).max(ys[2]))
+    /// Rasterises the triangles in `slots` (each in its canonical rotation) into their totals,
+    /// and points their vertices' hints at them.
+    pub(super) fn rasterise(&mut self, hf: &Heightfield, slots: impl Iterator<Item = u32>) {
+        let (grid, lattice) = (grid_of(hf), Lattice::new(hf.width()));
+        let (mesh, hint, totals) = (&self.mesh, &mut self.hint, &mut self.totals);
+        let tris = slots.map(|slot| {
+            let tri = canonical(mesh.triangle(slot as usize));
+            for v in tri {
+                hint[v as usize] = slot;
+            }
+            (slot, tri.map(|i| lattice.point(i)))
+        });
+        grid.sum_triangles(ErrorUnits::of(hf), tris, |slot, t| {
+            totals[slot as usize] = t
+        });
     }
 
     /// Removes the kept points `remove`, then inserts `insert`, and rescores. On error nothing
@@ -314,22 +331,13 @@ impl MeshState {
             last = Some((p, slot));
         }
         self.compact(scratch);
-        // Re-rasterise every touched triangle and re-add the rows they cover.
-        let grid = grid_of(hf);
-        let rows = &mut scratch.dirty_rows;
-        rows.clear();
-        rows.resize(hf.height(), false);
-        for slot in 0..self.mesh.len() {
-            if scratch.dirty[slot] {
-                let (lo, hi) = self.rasterise(&grid, lattice, slot as u32);
-                rows[lo..=hi].fill(true);
-            }
-        }
-        // A new vertex is a vertex of the touched triangles just rasterised, which set its error
-        // to zero and marked its row.
-        self.field
-            .refresh_rows(rows.iter().enumerate().filter(|(_, d)| **d).map(|(y, _)| y));
-        Ok(self.finish(hf.len()))
+        // Re-rasterise every touched triangle (a new vertex is a vertex of some of them).
+        self.totals.resize(self.mesh.len(), ErrorTotals::default());
+        let dirty = &scratch.dirty;
+        let slots = (0..self.mesh.len() as u32).filter(|&s| dirty[s as usize]);
+        let slots: Vec<u32> = slots.collect();
+        self.rasterise(hf, slots.into_iter());
+        Ok(self.finish(hf))
     }
 
     /// Checks (and applies to the kept marks) an edit; on error restores the marks.
@@ -395,30 +403,36 @@ impl MeshState {
         }
     }
 
-    /// Where the walk to insert `p` starts: its hint (the triangle that owned it before this
-    /// edit), unless the last insertion `last` (point, slot) is nearer. The hint's triangle
-    /// may have been split many times by this edit's insertions and now hold a far piece.
+    /// Where the walk to insert `p` starts: a triangle of the kept point nearest `p` along its
+    /// row (or, when the row keeps none, of a grid corner), unless the last insertion `last`
+    /// (point, slot) is nearer. A hint may have gone stale during this edit (its slot split or
+    /// emptied since): the walk starts anywhere.
     fn insertion_start(&self, lattice: Lattice, p: u32, last: Option<(u32, u32)>) -> u32 {
-        let hint = self.hint[p as usize];
-        let Some((q, slot)) = last else {
-            return hint;
-        };
         let pp = lattice.point(p);
-        let dist = |v: u32| {
-            let a = lattice.point(v);
-            (a[0] - pp[0]).pow(2) + (a[1] - pp[1]).pow(2)
-        };
-        let m = &self.mesh;
-        let hint_dist = if (hint as usize) < m.len() && m.vertices[3 * hint as usize] != NONE {
-            m.triangle(hint as usize)
-                .map(dist)
+        let width = lattice.width();
+        let row = (pp[1] as usize) * width;
+        let near = (1..width as i64).find_map(|d| {
+            [pp[0] - d, pp[0] + d]
                 .into_iter()
-                .min()
-                .unwrap_or(i64::MAX)
-        } else {
-            i64::MAX
+                .filter(|&x| (0..width as i64).contains(&x))
+                .map(|x| (row + x as usize) as u32)
+                .find(|&q| self.kept[q as usize])
+        });
+        let (kept, dist) = match near {
+            Some(q) => (q, (lattice.point(q)[0] - pp[0]).abs()),
+            None => (0, i64::MAX),
         };
-        if dist(q) < hint_dist { slot } else { hint }
+        match last {
+            Some((q, slot)) => {
+                let a = lattice.point(q);
+                if (a[0] - pp[0]).abs() + (a[1] - pp[1]).abs() < dist {
+                    return slot;
+                }
+            }
+            None if near.is_none() => return self.hint[0],
+            None => {}
+        }
+        self.hint[kept as usize]
     }
 
     /// The live triangle whose closed area holds `p`, by a visibility walk from slot `start`

@@ -73,8 +73,10 @@ pub struct PartScores {
     coverage: [Vec<u32>; 2],
     /// Per parent, per part: (kept points, kept points on the grid border).
     counts: [Vec<(u32, u32)>; 2],
-    /// Scratch of `prepare`: per grid point, is it variable in parent A, B?
-    is_variable: [Vec<bool>; 2],
+    /// Scratch of `prepare`: per grid point, the stamp of the last preparation it was variable
+    /// in, for parent A and B.
+    is_variable: [Vec<u32>; 2],
+    stamp: u32,
 }
 
 /// Per-child scratch of [`PartScores::score`], kept by the evaluator between calls.
@@ -104,7 +106,6 @@ impl PartScores {
 
     /// Prepares the children of `classes` (made for `a` and `b`, scored on `hf`) to be scored
     /// by [`score`](Self::score). False (and unusable) when `classes` is not for `a` and `b`.
-    #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
     pub fn prepare(
         &mut self,
         hf: &Heightfield,
@@ -114,21 +115,22 @@ impl PartScores {
     ) -> bool {
         self.made_from = 0;
         let n = hf.len();
-        if !classes.is_for(a, b) || classes.part.len() != n {
+        if !classes.is_for(a, b) || classes.part.len() != n || !a.lookup_valid || !b.lookup_valid {
             return false;
         }
         let parents = [a, b];
         let parts = classes.rects.len();
+        let part = &classes.part[..n];
         self.units = ErrorUnits::of(hf);
         // Classes: those with an empty kill mask are numbered side · parts + home; the others
         // follow, found by a linear search (they are few: a triangle gets kill bits only when
         // its circle reaches into another part).
         self.classes.clear();
-        for side in 0..2 {
-            for home in 0..parts {
+        for side in 0..2u8 {
+            for home in 0..parts as u8 {
                 self.classes.push(Class {
-                    side: side as u8,
-                    home: home as u8,
+                    side,
+                    home,
                     kill: 0,
                     totals: ErrorTotals::default(),
                     count: 0,
@@ -136,19 +138,33 @@ impl PartScores {
             }
         }
         let plain = self.classes.len();
-        for side in 0..2 {
+        // Variable points, marked by a stamp (no clearing between crossovers): a vertex of a
+        // triangle whose class is not its own part's plain one.
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.is_variable.iter_mut().for_each(Vec::clear);
+            self.stamp = 1;
+        }
+        let stamp = self.stamp;
+        for (side, parent) in parents.into_iter().enumerate() {
             let (first, kill) = (&classes.first[side], &classes.kill[side]);
+            let tris = parent.mesh.vertices.chunks_exact(3);
             let class_of = &mut self.class_of[side];
             class_of.clear();
-            for (&home, &k) in first.iter().zip(kill) {
+            class_of.reserve(first.len());
+            let is_variable = &mut self.is_variable[side];
+            is_variable.resize(n, 0);
+            let variable = &mut self.variable[side];
+            variable.clear();
+            for (((tri, &home), &k), totals) in tris.zip(first).zip(kill).zip(&parent.totals) {
                 let k = k & !(1 << home);
                 let c = if k == 0 {
                     side * parts + home as usize
                 } else {
-                    match self.classes[plain..]
+                    let found = self.classes[plain..]
                         .iter()
-                        .position(|c| c.side == side as u8 && c.home == home && c.kill == k)
-                    {
+                        .position(|c| c.side == side as u8 && c.home == home && c.kill == k);
+                    match found {
                         Some(i) => plain + i,
                         None => {
                             self.classes.push(Class {
@@ -162,82 +178,86 @@ impl PartScores {
                         }
                     }
                 };
-                self.classes[c].count += 1;
+                let class = &mut self.classes[c];
+                class.count += 1;
+                class.totals.add(totals);
                 class_of.push(c as u32);
-            }
-            // The totals of each class from its triangles' points (a kept point's error is 0).
-            let parent = parents[side];
-            let errors = parent.field.errors();
-            for i in 0..n {
-                if !parent.kept[i] {
-                    let c = class_of[parent.hint[i] as usize] as usize;
-                    self.classes[c].totals.add_error(self.units, errors[i]);
-                }
-            }
-        }
-        // Variable points: a vertex of a triangle whose class is not its own part's plain one.
-        for side in 0..2 {
-            let m = &parents[side].mesh;
-            let is_variable = &mut self.is_variable[side];
-            is_variable.clear();
-            is_variable.resize(n, false);
-            let variable = &mut self.variable[side];
-            variable.clear();
-            for t in 0..m.len() {
-                let class = &self.classes[self.class_of[side][t] as usize];
-                for v in m.triangle(t) {
-                    if (class.kill != 0 || classes.part[v as usize] != class.home)
-                        && !std::mem::replace(&mut is_variable[v as usize], true)
-                    {
-                        variable.push(v);
+                let plain_here = k == 0
+                    && part[tri[0] as usize] == home
+                    && part[tri[1] as usize] == home
+                    && part[tri[2] as usize] == home;
+                if !plain_here {
+                    for &v in tri {
+                        if std::mem::replace(&mut is_variable[v as usize], stamp) != stamp {
+                            variable.push(v);
+                        }
                     }
                 }
             }
         }
-        for side in 0..2 {
-            let m = &parents[side].mesh;
+        // Coverage: the triangles with a vertex variable in either parent. Candidate edges are
+        // among their edges: two neighbours of different classes have a variable vertex in
+        // common (a kill mask makes all three vertices variable; different home parts make a
+        // shared vertex variable for at least one of them, being outside its home part).
+        self.candidates.clear();
+        for (side, parent) in parents.into_iter().enumerate() {
+            let m = &parent.mesh;
+            let class_of = &self.class_of[side];
             let coverage = &mut self.coverage[side];
             coverage.clear();
             let [va, vb] = &self.is_variable;
-            for t in 0..m.len() {
-                if m.triangle(t)
+            for (t, tri) in m.vertices.chunks_exact(3).enumerate() {
+                if !tri
                     .iter()
-                    .any(|&v| va[v as usize] || vb[v as usize])
+                    .any(|&v| va[v as usize] == stamp || vb[v as usize] == stamp)
                 {
-                    coverage.push(t as u32);
+                    continue;
+                }
+                coverage.push(t as u32);
+                for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
+                    if g != NONE && class_of[t] != class_of[(g / 3) as usize] {
+                        self.candidates.push(Candidate {
+                            side: side as u8,
+                            edge: (3 * t + k) as u32,
+                            cross: UNKNOWN,
+                        });
+                    }
                 }
             }
         }
-        // Candidate edges, from both of their triangles (either may be the reused one).
-        self.candidates.clear();
-        for side in 0..2 {
-            let m = &parents[side].mesh;
-            let class_of = &self.class_of[side];
-            for (e, &g) in m.twin.iter().enumerate() {
-                if g != NONE && class_of[e / 3] != class_of[(g / 3) as usize] {
-                    self.candidates.push(Candidate {
-                        side: side as u8,
-                        edge: e as u32,
-                        cross: UNKNOWN,
-                    });
-                }
-            }
-        }
-        // Kept points per part, and those on the grid border, for Euler's count.
+        // Kept points per part, and those on the grid border, for Euler's count: from each
+        // parent's summed-area table.
         let (w, h) = (hf.width(), hf.height());
-        for side in 0..2 {
+        for (side, parent) in parents.into_iter().enumerate() {
+            let sat = &parent.kept_sat;
+            let count = |[x0, y0, x1, y1]: [usize; 4]| {
+                if x0 >= x1 || y0 >= y1 {
+                    return 0;
+                }
+                let sw = w + 1;
+                sat[y1 * sw + x1] + sat[y0 * sw + x0] - sat[y0 * sw + x1] - sat[y1 * sw + x0]
+            };
+            let clip = |r: [usize; 4], c: [usize; 4]| {
+                [
+                    r[0].max(c[0]),
+                    r[1].max(c[1]),
+                    r[2].min(c[2]),
+                    r[3].min(c[3]),
+                ]
+            };
             let counts = &mut self.counts[side];
             counts.clear();
-            counts.resize(parts, (0, 0));
-            let kept = &parents[side].kept;
-            for (i, &k) in kept.iter().enumerate() {
-                if k {
-                    let (x, y) = (i % w, i / w);
-                    let c = &mut counts[classes.part[i] as usize];
-                    c.0 += 1;
-                    c.1 += u32::from(x == 0 || y == 0 || x == w - 1 || y == h - 1);
-                }
-            }
+            counts.extend(classes.rects.iter().map(|&r| {
+                // The border: the bottom and top rows, and the side columns between them.
+                let border = [
+                    [0, 0, w, 1],
+                    [0, h - 1, w, h],
+                    [0, 1, 1, h - 1],
+                    [w - 1, 1, w, h - 1],
+                ];
+                let on_border = border.iter().map(|&b| count(clip(r, b))).sum::<u32>();
+                (count(r), on_border)
+            }));
         }
         self.made_from = classes.id;
         true
@@ -374,7 +394,7 @@ impl PartScores {
         let tris = region
             .triangles
             .iter()
-            .map(|&t| canonical(t).map(|i| lattice.point(i)));
+            .map(|&t| ((), canonical(t).map(|i| lattice.point(i))));
         grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
         Some(score_of(self.units, &totals, expected, n))
     }
@@ -401,7 +421,8 @@ impl PartScores {
         sub.rebuild_delaunay(w, &scratch.points);
         let lattice = Lattice::new(w);
         let mut totals = ErrorTotals::default();
-        let tris = (0..sub.len()).map(|t| canonical(sub.triangle(t)).map(|i| lattice.point(i)));
+        let tris =
+            (0..sub.len()).map(|t| ((), canonical(sub.triangle(t)).map(|i| lattice.point(i))));
         grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
         score_of(self.units, &totals, sub.len() as u32, hf.len())
     }

@@ -35,6 +35,11 @@ impl Lattice {
         }
     }
 
+    /// The grid's width.
+    pub fn width(&self) -> usize {
+        self.width as usize
+    }
+
     /// (column, row) of a grid index.
     #[inline]
     pub fn point(&self, index: u32) -> GridPoint {

@@ -216,18 +216,18 @@ impl Grid<'_> {
     /// without writing them, for a score that keeps no per-point error.
     pub fn error_totals(&self, tri: [GridPoint; 3], units: ErrorUnits) -> ErrorTotals {
         let mut out = ErrorTotals::default();
-        self.sum_triangles(units, std::iter::once(tri), |_, t| out = t);
+        self.sum_triangles(units, std::iter::once(((), tri)), |_, t| out = t);
         out
     }
 
-    /// [`error_totals`](Self::error_totals) of every triangle `tris` yields (counter-clockwise),
-    /// each given to `done` with its position in `tris`: with the fastest kernel this CPU has
+    /// [`error_totals`](Self::error_totals) of every triangle `tris` yields (counter-clockwise,
+    /// each with a key), each given to `done` with its key: with the fastest kernel this CPU has
     /// (see [`span_sum`](super::span_sum); every kernel gives the same bits).
-    pub fn sum_triangles(
+    pub fn sum_triangles<Key>(
         &self,
         units: ErrorUnits,
-        tris: impl IntoIterator<Item = [GridPoint; 3]>,
-        done: impl FnMut(usize, ErrorTotals),
+        tris: impl IntoIterator<Item = (Key, [GridPoint; 3])>,
+        done: impl FnMut(Key, ErrorTotals),
     ) {
         #[cfg(target_arch = "x86_64")]
         if let Some(k) = span_sum::Avx2::detect(units) {
@@ -240,24 +240,24 @@ impl Grid<'_> {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn sum_triangles_avx2(
+    unsafe fn sum_triangles_avx2<Key>(
         &self,
         k: span_sum::Avx2,
-        tris: impl IntoIterator<Item = [GridPoint; 3]>,
-        done: impl FnMut(usize, ErrorTotals),
+        tris: impl IntoIterator<Item = (Key, [GridPoint; 3])>,
+        done: impl FnMut(Key, ErrorTotals),
     ) {
         self.sum_triangles_with(k, tris, done);
     }
 
     #[inline(always)]
-    fn sum_triangles_with<K: Kernel>(
+    fn sum_triangles_with<K: Kernel, Key>(
         &self,
         k: K,
-        tris: impl IntoIterator<Item = [GridPoint; 3]>,
-        mut done: impl FnMut(usize, ErrorTotals),
+        tris: impl IntoIterator<Item = (Key, [GridPoint; 3])>,
+        mut done: impl FnMut(Key, ErrorTotals),
     ) {
-        for (i, tri) in tris.into_iter().enumerate() {
-            done(i, self.triangle_totals(&k, tri));
+        for (key, tri) in tris {
+            done(key, self.triangle_totals(&k, tri));
         }
     }
 
