@@ -108,6 +108,9 @@ pub struct ComposeScratch {
     points: Vec<u32>,
     /// R's triangles (the tags of its boundary edges are the child's half-edges across).
     region: Region,
+    /// Per grid point: the stamp of the last composition one of whose taken triangles has it.
+    covered: Vec<u32>,
+    stamp: u32,
 }
 
 /// Where a child's labels come from: a bitset over the grid (bit set: from B), or parts of
@@ -144,13 +147,20 @@ pub struct PartClasses {
     pub(super) part: Vec<u8>,
     /// Per parent, per triangle slot: the part of its smallest vertex.
     pub(super) first: [Vec<u8>; 2],
-    /// Per parent, per triangle slot: its kill mask (bit `p` for part `p`).
+    /// Per parent, per triangle slot: its kill mask (bit `p` for part `p`; never its own part's,
+    /// which cannot matter: a triangle is taken only where that part is labelled for its parent).
     pub(super) kill: [Vec<u32>; 2],
     /// The parents' [`MeshState`] revisions, to refuse other meshes.
     pub(super) made_from: [u64; 2],
     /// A number no other classification had (0 until made), so that what is derived from this
     /// one ([`PartScores`](super::PartScores)) can tell it from a later one of the same parents.
     pub(super) id: u64,
+    /// Per parent: the slots of its triangles whose disc box leaves their own part (the others'
+    /// kill masks are empty).
+    pub(super) near: [Vec<u32>; 2],
+    /// Per parent, per part: the error totals and number of its triangles whose smallest
+    /// vertex is in the part and whose kill mask is empty.
+    pub(super) plain: [Vec<(ErrorTotals, u32)>; 2],
 }
 
 impl PartClasses {
@@ -222,33 +232,56 @@ impl PartClasses {
             let m = &parent.mesh;
             let (first, kill) = (&mut self.first[side], &mut self.kill[side]);
             first.clear();
+            first.resize(m.len(), 0);
             kill.clear();
-            for t in 0..m.len() {
+            kill.resize(m.len(), 0);
+            // First every triangle's own part and whether its disc box leaves that part, without
+            // branches (which triangles are near a block's edge follows the blocks, not the slot
+            // order; branches on it mispredicted several times per triangle). A triangle whose
+            // box stays in its own part has all its vertices there too, so no part but its own
+            // can drop it: its kill mask is empty.
+            let near = &mut self.near[side];
+            near.clear();
+            near.resize(m.len(), 0);
+            let mut near_len = 0;
+            let part = &self.part[..];
+            let plain = &mut self.plain[side];
+            plain.clear();
+            plain.resize(parts.len(), (ErrorTotals::default(), 0));
+            let rows = m
+                .vertices
+                .chunks_exact(3)
+                .zip(&parent.discs)
+                .zip(&parent.totals);
+            for (t, (((tri, disc), totals), f)) in rows.zip(first.iter_mut()).enumerate() {
+                let own = part[tri[0].min(tri[1]).min(tri[2]) as usize];
+                *f = own;
+                let inside = contains_all(parts[own as usize], disc.rect());
+                near[near_len] = t as u32;
+                near_len += usize::from(!inside);
+                if inside {
+                    let p = &mut plain[own as usize];
+                    p.0.add(totals);
+                    p.1 += 1;
+                }
+            }
+            near.truncate(near_len);
+            let kept = &other.kept[..];
+            for &t in near.iter() {
+                let t = t as usize;
                 let tri = m.triangle(t);
-                let lowest = tri[0].min(tri[1]).min(tri[2]);
-                let own = self.part[lowest as usize];
-                first.push(own);
-                let mut mask = 0u32;
-                for v in tri {
-                    if !other.kept[v as usize] {
-                        mask |= 1 << self.part[v as usize];
-                    }
-                }
+                let own = first[t];
+                kill[t] = tri.iter().fold(0u32, |mask, &v| {
+                    mask | (u32::from(!kept[v as usize]) << part[v as usize])
+                });
                 let disc = parent.discs[t].rect();
-                // The parts the box meets, besides the smallest vertex's own (labelled for
-                // this parent whenever the triangle can be taken, so never spoiling). Most
-                // boxes lie inside that part: one test.
-                if contains(parts[own as usize], disc) {
-                    kill.push(mask);
-                    continue;
-                }
                 let mut met = 0u32;
                 for (p, &part) in parts.iter().enumerate() {
                     met |= u32::from(!is_empty(overlap(part, disc))) << p;
                 }
                 met &= !(1 << own);
                 if met != 0 && parent.discs[t].area() > MAX_SEARCHED_BOX {
-                    mask |= met;
+                    kill[t] |= met;
                 } else if met != 0 {
                     // Each met part, where the box overlaps it, holds a spoiling point of the
                     // other parent or not. The box is square, so an overlap is often a corner
@@ -263,11 +296,16 @@ impl PartClasses {
                             && counted_in(sat, w, both) > 0
                             && spoils_bits(tri, both, &circle, lattice, w, bits)
                         {
-                            mask |= 1 << p;
+                            kill[t] |= 1 << p;
                         }
                     }
                 }
-                kill.push(mask);
+                kill[t] &= !(1 << own);
+                if kill[t] == 0 {
+                    let p = &mut plain[own as usize];
+                    p.0.add(&parent.totals[t]);
+                    p.1 += 1;
+                }
             }
         }
         self.made_from = [a.revision, b.revision];
@@ -292,11 +330,15 @@ fn overlap(a: [usize; 4], b: [usize; 4]) -> [usize; 4] {
     ]
 }
 
-/// Does rectangle `outer` contain rectangle `inner`? (Compared field by field: an array
-/// comparison reads the just-built arrays as one vector and stalls on the stores.)
+/// Does rectangle `outer` contain rectangle `inner`? (Without short-circuits, for a loop that
+/// must not branch on it; and field by field: an array comparison reads the just-built arrays as
+/// one vector and stalls on the stores.)
 #[inline]
-fn contains(outer: [usize; 4], inner: [usize; 4]) -> bool {
-    outer[0] <= inner[0] && outer[1] <= inner[1] && inner[2] <= outer[2] && inner[3] <= outer[3]
+fn contains_all(outer: [usize; 4], inner: [usize; 4]) -> bool {
+    (outer[0] <= inner[0])
+        & (outer[1] <= inner[1])
+        & (inner[2] <= outer[2])
+        & (inner[3] <= outer[3])
 }
 
 /// Does the half-open rectangle `[x0, y0, x1, y1]` hold no point?
@@ -578,16 +620,15 @@ impl MeshState {
                 }
             }
             Labels::Parts(classes, levels) => {
-                // Part by part, row by row: copies of the labelled parent's kept marks.
+                // Part by part, row by row: copies of the labelled parent's kept marks (the
+                // parts' labels decide which triangles are taken, so no label per point).
                 self.kept.resize(n, false);
-                scratch.labels.resize(n, 0);
                 for (p, &[x0, y0, x1, y1]) in classes.rects.iter().enumerate() {
                     let l = (levels >> p) & 1;
                     let from = &parents[l as usize].kept;
                     for y in y0..y1 {
                         let row = y * w + x0..y * w + x1;
-                        self.kept[row.clone()].copy_from_slice(&from[row.clone()]);
-                        scratch.labels[row].fill(l as u8);
+                        self.kept[row.clone()].copy_from_slice(&from[row]);
                     }
                 }
                 vertices = self.kept.iter().map(|&k| usize::from(k)).sum();
@@ -668,57 +709,75 @@ impl MeshState {
 
         // The taken triangles, linked to each other where they meet, with their totals; the
         // half-edges with R across are listed, and each vertex's hint points at one of them.
-        self.hint.clear();
-        self.hint.resize(n, NONE);
-        self.totals.clear();
-        self.totals.reserve(next_slot as usize);
-        // The taken slots were numbered in the order visited below, so their triangles are
-        // pushed (not written into arrays filled with NONE first: ≈100 KB per composition).
+        // The taken slots were numbered in the order visited below, so their entries are pushed
+        // (arrays filled first and then overwritten cost a fifth of a composition); which kept
+        // points a taken triangle has is marked by a stamp, for R's points below.
+        let taken = next_slot as usize;
+        self.hint.resize(n, 0);
+        scratch.stamp = scratch.stamp.wrapping_add(1);
+        if scratch.stamp == 0 {
+            scratch.covered.clear();
+            scratch.stamp = 1;
+        }
+        scratch.covered.resize(n, 0);
+        let stamp = scratch.stamp;
         self.mesh.clear_for(w);
-        self.mesh.vertices.reserve(3 * next_slot as usize);
-        self.mesh.twin.reserve(3 * next_slot as usize);
+        self.mesh.vertices.reserve(3 * taken);
+        self.mesh.twin.reserve(3 * taken);
         self.discs.clear();
-        self.discs.reserve(next_slot as usize);
+        self.discs.reserve(taken);
+        self.totals.clear();
+        self.totals.reserve(taken);
         scratch.open.clear();
+        let (child_vertices, twins) = (&mut self.mesh.vertices, &mut self.mesh.twin);
+        let (hints, discs, totals) = (&mut self.hint, &mut self.discs, &mut self.totals);
+        let covered = &mut scratch.covered;
         for side in 0..2 {
             let (parent, other) = (parents[side], parents[1 - side]);
             let (map, other_map) = (&scratch.map[side], &scratch.map[1 - side]);
+            let (from_vertices, from_twins) = (&parent.mesh.vertices, &parent.mesh.twin);
             for &t in &scratch.taken[side] {
-                let slot = map[t as usize];
-                debug_assert_eq!(3 * slot as usize, self.mesh.vertices.len());
-                let tri = parent.mesh.triangle(t as usize);
+                let t = t as usize;
+                let slot = map[t];
+                let src = 3 * t;
+                // Copied from the parent's array, not from `tri`: a copy of the three-word local
+                // read back two words at a time and stalled on store forwarding.
+                child_vertices.extend_from_slice(&from_vertices[src..src + 3]);
+                let tri = [
+                    from_vertices[src],
+                    from_vertices[src + 1],
+                    from_vertices[src + 2],
+                ];
+                for v in tri {
+                    hints[v as usize] = slot;
+                    covered[v as usize] = stamp;
+                }
                 for k in 0..3 {
-                    let e = 3 * t as usize + k;
-                    let (u, v) = (tri[k], tri[(k + 1) % 3]);
-                    self.mesh.vertices.push(u);
-                    self.hint[u as usize] = slot;
-                    let g = parent.mesh.twin[e];
-                    let twin = if g == NONE {
+                    let g = from_twins[src + k];
+                    twins.push(if g == NONE {
                         NONE
                     } else if map[(g / 3) as usize] != NONE {
                         3 * map[(g / 3) as usize] + g % 3
                     } else {
-                        match twin_in(other, other_map, v, u) {
-                            Some(f) => f,
-                            None => {
-                                scratch.open.push((3 * slot + k as u32, u, v));
-                                NONE
-                            }
-                        }
-                    };
-                    self.mesh.twin.push(twin);
+                        let (u, v) = (tri[k], tri[(k + 1) % 3]);
+                        twin_in(other, other_map, v, u).unwrap_or_else(|| {
+                            scratch.open.push((3 * slot + k as u32, u, v));
+                            NONE
+                        })
+                    });
                 }
-                self.discs.push(parent.discs[t as usize]);
-                self.totals.push(parent.totals[t as usize]);
+                discs.push(parent.discs[t]);
+                totals.push(parent.totals[t]);
             }
         }
+        debug_assert_eq!(totals.len(), taken);
 
-        // R's points: the kept points no taken triangle has (their hint is still unset), and
-        // the ends of the half-edges with R across.
+        // R's points: the kept points no taken triangle has, and the ends of the half-edges
+        // with R across.
         scratch.listed.resize(n, false);
         scratch.points.clear();
-        for i in 0..n {
-            if self.kept[i] && self.hint[i] == NONE {
+        for (i, (&k, &c)) in self.kept.iter().zip(covered.iter()).enumerate() {
+            if k && c != stamp {
                 scratch.listed[i] = true;
                 scratch.points.push(i as u32);
             }

@@ -48,9 +48,14 @@ struct Candidate {
     side: u8,
     /// The half-edge, u → v.
     edge: u32,
+    /// The classes of its triangle and of the triangle across (of the same parent).
+    class: u32,
+    twin_class: u32,
     /// The other parent's half-edge v → u: [`NONE`] when it has none, [`UNKNOWN`] until looked
     /// up (on the first child that needs it).
     cross: u32,
+    /// The class of `cross`'s triangle, once looked up.
+    cross_class: u32,
 }
 
 /// [`Candidate::cross`] not looked up yet.
@@ -64,13 +69,13 @@ pub struct PartScores {
     made_from: u64,
     units: ErrorUnits,
     classes: Vec<Class>,
-    /// Per parent, per triangle slot: its class.
-    class_of: [Vec<u32>; 2],
     candidates: Vec<Candidate>,
     /// Per parent: its kept points that are variable (see the module docs).
     variable: [Vec<u32>; 2],
-    /// Per parent: its triangles with a vertex variable in either parent.
-    coverage: [Vec<u32>; 2],
+    /// Per parent: its triangles with a vertex variable in either parent, with their classes.
+    coverage: [Vec<(u32, u32)>; 2],
+    /// Per parent, per triangle slot near a block's edge with a kill mask: its class.
+    special: [Vec<u32>; 2],
     /// Per parent, per part: (kept points, kept points on the grid border).
     counts: [Vec<(u32, u32)>; 2],
     /// Scratch of `prepare`: per grid point, the stamp of the last preparation it was variable
@@ -119,27 +124,26 @@ impl PartScores {
             return false;
         }
         let parents = [a, b];
-        let parts = classes.rects.len();
         let part = &classes.part[..n];
         self.units = ErrorUnits::of(hf);
-        // Classes: those with an empty kill mask are numbered side · parts + home; the others
-        // follow, found by a linear search (they are few: a triangle gets kill bits only when
-        // its circle reaches into another part).
+        // The plain classes (an empty kill mask: the triangles a part's label alone decides),
+        // summed by the classification; then the others, only among the triangles near a
+        // block's edge, found by a linear search (they are few).
         self.classes.clear();
-        for side in 0..2u8 {
-            for home in 0..parts as u8 {
+        for (side, plain) in classes.plain.iter().enumerate() {
+            for (home, &(totals, count)) in plain.iter().enumerate() {
                 self.classes.push(Class {
-                    side,
-                    home,
+                    side: side as u8,
+                    home: home as u8,
                     kill: 0,
-                    totals: ErrorTotals::default(),
-                    count: 0,
+                    totals,
+                    count,
                 });
             }
         }
         let plain = self.classes.len();
         // Variable points, marked by a stamp (no clearing between crossovers): a vertex of a
-        // triangle whose class is not its own part's plain one.
+        // triangle whose class is not its own part's plain one, which is near a block's edge.
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
             self.is_variable.iter_mut().for_each(Vec::clear);
@@ -148,23 +152,21 @@ impl PartScores {
         let stamp = self.stamp;
         for (side, parent) in parents.into_iter().enumerate() {
             let (first, kill) = (&classes.first[side], &classes.kill[side]);
-            let tris = parent.mesh.vertices.chunks_exact(3);
-            let class_of = &mut self.class_of[side];
-            class_of.clear();
-            class_of.reserve(first.len());
+            let vertices = &parent.mesh.vertices;
+            self.special[side].resize(first.len(), 0);
             let is_variable = &mut self.is_variable[side];
             is_variable.resize(n, 0);
             let variable = &mut self.variable[side];
             variable.clear();
-            for (((tri, &home), &k), totals) in tris.zip(first).zip(kill).zip(&parent.totals) {
-                let k = k & !(1 << home);
-                let c = if k == 0 {
-                    side * parts + home as usize
-                } else {
+            for &t in &classes.near[side] {
+                let t = t as usize;
+                let (home, k) = (first[t], kill[t]);
+                let tri = &vertices[3 * t..3 * t + 3];
+                if k != 0 {
                     let found = self.classes[plain..]
                         .iter()
                         .position(|c| c.side == side as u8 && c.home == home && c.kill == k);
-                    match found {
+                    let c = match found {
                         Some(i) => plain + i,
                         None => {
                             self.classes.push(Class {
@@ -176,17 +178,13 @@ impl PartScores {
                             });
                             self.classes.len() - 1
                         }
-                    }
-                };
-                let class = &mut self.classes[c];
-                class.count += 1;
-                class.totals.add(totals);
-                class_of.push(c as u32);
-                let plain_here = k == 0
-                    && part[tri[0] as usize] == home
-                    && part[tri[1] as usize] == home
-                    && part[tri[2] as usize] == home;
-                if !plain_here {
+                    };
+                    let class = &mut self.classes[c];
+                    class.count += 1;
+                    class.totals.add(&parent.totals[t]);
+                    self.special[side][t] = c as u32;
+                }
+                if k != 0 || tri.iter().any(|&v| part[v as usize] != home) {
                     for &v in tri {
                         if std::mem::replace(&mut is_variable[v as usize], stamp) != stamp {
                             variable.push(v);
@@ -202,24 +200,31 @@ impl PartScores {
         self.candidates.clear();
         for (side, parent) in parents.into_iter().enumerate() {
             let m = &parent.mesh;
-            let class_of = &self.class_of[side];
             let coverage = &mut self.coverage[side];
             coverage.clear();
             let [va, vb] = &self.is_variable;
             for (t, tri) in m.vertices.chunks_exact(3).enumerate() {
                 if !tri
                     .iter()
-                    .any(|&v| va[v as usize] == stamp || vb[v as usize] == stamp)
+                    .any(|&v| (va[v as usize] == stamp) | (vb[v as usize] == stamp))
                 {
                     continue;
                 }
-                coverage.push(t as u32);
+                let class = class_of(classes, &self.special, side, t);
+                coverage.push((t as u32, class));
                 for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
-                    if g != NONE && class_of[t] != class_of[(g / 3) as usize] {
+                    if g == NONE {
+                        continue;
+                    }
+                    let twin_class = class_of(classes, &self.special, side, (g / 3) as usize);
+                    if twin_class != class {
                         self.candidates.push(Candidate {
                             side: side as u8,
                             edge: (3 * t + k) as u32,
+                            class,
+                            twin_class,
                             cross: UNKNOWN,
+                            cross_class: 0,
                         });
                     }
                 }
@@ -306,8 +311,6 @@ impl PartScores {
             return Some(self.fresh(hf, parents, classes, levels, scratch));
         }
         let taken = &scratch.taken;
-        let class_of = &self.class_of;
-        let is_taken = |side: usize, t: u32| taken[class_of[side][t as usize] as usize];
         // Euler's count of the child's triangles: 2V − B − 2.
         let (mut vertices, mut on_border) = (0u32, 0u32);
         for p in 0..parts {
@@ -326,8 +329,8 @@ impl PartScores {
         let stamp = scratch.stamp;
         for side in 0..2 {
             let m = &parents[side].mesh;
-            for &t in &self.coverage[side] {
-                if is_taken(side, t) {
+            for &(t, class) in &self.coverage[side] {
+                if taken[class as usize] {
                     for v in m.triangle(t as usize) {
                         scratch.covered[v as usize] = stamp;
                     }
@@ -354,15 +357,18 @@ impl PartScores {
             let side = cand.side as usize;
             let m = &parents[side].mesh;
             let e = cand.edge;
-            let g = m.twin[e as usize];
-            if !is_taken(side, e / 3) || is_taken(side, g / 3) {
+            if !taken[cand.class as usize] || taken[cand.twin_class as usize] {
                 continue;
             }
             let (u, v) = (m.vertices[e as usize], m.vertices[next(e) as usize]);
             if cand.cross == UNKNOWN {
                 cand.cross = cross_twin(parents[1 - side], u, v);
+                if cand.cross != NONE {
+                    let t = (cand.cross / 3) as usize;
+                    cand.cross_class = class_of(classes, &self.special, 1 - side, t);
+                }
             }
-            if cand.cross != NONE && is_taken(1 - side, cand.cross / 3) {
+            if cand.cross != NONE && taken[cand.cross_class as usize] {
                 continue;
             }
             scratch.open.push((0, u, v));
@@ -425,6 +431,16 @@ impl PartScores {
             (0..sub.len()).map(|t| ((), canonical(sub.triangle(t)).map(|i| lattice.point(i))));
         grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
         score_of(self.units, &totals, sub.len() as u32, hf.len())
+    }
+}
+
+/// The class (in [`PartScores::classes`]) of triangle `t` of parent `side`: its part's plain one
+/// when its kill mask is empty, else the one `prepare` found for it (`special`).
+fn class_of(classes: &PartClasses, special: &[Vec<u32>; 2], side: usize, t: usize) -> u32 {
+    if classes.kill[side][t] == 0 {
+        (side * classes.rects.len() + classes.first[side][t] as usize) as u32
+    } else {
+        special[side][t]
     }
 }
 
