@@ -60,13 +60,21 @@ impl DiscBox {
         // Far above the rounding error (a few ulps of numbers below 2³⁰), so no point on the
         // circle falls out of the box.
         let margin = 1e-6 * (1.0 + r);
-        let clip = |v: f64, hi: usize| v.clamp(0.0, hi as f64) as u16;
+        // Clipped first, then rounded: for a number in [0, hi] the truncating conversion is the
+        // floor, and one comparison more the ceiling (`f64::floor` and `ceil` are library calls
+        // on the x86-64 baseline, which has no rounding instruction).
+        let floor = |v: f64, hi: usize| v.clamp(0.0, hi as f64) as u16;
+        let ceil = |v: f64, hi: usize| {
+            let v = v.clamp(0.0, hi as f64);
+            let t = v as u16;
+            t + u16::from((t as f64) < v)
+        };
         let (ox, oy) = (a[0] as f64 + ux, a[1] as f64 + uy);
         Self {
-            x0: clip((ox - r - margin).floor(), width - 1),
-            x1: clip((ox + r + margin).ceil(), width - 1),
-            y0: clip((oy - r - margin).floor(), height - 1),
-            y1: clip((oy + r + margin).ceil(), height - 1),
+            x0: floor(ox - r - margin, width - 1),
+            x1: ceil(ox + r + margin, width - 1),
+            y0: floor(oy - r - margin, height - 1),
+            y1: ceil(oy + r + margin, height - 1),
         }
     }
 
@@ -709,9 +717,10 @@ impl MeshState {
 
         // The taken triangles, linked to each other where they meet, with their totals; the
         // half-edges with R across are listed, and each vertex's hint points at one of them.
-        // The taken slots were numbered in the order visited below, so their entries are pushed
-        // (arrays filled first and then overwritten cost a fifth of a composition); which kept
-        // points a taken triangle has is marked by a stamp, for R's points below.
+        // The taken slots were numbered parent by parent in slot order, so each parent's taken
+        // triangles fill a run of the child's arrays in order (a push per entry cost a third of
+        // a composition); which kept points a taken triangle has is marked by a stamp, for R's
+        // points below.
         let taken = next_slot as usize;
         self.hint.resize(n, 0);
         scratch.stamp = scratch.stamp.wrapping_add(1);
@@ -722,39 +731,36 @@ impl MeshState {
         scratch.covered.resize(n, 0);
         let stamp = scratch.stamp;
         self.mesh.clear_for(w);
-        self.mesh.vertices.reserve(3 * taken);
-        self.mesh.twin.reserve(3 * taken);
+        self.mesh.vertices.resize(3 * taken, 0);
+        self.mesh.twin.resize(3 * taken, NONE);
         self.discs.clear();
-        self.discs.reserve(taken);
+        self.discs.resize(taken, DiscBox::default());
         self.totals.clear();
-        self.totals.reserve(taken);
+        self.totals.resize(taken, ErrorTotals::default());
         scratch.open.clear();
-        let (child_vertices, twins) = (&mut self.mesh.vertices, &mut self.mesh.twin);
-        let (hints, discs, totals) = (&mut self.hint, &mut self.discs, &mut self.totals);
+        let hints = &mut self.hint;
         let covered = &mut scratch.covered;
+        let mut first_slot = 0;
         for side in 0..2 {
             let (parent, other) = (parents[side], parents[1 - side]);
             let (map, other_map) = (&scratch.map[side], &scratch.map[1 - side]);
+            let list = &scratch.taken[side];
+            let range = first_slot..first_slot + list.len();
             let (from_vertices, from_twins) = (&parent.mesh.vertices, &parent.mesh.twin);
-            for &t in &scratch.taken[side] {
-                let t = t as usize;
-                let slot = map[t];
-                let src = 3 * t;
-                // Copied from the parent's array, not from `tri`: a copy of the three-word local
-                // read back two words at a time and stalled on store forwarding.
-                child_vertices.extend_from_slice(&from_vertices[src..src + 3]);
-                let tri = [
-                    from_vertices[src],
-                    from_vertices[src + 1],
-                    from_vertices[src + 2],
-                ];
-                for v in tri {
+            let child_vertices =
+                self.mesh.vertices[3 * range.start..3 * range.end].chunks_exact_mut(3);
+            let child_twins = self.mesh.twin[3 * range.start..3 * range.end].chunks_exact_mut(3);
+            let rows = list.iter().zip(child_vertices.zip(child_twins));
+            for (slot, (&t, (vertices, twins))) in (range.start as u32..).zip(rows) {
+                let src = 3 * t as usize;
+                let tri = &from_vertices[src..src + 3];
+                vertices.copy_from_slice(tri);
+                for &v in tri {
                     hints[v as usize] = slot;
                     covered[v as usize] = stamp;
                 }
-                for k in 0..3 {
-                    let g = from_twins[src + k];
-                    twins.push(if g == NONE {
+                for (k, (twin, &g)) in twins.iter_mut().zip(&from_twins[src..src + 3]).enumerate() {
+                    *twin = if g == NONE {
                         NONE
                     } else if map[(g / 3) as usize] != NONE {
                         3 * map[(g / 3) as usize] + g % 3
@@ -764,12 +770,18 @@ impl MeshState {
                             scratch.open.push((3 * slot + k as u32, u, v));
                             NONE
                         })
-                    });
+                    };
                 }
-                discs.push(parent.discs[t]);
-                totals.push(parent.totals[t]);
             }
+            for (dst, &t) in self.discs[range.clone()].iter_mut().zip(list) {
+                *dst = parent.discs[t as usize];
+            }
+            for (dst, &t) in self.totals[range.clone()].iter_mut().zip(list) {
+                *dst = parent.totals[t as usize];
+            }
+            first_slot = range.end;
         }
+        let totals = &self.totals;
         debug_assert_eq!(totals.len(), taken);
 
         // R's points: the kept points no taken triangle has, and the ends of the half-edges
