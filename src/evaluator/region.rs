@@ -12,19 +12,43 @@
 //! triangle on that side has an empty circle, which holds the part of any circle through a, b
 //! and a point on the left that lies right of a → b.
 //!
+//! # The apex search
+//! The circles through a and b form a pencil: with e = b − a and e⊥ = e turned a quarter left,
+//! the circle through a, b and a point p left of the edge has its centre at a + e/2 + σ(p)·e⊥,
+//! σ(p) = s(p)/2 with s(p) = (p − a)·(p − b) / (e × (p − a)), and on the left of the edge a
+//! circle with a smaller σ lies inside one with a larger (p is inside the circle through c iff
+//! s(p) < s(c)). The apex is so the point of least s, ties (co-circular points, common on grids)
+//! decided by [`in_circle`]'s tie rule. Numerator and denominator are integers below 2³⁰, exact
+//! in f64, and one correctly rounded division is monotone: the apex has the least *rounded*
+//! s, and a point whose rounded s is strictly larger cannot be it. So a scan keeps the least
+//! rounded s, with no test per point but compares and selects, four points per AVX2 instruction
+//! where the CPU has it; only when two points share the least value (a tie, or two fractions
+//! within one rounding) do the exact predicates decide among them.
+//!
+//! The scan reads R's points as contiguous runs: sorted by row and again by column, each order
+//! with the position of every row's (column's) first point, so the points of a band of rows
+//! (columns) are one run, and any superset of the candidates that holds only R's points is as
+//! good as the candidates. A first scan takes the band (of rows or of columns, whichever holds
+//! fewer points) through a window near the edge; the least s found bounds the apex to the part
+//! of that circle left of the edge, and a second scan takes the rest of that part's band.
+//!
 //! Why not triangulate R's points and keep the triangles inside R: R's points lie along thin
 //! seams between blocks, where insertion keeps flipping long thin triangles, and more than half
 //! of that triangulation lies outside R. Wrapping makes only R's triangles, each after a search
-//! of the grid near its edge (≈3× faster for a crossover's rows on jacksboro_65x65).
+//! of the grid near its edge.
 
-use super::predicates::{Circle, GridPoint, Lattice, in_circle, orient};
+use super::predicates::{GridPoint, Lattice, in_circle};
 use super::triangulation::NONE;
+use std::ops::Range;
 
 /// Marks a [`Region::twins`] entry that is a boundary edge: the low bits are its index in the
 /// boundary list given to [`Region::wrap`].
 pub const BOUNDARY: u32 = 1 << 31;
 
 /// Scratch and result of [`Region::wrap`], kept between calls.
+///
+/// Inside, R's points go by a *local* index: R's points first, increasing (so by row, then
+/// column), then any boundary end missing from them (never an apex).
 #[derive(Clone, Debug, Default)]
 pub struct Region {
     /// R's triangles, counter-clockwise, in the order found.
@@ -32,15 +56,437 @@ pub struct Region {
     /// Per half-edge of `triangles` (3t + k runs from vertex k to vertex k + 1): the half-edge
     /// across it, [`BOUNDARY`] | i for the i-th boundary edge, or [`NONE`] on the grid border.
     pub twins: Vec<u32>,
-    /// R's points, increasing, and their coordinates.
+    /// Grid index per local index.
     points: Vec<u32>,
+    /// Coordinates per local index.
     at: Vec<GridPoint>,
-    /// Per row y (and one past the last): the position in `points` of the first point of row y
-    /// or later.
-    row_start: Vec<u32>,
+    /// Local index per grid index, where `points` confirms it (stale entries are never cleared).
+    local: Vec<u32>,
+    /// The local ends (u, v) of each boundary edge.
+    ends: Vec<(u32, u32)>,
+    /// R's points by row, and by column.
+    rows: Band,
+    columns: Band,
+    /// Scratch of the sorts: a bitset of part of the grid (left empty), and each column's
+    /// next position.
+    bits: Vec<u64>,
+    cursor: Vec<u32>,
     edges: EdgeTable,
-    /// Directed edges that still need a triangle on their left.
-    queue: Vec<(u32, u32)>,
+}
+
+/// R's points in one order (by row, or by column) as coordinate arrays that a scan reads four
+/// at a time, and where each line (row or column) starts.
+#[derive(Clone, Debug, Default)]
+struct Band {
+    /// Coordinates per position, padded to whole blocks of four with NaN (never left of an edge,
+    /// so never a candidate).
+    x: Vec<f64>,
+    y: Vec<f64>,
+    /// Local index per position (padding: 0, never read).
+    id: Vec<u32>,
+    /// Per line and one past the last: the position of the first point on that line or later.
+    start: Vec<u32>,
+}
+
+impl Band {
+    /// The positions `[from, to)` of the points on lines `lo..hi` (clipped to the grid).
+    #[inline(always)]
+    fn span(&self, lo: i64, hi: i64) -> [usize; 2] {
+        let last = self.start.len() - 1;
+        let at = |line: i64| self.start[(line.max(0) as usize).min(last)] as usize;
+        [at(lo), at(hi)]
+    }
+
+    /// The blocks of four positions that cover `[from, to)`; empty when it is.
+    #[inline(always)]
+    fn blocks([from, to]: [usize; 2]) -> Range<usize> {
+        if from < to {
+            from / 4..to.div_ceil(4)
+        } else {
+            0..0
+        }
+    }
+
+    /// Every block.
+    fn all(&self) -> Range<usize> {
+        0..self.x.len() / 4
+    }
+
+    /// Fills the coordinates from `id` (local indices into `at`) and pads the arrays.
+    fn fill(&mut self, at: &[GridPoint]) {
+        let padded = self.id.len().next_multiple_of(4);
+        self.x.clear();
+        self.y.clear();
+        self.x.resize(padded, f64::NAN);
+        self.y.resize(padded, f64::NAN);
+        for ((x, y), &j) in self.x.iter_mut().zip(self.y.iter_mut()).zip(&self.id) {
+            let [px, py] = at[j as usize];
+            (*x, *y) = (px as f64, py as f64);
+        }
+        self.id.resize(padded, 0);
+    }
+}
+
+/// An edge a → b of the search, as the scans want it.
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    ax: f64,
+    ay: f64,
+    bx: f64,
+    by: f64,
+    ex: f64,
+    ey: f64,
+    /// |e|².
+    len2: f64,
+}
+
+/// The s of the first window's circle (see [`Region::apex`] and [`guess_lines`]).
+const GUESS: f64 = 1.0;
+
+/// The columns and rows (half-open) that hold the part left of `a → b` of the circle through
+/// a and b whose s is [`GUESS`] (σ = 1/2: the centre a + (e + e⊥)/2, the radius |e|/√2), in
+/// integers: conservative, as [`Edge::cap_lines`], but cheaper (this is every search's).
+#[inline(always)]
+fn guess_lines(a: GridPoint, b: GridPoint) -> [[i64; 2]; 2] {
+    let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+    // r ≤ (M + m/2)/√2 ≤ (182/256)·(M + m/2) with M, m the larger and smaller of |ex|, |ey|
+    // ((M + m/2)² ≥ M² + m² as M ≥ m), rounded up.
+    let (ax, ay) = (ex.abs(), ey.abs());
+    let (big, small) = if ax < ay { (ay, ax) } else { (ax, ay) };
+    let r = (((2 * big + small) * 91) >> 8) + 1;
+    // Twice the centre, and the circle's extreme lines.
+    let (cx, cy) = (2 * a[0] + ex - ey, 2 * a[1] + ey + ex);
+    let (x0, x1, y0, y1) = (
+        (cx >> 1) - r,
+        (cx >> 1) + r + 1,
+        (cy >> 1) - r,
+        (cy >> 1) + r + 1,
+    );
+    // The circle's extreme point along ±x (±y) lies left of the edge unless the edge is
+    // steeper than 45° that way (e × (centre ± r·axis − a) = |e|²/2 ± r·(−ey or ex)); then
+    // the part ends at an end of the edge. Selects, not branches.
+    let (steep_x, steep_y) = (ey * ey > ex * ex, ex * ex > ey * ey);
+    let (lo_x, hi_x) = (a[0].min(b[0]), a[0].max(b[0]) + 1);
+    let (lo_y, hi_y) = (a[1].min(b[1]), a[1].max(b[1]) + 1);
+    [
+        [
+            if steep_x & (ey < 0) { lo_x } else { x0 },
+            if steep_x & (ey > 0) { hi_x } else { x1 },
+        ],
+        [
+            if steep_y & (ex > 0) { lo_y } else { y0 },
+            if steep_y & (ex < 0) { hi_y } else { y1 },
+        ],
+    ]
+}
+
+impl Edge {
+    fn new(a: GridPoint, b: GridPoint) -> Self {
+        Self {
+            ax: a[0] as f64,
+            ay: a[1] as f64,
+            bx: b[0] as f64,
+            by: b[1] as f64,
+            ex: (b[0] - a[0]) as f64,
+            ey: (b[1] - a[1]) as f64,
+            len2: ((b[0] - a[0]).pow(2) + (b[1] - a[1]).pow(2)) as f64,
+        }
+    }
+
+    /// The lines (columns if `axis` is 0, rows if 1) that hold the part left of the edge of
+    /// the circle through a and b whose s is `s` (finite; see the module docs): conservative,
+    /// every grid point of that part, on the circle included, lies on one of them. Why not the
+    /// circle's extent: a point near the edge makes a huge circle whose left part is a thin
+    /// cap along the edge.
+    #[inline(always)]
+    fn cap_lines(&self, s: f64, axis: usize) -> [i64; 2] {
+        // The centre is a + e/2 + σ·e⊥, the radius |e|·√(1/4 + σ²).
+        let sigma = 0.5 * s;
+        let r = (self.len2 * (0.25 + sigma * sigma)).sqrt();
+        // Along the axis: a's and b's coordinates, e's and e⊥'s (also e × the axis).
+        let (ak, bk, ek, nk) = if axis == 0 {
+            (self.ax, self.bx, self.ex, -self.ey)
+        } else {
+            (self.ay, self.by, self.ey, self.ex)
+        };
+        let c = ak + 0.5 * ek + sigma * nk;
+        // The part is convex: its extreme along the axis is the circle's where that point
+        // lies left of the edge (e × (centre ± r·axis − a) = σ|e|² ± r·nk ≥ 0), else an end of
+        // the edge. The circle's is kept unless the point is clearly right (a rounding near
+        // the line would only make the lines wider).
+        let (base, reach) = (sigma * self.len2, r * nk);
+        let tolerance = 1e-9 * (base.abs() + reach.abs());
+        let margin = 1e-6 * (1.0 + r);
+        // Selects, not branches: which side wins is data.
+        let (low_end, high_end) = if ak < bk { (ak, bk) } else { (bk, ak) };
+        let hi = if base + reach < -tolerance {
+            high_end
+        } else {
+            c + r + margin
+        };
+        let lo = if base - reach < -tolerance {
+            low_end
+        } else {
+            c - r - margin
+        };
+        // Outwards to whole lines: `as` truncates, which is the floor from 0 up, and lines
+        // below 0 are clipped anyway (it saturates far out).
+        [lo as i64, (hi + 1.0) as i64]
+    }
+
+    /// s of the point (x, y) (see the module docs), rounded once; +∞ unless the point lies
+    /// strictly left of the edge (NaN coordinates included). The numerator and denominator are
+    /// exact (integers below 2³⁰), whatever the order of the operations or fused ones.
+    #[inline(always)]
+    fn key(&self, x: f64, y: f64) -> f64 {
+        let (qx, qy) = (x - self.ax, y - self.ay);
+        let den = self.ex * qy - self.ey * qx;
+        let num = qx * (x - self.bx) + qy * (y - self.by);
+        if den > 0.0 { num / den } else { f64::INFINITY }
+    }
+}
+
+/// What a search's scans found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Least {
+    /// No point left of the edge.
+    Nothing,
+    /// The one point (its position in the band) with the least rounded s: the apex.
+    One(usize),
+    /// The least rounded s, shared by more than one point.
+    Shared(f64),
+}
+
+/// A scan over blocks of a [`Band`] that keeps the least rounded s (see the module docs), per
+/// lane: its value, the position of its first point, and whether a later point has it too.
+trait Scan {
+    /// An empty scan for the edge.
+    fn new(edge: &Edge) -> Self;
+    /// Scans positions `4·blocks.start..4·blocks.end` (within the band's padded arrays; none
+    /// when `blocks` is empty or runs backwards).
+    fn scan(&mut self, band: &Band, blocks: Range<usize>);
+    /// The least value seen (+∞ when none).
+    fn least(&self) -> f64;
+    /// The outcome so far.
+    fn outcome(&self) -> Least;
+    /// Calls `visit` with every position of `blocks` whose rounded s is `least`, in order.
+    fn each_equal(&self, band: &Band, blocks: Range<usize>, least: f64, visit: impl FnMut(usize));
+}
+
+/// One point at a time (every target, and the reference of the tests).
+#[derive(Clone, Copy, Debug)]
+struct Scalar {
+    edge: Edge,
+    least: f64,
+    at: usize,
+    shared: bool,
+}
+
+impl Scan for Scalar {
+    #[inline(always)]
+    fn new(edge: &Edge) -> Self {
+        Self {
+            edge: *edge,
+            least: f64::INFINITY,
+            at: 0,
+            shared: false,
+        }
+    }
+
+    #[inline(always)]
+    fn scan(&mut self, band: &Band, blocks: Range<usize>) {
+        // A range may run backwards (a cap that ends before the window): empty, as the loop's.
+        let range = 4 * blocks.start..4 * blocks.end.max(blocks.start);
+        let (xs, ys) = (&band.x[range.clone()], &band.y[range.clone()]);
+        for (k, (&x, &y)) in xs.iter().zip(ys).enumerate() {
+            let s = self.edge.key(x, y);
+            let (less, equal) = (s < self.least, s == self.least);
+            self.shared = (self.shared | equal) & !less;
+            if less {
+                self.least = s;
+                self.at = range.start + k;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn least(&self) -> f64 {
+        self.least
+    }
+
+    #[inline(always)]
+    fn outcome(&self) -> Least {
+        if self.least == f64::INFINITY {
+            Least::Nothing
+        } else if self.shared {
+            Least::Shared(self.least)
+        } else {
+            Least::One(self.at)
+        }
+    }
+
+    #[inline(always)]
+    fn each_equal(
+        &self,
+        band: &Band,
+        blocks: Range<usize>,
+        least: f64,
+        mut visit: impl FnMut(usize),
+    ) {
+        for pos in 4 * blocks.start..4 * blocks.end {
+            if self.edge.key(band.x[pos], band.y[pos]) == least {
+                visit(pos);
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    //! The scan four points per instruction.
+    use super::{Band, Edge, Least, Range, Scan};
+    use std::arch::x86_64::*;
+
+    /// The edge's constants and, per lane: the least s, its position, whether it is shared (all
+    /// bits set).
+    #[derive(Clone, Copy, Debug)]
+    pub struct Avx2 {
+        ax: __m256d,
+        ay: __m256d,
+        bx: __m256d,
+        by: __m256d,
+        ex: __m256d,
+        ey: __m256d,
+        least: __m256d,
+        at: __m256i,
+        shared: __m256d,
+    }
+
+    /// Does this CPU run [`Avx2`]?
+    pub fn available() -> bool {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+    }
+
+    impl Avx2 {
+        /// The rounded s of the four points of block `k` ([`Edge::key`] in four lanes: the
+        /// same operations, so the same values).
+        ///
+        /// # Safety
+        /// AVX2 and FMA; `k` a block of the band.
+        #[inline(always)]
+        unsafe fn keys(&self, band: &Band, k: usize) -> __m256d {
+            unsafe {
+                let x = _mm256_loadu_pd(band.x.as_ptr().add(4 * k));
+                let y = _mm256_loadu_pd(band.y.as_ptr().add(4 * k));
+                let (qx, qy) = (_mm256_sub_pd(x, self.ax), _mm256_sub_pd(y, self.ay));
+                let (rx, ry) = (_mm256_sub_pd(x, self.bx), _mm256_sub_pd(y, self.by));
+                let den = _mm256_fmsub_pd(self.ex, qy, _mm256_mul_pd(self.ey, qx));
+                let num = _mm256_fmadd_pd(qx, rx, _mm256_mul_pd(qy, ry));
+                let left = _mm256_cmp_pd::<_CMP_GT_OQ>(den, _mm256_setzero_pd());
+                _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), _mm256_div_pd(num, den), left)
+            }
+        }
+    }
+
+    // SAFETY (every method): called only from code compiled with AVX2 and FMA, which runs only
+    // where `available()` said so; the loads stay in the band's arrays (asserted).
+    impl Scan for Avx2 {
+        #[inline(always)]
+        fn new(edge: &Edge) -> Self {
+            unsafe {
+                Self {
+                    ax: _mm256_set1_pd(edge.ax),
+                    ay: _mm256_set1_pd(edge.ay),
+                    bx: _mm256_set1_pd(edge.bx),
+                    by: _mm256_set1_pd(edge.by),
+                    ex: _mm256_set1_pd(edge.ex),
+                    ey: _mm256_set1_pd(edge.ey),
+                    least: _mm256_set1_pd(f64::INFINITY),
+                    at: _mm256_setzero_si256(),
+                    shared: _mm256_setzero_pd(),
+                }
+            }
+        }
+
+        #[inline(always)]
+        fn scan(&mut self, band: &Band, blocks: Range<usize>) {
+            assert!(4 * blocks.end <= band.x.len() && band.x.len() == band.y.len());
+            unsafe {
+                let mut position = _mm256_add_epi64(
+                    _mm256_set1_epi64x(4 * blocks.start as i64),
+                    _mm256_setr_epi64x(0, 1, 2, 3),
+                );
+                let (mut least, mut at, mut shared) = (self.least, self.at, self.shared);
+                for k in blocks {
+                    let s = self.keys(band, k);
+                    let less = _mm256_cmp_pd::<_CMP_LT_OQ>(s, least);
+                    let equal = _mm256_cmp_pd::<_CMP_EQ_OQ>(s, least);
+                    shared = _mm256_andnot_pd(less, _mm256_or_pd(shared, equal));
+                    least = _mm256_min_pd(s, least);
+                    at = _mm256_castpd_si256(_mm256_blendv_pd(
+                        _mm256_castsi256_pd(at),
+                        _mm256_castsi256_pd(position),
+                        less,
+                    ));
+                    position = _mm256_add_epi64(position, _mm256_set1_epi64x(4));
+                }
+                (self.least, self.at, self.shared) = (least, at, shared);
+            }
+        }
+
+        #[inline(always)]
+        fn least(&self) -> f64 {
+            unsafe {
+                let half = _mm_min_pd(
+                    _mm256_castpd256_pd128(self.least),
+                    _mm256_extractf128_pd::<1>(self.least),
+                );
+                _mm_cvtsd_f64(_mm_min_sd(half, _mm_unpackhi_pd(half, half)))
+            }
+        }
+
+        #[inline(always)]
+        fn outcome(&self) -> Least {
+            let least = self.least();
+            if least == f64::INFINITY {
+                return Least::Nothing;
+            }
+            unsafe {
+                let lanes = _mm256_cmp_pd::<_CMP_EQ_OQ>(self.least, _mm256_set1_pd(least));
+                let lanes = _mm256_movemask_pd(lanes) as u32;
+                let shared = _mm256_movemask_pd(self.shared) as u32;
+                if lanes.is_power_of_two() && shared & lanes == 0 {
+                    let mut at = [0u64; 4];
+                    _mm256_storeu_si256(at.as_mut_ptr().cast(), self.at);
+                    Least::One(at[lanes.trailing_zeros() as usize & 3] as usize)
+                } else {
+                    Least::Shared(least)
+                }
+            }
+        }
+
+        #[inline(always)]
+        fn each_equal(
+            &self,
+            band: &Band,
+            blocks: Range<usize>,
+            least: f64,
+            mut visit: impl FnMut(usize),
+        ) {
+            assert!(4 * blocks.end <= band.x.len() && band.x.len() == band.y.len());
+            unsafe {
+                let least = _mm256_set1_pd(least);
+                for k in blocks {
+                    let equal = _mm256_cmp_pd::<_CMP_EQ_OQ>(self.keys(band, k), least);
+                    let mut lanes = _mm256_movemask_pd(equal) as u32;
+                    while lanes != 0 {
+                        visit(4 * k + lanes.trailing_zeros() as usize);
+                        lanes &= lanes - 1;
+                    }
+                }
+            }
+        }
+    }
 }
 
 impl Region {
@@ -57,208 +503,367 @@ impl Region {
         points: &[u32],
         boundary: &[(u32, u32, u32)],
     ) -> Option<()> {
-        self.points.clear();
-        self.points.extend_from_slice(points);
-        self.points.sort_unstable();
+        self.wrap_with(width, height, points, boundary, true)
+    }
+
+    /// [`wrap`](Self::wrap), with the AVX2 scan where the CPU has it and `simd` allows it.
+    fn wrap_with(
+        &mut self,
+        width: usize,
+        height: usize,
+        points: &[u32],
+        boundary: &[(u32, u32, u32)],
+        simd: bool,
+    ) -> Option<()> {
+        self.prepare(width, height, points, boundary);
+        #[cfg(target_arch = "x86_64")]
+        if simd && avx2::available() {
+            // SAFETY: the CPU has AVX2 and FMA.
+            return unsafe { self.tile_avx2(width, height) };
+        }
+        let _ = simd;
+        self.tile::<Scalar>(width, height)
+    }
+
+    /// Local indices, coordinates, and both bands of R's points.
+    fn prepare(
+        &mut self,
+        width: usize,
+        height: usize,
+        points: &[u32],
+        boundary: &[(u32, u32, u32)],
+    ) {
         let lattice = Lattice::new(width);
+        let cells = width * height;
+        // R's points increasing, once each. Indices past the grid are no grid points: never an
+        // apex (boundary ends among them get local indices below).
+        self.sort(cells, points);
+        let n = self.points.len();
+        // Coordinates, local indices, and the points per row and per column (counted one line
+        // on, then summed into each line's start).
         self.at.clear();
         self.at
             .extend(self.points.iter().map(|&p| lattice.point(p)));
-        self.row_start.clear();
-        let mut j = 0;
-        for y in 0..=height as i64 {
-            while j < self.at.len() && self.at[j][1] < y {
-                j += 1;
-            }
-            self.row_start.push(j as u32);
+        if self.local.len() < cells {
+            self.local.resize(cells, 0);
         }
-        self.triangles.clear();
-        self.twins.clear();
-        self.queue.clear();
-        self.edges.reset(2 * boundary.len() + 3 * points.len());
-        for (i, &(_, u, v)) in boundary.iter().enumerate() {
-            // The reused triangle is left of u → v; R's triangle is to be found left of v → u.
-            self.edges.insert(u, v, BOUNDARY | i as u32)?;
-            self.queue.push((v, u));
+        let local = &mut self.local[..cells];
+        for (j, &p) in self.points.iter().enumerate() {
+            local[p as usize] = j as u32;
         }
-        while let Some((a, b)) = self.queue.pop() {
-            if self.edges.get(a, b).is_some() {
-                continue;
+        let (rows, columns) = (&mut self.rows, &mut self.columns);
+        rows.start.clear();
+        rows.start.resize(height + 1, 0);
+        columns.start.clear();
+        columns.start.resize(width + 1, 0);
+        {
+            let (row_count, column_count) = (&mut rows.start[1..], &mut columns.start[1..]);
+            for &[x, y] in &self.at {
+                row_count[y as usize] += 1;
+                column_count[x as usize] += 1;
             }
-            let c = self.apex(lattice, width, height, a, b)?;
-            let t = self.triangles.len() as u32;
-            self.triangles.push([a, b, c]);
-            for (k, (x, y)) in [(a, b), (b, c), (c, a)].into_iter().enumerate() {
-                self.edges.insert(x, y, 3 * t + k as u32)?;
+        }
+        for start in [&mut rows.start, &mut columns.start] {
+            let mut sum = 0;
+            for line in start.iter_mut() {
+                sum += *line;
+                *line = sum;
+            }
+        }
+        // The bands: by row, the local order itself; by column, a counting sort of it.
+        rows.id.clear();
+        rows.id.extend(0..n as u32);
+        rows.fill(&self.at);
+        columns.id.clear();
+        columns.id.resize(n, 0);
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&columns.start[..width]);
+        {
+            let (cursor, id) = (&mut self.cursor[..width], &mut columns.id[..n]);
+            for (j, &[x, _]) in self.at.iter().enumerate() {
+                let at = &mut cursor[x as usize];
+                id[*at as usize] = j as u32;
+                *at += 1;
+            }
+        }
+        columns.fill(&self.at);
+        // Boundary ends missing from R's points (never, from the callers) get local indices
+        // too.
+        self.ends.clear();
+        self.ends.reserve(boundary.len());
+        for &(_, u, v) in boundary {
+            let u = self.local_of(u, &lattice);
+            let v = self.local_of(v, &lattice);
+            self.ends.push((u, v));
+        }
+    }
+
+    /// Fills `points` with the grid points among `points` (below `cells`), increasing, once
+    /// each: through a bitset of the grid when their span is short next to their number (one
+    /// pass over the points and one over the span's words, no comparisons), else by sorting.
+    fn sort(&mut self, cells: usize, points: &[u32]) {
+        self.points.clear();
+        let (mut lo, mut hi) = (u32::MAX, 0);
+        for &p in points {
+            if (p as usize) < cells {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        if lo > hi {
+            return;
+        }
+        let (first, last) = (lo as usize / 64, hi as usize / 64);
+        if last - first > 4 * points.len() + 64 {
+            self.points
+                .extend(points.iter().filter(|&&p| (p as usize) < cells));
+            self.points.sort_unstable();
+            self.points.dedup();
+            return;
+        }
+        if self.bits.len() <= last - first {
+            self.bits.resize(last - first + 1, 0);
+        }
+        for &p in points {
+            if (p as usize) < cells {
+                self.bits[p as usize / 64 - first] |= 1 << (p % 64);
+            }
+        }
+        // Read in order and left empty for the next call.
+        for (k, word) in self.bits[..=last - first].iter_mut().enumerate() {
+            let mut set = std::mem::take(word);
+            while set != 0 {
+                self.points
+                    .push(((first + k) * 64) as u32 + set.trailing_zeros());
+                set &= set - 1;
+            }
+        }
+    }
+
+    /// The local index of grid index `p`, given one if it has none yet.
+    #[inline(always)]
+    fn local_of(&mut self, p: u32, lattice: &Lattice) -> u32 {
+        match self.local.get(p as usize) {
+            Some(&j) if self.points.get(j as usize) == Some(&p) => j,
+            _ => self.add_end(p, lattice),
+        }
+    }
+
+    /// The local index of boundary end `p`, not one of R's points: past them (never an apex),
+    /// given when first met.
+    #[cold]
+    fn add_end(&mut self, p: u32, lattice: &Lattice) -> u32 {
+        let n = self.rows.start.last().map_or(0, |&n| n as usize);
+        if let Some(k) = self.points[n..].iter().position(|&q| q == p) {
+            return (n + k) as u32;
+        }
+        let j = self.points.len() as u32;
+        if let Some(local) = self.local.get_mut(p as usize) {
+            *local = j;
+        }
+        self.points.push(p);
+        self.at.push(lattice.point(p));
+        j
+    }
+
+    /// [`tile`](Self::tile) with the AVX2 scan.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn tile_avx2(&mut self, width: usize, height: usize) -> Option<()> {
+        self.tile::<avx2::Avx2>(width, height)
+    }
+
+    /// The wrapping itself, on prepared points (see [`wrap`](Self::wrap)).
+    #[inline(always)]
+    fn tile<S: Scan>(&mut self, width: usize, height: usize) -> Option<()> {
+        let Self {
+            triangles,
+            twins,
+            points,
+            at,
+            rows,
+            columns,
+            ends,
+            edges,
+            ..
+        } = self;
+        let candidates = Candidates {
+            points,
+            at,
+            rows,
+            columns,
+        };
+        wrap_front::<S>(&candidates, ends, edges, triangles, twins, width, height)
+    }
+}
+
+/// R's prepared points, as the searches read them (plain slices: a function taking them
+/// knows nothing else writes them, so it keeps them in registers).
+#[derive(Clone, Copy, Debug)]
+struct Candidates<'a> {
+    points: &'a [u32],
+    at: &'a [GridPoint],
+    rows: &'a Band,
+    columns: &'a Band,
+}
+
+/// The wrapping from the boundary `ends` (local indices) inward (see [`Region::wrap`]).
+#[inline(always)]
+fn wrap_front<S: Scan>(
+    found: &Candidates,
+    ends: &[(u32, u32)],
+    edges: &mut EdgeTable,
+    triangles: &mut Vec<[u32; 3]>,
+    twins: &mut Vec<u32>,
+    width: usize,
+    height: usize,
+) -> Option<()> {
+    triangles.clear();
+    twins.clear();
+    edges.reset(ends.len() + 3 * found.points.len());
+    for (i, &(u, v)) in ends.iter().enumerate() {
+        // The reused triangle is left of u → v; R's triangle is to be found left of v → u.
+        let (slot, d) = edges.entry(u, v);
+        edges.claim(slot, d, BOUNDARY | i as u32)?;
+        edges.queue.push((v, u, Queued::across(slot, d)));
+    }
+    while let Some((a, b, queued)) = edges.queue.pop() {
+        let (slot, d) = queued.slot();
+        if edges.value(slot, d) != VACANT {
+            continue;
+        }
+        let c = found.apex::<S>(a, b)?;
+        let t = triangles.len() as u32;
+        triangles.push([a, b, c].map(|j| found.points[j as usize]));
+        // a → b: vacant (above), and the edge that queued it is across.
+        let back = edges.claim(slot, d, 3 * t)?;
+        twins.extend([back, NONE, NONE]);
+        if back & BOUNDARY == 0 {
+            twins[back as usize] = 3 * t;
+        }
+        for (k, (x, y)) in [(b, c), (c, a)].into_iter().enumerate() {
+            let e = 3 * t + 1 + k as u32;
+            let (slot, d) = edges.entry(x, y);
+            let back = edges.claim(slot, d, e)?;
+            if back != VACANT {
+                // Twins are linked as the second of the two is claimed.
+                twins[e as usize] = back;
+                if back & BOUNDARY == 0 {
+                    twins[back as usize] = e;
+                }
+            } else if !on_border(found.at[x as usize], found.at[y as usize], width, height) {
                 // An edge on the grid border has nothing beyond it.
-                if k > 0
-                    && self.edges.get(y, x).is_none()
-                    && !on_border(lattice, width, height, x, y)
-                {
-                    self.queue.push((y, x));
-                }
+                edges.queue.push((y, x, Queued::across(slot, d)));
             }
         }
-        for t in 0..self.triangles.len() {
-            let [a, b, c] = self.triangles[t];
-            for (x, y) in [(a, b), (b, c), (c, a)] {
-                let twin = match self.edges.get(y, x) {
-                    Some(twin) => twin,
-                    None if on_border(lattice, width, height, x, y) => NONE,
-                    None => return None,
-                };
-                self.twins.push(twin);
-            }
-        }
-        Some(())
     }
-
-    /// The apex of the triangle left of `a → b` among R's points (see the module docs): first
-    /// the best point in a small window around the edge (widened until it holds one), then every
-    /// point in the box of that best point's circle, a box that shrinks to the circle of each
-    /// better point found. Why that suffices: a point better than the apex lies inside its
-    /// circle, and on the left of `a → b` a better point's circle lies inside a worse one's.
-    fn apex(&self, lattice: Lattice, width: usize, height: usize, a: u32, b: u32) -> Option<u32> {
-        let (pa, pb) = (lattice.point(a), lattice.point(b));
-        let grid = [0, 0, width as i64, height as i64];
-        // The first candidate: the point left of the edge nearest the centre of the square on
-        // its left side (the edge turned a quarter left about its middle; the apex of a
-        // well-shaped triangle lies near there), in a window widened until it holds one. The
-        // tests are arithmetic, not branches: which points pass is data, and a branch per
-        // point mispredicted about every other point.
-        let (ex, ey) = (pb[0] - pa[0], pb[1] - pa[1]);
-        // Twice the square's centre.
-        let (mx, my) = (pa[0] + pb[0] - ey, pa[1] + pb[1] + ex);
-        let mut half = ex.abs().max(ey.abs()) / 2 + 1;
-        let mut first = None;
-        while first.is_none() {
-            let rect = clip(
-                [
-                    mx.div_euclid(2) - half,
-                    my.div_euclid(2) - half,
-                    mx.div_euclid(2) + half + 1,
-                    my.div_euclid(2) + half + 1,
-                ],
-                grid,
-            );
-            let mut nearest = (i64::MAX, usize::MAX);
-            for j in self.rows(rect[1], rect[3]) {
-                let pd = self.at[j];
-                let inside = (rect[0] <= pd[0]) & (pd[0] < rect[2]) & (orient(pa, pb, pd) > 0);
-                let (dx, dy) = (2 * pd[0] - mx, 2 * pd[1] - my);
-                let key = if inside { dx * dx + dy * dy } else { i64::MAX };
-                if key < nearest.0 {
-                    nearest = (key, j);
+    // An edge with nothing across lies on the grid border, or R is not tiled.
+    let lattice = Lattice::new(width);
+    for (tri, twins) in triangles.iter().zip(twins.chunks_exact(3)) {
+        for k in 0..3 {
+            if twins[k] == NONE {
+                let (p, q) = (tri[k], tri[(k + 1) % 3]);
+                if !on_border(lattice.point(p), lattice.point(q), width, height) {
+                    return None;
                 }
             }
-            if nearest.1 != usize::MAX {
-                first = Some(nearest.1);
-            } else if rect == grid {
-                return None;
+        }
+    }
+    Some(())
+}
+
+impl Candidates<'_> {
+    /// The apex of the triangle left of `a → b` (local indices) among R's points, as a local
+    /// index; `None` when no point lies left of the edge. See the module docs: a scan of the
+    /// band through a window on the edge's left, then of the band of the best circle's left
+    /// part beyond it. Why that suffices: a point better than the apex lies inside its circle,
+    /// and on the left of `a → b` a better point's circle lies inside a worse one's.
+    #[inline(always)]
+    fn apex<S: Scan>(&self, a: u32, b: u32) -> Option<u32> {
+        let (pa, pb) = (self.at[a as usize], self.at[b as usize]);
+        let edge = Edge::new(pa, pb);
+        // The window: the lines of the left part of the circle whose s is GUESS (the apex of a
+        // well-shaped triangle lies inside it), as rows or as columns, whichever holds fewer
+        // points.
+        let [[x0, x1], [y0, y1]] = guess_lines(pa, pb);
+        let rows = self.rows.span(y0, y1);
+        let columns = self.columns.span(x0, x1);
+        let (band, axis, window) = if rows[1] - rows[0] <= columns[1] - columns[0] {
+            (&self.rows, 1, rows)
+        } else {
+            (&self.columns, 0, columns)
+        };
+        let mut scan = S::new(&edge);
+        let window = Band::blocks(window);
+        scan.scan(band, window.clone());
+        let least = scan.least();
+        // A point inside the guess circle has its circle's left part inside the window (and
+        // GUESS is exact, so the rounded comparison is the exact one); otherwise the rest of
+        // the best circle's lines, before the window and after it.
+        if least > GUESS {
+            let cap = if least < f64::INFINITY {
+                let [lo, hi] = edge.cap_lines(least, axis);
+                Band::blocks(band.span(lo, hi))
             } else {
-                half *= 3;
-            }
+                band.all()
+            };
+            scan.scan(band, cap.start..cap.end.min(window.start));
+            scan.scan(band, cap.start.max(window.end)..cap.end);
         }
-        let j = first.expect("found above");
-        let mut best = (self.points[j], self.at[j]);
-        let mut circle = Circle::new(pa, pb, best.1);
-        // Every point in the box of the best circle's left part; the box shrinks to a better
-        // point's circle (the old box holds the new one's points of interest, so scanning it is
-        // never wrong, only longer). A point can be better only inside the box, left of the
-        // edge and on or in the circle: one rare branch.
-        let mut cap = cap_box(pa, pb, best.1, width, height);
-        for j in self.rows(cap[1], cap[3]) {
-            let pd = self.at[j];
-            let det = circle.det(pd);
-            let candidate = (cap[0] <= pd[0])
-                & (pd[0] < cap[2])
-                & (pd[1] < cap[3])
-                & (det >= 0)
-                & (orient(pa, pb, pd) > 0);
-            if candidate {
-                let d = self.points[j];
-                if d != best.0 && (det > 0 || in_circle([pa, pb, best.1, pd], [a, b, best.0, d])) {
-                    best = (d, pd);
-                    circle = Circle::new(pa, pb, pd);
-                    let shrunk = cap_box(pa, pb, pd, width, height);
-                    cap = [
-                        cap[0].max(shrunk[0]),
-                        cap[1],
-                        cap[2].min(shrunk[2]),
-                        cap[3].min(shrunk[3]),
-                    ];
+        match scan.outcome() {
+            Least::Nothing => None,
+            Least::One(at) => Some(band.id[at]),
+            Least::Shared(least) => Some(self.settle(&scan, band, &edge, axis, least, a, b)),
+        }
+    }
+
+    /// The apex among the points whose rounded s is `least` (the least, shared): the exact
+    /// predicates with the tie rule decide, one point against the best so far. They all lie on
+    /// the lines of that circle's left part.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn settle<S: Scan>(
+        &self,
+        scan: &S,
+        band: &Band,
+        edge: &Edge,
+        axis: usize,
+        least: f64,
+        a: u32,
+        b: u32,
+    ) -> u32 {
+        let (pa, pb) = (self.at[a as usize], self.at[b as usize]);
+        let (ga, gb) = (self.points[a as usize], self.points[b as usize]);
+        let [lo, hi] = edge.cap_lines(least, axis);
+        let mut best: Option<u32> = None;
+        scan.each_equal(band, Band::blocks(band.span(lo, hi)), least, |pos| {
+            let d = band.id[pos];
+            best = Some(match best {
+                Some(c)
+                    if !in_circle(
+                        [pa, pb, self.at[c as usize], self.at[d as usize]],
+                        [ga, gb, self.points[c as usize], self.points[d as usize]],
+                    ) =>
+                {
+                    c
                 }
-            }
-        }
-        Some(best.0)
-    }
-
-    /// The positions in the point list of the points in rows `y0..y1` (clipped to the grid).
-    fn rows(&self, y0: i64, y1: i64) -> std::ops::Range<usize> {
-        let last = self.row_start.len() as i64 - 1;
-        self.row_start[y0.clamp(0, last) as usize] as usize
-            ..self.row_start[y1.clamp(0, last) as usize] as usize
+                _ => d,
+            });
+        });
+        best.expect("the least value is a point's")
     }
 }
 
-/// The grid box (half-open, clipped to the `width × height` grid) of the part of the circle
-/// through `a`, `b` and `c` (counter-clockwise) that lies left of `a → b`: conservative, it holds
-/// every grid point of that part, on the circle included. Why not the circle's own box: a point
-/// near the edge makes a huge circle whose left part is a thin cap along the edge.
-fn cap_box(a: GridPoint, b: GridPoint, c: GridPoint, width: usize, height: usize) -> [i64; 4] {
-    let (ex, ey) = ((b[0] - a[0]) as f64, (b[1] - a[1]) as f64);
-    let (bx, by) = (b[0] - a[0], b[1] - a[1]);
-    let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
-    let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
-    // The circumcentre relative to a (exact integers below 2⁴⁴, one rounding in the division).
-    let d = 2.0 * (bx * cy - by * cx) as f64;
-    let ux = (cy * lb - by * lc) as f64 / d;
-    let uy = (bx * lc - cx * lb) as f64 / d;
-    let r = (ux * ux + uy * uy).sqrt();
-    // The centre's distance left of the edge. A centre on the right makes a minor cap, which
-    // lies between the edge and its copy moved left by the cap's height r + t; otherwise the
-    // cap is most of the circle, and the circle's box is kept.
-    let len = (ex * ex + ey * ey).sqrt();
-    let (nx, ny) = (-ey / len, ex / len);
-    let t = (ux - ex / 2.0) * nx + (uy - ey / 2.0) * ny;
-    let margin = 1e-6 * (1.0 + r + len);
-    let (ax, ay) = (a[0] as f64, a[1] as f64);
-    let (ox, oy) = (ax + ux, ay + uy);
-    let (xs, ys) = if t < 0.0 {
-        let h = (r + t).max(0.0);
-        (
-            [ax, ax + ex, ax + h * nx, ax + ex + h * nx],
-            [ay, ay + ey, ay + h * ny, ay + ey + h * ny],
-        )
-    } else {
-        ([ox - r, ox + r, ox, ox], [oy - r, oy + r, oy, oy])
-    };
-    let lo = |v: [f64; 4], centre: f64| v.iter().copied().fold(f64::MAX, f64::min).max(centre - r);
-    let hi = |v: [f64; 4], centre: f64| v.iter().copied().fold(f64::MIN, f64::max).min(centre + r);
-    let clip = |v: f64, limit: usize| v.clamp(0.0, limit as f64) as i64;
-    [
-        clip((lo(xs, ox) - margin).floor(), width),
-        clip((lo(ys, oy) - margin).floor(), height),
-        clip((hi(xs, ox) + margin).ceil() + 1.0, width),
-        clip((hi(ys, oy) + margin).ceil() + 1.0, height),
-    ]
-}
-
-/// Does the edge between grid points `x` and `y` lie on the border of the `width × height` grid?
-fn on_border(lattice: Lattice, width: usize, height: usize, x: u32, y: u32) -> bool {
-    let (p, q) = (lattice.point(x), lattice.point(y));
+/// Does the edge between grid points `p` and `q` lie on the border of the `width × height`
+/// grid?
+#[inline(always)]
+fn on_border(p: GridPoint, q: GridPoint, width: usize, height: usize) -> bool {
     let (w, h) = (width as i64 - 1, height as i64 - 1);
-    (p[0] == q[0] && (p[0] == 0 || p[0] == w)) || (p[1] == q[1] && (p[1] == 0 || p[1] == h))
-}
-
-/// `r` clipped to `grid` (half-open rectangles `[x0, y0, x1, y1]`).
-fn clip(r: [i64; 4], grid: [i64; 4]) -> [i64; 4] {
-    [
-        r[0].max(grid[0]),
-        r[1].max(grid[1]),
-        r[2].min(grid[2]),
-        r[3].min(grid[3]),
-    ]
+    // `&` and `|`, not `&&` and `||`: one branch on the answer, not one per test.
+    (p[0] == q[0]) & ((p[0] == 0) | (p[0] == w)) | (p[1] == q[1]) & ((p[1] == 0) | (p[1] == h))
 }
 
 /// Calls `visit` with every grid point set in `bits` (bit `i` of word `i / 64`) inside the
@@ -300,86 +905,248 @@ pub(super) fn for_each_in(
     false
 }
 
-/// A set of directed edges between grid points with a value each, by open addressing; emptied
-/// in O(1) by a new stamp.
+/// "No claim yet" in an [`EdgeTable`] direction.
+const VACANT: u32 = u32::MAX;
+
+/// An [`EdgeTable`] slot nobody uses.
+const EMPTY: u64 = u64::MAX;
+
+/// A queued edge's slot in the [`EdgeTable`] and which of its directions it is: the slot
+/// times two plus the direction.
+#[derive(Clone, Copy, Debug)]
+struct Queued(u32);
+
+impl Queued {
+    /// The direction of `slot` opposite to `d`.
+    #[inline(always)]
+    fn across(slot: usize, d: usize) -> Self {
+        Self((2 * slot + (1 - d)) as u32)
+    }
+
+    /// The slot and the direction.
+    #[inline(always)]
+    fn slot(self) -> (usize, usize) {
+        ((self.0 >> 1) as usize, (self.0 & 1) as usize)
+    }
+}
+
+/// Undirected edges between local indices with a value per direction ([`VACANT`] until
+/// claimed), by open addressing, and the queue of directed edges that still need a triangle on
+/// their left. Why undirected: claiming one direction returns the other's value in the same
+/// probe, so twins are linked as they are made; and a queued edge keeps its slot, so an edge
+/// claimed since it was queued costs one load.
 #[derive(Clone, Debug, Default)]
 struct EdgeTable {
-    /// (stamp, from, to, value) per slot.
-    slots: Vec<(u32, u32, u32, u32)>,
-    stamp: u32,
-    len: usize,
+    /// Per slot: the key lo << 32 | hi of the edge between lo < hi (or [`EMPTY`]), and the
+    /// values of lo → hi (low half) and hi → lo (high half).
+    slots: Vec<(u64, u64)>,
+    /// The slots in use (the first `count`), to empty them again; as long as `slots`.
+    used: Vec<u32>,
+    count: usize,
+    /// 64 − log2 of the number of slots.
+    shift: u32,
+    /// Directed edges (local indices) that still need a triangle on their left.
+    queue: Vec<(u32, u32, Queued)>,
 }
 
 impl EdgeTable {
-    /// Empties the table, with room for about `expected` edges.
+    /// Empties the table and the queue, with room for about `expected` edges.
     fn reset(&mut self, expected: usize) {
-        let want = (4 * expected.max(16)).next_power_of_two();
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.slots.len() < want || self.stamp == 0 {
-            self.slots.clear();
-            self.slots.resize(want.max(self.slots.len()), (0, 0, 0, 0));
-            self.stamp = 1;
+        for &s in &self.used[..self.count] {
+            self.slots[s as usize].0 = EMPTY;
         }
-        self.len = 0;
+        self.count = 0;
+        self.queue.clear();
+        let want = (2 * expected.max(16)).next_power_of_two();
+        if self.slots.len() < want {
+            self.slots.clear();
+            self.slots.resize(want, (EMPTY, u64::MAX));
+            self.used.resize(want, 0);
+        }
+        self.shift = 64 - self.slots.len().trailing_zeros();
     }
 
-    fn slot_of(&self, from: u32, to: u32) -> usize {
-        let key = (u64::from(from) << 32) | u64::from(to);
-        (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 32) as usize & (self.slots.len() - 1)
+    /// The key of the edge between `x` and `y`, and which of its values is `x → y`'s.
+    #[inline(always)]
+    fn key(x: u32, y: u32) -> (u64, usize) {
+        if x < y {
+            ((u64::from(x) << 32) | u64::from(y), 0)
+        } else {
+            ((u64::from(y) << 32) | u64::from(x), 1)
+        }
     }
 
-    fn get(&self, from: u32, to: u32) -> Option<u32> {
+    /// The slot holding `key`, or the empty slot where it would go.
+    #[inline(always)]
+    fn find(&self, key: u64) -> usize {
         let mask = self.slots.len() - 1;
-        let mut s = self.slot_of(from, to);
+        let mut s = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> self.shift) as usize;
         loop {
-            let (stamp, f, t, value) = self.slots[s];
-            if stamp != self.stamp {
-                return None;
-            }
-            if (f, t) == (from, to) {
-                return Some(value);
+            let k = self.slots[s].0;
+            if k == key || k == EMPTY {
+                return s;
             }
             s = (s + 1) & mask;
         }
     }
 
-    /// Inserts `from → to`; `None` if it is there already (two triangles left of one edge) or
-    /// the table is full.
-    fn insert(&mut self, from: u32, to: u32, value: u32) -> Option<()> {
-        if 2 * (self.len + 1) > self.slots.len() {
+    /// The slot of the edge between `x` and `y` (made, both directions vacant, if new) and
+    /// which of its values is `x → y`'s.
+    #[inline(always)]
+    fn entry(&mut self, x: u32, y: u32) -> (usize, usize) {
+        if 2 * (self.count + 1) > self.slots.len() {
             self.grow();
         }
-        let mask = self.slots.len() - 1;
-        let mut s = self.slot_of(from, to);
-        loop {
-            let (stamp, f, t, _) = self.slots[s];
-            if stamp != self.stamp {
-                self.slots[s] = (self.stamp, from, to, value);
-                self.len += 1;
-                return Some(());
-            }
-            if (f, t) == (from, to) {
-                return None;
-            }
-            s = (s + 1) & mask;
-        }
+        let (key, d) = Self::key(x, y);
+        let s = self.find(key);
+        // New or not is data: written either way, and the slot counted in use only if new.
+        let slot = &mut self.slots[s];
+        let new = slot.0 == EMPTY;
+        // Both vacant (all ones) if new.
+        slot.1 |= u64::from(new).wrapping_neg();
+        slot.0 = key;
+        self.used[self.count] = s as u32;
+        self.count += usize::from(new);
+        (s, d)
     }
 
-    /// Doubles the table, keeping its edges.
+    /// Claims direction `d` of `slot` for `value` (the slot from [`entry`](Self::entry) or the
+    /// queue, with no entry since): the other direction's value ([`VACANT`] if unclaimed), or
+    /// `None` if this one is claimed already (two triangles left of one edge).
+    #[inline(always)]
+    fn claim(&mut self, slot: usize, d: usize, value: u32) -> Option<u32> {
+        let values = &mut self.slots[slot].1;
+        let shift = 32 * d as u32;
+        if (*values >> shift) as u32 != VACANT {
+            return None;
+        }
+        *values = (*values & !(u64::from(u32::MAX) << shift)) | (u64::from(value) << shift);
+        Some((*values >> (32 - shift)) as u32)
+    }
+
+    /// The value of direction `d` of `slot`.
+    #[inline(always)]
+    fn value(&self, slot: usize, d: usize) -> u32 {
+        (self.slots[slot].1 >> (32 * d)) as u32
+    }
+
+    /// Doubles the table, keeping its edges and the queue's slots.
+    #[cold]
     fn grow(&mut self) {
-        let old: Vec<_> = self
-            .slots
+        let old: Vec<_> = self.used[..self.count]
             .iter()
-            .copied()
-            .filter(|s| s.0 == self.stamp)
+            .map(|&s| self.slots[s as usize])
             .collect();
         let size = 2 * self.slots.len();
         self.slots.clear();
-        self.slots.resize(size, (0, 0, 0, 0));
-        self.stamp = 1;
-        self.len = 0;
-        for (_, f, t, v) in old {
-            self.insert(f, t, v);
+        self.slots.resize(size, (EMPTY, u64::MAX));
+        self.used.resize(size, 0);
+        self.shift = 64 - size.trailing_zeros();
+        for (k, &(key, values)) in old.iter().enumerate() {
+            let s = self.find(key);
+            self.slots[s] = (key, values);
+            self.used[k] = s as u32;
         }
+        for q in 0..self.queue.len() {
+            let (a, b, _) = self.queue[q];
+            let (key, d) = Self::key(a, b);
+            // The queued direction a → b is the one across (b → a)'s.
+            self.queue[q].2 = Queued::across(self.find(key), 1 - d);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::evaluator::incremental::canonical_set;
+    use crate::evaluator::triangulation::{Triangulation, next};
+    use rand::{RngExt, SeedableRng};
+    use rand_pcg::Pcg64Mcg;
+
+    /// Wraps the triangles of a Delaunay triangulation that `inside` picks, from the edges of
+    /// the others around them, with the scan `simd` selects.
+    fn wrap_part(
+        tri: &Triangulation,
+        (w, h): (usize, usize),
+        inside: &[bool],
+        simd: bool,
+    ) -> Option<Vec<[u32; 3]>> {
+        let (mut points, mut boundary) = (Vec::new(), Vec::new());
+        for t in 0..tri.len() {
+            for k in 0..3 {
+                let e = 3 * t + k;
+                let twin = tri.twin[e];
+                if inside[t] {
+                    points.push(tri.vertices[e]);
+                } else if twin != NONE && inside[twin as usize / 3] {
+                    let next = tri.vertices[next(e as u32) as usize];
+                    boundary.push((e as u32, tri.vertices[e], next));
+                }
+            }
+        }
+        let mut region = Region::default();
+        region.wrap_with(w, h, &points, &boundary, simd)?;
+        Some(region.triangles)
+    }
+
+    /// Every triangle of R is Delaunay among all the points, so among R's: wrapping must find
+    /// exactly them, co-circular grid points included (dense random subsets of small grids
+    /// have many), with either scan.
+    #[test]
+    fn wrapping_finds_the_delaunay_triangles_of_the_region() {
+        let mut rng = Pcg64Mcg::seed_from_u64(7);
+        let mut tiled = 0;
+        for round in 0..1000 {
+            let (w, h) = (rng.random_range(3..40), rng.random_range(3..40));
+            let density = [0.05, 0.3, 0.8][round % 3];
+            let corners = [0, w - 1, (h - 1) * w, h * w - 1];
+            let kept: Vec<u32> = (0..w * h)
+                .filter(|i| corners.contains(i) || rng.random_bool(density))
+                .map(|i| i as u32)
+                .collect();
+            let mut tri = Triangulation::default();
+            tri.rebuild_delaunay(w, &kept);
+            // A box of the grid: the triangles with a vertex in it.
+            let (x0, y0) = (rng.random_range(0..w), rng.random_range(0..h));
+            let (x1, y1) = (rng.random_range(x0..w) + 1, rng.random_range(y0..h) + 1);
+            let inside: Vec<bool> = (0..tri.len())
+                .map(|t| {
+                    tri.triangle(t).iter().any(|&p| {
+                        let (x, y) = (p as usize % w, p as usize / w);
+                        (x0..x1).contains(&x) && (y0..y1).contains(&y)
+                    })
+                })
+                .collect();
+            if inside.iter().all(|&i| i) {
+                // No boundary to wrap from (the callers never ask for this).
+                continue;
+            }
+            tiled += 1;
+            let expected: Vec<[u32; 3]> = (0..tri.len())
+                .filter(|&t| inside[t])
+                .map(|t| tri.triangle(t))
+                .collect();
+            for simd in [true, false] {
+                let found = wrap_part(&tri, (w, h), &inside, simd)
+                    .unwrap_or_else(|| panic!("round {round}, simd {simd}: no tiling"));
+                assert_eq!(
+                    canonical_set(&found),
+                    canonical_set(&expected),
+                    "round {round} ({w}×{h}), simd {simd}"
+                );
+            }
+        }
+        assert!(tiled > 700, "only {tiled} rounds had a boundary");
+    }
+
+    /// A region that is not what the caller says (a boundary edge whose far side holds no
+    /// point) is refused, not tiled wrongly.
+    #[test]
+    fn wrapping_refuses_a_region_with_no_apex() {
+        // A 3×3 grid: the edge 0 → 2 along the bottom border, R claimed above... of nothing
+        // but the edge's own ends.
+        let mut region = Region::default();
+        assert_eq!(region.wrap(3, 3, &[0, 2], &[(0, 2, 0)]), None);
     }
 }
