@@ -31,6 +31,7 @@ use super::errors::ErrorTotals;
 use super::incremental::{MeshState, edge_from};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
 use super::region::{BOUNDARY, Region, for_each_in};
+use super::triangle_memo::TriangleMemo;
 use super::triangulation::NONE;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
@@ -119,6 +120,8 @@ pub struct ComposeScratch {
     /// Per grid point: the stamp of the last composition one of whose taken triangles has it.
     covered: Vec<u32>,
     stamp: u32,
+    /// R's slots whose totals the memo did not know.
+    unknown: Vec<u32>,
 }
 
 /// Where a child's labels come from: a bitset over the grid (bit set: from B), or parts of
@@ -557,7 +560,7 @@ impl MeshState {
         from_b: &[u64],
         scratch: &mut ComposeScratch,
     ) -> Option<super::Score> {
-        self.compose_with(hf, a, b, Labels::Bits(from_b), scratch)
+        self.compose_with(hf, a, b, Labels::Bits(from_b), scratch, None)
     }
 
     /// [`compose`](Self::compose) for the child that takes each part of `classes` from `b`
@@ -565,6 +568,7 @@ impl MeshState {
     /// triangles classified once for all such children ([`PartClasses::new`]). The same mesh
     /// and bits as [`compose`](Self::compose) with the equivalent bitset. Returns `None`, with
     /// `self` unscored, also when `classes` was not made for `a` and `b`.
+    #[allow(clippy::too_many_arguments)] // the parents, their classification, and two scratches
     pub(super) fn compose_parts(
         &mut self,
         hf: &Arc<Heightfield>,
@@ -573,8 +577,16 @@ impl MeshState {
         classes: &PartClasses,
         levels: u32,
         scratch: &mut ComposeScratch,
+        memo: &mut TriangleMemo,
     ) -> Option<super::Score> {
-        self.compose_with(hf, a, b, Labels::Parts(classes, levels), scratch)
+        self.compose_with(
+            hf,
+            a,
+            b,
+            Labels::Parts(classes, levels),
+            scratch,
+            Some(memo),
+        )
     }
 
     #[allow(clippy::needless_range_loop)] // slots and grid indices index several arrays at once
@@ -585,6 +597,7 @@ impl MeshState {
         b: &MeshState,
         source: Labels<'_>,
         scratch: &mut ComposeScratch,
+        memo: Option<&mut TriangleMemo>,
     ) -> Option<super::Score> {
         self.score = None;
         self.hf = None;
@@ -852,7 +865,12 @@ impl MeshState {
             }
             self.totals
                 .resize(next_new as usize, ErrorTotals::default());
-            self.rasterise(hf, taken_len..next_new);
+            match memo {
+                Some(memo) => {
+                    self.rasterise_with_memo(hf, taken_len..next_new, memo, &mut scratch.unknown)
+                }
+                None => self.rasterise(hf, taken_len..next_new),
+            }
         }
         self.hf = Some(hf.clone());
         let score = self.finish(hf);

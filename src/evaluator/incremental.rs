@@ -23,6 +23,7 @@
 use super::errors::{ErrorTotals, ErrorUnits};
 use super::predicates::{self, GridPoint, Lattice};
 use super::raster::Grid;
+use super::triangle_memo::TriangleMemo;
 use super::triangulation::{NONE, Triangulation, next, prev};
 use super::{EvaluateError, Score};
 use crate::baselines::hole;
@@ -291,6 +292,39 @@ impl MeshState {
         });
         grid.sum_triangles(ErrorUnits::of(hf), tris, |slot, t| {
             totals[slot as usize] = t
+        });
+    }
+
+    /// [`rasterise`](Self::rasterise) through `memo`: the totals of a triangle it knows are
+    /// copied, the others rasterised and remembered (`unknown`: scratch).
+    pub(super) fn rasterise_with_memo(
+        &mut self,
+        hf: &Arc<Heightfield>,
+        slots: std::ops::Range<u32>,
+        memo: &mut TriangleMemo,
+        unknown: &mut Vec<u32>,
+    ) {
+        memo.prepare(Some(hf));
+        let (grid, lattice) = (grid_of(hf), Lattice::new(hf.width()));
+        let (mesh, hint, totals) = (&self.mesh, &mut self.hint, &mut self.totals);
+        unknown.clear();
+        for slot in slots {
+            let tri = canonical(mesh.triangle(slot as usize));
+            for v in tri {
+                hint[v as usize] = slot;
+            }
+            match memo.get(tri) {
+                Some(known) => totals[slot as usize] = known,
+                None => unknown.push(slot),
+            }
+        }
+        let tris = unknown.iter().map(|&slot| {
+            let tri = canonical(mesh.triangle(slot as usize));
+            ((slot, tri), tri.map(|i| lattice.point(i)))
+        });
+        grid.sum_triangles(ErrorUnits::of(hf), tris, |(slot, tri), t| {
+            totals[slot as usize] = t;
+            memo.insert(tri, t);
         });
     }
 

@@ -41,6 +41,7 @@ pub mod raster;
 pub mod reference;
 pub mod region;
 pub mod span_sum;
+pub mod triangle_memo;
 pub mod triangulation;
 
 use crate::heightfield::Heightfield;
@@ -312,7 +313,15 @@ impl Evaluator {
         classes: &PartClasses,
         levels: u32,
     ) -> Option<Score> {
-        state.compose_parts(&self.hf, a, b, classes, levels, &mut self.compose_scratch)
+        state.compose_parts(
+            &self.hf,
+            a,
+            b,
+            classes,
+            levels,
+            &mut self.compose_scratch,
+            &mut self.row_scratch.memo,
+        )
     }
 
     /// The score [`compose_parts`](Self::compose_parts) gives for `levels`, bit for bit, without

@@ -26,6 +26,7 @@ use super::errors::{ErrorTotals, ErrorUnits};
 use super::incremental::{MeshState, canonical, edge_from, grid_of};
 use super::predicates::Lattice;
 use super::region::Region;
+use super::triangle_memo::TriangleMemo;
 use super::triangulation::{NONE, Triangulation, next};
 use crate::heightfield::Heightfield;
 
@@ -99,6 +100,11 @@ pub struct RowScratch {
     /// R's boundary edges (0, u, v): R lies left of v → u.
     open: Vec<(u32, u32, u32)>,
     region: Region,
+    /// R's triangles whose totals the memo does not know.
+    unknown: Vec<[u32; 3]>,
+    /// The totals of the latest R triangles, of rows and compositions (see
+    /// [`TriangleMemo`]).
+    pub(super) memo: TriangleMemo,
     /// A child built from scratch (when it reuses nothing).
     sub: Triangulation,
 }
@@ -391,17 +397,32 @@ impl PartScores {
         }
         let region = &mut scratch.region;
         region.wrap(w, hf.height(), &scratch.points, &scratch.open)?;
+        scratch
+            .memo
+            .prepare(a.hf.as_ref().filter(|f| std::ptr::eq(f.as_ref(), hf)));
         if taken_count + region.triangles.len() as u32 != expected {
             debug_assert!(false, "R's triangles do not complete the child");
             return None;
         }
         // R's triangles, each in the canonical rotation every triangle is rasterised in.
         let lattice = Lattice::new(w);
-        let tris = region
-            .triangles
+        scratch.unknown.clear();
+        for &t in &region.triangles {
+            let t = canonical(t);
+            match scratch.memo.get(t) {
+                Some(known) => totals.add(&known),
+                None => scratch.unknown.push(t),
+            }
+        }
+        let memo = &mut scratch.memo;
+        let tris = scratch
+            .unknown
             .iter()
-            .map(|&t| ((), canonical(t).map(|i| lattice.point(i))));
-        grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
+            .map(|&t| (t, t.map(|i| lattice.point(i))));
+        grid_of(hf).sum_triangles(self.units, tris, |t, found| {
+            totals.add(&found);
+            memo.insert(t, found);
+        });
         Some(score_of(self.units, &totals, expected, n))
     }
 }
