@@ -20,6 +20,7 @@
 //! Cost: an edit costs about its walk, its flips or hole fill, and the area of the triangles it
 //! changed; a state costs ≈ 5 bytes per grid point plus 48 bytes per triangle.
 
+use super::compose::DiscBox;
 use super::errors::{ErrorTotals, ErrorUnits};
 use super::predicates::{self, GridPoint, Lattice};
 use super::raster::Grid;
@@ -87,9 +88,13 @@ impl Clone for MeshState {
         self.hint.clone_from(&source.hint);
         self.score = source.score;
         self.revision = source.revision;
-        // A copy is about to be edited (that is what the scorer copies for): its disc boxes
-        // and lookups would go stale, so they are not copied.
-        self.discs_valid = false;
+        // A copy is about to be edited (that is what the scorer copies for): the disc boxes,
+        // which an edit keeps up to date slot by slot, are copied (cheaper than making them
+        // again); the kept points' lookups, which it does not, are not.
+        self.discs_valid = source.discs_valid;
+        if source.discs_valid {
+            self.discs.clone_from(&source.discs);
+        }
         self.lookup_valid = false;
     }
 }
@@ -341,6 +346,7 @@ impl MeshState {
             return Err(EvaluateError::ForeignState);
         }
         self.check_edit(hf, remove, insert)?;
+        let discs_valid = self.discs_valid && self.discs.len() == self.mesh.len();
         let lattice = Lattice::new(hf.width());
         scratch.touched.clear();
         scratch.dead.clear();
@@ -370,8 +376,22 @@ impl MeshState {
         let dirty = &scratch.dirty;
         let slots = (0..self.mesh.len() as u32).filter(|&s| dirty[s as usize]);
         let slots: Vec<u32> = slots.collect();
+        // Disc boxes that were up to date stay so: the untouched slots hold the same
+        // triangles (a composed mesh is a parent-to-be; making all its boxes again cost more
+        // than the edit).
+        if discs_valid {
+            let (w, h) = (hf.width(), hf.height());
+            self.discs.truncate(self.mesh.len());
+            self.discs.resize(self.mesh.len(), DiscBox::default());
+            for &slot in &slots {
+                let p = self.mesh.triangle(slot as usize).map(|i| lattice.point(i));
+                self.discs[slot as usize] = DiscBox::of(p, w, h);
+            }
+        }
         self.rasterise(hf, slots.into_iter());
-        Ok(self.finish(hf))
+        let score = self.finish(hf);
+        self.discs_valid = discs_valid;
+        Ok(score)
     }
 
     /// Checks (and applies to the kept marks) an edit; on error restores the marks.
@@ -853,6 +873,50 @@ mod tests {
         // The three rotations of one counter-clockwise triangle map to the same triple.
         for tri in [[3, 9, 5], [9, 5, 3], [5, 3, 9]] {
             assert_eq!(canonical(tri), [3, 9, 5]);
+        }
+    }
+
+    /// An edit keeps up-to-date disc boxes up to date (and a copy takes them along): after
+    /// removals (small ones and regions, which compact the slots) and insertions, on copies
+    /// too, every box is the one made afresh for its slot's triangle.
+    #[test]
+    fn edits_keep_the_disc_boxes_of_every_slot() {
+        let (w, h) = (33usize, 29usize);
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(11);
+        let z = (0..w * h).map(|_| rng.random::<f64>() * 10.0).collect();
+        let hf = Arc::new(Heightfield::new(w, h, z).unwrap());
+        let kept: Vec<u32> = (0..(w * h) as u32)
+            .filter(|_| rng.random::<f64>() < 0.3)
+            .collect();
+        let mut ev = Evaluator::new(hf.clone());
+        let mut state = MeshState::default();
+        ev.score_into(&kept, &mut state).unwrap();
+        state.ensure_discs();
+        let corners = hf.corners();
+        let lattice = Lattice::new(w);
+        for round in 0..40 {
+            let mut copy = MeshState::default();
+            copy.clone_from(&state);
+            let removals = [1, 3, 30][round % 3];
+            let remove: Vec<u32> = (0..(w * h) as u32)
+                .filter(|&i| copy.is_kept(i) && !corners.contains(&i))
+                .filter(|_| rng.random_range(0..200) < removals)
+                .collect();
+            let insert: Vec<u32> = (0..(w * h) as u32)
+                .filter(|&i| !copy.is_kept(i) && rng.random_range(0..300) == 0)
+                .collect();
+            ev.edit(&mut copy, &remove, &insert).unwrap();
+            assert!(copy.discs_valid, "round {round}");
+            assert_eq!(copy.discs.len(), copy.mesh.len(), "round {round}");
+            for t in 0..copy.mesh.len() {
+                let p = copy.mesh.triangle(t).map(|i| lattice.point(i));
+                assert_eq!(
+                    copy.discs[t],
+                    DiscBox::of(p, w, h),
+                    "round {round}, slot {t}"
+                );
+            }
+            state = copy;
         }
     }
 
