@@ -172,6 +172,9 @@ pub struct PartClasses {
     /// Per parent, per part: the error totals and number of its triangles whose smallest
     /// vertex is in the part and whose kill mask is empty.
     pub(super) plain: [Vec<(ErrorTotals, u32)>; 2],
+    /// Per axis (columns, rows), per line: the masks of the non-empty parts that start at or
+    /// before it, and of those that end after it.
+    reach: [[Vec<u32>; 2]; 2],
 }
 
 impl PartClasses {
@@ -234,6 +237,30 @@ impl PartClasses {
         }
         self.rects.clear();
         self.rects.extend_from_slice(parts);
+        // Which parts a disc box meets, from its four sides: a rectangle meets the box iff
+        // both its column range and its row range meet the box's. Per column x, the (non-empty)
+        // parts whose columns start at or before x, and those whose columns end after x; the
+        // same per row.
+        for (axis, len) in [(0, w), (1, h)] {
+            let [starts, ends] = &mut self.reach[axis];
+            starts.clear();
+            starts.resize(len, 0);
+            ends.clear();
+            ends.resize(len, 0);
+            for (p, r) in parts.iter().enumerate() {
+                if is_empty(*r) {
+                    continue;
+                }
+                let (lo, hi) = (r[axis], r[axis + 2]);
+                for s in &mut starts[lo..] {
+                    *s |= 1 << p;
+                }
+                for e in &mut ends[..hi] {
+                    *e |= 1 << p;
+                }
+            }
+        }
+        let [[starts_x, ends_x], [starts_y, ends_y]] = &self.reach;
         let lattice = Lattice::new(w);
         let parents = [a, b];
         for side in 0..2 {
@@ -286,11 +313,11 @@ impl PartClasses {
                     mask | (u32::from(!kept[v as usize]) << part[v as usize])
                 });
                 let disc = parent.discs[t].rect();
-                let mut met = 0u32;
-                for (p, &part) in parts.iter().enumerate() {
-                    met |= u32::from(!is_empty(overlap(part, disc))) << p;
-                }
-                met &= !(1 << own);
+                // The parts the box meets (its rectangle's last column and row are x1 − 1 and
+                // y1 − 1), but its own.
+                let [x0, y0, x1, y1] = disc;
+                let met = starts_x[x1 - 1] & ends_x[x0] & starts_y[y1 - 1] & ends_y[y0];
+                let mut met = met & !(1 << own);
                 if met != 0 && parent.discs[t].area() > MAX_SEARCHED_BOX {
                     kill[t] |= met;
                 } else if met != 0 {
