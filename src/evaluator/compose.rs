@@ -525,10 +525,10 @@ impl Circumcircle {
             return None;
         }
         let h = h2.sqrt();
-        Some([
-            (self.cx - h).floor() as i64,
-            (self.cx + h).floor() as i64 + 1,
-        ])
+        // Truncation is the floor from 0 up; below 0 it rounds up, which only moves the ends
+        // among negative columns (none is a grid point) or widens the superset by one (and
+        // `f64::floor` is a library call on the x86-64 baseline).
+        Some([(self.cx - h) as i64, (self.cx + h) as i64 + 1])
     }
 }
 
