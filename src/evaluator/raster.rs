@@ -59,52 +59,41 @@ impl Grid<'_> {
         let za = self.z[(a[1] as usize) * w + a[0] as usize];
         let zb = self.z[(b[1] as usize) * w + b[0] as usize];
         let zc = self.z[(c[1] as usize) * w + c[0] as usize];
-        // Edge k runs p → q, opposite vertex k; its function E(x, y) = −dy·x + offset(y) is the
-        // (unnormalised) barycentric weight of vertex k. The point is owned iff E ≥ bias (bias 0
-        // on an owned edge, 1 otherwise). With n(y) = offset(y) − bias and d = |dy|:
-        // dy < 0 ⇔ x ≥ −⌊n/d⌋ (a left edge) and dy > 0 ⇔ x ≤ ⌊n/d⌋ (a right edge).
-        let edges = [(b, c), (c, a), (a, b)];
-        let dx = edges.map(|(p, q)| q[0] - p[0]);
-        let dy = edges.map(|(p, q)| q[1] - p[1]);
-        let bias = [0, 1, 2].map(|k| {
-            let (p, q) = edges[k];
-            i64::from(!(dy[k] < 0 || (dy[k] == 0 && dx[k] > 0) || self.on_border(p, q)))
-        });
-        // Each walk starts at its edge's lower end (p when the edge runs up, q when down). A
-        // horizontal edge bounds no row (a flat bottom or top: see `middle` below) and gets an
-        // unused walk.
-        let walk_up = |k: usize| {
-            let (p, q) = edges[k];
-            if dy[k] == 0 {
-                return EdgeWalk::default();
-            }
-            let signed_x = if dy[k] > 0 { p[0] } else { -q[0] };
-            EdgeWalk::from_lower_end(signed_x, bias[k], dx[k], dy[k].abs())
-        };
-        // The vertices by row: bottom, middle, top. Rows below the middle one are bounded by the
-        // two edges at the bottom vertex, rows from it up by the two at the top vertex (the third
-        // edge's constraint holds strictly there, so it cannot bind). So each row advances two
-        // walks, with no per-edge branching.
-        let ys = [a[1], b[1], c[1]];
-        let (mut v0, mut v1, mut v2) = (0, 1, 2);
-        if ys[v0] > ys[v1] {
-            std::mem::swap(&mut v0, &mut v1);
+        // The vertices by row: bottom, middle, top (a stable sort, each swap flipping the
+        // cyclic order). Rows below the middle one are bounded by the two edges at the bottom
+        // vertex, rows from it up by the two at the top vertex (the third edge's constraint
+        // holds strictly there, so it cannot bind). So each row advances two walks, with no
+        // per-edge branching.
+        let (mut bottom, mut mid, mut top) = (a, b, c);
+        let mut flipped = false;
+        if bottom[1] > mid[1] {
+            (bottom, mid) = (mid, bottom);
+            flipped = !flipped;
         }
-        if ys[v1] > ys[v2] {
-            std::mem::swap(&mut v1, &mut v2);
+        if mid[1] > top[1] {
+            (mid, top) = (top, mid);
+            flipped = !flipped;
         }
-        if ys[v0] > ys[v1] {
-            std::mem::swap(&mut v0, &mut v1);
+        if bottom[1] > mid[1] {
+            (bottom, mid) = (mid, bottom);
+            flipped = !flipped;
         }
-        let (y0, y1, y2) = (ys[v0], ys[v1], ys[v2]);
-        // Edge k is opposite vertex k: the long edge joins bottom and top, the lower edge bottom
-        // and middle, the upper edge middle and top. The long edge is a right edge iff it runs up.
-        let (long, lower, upper) = (v1, v2, v0);
+        let (y0, y1, y2) = (bottom[1], mid[1], top[1]);
+        // Counter-clockwise, bottom → top is the long edge's direction when bottom → middle →
+        // top turns clockwise; then it runs up and bounds the triangle on the right, and the
+        // two short edges on the left (and the other way round).
+        let long_is_right = flipped;
+        let (long, _) = self.edge(bottom, top, long_is_right);
+        let (lower, lower_owned) = self.edge(bottom, mid, !long_is_right);
+        let (upper, upper_owned) = self.edge(mid, top, !long_is_right);
         // A horizontal edge the triangle does not own: its row holds only that edge's points.
-        let skip_row = [lower, upper]
-            .into_iter()
-            .find(|&k| dy[k] == 0 && bias[k] == 1)
-            .map_or(i64::MIN, |k| edges[k].0[1]);
+        let skip_row = if y0 == y1 && !lower_owned {
+            y0
+        } else if y1 == y2 && !upper_owned {
+            y2
+        } else {
+            i64::MIN
+        };
         // The plane through the vertices as z̃ = z_a + gx·(x − x_a) + gy·(y − y_a), from height
         // differences (a flat triangle has exactly zero gradient, so no rounding noise).
         let (dzb, dzc) = (zb - za, zc - za);
@@ -119,17 +108,48 @@ impl Grid<'_> {
         Some(Spans {
             tri,
             ys: [y0, y1, y2],
+            xs: [bottom[0], mid[0], top[0]],
             middle,
-            long: walk_up(long),
-            lower: walk_up(lower),
-            upper: walk_up(upper),
-            long_is_right: dy[long] > 0,
+            long,
+            lower,
+            upper,
+            long_is_right,
             skip_row,
             za,
             gx: (dzb * cy - dzc * by) * inv_area,
             gy: (dzc * bx - dzb * cx) * inv_area,
             width: w,
         })
+    }
+
+    /// The walk along the edge from `lower` up to `upper` (rows `lower[1] ≤ upper[1]`) of a
+    /// counter-clockwise triangle, which bounds it on the `right` or the left, and whether the
+    /// triangle owns the edge's points. A horizontal edge bounds no row (a flat bottom or top:
+    /// see `Spans::middle`) and gets an unused walk.
+    ///
+    /// Counter-clockwise, the edge runs p → q: up on the right, down on the left. Its function
+    /// E(x, y) = −dy·x + offset(y) is the (unnormalised) barycentric weight of the opposite
+    /// vertex; a point is owned iff E ≥ bias (bias 0 on an owned edge, 1 otherwise). With
+    /// n(y) = offset(y) − bias and d = |dy|: a left edge (dy < 0) is x ≥ −⌊n/d⌋ and a right
+    /// edge (dy > 0) x ≤ ⌊n/d⌋. Each walk starts at the edge's lower end.
+    #[inline(always)]
+    fn edge(&self, lower: GridPoint, upper: GridPoint, right: bool) -> (EdgeWalk, bool) {
+        let rise = upper[1] - lower[1];
+        // dx of p → q.
+        let dx = if right {
+            upper[0] - lower[0]
+        } else {
+            lower[0] - upper[0]
+        };
+        // The ownership rule: dy < 0 (a left edge that is not horizontal), or horizontal
+        // with dx > 0, or on the border.
+        let owned = (!right && rise > 0) || (rise == 0 && dx > 0) || self.on_border(lower, upper);
+        if rise == 0 {
+            return (EdgeWalk::default(), owned);
+        }
+        let signed_x = if right { lower[0] } else { -lower[0] };
+        let walk = EdgeWalk::from_lower_end(signed_x, i64::from(!owned), dx, rise);
+        (walk, owned)
     }
 
     /// Visits every grid point the counter-clockwise triangle `tri` owns (vertices excluded) one
@@ -261,72 +281,29 @@ impl Grid<'_> {
         }
     }
 
-    /// One triangle's totals with kernel `k`.
+    /// One triangle's totals with kernel `k`: the spans of
+    /// [`for_each_span`](Self::for_each_span), but the rows through a vertex are worked out
+    /// from the vertices. Why: a vertex is an extreme point of the triangle, so on its row it
+    /// is an end of the span, and the points the triangle owns there start one column inside
+    /// it, whichever edge owns what. So a pointed bottom or top row holds nothing (only its
+    /// vertex), a flat one the columns strictly between its two vertices (or nothing, when
+    /// the triangle does not own that edge), and the middle row runs from the long edge to the
+    /// middle vertex's neighbour. At 2 % kept a triangle spans ≈ 7 rows: two of them no longer
+    /// go through the kernel, and no row tests the vertices.
     #[inline(always)]
     fn triangle_totals<K: Kernel>(&self, k: &K, tri: [GridPoint; 3]) -> ErrorTotals {
-        let Some(mut s) = self.spans(tri) else {
+        let Some(s) = self.spans(tri) else {
             return ErrorTotals::default();
         };
-        let mut sums = k.sums();
-        let step = k.step(s.gx);
-        let [y0, _, y2] = s.ys;
-        // Rows below the middle one on the lower edge, the rest on the upper edge. Only the
-        // first row, the middle one and the last can hold a vertex, so those are taken apart
-        // from the rest: a test on every row mispredicted on the first and last.
-        let mut short = s.lower;
-        let lower_end = s.middle.min(y2 + 1);
-        if y0 < lower_end {
-            self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, y0);
-            let last = if lower_end == y2 + 1 { y2 } else { lower_end };
-            for y in y0 + 1..last {
-                self.total_row::<K, false>(k, &mut s, &mut short, &mut sums, &step, y);
-            }
-            if last < lower_end {
-                self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, last);
-            }
-        }
-        let mut short = s.upper;
-        let middle = s.middle;
-        if middle <= y2 {
-            self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, middle);
-            for y in middle + 1..y2 {
-                self.total_row::<K, false>(k, &mut s, &mut short, &mut sums, &step, y);
-            }
-            if middle < y2 {
-                self.total_row::<K, true>(k, &mut s, &mut short, &mut sums, &step, y2);
-            }
-        }
-        k.totals(&sums)
-    }
-
-    /// Row `y` of `s` into `sums` (`VERTICES`: the row may hold a vertex), then the walks
-    /// advance.
-    #[inline(always)]
-    fn total_row<K: Kernel, const VERTICES: bool>(
-        &self,
-        k: &K,
-        s: &mut Spans,
-        short: &mut EdgeWalk,
-        sums: &mut K::Sums,
-        step: &K::Step,
-        y: i64,
-    ) {
-        let (mut lo, mut hi) = if s.long_is_right {
-            (-short.quotient, s.long.quotient)
-        } else {
-            (-s.long.quotient, short.quotient)
+        let mut sink = KernelRows {
+            z: self.z,
+            k,
+            s: &s,
+            sums: k.sums(),
+            step: k.step(s.gx),
         };
-        if VERTICES {
-            (lo, hi) = s.without_vertices(y, lo, hi);
-        }
-        if y == s.skip_row {
-            hi = lo - 1;
-        }
-        let first = y as usize * s.width + lo as usize;
-        let z = &self.z[first.min(self.z.len())..];
-        k.add_span(sums, step, z, hi - lo + 1, s.start(y, lo));
-        s.long.advance();
-        short.advance();
+        s.rows(&mut sink);
+        k.totals(&sink.sums)
     }
 
     /// The error sums of the points triangle `tri` owns.
@@ -345,6 +322,34 @@ impl Grid<'_> {
             acc.points += z.len() as u32;
         });
         acc
+    }
+}
+
+/// What takes the rows of [`Spans::rows`]. A trait rather than a closure: a closure's body
+/// is not compiled with the AVX2 kernel's target feature, so the kernel's intrinsics in it
+/// became calls.
+trait RowSink {
+    /// The columns `lo..=hi` of row `y` (empty when `hi < lo`).
+    fn row(&mut self, y: i64, lo: i64, hi: i64);
+}
+
+/// Rows into a kernel's sums.
+struct KernelRows<'a, K: Kernel> {
+    z: &'a [f64],
+    k: &'a K,
+    s: &'a Spans,
+    sums: K::Sums,
+    step: K::Step,
+}
+
+impl<K: Kernel> RowSink for KernelRows<'_, K> {
+    #[inline(always)]
+    fn row(&mut self, y: i64, lo: i64, hi: i64) {
+        let first = y as usize * self.s.width + lo as usize;
+        let z = &self.z[first.min(self.z.len())..];
+        let start = self.s.start(y, lo);
+        self.k
+            .add_span(&mut self.sums, &self.step, z, hi - lo + 1, start);
     }
 }
 
@@ -376,6 +381,8 @@ struct Spans {
     tri: [GridPoint; 3],
     /// The rows of the bottom, middle and top vertex.
     ys: [i64; 3],
+    /// The columns of the same vertices.
+    xs: [i64; 3],
     /// The first row bounded by the upper edge rather than the lower (past the top for a flat
     /// top).
     middle: i64,
@@ -425,6 +432,73 @@ impl Spans {
             }
         }
         (lo, hi)
+    }
+
+    /// Row by row, `sink.row(y, lo, hi)` for the columns `lo..=hi` the triangle owns on row `y`
+    /// (vertices excluded; possibly empty, `hi < lo`): the spans of `columns`, but the rows
+    /// through a vertex are worked out from the vertices. Why: a vertex is an extreme point of
+    /// the triangle, so on its row it is an end of the span, and the points the triangle owns
+    /// there start one column inside it, whichever edge owns what. So a pointed bottom or top
+    /// row holds nothing (only its vertex), a flat one the columns strictly between its two
+    /// vertices (or nothing, when the triangle does not own that edge), and the middle row runs
+    /// from the long edge to the middle vertex's neighbour. At 2 % kept a triangle spans ≈ 7
+    /// rows: two of them no longer go through the kernel, and no row tests the vertices.
+    #[inline(always)]
+    fn rows(&self, sink: &mut impl RowSink) {
+        let [y0, y1, y2] = self.ys;
+        let [x0, x1, x2] = self.xs;
+        let mut long = self.long;
+        // The walks run from their lower ends; the first row of each section is the one above.
+        // The walks go by value (picked by side once per section), which keeps them in
+        // registers.
+        if y0 < y1 {
+            // Rows strictly between the bottom and the middle vertex: long and lower edge.
+            let mut short = self.lower;
+            long.advance();
+            short.advance();
+            let (mut left, mut right) = if self.long_is_right {
+                (short, long)
+            } else {
+                (long, short)
+            };
+            for y in y0 + 1..y1 {
+                sink.row(y, -left.quotient, right.quotient);
+                left.advance();
+                right.advance();
+            }
+            long = if self.long_is_right { right } else { left };
+        } else if self.skip_row != y0 {
+            // A flat bottom the triangle owns.
+            sink.row(y0, x0.min(x1) + 1, x0.max(x1) - 1);
+        }
+        if y1 < y2 {
+            if y0 < y1 {
+                // The middle row (its only vertex the middle one).
+                let (lo, hi) = if self.long_is_right {
+                    (x1 + 1, long.quotient)
+                } else {
+                    (-long.quotient, x1 - 1)
+                };
+                sink.row(y1, lo, hi);
+            }
+            // Rows strictly between the middle and the top vertex: long and upper edge.
+            let mut short = self.upper;
+            long.advance();
+            short.advance();
+            let (mut left, mut right) = if self.long_is_right {
+                (short, long)
+            } else {
+                (long, short)
+            };
+            for y in y1 + 1..y2 {
+                sink.row(y, -left.quotient, right.quotient);
+                left.advance();
+                right.advance();
+            }
+        } else if self.skip_row != y2 {
+            // A flat top the triangle owns.
+            sink.row(y2, x1.min(x2) + 1, x1.max(x2) - 1);
+        }
     }
 
     /// z̃ at the first column `lo` of row `y`'s span.
@@ -565,6 +639,98 @@ mod tests {
                     u32::from(owned),
                     "round {round}: {tri:?} on {w}x{h}, {at:?}"
                 );
+            }
+        }
+    }
+
+    /// The non-empty rows.
+    struct Collect<'a>(&'a mut Vec<(i64, i64, i64)>);
+
+    impl RowSink for Collect<'_> {
+        fn row(&mut self, y: i64, lo: i64, hi: i64) {
+            if lo <= hi {
+                self.0.push((y, lo, hi));
+            }
+        }
+    }
+
+    #[test]
+    fn vertex_rows_give_the_spans_of_the_walks() {
+        // The rows `Spans::rows` works out from the vertices and the walks' rows must give the
+        // very spans of `for_each_span` (tested against the ownership rule above), in the same
+        // order: a vertex counted as owned would add an error of ≈ 0, which the totals alone
+        // might not show.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x5a1e);
+        let mut next = |bound: i64| rng.random_range(0..bound);
+        for round in 0..6000 {
+            let (w, h) = (2 + next(14), 2 + next(14));
+            let z = vec![0.0; (w * h) as usize];
+            let grid = Grid {
+                width: w,
+                height: h,
+                z: &z,
+            };
+            let mut tri = [0; 3].map(|_| [next(w), next(h)]);
+            let turn = orient(tri[0], tri[1], tri[2]);
+            if turn == 0 {
+                continue;
+            }
+            if turn < 0 {
+                tri.swap(1, 2);
+            }
+            let mut expected = Vec::new();
+            grid.for_each_span(tri, |first, last, _| {
+                let (y, lo) = (first as i64 / w, first as i64 % w);
+                expected.push((y, lo, lo + (last - first) as i64));
+            });
+            let mut got = Vec::new();
+            if let Some(s) = grid.spans(tri) {
+                s.rows(&mut Collect(&mut got));
+            }
+            assert_eq!(got, expected, "round {round}: {tri:?} on {w}x{h}");
+        }
+    }
+
+    #[test]
+    fn triangle_totals_are_the_sums_of_for_each_error() {
+        // Random triangles on small grids (flat bottoms and tops owned or not, pointed ones,
+        // middle vertices on either side, edges on the border, slivers) and large ones on a
+        // bigger grid: the totals of every kernel must be the per-point errors' totals, bit for
+        // bit, with the vertex rows worked out from the vertices.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x70ad);
+        let mut next = |bound: i64| rng.random_range(0..bound);
+        for round in 0..6000 {
+            let (w, h) = if round % 10 == 0 {
+                (40 + next(30), 40 + next(30))
+            } else {
+                (2 + next(12), 2 + next(12))
+            };
+            let z: Vec<f64> = (0..w * h)
+                .map(|i| ((i * 37 % 11) as f64).sqrt() * 1.7 + (i % 5) as f64)
+                .collect();
+            let grid = Grid {
+                width: w,
+                height: h,
+                z: &z,
+            };
+            let mut tri = [0; 3].map(|_| [next(w), next(h)]);
+            let turn = orient(tri[0], tri[1], tri[2]);
+            if turn == 0 {
+                continue;
+            }
+            if turn < 0 {
+                tri.swap(1, 2);
+            }
+            let units = ErrorUnits::new((w * h) as usize, 12.0);
+            let mut expected = ErrorTotals::default();
+            grid.for_each_error(tri, |_, d| expected.add_error(units, d));
+            let mut by_scalar = ErrorTotals::default();
+            grid.sum_triangles_with(span_sum::Scalar(units), [((), tri)], |_, t| by_scalar = t);
+            let best = grid.error_totals(tri, units);
+            for got in [by_scalar, best] {
+                assert_eq!(got.sum, expected.sum, "round {round}: {tri:?} on {w}x{h}");
+                assert_eq!(got.sum_sq, expected.sum_sq, "round {round}: {tri:?}");
+                assert_eq!(got.max.to_bits(), expected.max.to_bits(), "round {round}");
             }
         }
     }

@@ -35,6 +35,237 @@ pub fn prev(e: u32) -> u32 {
     if e % 3 == 0 { e + 2 } else { e - 1 }
 }
 
+/// A half-edge of the mesh [`Triangulation::insert_all`] builds: its origin as coordinates and
+/// as a grid index, and its twin. Why: with `vertices` and `twin` apart, each walk step and
+/// in-circle test converted three or four grid indices to coordinates (a multiply, a shift, a
+/// multiply and a subtraction each, a sixth of the build's instructions) and checked two arrays'
+/// bounds; here one load gives all three.
+#[derive(Clone, Copy, Debug, Default)]
+struct Half {
+    at: [i32; 2],
+    v: u32,
+    twin: u32,
+}
+
+impl Half {
+    #[inline(always)]
+    fn point(&self) -> GridPoint {
+        self.at.map(i64::from)
+    }
+}
+
+/// [`Triangulation::walk`] then [`Triangulation::insert_point`] on `halves`, step for step
+/// (the same edges tried in the same order, the same slots, the same flips): inserts grid point
+/// `p` at `at`, walking from triangle `start`, and returns a triangle with vertex `p`, or
+/// `start` when `p` is a vertex already (skipped, as spade skips a repeat; the next walk starts
+/// where it would have).
+#[inline(always)]
+fn insert_half(
+    halves: &mut Vec<Half>,
+    start: u32,
+    p: u32,
+    at: GridPoint,
+    stack: &mut Vec<[u32; 3]>,
+) -> u32 {
+    let t = walk_half(halves, start, at);
+    let base = 3 * t;
+    let tri: [Half; 3] = halves[base as usize..base as usize + 3]
+        .try_into()
+        .expect("a triangle has three half-edges");
+    if tri.iter().any(|h| h.v == p) {
+        return start;
+    }
+    stack.clear();
+    let [a, b, c] = tri.map(|h| h.point());
+    let on_edge = if predicates::orient(a, b, at) == 0 {
+        Some(base)
+    } else if predicates::orient(b, c, at) == 0 {
+        Some(base + 1)
+    } else if predicates::orient(c, a, at) == 0 {
+        Some(base + 2)
+    } else {
+        None
+    };
+    let new = Half {
+        at: at.map(|c| c as i32),
+        v: p,
+        twin: NONE,
+    };
+    match on_edge {
+        None => {
+            // (a, b, c) becomes (a, b, p), (b, c, p), (c, a, p).
+            let [ha, hb, hc] = tri;
+            let (e0, e1, e2) = (base, base + 1, base + 2);
+            let t1 = halves.len() as u32 / 3;
+            let t2 = t1 + 1;
+            let (f1, f2) = (3 * t1, 3 * t2);
+            halves[e1 as usize].twin = f1 + 2;
+            halves[e2 as usize] = Half {
+                twin: f2 + 1,
+                ..new
+            };
+            halves.extend_from_slice(&[
+                Half {
+                    twin: hb.twin,
+                    ..hb
+                },
+                Half { twin: f2 + 2, ..hc },
+                Half { twin: e1, ..new },
+                Half {
+                    twin: hc.twin,
+                    ..hc
+                },
+                Half { twin: e2, ..ha },
+                Half {
+                    twin: f1 + 1,
+                    ..new
+                },
+            ]);
+            relink(halves, hb.twin, f1);
+            relink(halves, hc.twin, f2);
+            stack.extend_from_slice(&[[e0, e1, e2], [f1, f1 + 1, f1 + 2], [f2, f2 + 1, f2 + 2]]);
+        }
+        Some(e) => {
+            // On half-edge e = a → b of (a, b, c): that triangle becomes (a, p, c),
+            // (p, b, c), and the neighbour (b, a, d), if any, becomes (b, p, d), (p, a, d).
+            let f = halves[e as usize].twin;
+            let t1 = split_half(halves, e, new);
+            let t1 = 3 * t1;
+            stack.extend_from_slice(&[[prev(e), e, next(e)], [t1 + 1, t1 + 2, t1]]);
+            if f != NONE {
+                let s1 = 3 * split_half(halves, f, new);
+                halves[e as usize].twin = s1;
+                halves[s1 as usize].twin = e;
+                halves[f as usize].twin = t1;
+                halves[t1 as usize].twin = f;
+                stack.extend_from_slice(&[[prev(f), f, next(f)], [s1 + 1, s1 + 2, s1]]);
+            }
+        }
+    }
+    while let Some(edge) = stack.pop() {
+        if let Some([pe, nf]) = flip_half(halves, edge) {
+            stack.push(pe);
+            stack.push(nf);
+        }
+    }
+    t
+}
+
+/// [`Triangulation::walk`] on `halves` (uncapped steps would only loop on a broken mesh, so the
+/// same cap).
+#[inline(always)]
+fn walk_half(halves: &[Half], start: u32, p: GridPoint) -> u32 {
+    let mut t = start;
+    let mut came_from = NONE;
+    for _ in 0..=2 * halves.len() / 3 + 8 {
+        let base = 3 * t as usize;
+        // A slice of three (one bounds check), read in place (a copy went through the stack).
+        let tri = &halves[base..base + 3];
+        let (a, b, c) = (tri[0].point(), tri[1].point(), tri[2].point());
+        let crosses = |k: usize, from: GridPoint, to: GridPoint| {
+            base as u32 + k as u32 != came_from
+                && predicates::orient(from, to, p) < 0
+                && tri[k].twin != NONE
+        };
+        let k = if crosses(0, a, b) {
+            0
+        } else if crosses(1, b, c) {
+            1
+        } else if crosses(2, c, a) {
+            2
+        } else {
+            return t;
+        };
+        came_from = tri[k].twin;
+        t = came_from / 3;
+    }
+    panic!("a walk on a Delaunay triangulation ends");
+}
+
+/// Sets the twin of `e` (if any) to `to`.
+#[inline(always)]
+fn relink(halves: &mut [Half], e: u32, to: u32) {
+    if e != NONE {
+        halves[e as usize].twin = to;
+    }
+}
+
+/// [`Triangulation::split_at_edge`] on `halves`, with `p` the new vertex (its twin unused).
+#[inline(always)]
+fn split_half(halves: &mut Vec<Half>, e: u32, p: Half) -> u32 {
+    let (ne, pe) = (next(e), prev(e));
+    let hb = halves[ne as usize];
+    let hc = halves[pe as usize];
+    let t1 = halves.len() as u32 / 3;
+    halves[ne as usize] = Half {
+        twin: 3 * t1 + 2,
+        ..p
+    };
+    halves.extend_from_slice(&[
+        Half { twin: NONE, ..p },
+        Half {
+            twin: hb.twin,
+            ..hb
+        },
+        Half { twin: ne, ..hc },
+    ]);
+    relink(halves, hb.twin, 3 * t1 + 1);
+    t1
+}
+
+/// (`next(e)`, `prev(e)`) from one remainder and two table look-ups (fewer instructions than
+/// the two selects).
+#[inline(always)]
+fn next_prev(e: u32) -> (u32, u32) {
+    let r = e % 3;
+    let base = e - r;
+    (base + [1, 2, 0][r as usize], base + [2, 0, 1][r as usize])
+}
+
+/// [`Triangulation::flip_if_illegal`] on `halves` of half-edge `e` given as `[e, next(e),
+/// prev(e)]`; returns the two outer half-edges of the flipped quadrilateral opposite the new
+/// diagonal's end `c` (what an insertion checks next), in the same form. Why the triples: the
+/// caller always knows them, and each `next`/`prev` pair costs a division by 3 (a multiply and
+/// half a dozen more instructions) on every test.
+#[inline(always)]
+fn flip_half(halves: &mut [Half], [e, ne, pe]: [u32; 3]) -> Option<[[u32; 3]; 2]> {
+    let f = halves[e as usize].twin;
+    if f == NONE {
+        return None;
+    }
+    let (nf, pf) = next_prev(f);
+    // Only the coordinates before the test, the rest after it (two in three tests flip
+    // nothing): with all four half-edges live across the test, most of them were spilled to
+    // the stack on every test.
+    let at = |i: u32| halves[i as usize].point();
+    let det = predicates::in_circle_det([at(e), at(ne), at(pe), at(pf)]);
+    if det < 0 || (det == 0 && !tie_half(halves, [e, ne, pe, pf])) {
+        return None;
+    }
+    let [he, hne, hpe, hpf] = [e, ne, pe, pf].map(|i| halves[i as usize]);
+    // Triangles (u, w, c) and (w, u, d) become (d, c, u) and (c, d, w).
+    let (x1, x2, y1, y2) = (hne.twin, hpe.twin, halves[nf as usize].twin, hpf.twin);
+    halves[e as usize] = Half { twin: f, ..hpf };
+    halves[ne as usize] = Half { twin: x2, ..hpe };
+    halves[pe as usize] = Half { twin: y1, ..he };
+    halves[f as usize] = Half { twin: e, ..hpe };
+    halves[nf as usize] = Half { twin: y2, ..hpf };
+    halves[pf as usize] = Half { twin: x1, ..hne };
+    relink(halves, x2, ne);
+    relink(halves, y1, pe);
+    relink(halves, y2, nf);
+    relink(halves, x1, pf);
+    Some([[pe, e, ne], [nf, pf, f]])
+}
+
+/// [`predicates::in_circle`] of the half-edges `[e, next(e), prev(e), prev(twin(e))]` when
+/// their points are co-circular: the tie rule, out of line.
+#[inline(never)]
+fn tie_half(halves: &[Half], edges: [u32; 4]) -> bool {
+    let h = edges.map(|i| halves[i as usize]);
+    predicates::in_circle(h.map(|h| h.point()), h.map(|h| h.v))
+}
+
 /// A triangulation of grid points in half-edge form.
 #[derive(Debug, Default)]
 pub struct Triangulation {
@@ -51,6 +282,11 @@ pub struct Triangulation {
     /// Scratch of [`insert_all`](Self::insert_all): each row of the kept points as (start,
     /// end, y).
     rows: Vec<(usize, usize, i64)>,
+    /// Scratch of [`insert_all`](Self::insert_all): the mesh being built.
+    halves: Vec<Half>,
+    /// Scratch of [`insert_all`](Self::insert_all): half-edges to test, as `[e, next(e),
+    /// prev(e)]`.
+    flips: Vec<[u32; 3]>,
 }
 
 impl Clone for Triangulation {
@@ -199,14 +435,9 @@ impl Triangulation {
             return false;
         }
         self.lattice = lattice;
-        self.vertices.clear();
-        self.twin.clear();
+        // (a, b, c) and (c, d, a), sharing the diagonal c → a / a → c (made legal below).
         let [a, b, c, d] = corners;
-        // (a, b, c) and (c, d, a), sharing the diagonal c → a / a → c.
-        self.vertices.extend_from_slice(&[a, b, c, c, d, a]);
-        self.twin.extend_from_slice(&[NONE, NONE, 5, NONE, NONE, 2]);
-        let _ = self.flip_if_illegal(2);
-        let mut stack = std::mem::take(&mut self.stack);
+        let mut stack = std::mem::take(&mut self.flips);
         // The rows (runs of one y) of `kept`, inserted in three rounds: every fourth row, then
         // the rows halfway between, then the rest, each round in alternating directions. Why:
         // one sweep up the grid keeps inserting points just above a front whose triangles fan
@@ -231,6 +462,21 @@ impl Triangulation {
             2 => 1,
             _ => 2,
         };
+        // The insertion runs on `halves` (coordinates next to each vertex and twin), which
+        // gives the same slots and links as `walk` and `insert_point` on `self` would; see
+        // `Half`.
+        let mut halves = std::mem::take(&mut self.halves);
+        halves.clear();
+        halves.reserve(6 * kept.len() + 6);
+        let half = |v: u32, twin: u32| Half {
+            at: lattice.point(v).map(|c| c as i32),
+            v,
+            twin,
+        };
+        halves.extend(
+            [(a, NONE), (b, NONE), (c, 5), (c, NONE), (d, NONE), (a, 2)].map(|(v, t)| half(v, t)),
+        );
+        let _ = flip_half(&mut halves, [2, 0, 1]);
         let mut last = 0u32;
         let mut forward = true;
         for round in 0..3 {
@@ -241,14 +487,7 @@ impl Triangulation {
                 let row = &kept[start..end];
                 let mut insert = |p: u32| {
                     if !is_corner(p) {
-                        let t = self
-                            .walk(last, lattice.point(p), self.walk_cap())
-                            .expect("a walk on a Delaunay triangulation ends");
-                        // A repeated point is already a vertex of the triangle that holds it:
-                        // skipped, as spade skips it.
-                        if !self.triangle(t as usize).contains(&p) {
-                            last = self.insert_point(t, p, &mut stack, |_| {});
-                        }
+                        last = insert_half(&mut halves, last, p, lattice.point(p), &mut stack);
                     }
                 };
                 if forward {
@@ -259,8 +498,13 @@ impl Triangulation {
                 forward = !forward;
             }
         }
+        self.vertices.clear();
+        self.twin.clear();
+        self.vertices.extend(halves.iter().map(|h| h.v));
+        self.twin.extend(halves.iter().map(|h| h.twin));
+        self.halves = halves;
         self.rows = rows;
-        self.stack = stack;
+        self.flips = stack;
         true
     }
 
@@ -531,6 +775,101 @@ impl Triangulation {
         self.twin[a as usize] = b;
         if b != NONE {
             self.twin[b as usize] = a;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// [`Triangulation::insert_all`] as it reads with `walk` and `insert_point` on the half-edge
+    /// arrays (the rows in the same rounds and directions).
+    fn insert_all_by_steps(mesh: &mut Triangulation, width: usize, kept: &[u32]) {
+        let lattice = Lattice::new(width);
+        let points: Vec<GridPoint> = kept.iter().map(|&i| lattice.point(i)).collect();
+        let x0 = points.iter().map(|p| p[0]).min().unwrap();
+        let x1 = points.iter().map(|p| p[0]).max().unwrap();
+        let y0 = points.iter().map(|p| p[1]).min().unwrap();
+        let y1 = points.iter().map(|p| p[1]).max().unwrap();
+        let index = |x: i64, y: i64| (y * width as i64 + x) as u32;
+        let [a, b, c, d] = [index(x0, y0), index(x1, y0), index(x1, y1), index(x0, y1)];
+        mesh.lattice = lattice;
+        mesh.vertices = vec![a, b, c, c, d, a];
+        mesh.twin = vec![NONE, NONE, 5, NONE, NONE, 2];
+        let _ = mesh.flip_if_illegal(2);
+        let mut rows: Vec<Vec<u32>> = Vec::new();
+        let mut ys = Vec::new();
+        for (&i, p) in kept.iter().zip(&points) {
+            if ys.last() != Some(&p[1]) {
+                ys.push(p[1]);
+                rows.push(Vec::new());
+            }
+            rows.last_mut().unwrap().push(i);
+        }
+        let (mut last, mut forward, mut stack) = (0, true, Vec::new());
+        for round in [0, 2, 1] {
+            for (row, &y) in rows.iter_mut().zip(&ys) {
+                // Rounds by y mod 4: 0, then 2, then 1 and 3 (as `insert_all`).
+                if (y & 3 == 0) != (round == 0) || (y & 3 == 2) != (round == 2) {
+                    continue;
+                }
+                let order: Vec<u32> = if forward {
+                    row.clone()
+                } else {
+                    row.iter().rev().copied().collect()
+                };
+                for p in order {
+                    if [a, b, c, d].contains(&p) {
+                        continue;
+                    }
+                    let t = mesh.walk(last, lattice.point(p), mesh.walk_cap()).unwrap();
+                    if !mesh.triangle(t as usize).contains(&p) {
+                        last = mesh.insert_point(t, p, &mut stack, |_| {});
+                    }
+                }
+                forward = !forward;
+            }
+        }
+    }
+
+    #[test]
+    fn insertion_on_halves_takes_the_same_steps() {
+        // Random subsets (sparse to full, with repeats and points on the box's border) of grids
+        // and of boxes inside them: the same slots, rotations and links, not only the same
+        // triangles.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x7a11);
+        for round in 0..300 {
+            let (w, h) = (
+                2 + rng.random_range(0..40usize),
+                2 + rng.random_range(0..40usize),
+            );
+            let fraction = [0.02, 0.1, 0.3, 0.8, 1.0][round % 5];
+            let (x0, y0) = (rng.random_range(0..w / 2), rng.random_range(0..h / 2));
+            let (x1, y1) = (rng.random_range(x0 + 1..w), rng.random_range(y0 + 1..h));
+            let mut kept: Vec<u32> = [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
+                .iter()
+                .map(|&(x, y)| (y * w + x) as u32)
+                .collect();
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    if rng.random::<f64>() < fraction {
+                        kept.push((y * w + x) as u32);
+                    }
+                }
+            }
+            kept.sort_unstable();
+            if round % 7 == 0 {
+                kept.push(kept[kept.len() / 2]);
+                kept.sort_unstable();
+            }
+            let mut fast = Triangulation::default();
+            assert!(fast.insert_all(w, &kept));
+            let mut steps = Triangulation::default();
+            insert_all_by_steps(&mut steps, w, &kept);
+            assert_eq!(fast.vertices, steps.vertices, "round {round}");
+            assert_eq!(fast.twin, steps.twin, "round {round}");
         }
     }
 }
