@@ -240,11 +240,9 @@ impl MeshState {
         let grid = grid_of(hf);
         let units = ErrorUnits::of(hf);
         let lattice = Lattice::new(hf.width());
-        let mut all = ErrorTotals::default();
         let mesh = &self.mesh;
-        let tris =
-            (0..mesh.len()).map(|t| ((), canonical(mesh.triangle(t)).map(|i| lattice.point(i))));
-        grid.sum_triangles(units, tris, |_, t| all.add(&t));
+        let tris = (0..mesh.len()).map(|t| canonical(mesh.triangle(t)).map(|i| lattice.point(i)));
+        let all = grid.sum_all(units, tris);
         self.forget();
         self.score_from(units.values(&all), hf.len())
     }

@@ -258,6 +258,45 @@ impl Grid<'_> {
         self.sum_triangles_with(span_sum::Scalar(units), tris, done);
     }
 
+    /// The totals of all the triangles `tris` together (each counter-clockwise, proper): the
+    /// sum of their [`sum_triangles`](Self::sum_triangles) totals, bit for bit (the sums are
+    /// exact integers), in one set of running sums (no per-triangle reduction of the lanes).
+    pub fn sum_all(
+        &self,
+        units: ErrorUnits,
+        tris: impl IntoIterator<Item = [GridPoint; 3]>,
+    ) -> ErrorTotals {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(k) = span_sum::Avx2::detect(units) {
+            // SAFETY: `detect` found AVX2 on this CPU.
+            return unsafe { self.sum_all_avx2(k, tris) };
+        }
+        self.sum_all_with(span_sum::Scalar(units), tris)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sum_all_avx2(
+        &self,
+        k: span_sum::Avx2,
+        tris: impl IntoIterator<Item = [GridPoint; 3]>,
+    ) -> ErrorTotals {
+        self.sum_all_with(k, tris)
+    }
+
+    #[inline(always)]
+    fn sum_all_with<K: Kernel>(
+        &self,
+        k: K,
+        tris: impl IntoIterator<Item = [GridPoint; 3]>,
+    ) -> ErrorTotals {
+        let mut sums = k.sums();
+        for tri in tris {
+            sums = self.add_triangle(&k, tri, sums);
+        }
+        k.totals(&sums)
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn sum_triangles_avx2<Key>(
@@ -292,18 +331,25 @@ impl Grid<'_> {
     /// go through the kernel, and no row tests the vertices.
     #[inline(always)]
     fn triangle_totals<K: Kernel>(&self, k: &K, tri: [GridPoint; 3]) -> ErrorTotals {
+        k.totals(&self.add_triangle(k, tri, k.sums()))
+    }
+
+    /// `sums` with the points of triangle `tri` added (see
+    /// [`triangle_totals`](Self::triangle_totals)).
+    #[inline(always)]
+    fn add_triangle<K: Kernel>(&self, k: &K, tri: [GridPoint; 3], sums: K::Sums) -> K::Sums {
         let Some(s) = self.spans(tri) else {
-            return ErrorTotals::default();
+            return sums;
         };
         let mut sink = KernelRows {
             z: self.z,
             k,
             s: &s,
-            sums: k.sums(),
+            sums,
             step: k.step(s.gx),
         };
         s.rows(&mut sink);
-        k.totals(&sink.sums)
+        sink.sums
     }
 
     /// The error sums of the points triangle `tri` owns.
@@ -732,6 +778,43 @@ mod tests {
                 assert_eq!(got.sum_sq, expected.sum_sq, "round {round}: {tri:?}");
                 assert_eq!(got.max.to_bits(), expected.max.to_bits(), "round {round}");
             }
+        }
+    }
+
+    #[test]
+    fn sums_of_many_triangles_are_the_sums_of_their_totals() {
+        // Many triangles (overlapping: the sums need not tile anything) in one set of running
+        // sums, with every kernel: the per-triangle totals added up, bit for bit, whatever the
+        // lanes' wrapping biases add to over tens of thousands of points.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x5a11);
+        let (w, h) = (61i64, 47i64);
+        let z: Vec<f64> = (0..w * h).map(|_| rng.random::<f64>() * 300.0).collect();
+        let grid = Grid {
+            width: w,
+            height: h,
+            z: &z,
+        };
+        let units = ErrorUnits::new((w * h) as usize, 300.0);
+        let mut tris = Vec::new();
+        while tris.len() < 400 {
+            let mut tri = [0; 3].map(|_| [rng.random_range(0..w), rng.random_range(0..h)]);
+            match orient(tri[0], tri[1], tri[2]) {
+                0 => continue,
+                turn if turn < 0 => tri.swap(1, 2),
+                _ => {}
+            }
+            tris.push(tri);
+        }
+        let mut expected = ErrorTotals::default();
+        grid.sum_triangles(units, tris.iter().map(|&t| ((), t)), |_, t| {
+            expected.add(&t)
+        });
+        let by_scalar = grid.sum_all_with(span_sum::Scalar(units), tris.iter().copied());
+        let best = grid.sum_all(units, tris.iter().copied());
+        for got in [by_scalar, best] {
+            assert_eq!(got.sum, expected.sum);
+            assert_eq!(got.sum_sq, expected.sum_sq);
+            assert_eq!(got.max.to_bits(), expected.max.to_bits());
         }
     }
 
