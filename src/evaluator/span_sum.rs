@@ -215,7 +215,11 @@ mod avx2 {
                 let p = z.as_ptr();
                 let startv = _mm256_set1_pd(start);
                 let lane = _mm256_set_epi64x(3, 2, 1, 0);
-                if len <= 8 {
+                if len <= 4 {
+                    // Most spans of a sparse mesh's triangles (a 2 %-kept grid's average ≈ 3.5).
+                    let low = _mm256_cmpgt_epi64(_mm256_set1_epi64x(len), lane);
+                    self.quad(sums, p, low, startv, step.low);
+                } else if len <= 8 {
                     let lenv = _mm256_set1_epi64x(len);
                     let low = _mm256_cmpgt_epi64(lenv, lane);
                     let high =
