@@ -46,18 +46,27 @@ pub struct DiscBox {
     y1: u16,
 }
 
+/// The circumcentre of the counter-clockwise triangle `p` relative to its first vertex, and
+/// the radius, in floating point (for conservative boxes and filters: the exact predicates
+/// decide).
+#[inline(always)]
+fn circumcentre(p: [GridPoint; 3]) -> (f64, f64, f64) {
+    let [a, b, c] = p;
+    let (bx, by) = (b[0] - a[0], b[1] - a[1]);
+    let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
+    let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
+    // Exact integers below 2⁴⁴; one rounding each in the division.
+    let d = 2.0 * (bx * cy - by * cx) as f64;
+    let ux = (cy * lb - by * lc) as f64 / d;
+    let uy = (bx * lc - cx * lb) as f64 / d;
+    (ux, uy, (ux * ux + uy * uy).sqrt())
+}
+
 impl DiscBox {
     /// The box of the counter-clockwise triangle `p` on a `width × height` grid.
     pub fn of(p: [GridPoint; 3], width: usize, height: usize) -> Self {
-        let [a, b, c] = p;
-        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
-        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
-        let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
-        // Exact integers below 2⁴⁴; one rounding each in the division.
-        let d = 2.0 * (bx * cy - by * cx) as f64;
-        let ux = (cy * lb - by * lc) as f64 / d;
-        let uy = (bx * lc - cx * lb) as f64 / d;
-        let r = (ux * ux + uy * uy).sqrt();
+        let a = p[0];
+        let (ux, uy, r) = circumcentre(p);
         // Far above the rounding error (a few ulps of numbers below 2³⁰), so no point on the
         // circle falls out of the box.
         let margin = 1e-6 * (1.0 + r);
@@ -357,6 +366,18 @@ impl PartClasses {
     }
 }
 
+/// A stamp no entry of `marks` (made `n` long) holds yet, for marking without clearing: the
+/// next of `stamp`, or 1 after clearing `marks` when the stamps wrap around.
+pub(super) fn next_stamp(stamp: &mut u32, marks: &mut Vec<u32>, n: usize) -> u32 {
+    *stamp = stamp.wrapping_add(1);
+    if *stamp == 0 {
+        marks.clear();
+        *stamp = 1;
+    }
+    marks.resize(n, 0);
+    *stamp
+}
+
 /// The intersection of two half-open rectangles `[x0, y0, x1, y1]` (empty when they do not
 /// meet: see [`is_empty`]).
 fn overlap(a: [usize; 4], b: [usize; 4]) -> [usize; 4] {
@@ -482,15 +503,8 @@ struct Circumcircle {
 impl Circumcircle {
     /// The circle of the counter-clockwise triangle `p`.
     fn of(p: [GridPoint; 3]) -> Self {
-        let [a, b, c] = p;
-        let (bx, by) = (b[0] - a[0], b[1] - a[1]);
-        let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
-        let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
-        // Exact integers below 2⁴⁴; one rounding each in the division.
-        let d = 2.0 * (bx * cy - by * cx) as f64;
-        let ux = (cy * lb - by * lc) as f64 / d;
-        let uy = (bx * lc - cx * lb) as f64 / d;
-        let r = (ux * ux + uy * uy).sqrt();
+        let a = p[0];
+        let (ux, uy, r) = circumcentre(p);
         let r = r + 1e-6 * (1.0 + r);
         Self {
             cx: a[0] as f64 + ux,
@@ -763,13 +777,7 @@ impl MeshState {
         // points below.
         let taken = next_slot as usize;
         self.hint.resize(n, 0);
-        scratch.stamp = scratch.stamp.wrapping_add(1);
-        if scratch.stamp == 0 {
-            scratch.covered.clear();
-            scratch.stamp = 1;
-        }
-        scratch.covered.resize(n, 0);
-        let stamp = scratch.stamp;
+        let stamp = next_stamp(&mut scratch.stamp, &mut scratch.covered, n);
         self.mesh.clear_for(w);
         self.mesh.vertices.resize(3 * taken, 0);
         self.mesh.twin.resize(3 * taken, NONE);

@@ -21,7 +21,7 @@
 //! error bits, so the score is bit for bit the same as the composed (and the fresh) one.
 
 use super::Score;
-use super::compose::PartClasses;
+use super::compose::{PartClasses, next_stamp};
 use super::errors::{ErrorTotals, ErrorUnits};
 use super::incremental::{MeshState, canonical, edge_from, grid_of};
 use super::predicates::Lattice;
@@ -326,13 +326,7 @@ impl PartScores {
         }
         let expected = (2 * vertices).checked_sub(on_border + 2)?;
         // The child's points that a reused triangle has.
-        scratch.stamp = scratch.stamp.wrapping_add(1);
-        if scratch.stamp == 0 {
-            scratch.covered.clear();
-            scratch.stamp = 1;
-        }
-        scratch.covered.resize(n, 0);
-        let stamp = scratch.stamp;
+        let stamp = next_stamp(&mut scratch.stamp, &mut scratch.covered, n);
         for side in 0..2 {
             let m = &parents[side].mesh;
             for &(t, class) in &self.coverage[side] {

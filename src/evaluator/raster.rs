@@ -499,20 +499,7 @@ impl Spans {
         // registers.
         if y0 < y1 {
             // Rows strictly between the bottom and the middle vertex: long and lower edge.
-            let mut short = self.lower;
-            long.advance();
-            short.advance();
-            let (mut left, mut right) = if self.long_is_right {
-                (short, long)
-            } else {
-                (long, short)
-            };
-            for y in y0 + 1..y1 {
-                sink.row(y, -left.quotient, right.quotient);
-                left.advance();
-                right.advance();
-            }
-            long = if self.long_is_right { right } else { left };
+            long = self.rows_between(sink, long, self.lower, y0 + 1..y1);
         } else if self.skip_row != y0 {
             // A flat bottom the triangle owns.
             sink.row(y0, x0.min(x1) + 1, x0.max(x1) - 1);
@@ -528,23 +515,36 @@ impl Spans {
                 sink.row(y1, lo, hi);
             }
             // Rows strictly between the middle and the top vertex: long and upper edge.
-            let mut short = self.upper;
-            long.advance();
-            short.advance();
-            let (mut left, mut right) = if self.long_is_right {
-                (short, long)
-            } else {
-                (long, short)
-            };
-            for y in y1 + 1..y2 {
-                sink.row(y, -left.quotient, right.quotient);
-                left.advance();
-                right.advance();
-            }
+            self.rows_between(sink, long, self.upper, y1 + 1..y2);
         } else if self.skip_row != y2 {
             // A flat top the triangle owns.
             sink.row(y2, x1.min(x2) + 1, x1.max(x2) - 1);
         }
+    }
+
+    /// The rows `rows` (holding no vertex) bounded by the walks `long` and `short`, which stand
+    /// on the row below the first; returns the long edge's walk past the last row.
+    #[inline(always)]
+    fn rows_between(
+        &self,
+        sink: &mut impl RowSink,
+        mut long: EdgeWalk,
+        mut short: EdgeWalk,
+        rows: std::ops::Range<i64>,
+    ) -> EdgeWalk {
+        long.advance();
+        short.advance();
+        let (mut left, mut right) = if self.long_is_right {
+            (short, long)
+        } else {
+            (long, short)
+        };
+        for y in rows {
+            sink.row(y, -left.quotient, right.quotient);
+            left.advance();
+            right.advance();
+        }
+        if self.long_is_right { right } else { left }
     }
 
     /// z̃ at the first column `lo` of row `y`'s span.
