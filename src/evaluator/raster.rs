@@ -624,6 +624,15 @@ mod tests {
     use super::*;
     use rand::{RngExt, SeedableRng};
 
+    /// `tri` counter-clockwise, or `None` when its corners are collinear.
+    fn counter_clockwise(mut tri: [GridPoint; 3]) -> Option<[GridPoint; 3]> {
+        let turn = orient(tri[0], tri[1], tri[2]);
+        if turn < 0 {
+            tri.swap(1, 2);
+        }
+        (turn != 0).then_some(tri)
+    }
+
     /// Ownership decided point by point, straight from the rule in the module docs.
     fn owns_by_rule(grid: &Grid<'_>, tri: [GridPoint; 3], at: GridPoint) -> bool {
         if tri.contains(&at) {
@@ -653,14 +662,9 @@ mod tests {
                 height: h,
                 z: &z,
             };
-            let mut tri = [0; 3].map(|_| [next(w), next(h)]);
-            let turn = orient(tri[0], tri[1], tri[2]);
-            if turn == 0 {
+            let Some(tri) = counter_clockwise([0; 3].map(|_| [next(w), next(h)])) else {
                 continue;
-            }
-            if turn < 0 {
-                tri.swap(1, 2);
-            }
+            };
             let mut seen = vec![0u32; (w * h) as usize];
             grid.for_each_point(tri, |i, zt| {
                 seen[i] += 1;
@@ -671,7 +675,7 @@ mod tests {
                 let expected = (weight(tri[1], tri[2]) * zv[0]
                     + weight(tri[2], tri[0]) * zv[1]
                     + weight(tri[0], tri[1]) * zv[2])
-                    / turn.abs() as f64;
+                    / orient(tri[0], tri[1], tri[2]) as f64;
                 assert!(
                     (zt - expected).abs() < 1e-12,
                     "round {round} {tri:?} at {at:?}"
@@ -716,14 +720,9 @@ mod tests {
                 height: h,
                 z: &z,
             };
-            let mut tri = [0; 3].map(|_| [next(w), next(h)]);
-            let turn = orient(tri[0], tri[1], tri[2]);
-            if turn == 0 {
+            let Some(tri) = counter_clockwise([0; 3].map(|_| [next(w), next(h)])) else {
                 continue;
-            }
-            if turn < 0 {
-                tri.swap(1, 2);
-            }
+            };
             let mut expected = Vec::new();
             grid.for_each_span(tri, |first, last, _| {
                 let (y, lo) = (first as i64 / w, first as i64 % w);
@@ -759,14 +758,9 @@ mod tests {
                 height: h,
                 z: &z,
             };
-            let mut tri = [0; 3].map(|_| [next(w), next(h)]);
-            let turn = orient(tri[0], tri[1], tri[2]);
-            if turn == 0 {
+            let Some(tri) = counter_clockwise([0; 3].map(|_| [next(w), next(h)])) else {
                 continue;
-            }
-            if turn < 0 {
-                tri.swap(1, 2);
-            }
+            };
             let units = ErrorUnits::new((w * h) as usize, 12.0);
             let mut expected = ErrorTotals::default();
             grid.for_each_error(tri, |_, d| expected.add_error(units, d));
