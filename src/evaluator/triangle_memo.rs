@@ -16,20 +16,23 @@ use std::sync::Arc;
 const EMPTY: [u32; 3] = [u32::MAX; 3];
 
 /// Triangles (canonical rotation: smallest grid index first) with their error totals, by open
-/// addressing.
+/// addressing. The slots hold the vertices and an index into the totals, 16 bytes: a probe
+/// touches a quarter of a cache line (with the totals in the slots, the table outgrew the
+/// first-level cache and a probe cost a sixth of a row's bookkeeping).
 #[derive(Clone, Debug, Default)]
 pub struct TriangleMemo {
     /// The height field the totals are of.
     field: Option<Arc<Heightfield>>,
-    slots: Vec<([u32; 3], ErrorTotals)>,
-    len: usize,
+    slots: Vec<([u32; 3], u32)>,
+    /// The totals, in the order the triangles were remembered.
+    totals: Vec<ErrorTotals>,
     /// 64 − log2 of the number of slots.
     shift: u32,
 }
 
 impl TriangleMemo {
     /// Most triangles remembered: past it the memo starts again (the repeats are among the
-    /// latest crossover's, a thousand or so; a small table stays in cache).
+    /// latest crossovers', several hundred each; a small table stays in cache).
     pub const CAPACITY: usize = 1 << 12;
 
     /// Makes the memo one of `hf`'s totals, forgetting what it holds when that was of another
@@ -40,7 +43,7 @@ impl TriangleMemo {
             (Some(f), Some(h)) => Arc::ptr_eq(f, h),
             _ => false,
         };
-        if !same || self.len >= Self::CAPACITY {
+        if !same || self.totals.len() >= Self::CAPACITY {
             self.clear();
             self.field = hf.cloned();
         }
@@ -48,9 +51,9 @@ impl TriangleMemo {
 
     /// Forgets every triangle.
     pub fn clear(&mut self) {
-        if self.len > 0 {
-            self.slots.fill((EMPTY, ErrorTotals::default()));
-            self.len = 0;
+        if !self.totals.is_empty() {
+            self.slots.fill((EMPTY, 0));
+            self.totals.clear();
         }
     }
 
@@ -72,25 +75,29 @@ impl TriangleMemo {
     /// The totals of `tri`, if known.
     #[inline(always)]
     pub fn get(&self, tri: [u32; 3]) -> Option<ErrorTotals> {
-        if self.len == 0 || self.field.is_none() {
+        if self.totals.is_empty() || self.field.is_none() {
             return None;
         }
-        let (k, totals) = self.slots[self.find(tri)];
-        (k == tri).then_some(totals)
+        let (k, at) = self.slots[self.find(tri)];
+        (k == tri).then(|| self.totals[at as usize])
     }
 
-    /// Remembers the totals of `tri` (not known yet).
+    /// Remembers the totals of `tri`.
     #[inline(always)]
     pub fn insert(&mut self, tri: [u32; 3], totals: ErrorTotals) {
         if self.field.is_none() {
             return;
         }
-        if 2 * (self.len + 1) > self.slots.len() {
+        if 2 * (self.totals.len() + 1) > self.slots.len() {
             self.grow();
         }
         let s = self.find(tri);
-        self.len += usize::from(self.slots[s].0 != tri);
-        self.slots[s] = (tri, totals);
+        if self.slots[s].0 == tri {
+            self.totals[self.slots[s].1 as usize] = totals;
+        } else {
+            self.slots[s] = (tri, self.totals.len() as u32);
+            self.totals.push(totals);
+        }
     }
 
     /// Doubles the table (from 256 slots), keeping its triangles.
@@ -98,12 +105,12 @@ impl TriangleMemo {
     fn grow(&mut self) {
         let old = std::mem::take(&mut self.slots);
         let size = (2 * old.len()).max(256);
-        self.slots = vec![(EMPTY, ErrorTotals::default()); size];
+        self.slots = vec![(EMPTY, 0); size];
         self.shift = 64 - size.trailing_zeros();
-        for (tri, totals) in old {
+        for (tri, at) in old {
             if tri != EMPTY {
                 let s = self.find(tri);
-                self.slots[s] = (tri, totals);
+                self.slots[s] = (tri, at);
             }
         }
     }
@@ -125,18 +132,19 @@ mod tests {
         }
     }
 
-    /// Thousands of triangles (so the table grows several times) come back with their own
-    /// totals, and unknown ones are not found.
+    /// As many triangles as the memo holds (so the table grows several times) come back with
+    /// their own totals, and unknown ones are not found.
     #[test]
     fn remembers_each_triangle_through_growth() {
         let hf = field(0.0);
         let mut memo = TriangleMemo::default();
         memo.prepare(Some(&hf));
         let tri = |k: u32| [k, k * 7 + 1, k * 13 + 2];
-        for k in 0..3000 {
+        let most = TriangleMemo::CAPACITY as u32 - 1;
+        for k in 0..most {
             memo.insert(tri(k), totals(u64::from(k)));
         }
-        for k in 0..3000 {
+        for k in 0..most {
             assert_eq!(memo.get(tri(k)), Some(totals(u64::from(k))));
         }
         assert_eq!(memo.get([1, 2, 3]), None);
