@@ -203,46 +203,11 @@ impl Grid<'_> {
         });
     }
 
-    /// Writes the error |z − z̃| of every grid point the counter-clockwise triangle `tri` owns
-    /// (vertices excluded) into `errors` (row-major, one per grid point), the same bits as
-    /// [`for_each_error`](Self::for_each_error), and `slot` into `owner` at the same points.
-    /// Span-wise slices instead of a call per point let the loop run without bounds checks (the
-    /// fresh build writes every grid point this way); both stores in one loop, because the
-    /// spans of a sparse mesh are short (≈2.6 grid points per row at 2 % kept) and a second pass per span
-    /// costs its own set-up (5 % fewer instructions per evaluation at 2 % kept).
-    #[inline]
-    pub fn write_errors(
-        &self,
-        tri: [GridPoint; 3],
-        errors: &mut [f64],
-        owner: &mut [u32],
-        slot: u32,
-    ) {
-        self.for_each_span(tri, |first, last, span| {
-            let z = &self.z[first..=last];
-            let out = &mut errors[first..=last][..z.len()];
-            let own = &mut owner[first..=last][..z.len()];
-            // An i32 counter (see `Interpolant::at_i32`), which also lets the loop vectorise.
-            for k in 0..z.len() as i32 {
-                let i = k as usize;
-                out[i] = (z[i] - span.at_i32(k)).abs();
-                own[i] = slot;
-            }
-        });
-    }
-
-    /// The totals, in `units`, of the errors of the points the counter-clockwise triangle `tri`
-    /// owns (vertices excluded): the same errors as [`write_errors`](Self::write_errors) writes,
-    /// without writing them, for a score that keeps no per-point error.
-    pub fn error_totals(&self, tri: [GridPoint; 3], units: ErrorUnits) -> ErrorTotals {
-        let mut out = ErrorTotals::default();
-        self.sum_triangles(units, std::iter::once(((), tri)), |_, t| out = t);
-        out
-    }
-
-    /// [`error_totals`](Self::error_totals) of every triangle `tris` yields (counter-clockwise,
-    /// each with a key), each given to `done` with its key: with the fastest kernel this CPU has
-    /// (see [`span_sum`](super::span_sum); every kernel gives the same bits).
+    /// The totals, in `units`, of the errors of the points each triangle `tris` yields owns
+    /// (counter-clockwise, vertices excluded; each with a key), each given to `done` with its
+    /// key: the errors of [`for_each_error`](Self::for_each_error), summed with the fastest
+    /// kernel this CPU has (see [`span_sum`](super::span_sum); every kernel gives the same
+    /// bits).
     pub fn sum_triangles<Key>(
         &self,
         units: ErrorUnits,
@@ -766,7 +731,8 @@ mod tests {
             grid.for_each_error(tri, |_, d| expected.add_error(units, d));
             let mut by_scalar = ErrorTotals::default();
             grid.sum_triangles_with(span_sum::Scalar(units), [((), tri)], |_, t| by_scalar = t);
-            let best = grid.error_totals(tri, units);
+            let mut best = ErrorTotals::default();
+            grid.sum_triangles(units, [((), tri)], |_, t| best = t);
             for got in [by_scalar, best] {
                 assert_eq!(got.sum, expected.sum, "round {round}: {tri:?} on {w}x{h}");
                 assert_eq!(got.sum_sq, expected.sum_sq, "round {round}: {tri:?}");
@@ -809,47 +775,6 @@ mod tests {
             assert_eq!(got.sum, expected.sum);
             assert_eq!(got.sum_sq, expected.sum_sq);
             assert_eq!(got.max.to_bits(), expected.max.to_bits());
-        }
-    }
-
-    #[test]
-    fn write_errors_gives_the_bits_of_for_each_error() {
-        // A 7×5 grid of uneven heights (so no error is zero by accident) and triangles with
-        // horizontal, vertical, steep and shallow edges, some on the border: every span shape.
-        let (w, h) = (7usize, 5usize);
-        let z: Vec<f64> = (0..w * h)
-            .map(|i| ((i * 37 % 11) as f64).sqrt() * 1.3)
-            .collect();
-        let grid = Grid {
-            width: w as i64,
-            height: h as i64,
-            z: &z,
-        };
-        let triangles: [[GridPoint; 3]; 4] = [
-            [[0, 0], [6, 0], [0, 4]],
-            [[6, 0], [6, 4], [0, 4]],
-            [[1, 0], [5, 3], [0, 2]],
-            [[2, 1], [6, 2], [3, 4]],
-        ];
-        for tri in triangles {
-            let mut expected = vec![-1.0; w * h];
-            grid.for_each_error(tri, |i, d| expected[i] = d);
-            let mut written = vec![-1.0; w * h];
-            let mut owner = vec![0u32; w * h];
-            grid.write_errors(tri, &mut written, &mut owner, 9);
-            assert_eq!(
-                written.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
-                expected.iter().map(|d| d.to_bits()).collect::<Vec<_>>(),
-                "{tri:?}"
-            );
-            // The owner is marked at exactly the points written.
-            let owned: Vec<bool> = expected.iter().map(|&d| d >= 0.0).collect();
-            assert!(owned.contains(&true), "{tri:?} owns no point");
-            assert_eq!(
-                owner.iter().map(|&o| o == 9).collect::<Vec<_>>(),
-                owned,
-                "{tri:?}"
-            );
         }
     }
 }
