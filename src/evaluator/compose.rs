@@ -380,7 +380,7 @@ pub(super) fn next_stamp(stamp: &mut u32, marks: &mut Vec<u32>, n: usize) -> u32
 
 /// The intersection of two half-open rectangles `[x0, y0, x1, y1]` (empty when they do not
 /// meet: see [`is_empty`]).
-fn overlap(a: [usize; 4], b: [usize; 4]) -> [usize; 4] {
+pub(super) fn overlap(a: [usize; 4], b: [usize; 4]) -> [usize; 4] {
     [
         a[0].max(b[0]),
         a[1].max(b[1]),
@@ -408,7 +408,7 @@ fn is_empty([x0, y0, x1, y1]: [usize; 4]) -> bool {
 /// The number of points the summed-area table `sat` (of a `width`-wide grid: `(W + 1) ×
 /// (H + 1)`, points in columns < x of rows < y at (y, x)) counts in the half-open rectangle
 /// `[x0, y0, x1, y1]`; 0 when it is empty.
-fn counted_in(sat: &[u32], width: usize, rect: [usize; 4]) -> u32 {
+pub(super) fn counted_in(sat: &[u32], width: usize, rect: [usize; 4]) -> u32 {
     if is_empty(rect) {
         return 0;
     }

@@ -16,12 +16,12 @@
 //!   which a point whose triangles all have its own part's plain class (reused whenever the
 //!   point is in the child) never is.
 //!
-//! Then a child costs a pass over the candidate edges and variable points, the triangulation of
-//! R, and the raster of R's triangles: the same triangles as `compose_parts`, each with the same
+//! Then a child costs a pass over the candidate edges and variable points, the tiling of R
+//! ([`Region::wrap`]), and the raster of R's triangles: the same triangles as `compose_parts`, each with the same
 //! error bits, so the score is bit for bit the same as the composed (and the fresh) one.
 
 use super::Score;
-use super::compose::{PartClasses, next_stamp};
+use super::compose::{PartClasses, counted_in, next_stamp, overlap};
 use super::errors::{ErrorTotals, ErrorUnits};
 use super::incremental::{MeshState, canonical, edge_from, grid_of};
 use super::predicates::Lattice;
@@ -240,22 +240,7 @@ impl PartScores {
         // parent's summed-area table.
         let (w, h) = (hf.width(), hf.height());
         for (side, parent) in parents.into_iter().enumerate() {
-            let sat = &parent.kept_sat;
-            let count = |[x0, y0, x1, y1]: [usize; 4]| {
-                if x0 >= x1 || y0 >= y1 {
-                    return 0;
-                }
-                let sw = w + 1;
-                sat[y1 * sw + x1] + sat[y0 * sw + x0] - sat[y0 * sw + x1] - sat[y1 * sw + x0]
-            };
-            let clip = |r: [usize; 4], c: [usize; 4]| {
-                [
-                    r[0].max(c[0]),
-                    r[1].max(c[1]),
-                    r[2].min(c[2]),
-                    r[3].min(c[3]),
-                ]
-            };
+            let count = |r: [usize; 4]| counted_in(&parent.kept_sat, w, r);
             let counts = &mut self.counts[side];
             counts.clear();
             counts.extend(classes.rects.iter().map(|&r| {
@@ -266,7 +251,7 @@ impl PartScores {
                     [0, 1, 1, h - 1],
                     [w - 1, 1, w, h - 1],
                 ];
-                let on_border = border.iter().map(|&b| count(clip(r, b))).sum::<u32>();
+                let on_border = border.iter().map(|&b| count(overlap(r, b))).sum::<u32>();
                 (count(r), on_border)
             }));
         }
@@ -378,16 +363,13 @@ impl PartScores {
                 }
             }
         }
+        for &p in &scratch.points {
+            scratch.listed[p as usize] = false;
+        }
         if scratch.open.is_empty() {
-            for &p in &scratch.points {
-                scratch.listed[p as usize] = false;
-            }
             // Nothing is new: the parents' triangles tile the grid (or the guard fails).
             return (taken_count == expected && scratch.points.is_empty())
                 .then(|| score_of(self.units, &totals, taken_count, n));
-        }
-        for &p in &scratch.points {
-            scratch.listed[p as usize] = false;
         }
         let region = &mut scratch.region;
         region.wrap(w, hf.height(), &scratch.points, &scratch.open)?;
