@@ -130,7 +130,7 @@ pub struct ComposeScratch {
     covered: Vec<u32>,
     stamp: u32,
     /// R's slots whose totals the memo did not know.
-    unknown: Vec<u32>,
+    unknown: Vec<(u32, [u32; 3])>,
 }
 
 /// Where a child's labels come from: a bitset over the grid (bit set: from B), or parts of

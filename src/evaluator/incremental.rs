@@ -298,37 +298,25 @@ impl MeshState {
         });
     }
 
-    /// [`rasterise`](Self::rasterise) through `memo`: the totals of a triangle it knows are
-    /// copied, the others rasterised and remembered (`unknown`: scratch).
+    /// [`rasterise`](Self::rasterise) through `memo` ([`TriangleMemo::sum_triangles`];
+    /// `unknown`: scratch).
     pub(super) fn rasterise_with_memo(
         &mut self,
         hf: &Arc<Heightfield>,
         slots: std::ops::Range<u32>,
         memo: &mut TriangleMemo,
-        unknown: &mut Vec<u32>,
+        unknown: &mut Vec<(u32, [u32; 3])>,
     ) {
         memo.prepare(Some(hf));
-        let (grid, lattice) = (grid_of(hf), Lattice::new(hf.width()));
         let (mesh, hint, totals) = (&self.mesh, &mut self.hint, &mut self.totals);
-        unknown.clear();
-        for slot in slots {
+        let tris = slots.map(|slot| {
             let tri = canonical(mesh.triangle(slot as usize));
             for v in tri {
                 hint[v as usize] = slot;
             }
-            match memo.get(tri) {
-                Some(known) => totals[slot as usize] = known,
-                None => unknown.push(slot),
-            }
-        }
-        let tris = unknown.iter().map(|&slot| {
-            let tri = canonical(mesh.triangle(slot as usize));
-            ((slot, tri), tri.map(|i| lattice.point(i)))
+            (slot, tri)
         });
-        grid.sum_triangles(ErrorUnits::of(hf), tris, |(slot, tri), t| {
-            totals[slot as usize] = t;
-            memo.insert(tri, t);
-        });
+        memo.sum_triangles(hf, tris, unknown, |slot, t| totals[slot as usize] = t);
     }
 
     /// Removes the kept points `remove`, then inserts `insert`, and rescores. On error nothing

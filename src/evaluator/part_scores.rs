@@ -101,7 +101,7 @@ pub struct RowScratch {
     open: Vec<(u32, u32, u32)>,
     region: Region,
     /// R's triangles whose totals the memo does not know.
-    unknown: Vec<[u32; 3]>,
+    unknown: Vec<((), [u32; 3])>,
     /// The totals of the latest R triangles, of rows and compositions (see
     /// [`TriangleMemo`]).
     pub(super) memo: TriangleMemo,
@@ -381,24 +381,10 @@ impl PartScores {
             return None;
         }
         // R's triangles, each in the canonical rotation every triangle is rasterised in.
-        let lattice = Lattice::new(w);
-        scratch.unknown.clear();
-        for &t in &region.triangles {
-            let t = canonical(t);
-            match scratch.memo.get(t) {
-                Some(known) => totals.add(&known),
-                None => scratch.unknown.push(t),
-            }
-        }
-        let memo = &mut scratch.memo;
-        let tris = scratch
-            .unknown
-            .iter()
-            .map(|&t| (t, t.map(|i| lattice.point(i))));
-        grid_of(hf).sum_triangles(self.units, tris, |t, found| {
-            totals.add(&found);
-            memo.insert(t, found);
-        });
+        let tris = region.triangles.iter().map(|&t| ((), canonical(t)));
+        scratch
+            .memo
+            .sum_triangles(hf, tris, &mut scratch.unknown, |_, t| totals.add(&t));
         Some(score_of(self.units, &totals, expected, n))
     }
 }

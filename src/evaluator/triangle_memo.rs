@@ -8,7 +8,9 @@
 //! ones spares the raster of each repeat: a probe costs a few dozen instructions, a raster
 //! hundreds.
 
-use super::errors::ErrorTotals;
+use super::errors::{ErrorTotals, ErrorUnits};
+use super::incremental::grid_of;
+use super::predicates::Lattice;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
@@ -98,6 +100,33 @@ impl TriangleMemo {
             self.slots[s] = (tri, self.totals.len() as u32);
             self.totals.push(totals);
         }
+    }
+
+    /// Calls `done(key, totals)` for every `(key, tri)` of `tris` (counter-clockwise, in the
+    /// canonical rotation): the totals the memo knows, the others rasterised on `hf` (after
+    /// the known ones; every kernel gives the same bits) and remembered. `unknown`: scratch.
+    pub fn sum_triangles<K: Copy>(
+        &mut self,
+        hf: &Heightfield,
+        tris: impl IntoIterator<Item = (K, [u32; 3])>,
+        unknown: &mut Vec<(K, [u32; 3])>,
+        mut done: impl FnMut(K, ErrorTotals),
+    ) {
+        unknown.clear();
+        for (key, tri) in tris {
+            match self.get(tri) {
+                Some(known) => done(key, known),
+                None => unknown.push((key, tri)),
+            }
+        }
+        let lattice = Lattice::new(hf.width());
+        let points = unknown
+            .iter()
+            .map(|&(key, tri)| ((key, tri), tri.map(|i| lattice.point(i))));
+        grid_of(hf).sum_triangles(ErrorUnits::of(hf), points, |(key, tri), totals| {
+            self.insert(tri, totals);
+            done(key, totals);
+        });
     }
 
     /// Doubles the table (from 256 slots), keeping its triangles.
