@@ -141,30 +141,17 @@ impl Chromosome {
     /// Sets genes `start..end`, leaving the rest unchanged.
     pub fn set_range(&mut self, start: usize, end: usize) {
         debug_assert!(start <= end && end <= self.len);
-        if start >= end {
-            return;
-        }
         // Word by word (a crossover marks a block a row at a time: a bit at a time cost
         // several hundred instructions per row).
-        let (first, last) = (start / 64, (end - 1) / 64);
-        for w in first..=last {
-            let lo = if w == first { start % 64 } else { 0 };
-            let hi = if w == last { (end - 1) % 64 + 1 } else { 64 };
-            self.words[w] |= word_mask(lo, hi);
+        for (w, mask) in word_masks(start, end) {
+            self.words[w] |= mask;
         }
     }
 
     /// Copies genes `start..end` from `other` (same length), leaving the rest unchanged.
     pub fn copy_range_from(&mut self, other: &Chromosome, start: usize, end: usize) {
         debug_assert!(start <= end && end <= self.len && other.len == self.len);
-        if start >= end {
-            return;
-        }
-        let (first, last) = (start / 64, (end - 1) / 64);
-        for w in first..=last {
-            let lo = if w == first { start % 64 } else { 0 };
-            let hi = if w == last { (end - 1) % 64 + 1 } else { 64 };
-            let mask = word_mask(lo, hi);
+        for (w, mask) in word_masks(start, end) {
             self.words[w] = (self.words[w] & !mask) | (other.words[w] & mask);
         }
     }
@@ -233,6 +220,18 @@ pub fn for_each_bernoulli(n: usize, p: f64, rng: &mut Pcg64Mcg, mut visit: impl 
 }
 
 /// The bits `lo..hi` of a word (`lo < hi ≤ 64`).
+/// The words that genes `start..end` touch, each with the mask of those genes in it (none when
+/// the range is empty).
+fn word_masks(start: usize, end: usize) -> impl Iterator<Item = (usize, u64)> {
+    let (first, last) = (start / 64, end.saturating_sub(1) / 64);
+    let words = if start < end { first..last + 1 } else { 0..0 };
+    words.map(move |w| {
+        let lo = if w == first { start % 64 } else { 0 };
+        let hi = if w == last { (end - 1) % 64 + 1 } else { 64 };
+        (w, word_mask(lo, hi))
+    })
+}
+
 fn word_mask(lo: usize, hi: usize) -> u64 {
     if hi - lo == 64 {
         u64::MAX

@@ -326,10 +326,7 @@ impl Scorer {
         };
         let mut score = None;
         if let Some(([a, b], from_b)) = parents {
-            for p in [a, b] {
-                self.pool[p].state.ensure_discs();
-                self.pool[p].used = self.tick;
-            }
+            self.ready_parents([a, b]);
             let mut state = std::mem::take(&mut self.pool[slot].state);
             let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
             // The crossover's classification, when there is one for these parents (a failed
@@ -410,13 +407,18 @@ impl Scorer {
         // before it, and a tight bound early lets the rest of the scan skip or stop early
         // (measured without it, min of two: the paper run 2.97 → 3.46 s, the weighted-sum GA
         // 9.33 → 9.75 s).
+        // The distance to a chromosome (its genes, count and profile) when below `bound`: the
+        // difference of the counts and of the profiles bound it from below and skip most.
+        let below = |genes: &Chromosome, their_ones: usize, theirs: &Profile, bound: usize| {
+            if their_ones.abs_diff(ones) >= bound || theirs.distance_below(profile) >= bound {
+                return None;
+            }
+            genes.hamming_below(c, bound)
+        };
         let recent = self.recent.into_iter().filter(|&i| i < self.pool.len());
         for i in recent.chain(0..self.pool.len()) {
             let p = &self.pool[i];
-            if p.ones.abs_diff(ones) >= bound || p.profile.distance_below(profile) >= bound {
-                continue;
-            }
-            if let Some(d) = p.genes.hamming_below(c, bound) {
+            if let Some(d) = below(&p.genes, p.ones, &p.profile, bound) {
                 nearest = Some((Base::Pool(i), d));
                 bound = d;
                 if d == 0 {
@@ -425,10 +427,7 @@ impl Scorer {
             }
         }
         for (r, row) in self.rows.iter().enumerate() {
-            if row.ones.abs_diff(ones) >= bound || row.profile.distance_below(profile) >= bound {
-                continue;
-            }
-            if let Some(d) = row.genes.hamming_below(c, bound) {
+            if let Some(d) = below(&row.genes, row.ones, &row.profile, bound) {
                 nearest = Some((Base::Row(r), d));
                 bound = d;
             }
@@ -483,15 +482,21 @@ impl Scorer {
         })
     }
 
+    /// Readies pooled parents `[a, b]` to compose or classify from (their disc boxes and
+    /// lookups), and marks them used now.
+    fn ready_parents(&mut self, parents: [usize; 2]) {
+        for p in parents {
+            self.pool[p].state.ensure_discs();
+            self.pool[p].used = self.tick;
+        }
+    }
+
     /// Makes sure the current crossover's classification is for `made`'s blocks and the pooled
     /// parents `[a, b]` (making it at the crossover's first row), and returns `made`'s levels;
     /// `None` when it cannot be made.
     fn classify(&mut self, made: Parentage<'_>, [a, b]: [usize; 2]) -> Option<u32> {
         let levels = self.levels_of(made)?;
-        for p in [a, b] {
-            self.pool[p].state.ensure_discs();
-            self.pool[p].used = self.tick;
-        }
+        self.ready_parents([a, b]);
         let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
         let rects = made.blocks.iter().map(|b| [b.x0, b.y0, b.x1, b.y1]);
         if !self.crossing_blocks.iter().copied().eq(rects.clone()) || !self.crossing.is_for(pa, pb)
