@@ -325,8 +325,8 @@ impl PartClasses {
                 // The parts the box meets (its rectangle's last column and row are x1 − 1 and
                 // y1 − 1), but its own.
                 let [x0, y0, x1, y1] = disc;
-                let met = starts_x[x1 - 1] & ends_x[x0] & starts_y[y1 - 1] & ends_y[y0];
-                let mut met = met & !(1 << own);
+                let mut met =
+                    starts_x[x1 - 1] & ends_x[x0] & starts_y[y1 - 1] & ends_y[y0] & !(1 << own);
                 if met != 0 && parent.discs[t].area() > MAX_SEARCHED_BOX {
                     kill[t] |= met;
                 } else if met != 0 {
@@ -829,8 +829,7 @@ impl MeshState {
             }
             first_slot = range.end;
         }
-        let totals = &self.totals;
-        debug_assert_eq!(totals.len(), taken);
+        debug_assert_eq!(self.totals.len(), taken);
 
         // R's points: the kept points no taken triangle has, and the ends of the half-edges
         // with R across.

@@ -108,6 +108,8 @@ pub(super) struct EditScratch {
     /// Slots emptied by removals, to be filled by compaction.
     dead: Vec<u32>,
     dirty: Vec<bool>,
+    /// The dirty slots, increasing.
+    dirty_slots: Vec<u32>,
     boundary: Vec<u32>,
     outer: Vec<u32>,
     star: Vec<u32>,
@@ -360,8 +362,9 @@ impl MeshState {
         // Re-rasterise every touched triangle (a new vertex is a vertex of some of them).
         self.totals.resize(self.mesh.len(), ErrorTotals::default());
         let dirty = &scratch.dirty;
-        let slots = (0..self.mesh.len() as u32).filter(|&s| dirty[s as usize]);
-        let slots: Vec<u32> = slots.collect();
+        let slots = &mut scratch.dirty_slots;
+        slots.clear();
+        slots.extend((0..self.mesh.len() as u32).filter(|&s| dirty[s as usize]));
         // Disc boxes that were up to date stay so: the untouched slots hold the same
         // triangles (a composed mesh is a parent-to-be; making all its boxes again cost more
         // than the edit).
@@ -369,12 +372,12 @@ impl MeshState {
             let (w, h) = (hf.width(), hf.height());
             self.discs.truncate(self.mesh.len());
             self.discs.resize(self.mesh.len(), DiscBox::default());
-            for &slot in &slots {
+            for &slot in slots.iter() {
                 let p = self.mesh.triangle(slot as usize).map(|i| lattice.point(i));
                 self.discs[slot as usize] = DiscBox::of(p, w, h);
             }
         }
-        self.rasterise(hf, slots.into_iter());
+        self.rasterise(hf, slots.iter().copied());
         let score = self.finish(hf);
         self.discs_valid = discs_valid;
         Ok(score)
@@ -458,19 +461,13 @@ impl MeshState {
                 .map(|x| (row + x as usize) as u32)
                 .find(|&q| self.kept[q as usize])
         });
-        let (kept, dist) = match near {
-            Some(q) => (q, (lattice.point(q)[0] - pp[0]).abs()),
-            None => (0, i64::MAX),
-        };
-        match last {
-            Some((q, slot)) => {
-                let a = lattice.point(q);
-                if (a[0] - pp[0]).abs() + (a[1] - pp[1]).abs() < dist {
-                    return slot;
-                }
+        // Grid corner 0 is always kept.
+        let (kept, dist) = near.map_or((0, i64::MAX), |q| (q, (lattice.point(q)[0] - pp[0]).abs()));
+        if let Some((q, slot)) = last {
+            let a = lattice.point(q);
+            if (a[0] - pp[0]).abs() + (a[1] - pp[1]).abs() < dist {
+                return slot;
             }
-            None if near.is_none() => return self.hint[0],
-            None => {}
         }
         self.hint[kept as usize]
     }
