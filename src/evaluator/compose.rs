@@ -32,7 +32,7 @@ use super::incremental::{MeshState, edge_from};
 use super::predicates::{Circle, GridPoint, Lattice, in_circle};
 use super::region::{BOUNDARY, Region, for_each_in};
 use super::triangle_memo::TriangleMemo;
-use super::triangulation::NONE;
+use super::triangulation::{NONE, fit};
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
@@ -696,6 +696,15 @@ impl MeshState {
                 vertices = self.kept.iter().map(|&k| usize::from(k)).sum();
             }
         }
+        // The child's triangle count, by Euler: a triangulation of the grid rectangle with V
+        // vertices, B of them on its border, has 2V − B − 2 triangles. It sizes the child's
+        // arrays, and guards the reasoning below (a leak or a gap would change the count).
+        let on_border = (0..w)
+            .flat_map(|x| [x, (h - 1) * w + x])
+            .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
+            .filter(|&i| self.kept[i])
+            .count();
+        let expected = (2 * vertices).checked_sub(on_border + 2)? as u32;
         let labels = &scratch.labels;
         let label = |i: u32| u64::from(labels[i as usize]);
         let child_kept = &self.kept;
@@ -779,11 +788,14 @@ impl MeshState {
         self.hint.resize(n, 0);
         let stamp = next_stamp(&mut scratch.stamp, &mut scratch.covered, n);
         self.mesh.clear_for(w);
+        let room = expected.max(next_slot) as usize;
+        fit(&mut self.mesh.vertices, 3 * room);
         self.mesh.vertices.resize(3 * taken, 0);
+        fit(&mut self.mesh.twin, 3 * room);
         self.mesh.twin.resize(3 * taken, NONE);
-        self.discs.clear();
+        fit(&mut self.discs, room);
         self.discs.resize(taken, DiscBox::default());
-        self.totals.clear();
+        fit(&mut self.totals, room);
         self.totals.resize(taken, ErrorTotals::default());
         scratch.open.clear();
         let hints = &mut self.hint;
@@ -853,15 +865,6 @@ impl MeshState {
         for &p in &scratch.points {
             scratch.listed[p as usize] = false;
         }
-        // A guard on the reasoning above: a triangulation of the grid rectangle with V
-        // vertices, B of them on its border, has 2V − B − 2 triangles (Euler); a leak or a gap
-        // would change the count.
-        let on_border = (0..w)
-            .flat_map(|x| [x, (h - 1) * w + x])
-            .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
-            .filter(|&i| self.kept[i])
-            .count();
-        let expected = (2 * vertices).checked_sub(on_border + 2)? as u32;
         if open_len == 0 {
             // Nothing is new: the parents' triangles tile the grid (or the guard fails).
             if taken_len != expected || !scratch.points.is_empty() {

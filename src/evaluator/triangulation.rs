@@ -299,10 +299,28 @@ impl Clone for Triangulation {
 
     /// Reuses this triangulation's buffers (the derived one would reallocate).
     fn clone_from(&mut self, source: &Self) {
-        self.vertices.clone_from(&source.vertices);
-        self.twin.clone_from(&source.twin);
+        copy_fitted(&mut self.vertices, &source.vertices);
+        copy_fitted(&mut self.twin, &source.twin);
         self.lattice = source.lattice;
     }
+}
+
+/// Makes `v` empty with room for `len` elements and not much more: a new buffer when its own
+/// is too small or over twice too large. Why: the scorer's pooled meshes take turns holding
+/// meshes of a few triangles and of thousands; grown by doubling (and copied on each growth),
+/// each kept room for the largest it ever held, twice over, and the pool took about four times
+/// the memory its meshes use, most of the run's page faults.
+pub(super) fn fit<T>(v: &mut Vec<T>, len: usize) {
+    if v.capacity() < len || v.capacity() > 2 * len + 256 {
+        *v = Vec::with_capacity(len + len / 8 + 64);
+    }
+    v.clear();
+}
+
+/// `dst` made a copy of `src`, in a buffer [`fit`] for it.
+pub(super) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
+    fit(dst, src.len());
+    dst.extend_from_slice(src);
 }
 
 impl Triangulation {
