@@ -172,6 +172,9 @@ pub struct PartScores {
     either: Vec<u64>,
     /// Scratch of `prepare`: one parent's triangles with a variable vertex.
     covering: Vec<u32>,
+    /// Scratch of `prepare`: the candidate edges (parent, u, v, children) that the other parent
+    /// may have too (it keeps both ends), with level sets.
+    crossing: Vec<(u8, u32, u32, LevelSet)>,
     stamp: u32,
 }
 
@@ -303,6 +306,7 @@ impl PartScores {
         self.candidates.clear();
         self.r_points.clear();
         self.r_edges.clear();
+        self.crossing.clear();
         if level_sets {
             self.class_levels.clear();
             self.class_levels
@@ -364,21 +368,42 @@ impl PartScores {
                     // On the R boundary of the children that reuse this triangle but neither
                     // the one across nor the other parent's triangle across the edge.
                     let cl = &self.class_levels;
-                    let mut set = cl[class as usize].and_not(cl[twin_class as usize]);
+                    let set = cl[class as usize].and_not(cl[twin_class as usize]);
                     if set.is_empty() {
                         continue;
                     }
                     let (u, v) = (tri[k], m.vertices[next(edge) as usize]);
-                    let cross = cross_twin(parents[1 - side], u, v);
-                    if cross != NONE {
-                        let across =
-                            class_of(classes, &self.special, 1 - side, (cross / 3) as usize);
-                        set = set.and_not(cl[across as usize]);
-                    }
-                    if !set.is_empty() {
+                    let other = parents[1 - side];
+                    if other.kept[u as usize] && other.kept[v as usize] {
+                        // The other parent may have the edge: looked up below.
+                        self.crossing.push((side as u8, u, v, set));
+                    } else {
                         self.r_edges.push((u, v, set));
                     }
                 }
+            }
+        }
+        // The other parent's triangles across the candidate edges it may have, found by a walk
+        // around an endpoint variable in either parent: all its triangles there have been read
+        // just above (a walk from the other endpoint, or during the pass, reads cold memory).
+        for &(side, u, v, set) in &self.crossing {
+            let side = usize::from(side);
+            let other = parents[1 - side];
+            let m = &other.mesh;
+            let cross = if self.either[(v / 64) as usize] >> (v % 64) & 1 != 0 {
+                cross_twin(other, u, v)
+            } else {
+                m.leaving(other.hint[u as usize], u)
+                    .and_then(|e| edge_from(m, e, v))
+                    .map_or(NONE, |e| m.twin[e as usize])
+            };
+            let mut set = set;
+            if cross != NONE {
+                let across = class_of(classes, &self.special, 1 - side, (cross / 3) as usize);
+                set = set.and_not(self.class_levels[across as usize]);
+            }
+            if !set.is_empty() {
+                self.r_edges.push((u, v, set));
             }
         }
         if level_sets {
