@@ -155,10 +155,6 @@ impl Profile {
 /// A scored chromosome with its mesh, in the [`Scorer`]'s pool.
 struct Pooled {
     genes: Chromosome,
-    /// Its number of set genes.
-    ones: usize,
-    /// Its [`Profile`].
-    profile: Profile,
     state: MeshState,
     objectives: Objectives,
     /// When it was last scored or used as a base (a tick of the scorer), for replacement.
@@ -171,6 +167,15 @@ struct Pooled {
     alive: bool,
 }
 
+/// What the [`Scorer`]'s search reads first of a pooled chromosome: its number of set genes
+/// and its [`Profile`], kept apart from the rest ([`Scorer::keys`]) so that the search, which
+/// skips most of the pool on them, reads them contiguously.
+#[derive(Clone, Copy, Debug)]
+struct Key {
+    ones: usize,
+    profile: Profile,
+}
+
 /// Scores chromosomes on one height field and counts every evaluation. Incremental: see the
 /// module doc.
 pub struct Scorer {
@@ -180,6 +185,9 @@ pub struct Scorer {
     /// E₀ and T₀ of [`Scalarisation`].
     normalisers: (f64, f64),
     pool: Vec<Pooled>,
+    /// Per pool slot, its chromosome's [`Key`] (`ones` is `usize::MAX` for a slot that nothing
+    /// may match).
+    keys: Vec<Key>,
     capacity: usize,
     tick: u64,
     removed: Vec<u32>,
@@ -238,6 +246,7 @@ impl Scorer {
             evaluations: 0,
             normalisers: (if e0 > 0.0 { e0 } else { 1.0 }, t0),
             pool: Vec::new(),
+            keys: Vec::new(),
             capacity: (POOL_BYTES / state_bytes.max(1)).clamp(1, POOL_STATES),
             tick: 0,
             removed: Vec::new(),
@@ -381,10 +390,9 @@ impl Scorer {
             e_max: s.e_max,
             t: s.t,
         };
+        self.keys[slot] = Key { ones, profile };
         let entry = &mut self.pool[slot];
         entry.genes.clone_from(c);
-        entry.ones = ones;
-        entry.profile = profile;
         entry.objectives = objectives;
         entry.used = self.tick;
         entry.crossed = made.is_some();
@@ -417,8 +425,8 @@ impl Scorer {
         };
         let recent = self.recent.into_iter().filter(|&i| i < self.pool.len());
         for i in recent.chain(0..self.pool.len()) {
-            let p = &self.pool[i];
-            if let Some(d) = below(&p.genes, p.ones, &p.profile, bound) {
+            let key = &self.keys[i];
+            if let Some(d) = below(&self.pool[i].genes, key.ones, &key.profile, bound) {
                 nearest = Some((Base::Pool(i), d));
                 bound = d;
                 if d == 0 {
@@ -446,10 +454,9 @@ impl Scorer {
         keep: [Option<usize>; 3],
     ) -> usize {
         if self.pool.len() < self.capacity {
+            self.keys.push(Key { ones, profile });
             self.pool.push(Pooled {
                 genes: c.clone(),
-                ones,
-                profile,
                 state: MeshState::default(),
                 objectives: Objectives {
                     e_sum: 0.0,
@@ -570,15 +577,16 @@ impl Scorer {
         self.pool[slot].state = state;
         if score.is_none() {
             // The slot's mesh is unscored now: nothing may match it.
-            let entry = &mut self.pool[slot];
-            entry.genes = Chromosome::empty(0);
-            entry.ones = usize::MAX;
+            self.pool[slot].genes = Chromosome::empty(0);
+            self.keys[slot].ones = usize::MAX;
             return None;
         }
+        self.keys[slot] = Key {
+            ones: row.ones,
+            profile: row.profile,
+        };
         let entry = &mut self.pool[slot];
         entry.genes = row.genes;
-        entry.ones = row.ones;
-        entry.profile = row.profile;
         entry.objectives = row.objectives;
         entry.used = self.tick;
         entry.crossed = crossed;
@@ -626,7 +634,8 @@ impl Scorer {
         let ones = c.count_ones();
         self.pool
             .iter()
-            .position(|p| p.ones == ones && p.genes == *c)
+            .zip(&self.keys)
+            .position(|(p, key)| key.ones == ones && p.genes == *c)
     }
 
     /// Evaluations so far.
