@@ -836,33 +836,27 @@ pub(super) fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u
         return None;
     }
     let ends_at_to = |e: u32| mesh.vertices[next(e) as usize] == to;
-    let mut at = leaving;
-    loop {
-        if ends_at_to(at) {
-            return Some(at);
-        }
-        at = mesh.fan_next(at);
-        if at == leaving {
-            return None;
-        }
-        if at == NONE {
-            break;
-        }
-    }
-    let mut at = leaving;
-    loop {
-        let f = mesh.twin[at as usize];
-        if f == NONE {
-            return None;
-        }
-        at = next(f);
-        if at == leaving {
-            return None;
-        }
-        if ends_at_to(at) {
-            return Some(at);
+    // Counter-clockwise, then clockwise (from the half-edge before `leaving`).
+    for (step, start) in [
+        (
+            Triangulation::fan_next as fn(&Triangulation, u32) -> u32,
+            leaving,
+        ),
+        (Triangulation::fan_prev, mesh.fan_prev(leaving)),
+    ] {
+        let mut at = start;
+        while at != NONE {
+            if ends_at_to(at) {
+                return Some(at);
+            }
+            at = step(mesh, at);
+            if at == leaving {
+                // Once around an inner vertex: no such edge.
+                return None;
+            }
         }
     }
+    None
 }
 
 pub(super) fn grid_of(hf: &Heightfield) -> Grid<'_> {

@@ -570,15 +570,19 @@ impl Triangulation {
     pub fn fan_start(&self, e: u32) -> u32 {
         let mut at = e;
         loop {
-            let f = self.twin[at as usize];
-            if f == NONE {
-                return at;
+            let before = self.fan_prev(at);
+            if before == NONE || before == e {
+                return if before == NONE { at } else { e };
             }
-            at = next(f);
-            if at == e {
-                return at;
-            }
+            at = before;
         }
+    }
+
+    /// The half-edge before `e` counter-clockwise around their common origin (the next of
+    /// `e`'s twin), or [`NONE`] past the border.
+    pub fn fan_prev(&self, e: u32) -> u32 {
+        let f = self.twin[e as usize];
+        if f == NONE { NONE } else { next(f) }
     }
 
     /// The half-edge after `e` counter-clockwise around their common origin (the twin of `e`'s
