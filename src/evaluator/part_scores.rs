@@ -164,18 +164,16 @@ pub struct PartScores {
     /// Scratch of `prepare`: per grid point, the children that reuse a triangle with it (for
     /// the variable points only; the other entries are stale).
     reused_by: Vec<LevelSet>,
-    /// Scratch of `prepare`: per grid point, the stamp of the last preparation it was variable
-    /// in, for parent A and B.
-    is_variable: [Vec<u32>; 2],
-    /// Scratch of `prepare`: the points variable in either parent, as a bitset (bit `i` of word
-    /// `i / 64`; 66 words on a 65×65 grid, which the pass over every triangle reads at random).
+    /// Scratch of `prepare`: the points variable in parent A, in B, and in either, as bitsets
+    /// (bit `i` of word `i / 64`; 66 words on a 65×65 grid, which the pass over every triangle
+    /// reads at random).
+    is_variable: [Vec<u64>; 2],
     either: Vec<u64>,
     /// Scratch of `prepare`: one parent's triangles with a variable vertex.
     covering: Vec<u32>,
     /// Scratch of `prepare`: the candidate edges (parent, u, v, children) that the other parent
     /// may have too (it keeps both ends), with level sets.
     crossing: Vec<(u8, u32, u32, LevelSet)>,
-    stamp: u32,
 }
 
 /// Per-child scratch of [`PartScores::score`], kept by the evaluator between calls.
@@ -241,22 +239,15 @@ impl PartScores {
             }
         }
         let plain = self.classes.len();
-        // Variable points, marked by a stamp (no clearing between crossovers): a vertex of a
-        // triangle whose class is not its own part's plain one, which is near a block's edge.
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.is_variable.iter_mut().for_each(Vec::clear);
-            self.stamp = 1;
-        }
-        let stamp = self.stamp;
-        self.either.clear();
-        self.either.resize(n.div_ceil(64), 0);
+        // Variable points: a vertex of a triangle whose class is not its own part's plain one,
+        // which is near a block's edge.
         for (side, parent) in parents.into_iter().enumerate() {
             let (first, kill) = (&classes.first[side], &classes.kill[side]);
             let vertices = &parent.mesh.vertices;
             self.special[side].resize(first.len(), 0);
             let is_variable = &mut self.is_variable[side];
-            is_variable.resize(n, 0);
+            is_variable.clear();
+            is_variable.resize(n.div_ceil(64), 0);
             let variable = &mut self.variable[side];
             variable.clear();
             for &t in &classes.near[side] {
@@ -287,9 +278,10 @@ impl PartScores {
                 }
                 if k != 0 || tri.iter().any(|&v| part[v as usize] != home) {
                     for &v in tri {
-                        if std::mem::replace(&mut is_variable[v as usize], stamp) != stamp {
+                        let (word, bit) = ((v / 64) as usize, 1 << (v % 64));
+                        if is_variable[word] & bit == 0 {
+                            is_variable[word] |= bit;
                             variable.push(v);
-                            self.either[(v / 64) as usize] |= 1 << (v % 64);
                         }
                     }
                 }
@@ -302,6 +294,9 @@ impl PartScores {
         // With level sets, each such triangle marks the children that reuse it on its
         // vertices, and each candidate edge is kept with the children on whose R boundary it
         // lies, in the same pass.
+        let [va, vb] = &self.is_variable;
+        self.either.clear();
+        self.either.extend(va.iter().zip(vb).map(|(a, b)| a | b));
         let level_sets = classes.rects.len() <= LEVEL_SET_PARTS;
         self.candidates.clear();
         self.r_points.clear();
@@ -322,14 +317,13 @@ impl PartScores {
             coverage.clear();
             // First the triangles with a variable vertex, without branches (a quarter of them,
             // in no order the slots follow).
-            let either = &self.either;
-            let variable = |v: u32| (either[(v / 64) as usize] >> (v % 64)) & 1;
+            let variable = |v: u32| bit_of(&self.either, v);
             let covering = &mut self.covering;
             covering.resize(m.len(), 0);
             let mut len = 0;
             for (t, tri) in m.vertices.chunks_exact(3).enumerate() {
                 covering[len] = t as u32;
-                len += (variable(tri[0]) | variable(tri[1]) | variable(tri[2])) as usize;
+                len += variable(tri[0]) | variable(tri[1]) | variable(tri[2]);
             }
             covering.truncate(len);
             for &t in covering.iter() {
@@ -390,7 +384,7 @@ impl PartScores {
             let side = usize::from(side);
             let other = parents[1 - side];
             let m = &other.mesh;
-            let cross = if self.either[(v / 64) as usize] >> (v % 64) & 1 != 0 {
+            let cross = if bit_of(&self.either, v) != 0 {
                 cross_twin(other, u, v)
             } else {
                 m.leaving(other.hint[u as usize], u)
@@ -649,6 +643,11 @@ fn class_of(classes: &PartClasses, special: &[Vec<u32>; 2], side: usize, t: usiz
     } else {
         special[side][t]
     }
+}
+
+/// Bit `i` of the bitset `bits` (bit `i` of word `i / 64`), as 0 or 1.
+fn bit_of(bits: &[u64], i: u32) -> usize {
+    ((bits[(i / 64) as usize] >> (i % 64)) & 1) as usize
 }
 
 /// The half-edge `v → u` of `parent`, or [`NONE`] when it has no such edge.

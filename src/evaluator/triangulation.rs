@@ -571,8 +571,11 @@ impl Triangulation {
         let mut at = e;
         loop {
             let before = self.fan_prev(at);
-            if before == NONE || before == e {
-                return if before == NONE { at } else { e };
+            if before == NONE {
+                return at;
+            }
+            if before == e {
+                return e;
             }
             at = before;
         }
