@@ -26,7 +26,8 @@
 //! ([`Region::wrap`]), and the raster of R's triangles: the same triangles as `compose_parts`,
 //! each with the same error bits, so the score is bit for bit the same as the composed (and
 //! the fresh) one. (Measured on the paper run on jacksboro_65x65: level sets took a row's pass
-//! from 15 µs to 3 µs, for 13 µs more per crossover, which has 7 rows or more.)
+//! from 15 µs to 3 µs; a crossover, which has 7 rows or more, prepares them in the pass that
+//! finds the candidate edges.)
 
 use super::Score;
 use super::compose::{PartClasses, counted_in, next_stamp, overlap};
