@@ -7,7 +7,7 @@ mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::evaluator::incremental::canonical_set as triangle_set;
-use paretomesh::evaluator::{Evaluator, MeshState, PartClasses, PartScores};
+use paretomesh::evaluator::{Changes, Evaluator, MeshState, PartClasses, PartScores};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -200,7 +200,12 @@ fn a_child_equal_to_a_parent_takes_all_its_triangles() {
 /// Composes every child of random parents over random rectangles both ways, by parts and by
 /// the equivalent bitset, and requires the same mesh (slot for slot) and bits; scores each
 /// without a mesh too ([`Evaluator::score_parts`]), which must give the same bits.
-fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
+fn compose_by_parts(
+    hf: Arc<Heightfield>,
+    seed: u64,
+    rounds: usize,
+    (mutants, refused): (&mut usize, &mut usize),
+) {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let mut ev = Evaluator::new(hf.clone());
     let (w, h) = (hf.width(), hf.height());
@@ -239,15 +244,42 @@ fn compose_by_parts(hf: Arc<Heightfield>, seed: u64, rounds: usize) {
             if k < 3 {
                 assert_matches_fresh(&mut ev, &by_parts, &what);
             }
+            // A mutant of the child (1–6 points flipped, anywhere: inside a block, on a seam,
+            // on the grid border), scored without a mesh: its fresh score's bits.
+            let n = hf.len() as u32;
+            let mut flips: Vec<u32> = (0..rng.random_range(1..7))
+                .map(|_| rng.random_range(0..n))
+                .filter(|i| !hf.corners().contains(i))
+                .collect();
+            flips.sort_unstable();
+            flips.dedup();
+            let (removed, inserted): (Vec<u32>, Vec<u32>) =
+                flips.iter().partition(|&&i| by_parts.is_kept(i));
+            let changes = Changes {
+                removed: &removed,
+                inserted: &inserted,
+            };
+            let mutant = ev.score_parts_changed(&a, &b, &classes, &mut scores, level, changes);
+            let kept: Vec<u32> = (0..n)
+                .filter(|&i| by_parts.is_kept(i) != flips.contains(&i))
+                .collect();
+            let fresh = ev.score(&kept).unwrap();
+            *mutants += 1;
+            match mutant {
+                Some(s) => assert_eq!(bits(s), bits(fresh), "{what}: mutant {flips:?}"),
+                None => *refused += 1,
+            }
         }
     }
 }
 
 #[test]
 fn children_composed_by_parts_equal_those_composed_by_bitset() {
+    let (mut mutants, mut refused) = (0, 0);
     for (w, h) in [(2, 2), (2, 7), (7, 2), (5, 4), (9, 9), (17, 11), (30, 8)] {
         for seed in 0..4 {
-            compose_by_parts(synthetic(w, h, seed), 40 + seed, 8);
+            let counts = (&mut mutants, &mut refused);
+            compose_by_parts(synthetic(w, h, seed), 40 + seed, 8, counts);
         }
     }
     for (name, seed) in [
@@ -255,8 +287,12 @@ fn children_composed_by_parts_equal_those_composed_by_bitset() {
         ("camera_33x33", 3),
         ("jacksboro_65x65", 4),
     ] {
-        compose_by_parts(fixture(name), seed, 10);
+        compose_by_parts(fixture(name), seed, 10, (&mut mutants, &mut refused));
     }
+    // No mutant is refused: a guard that fails means R was made wrong (a child that reuses
+    // nothing, or whose changes drop all it reuses, is built from scratch instead).
+    assert!(mutants > 2000, "{mutants} mutants");
+    assert_eq!(refused, 0, "{refused} of {mutants} mutants refused");
 }
 
 #[test]

@@ -361,6 +361,11 @@ impl PartClasses {
         true
     }
 
+    /// A number no other classification had (0 until made); a copy keeps it.
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
     /// Was this classification made for parents `a` and `b`, as they are now?
     pub fn is_for(&self, a: &MeshState, b: &MeshState) -> bool {
         self.made_from == [a.revision, b.revision] && a.revision != 0

@@ -475,7 +475,7 @@ impl MeshState {
     /// The live triangle whose closed area holds `p`, by a visibility walk from slot `start`
     /// (any slot: a dead one forwards to a live one nearby, an out-of-range one starts from the
     /// first live triangle), with an exhaustive search behind the walk's step cap.
-    fn locate(&self, lattice: Lattice, start: u32, p: GridPoint) -> u32 {
+    pub(super) fn locate(&self, lattice: Lattice, start: u32, p: GridPoint) -> u32 {
         let m = &self.mesh;
         let live = |t: u32| (t as usize) < m.len() && m.vertices[3 * t as usize] != NONE;
         let mut t = start;

@@ -48,7 +48,7 @@ use crate::heightfield::Heightfield;
 pub use compose::PartClasses;
 use incremental::EditScratch;
 pub use incremental::MeshState;
-pub use part_scores::PartScores;
+pub use part_scores::{Changes, PartScores};
 use raster::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -358,6 +358,29 @@ impl Evaluator {
         levels: u32,
     ) -> Option<Score> {
         scores.score(&self.hf, a, b, classes, levels, &mut self.row_scratch)
+    }
+
+    /// [`score_parts`](Self::score_parts) for that child with `changes` made to its kept
+    /// points (a mutant of it), bit for bit the changed set's fresh score, still without a
+    /// mesh ([`PartScores::score_changed`]).
+    pub fn score_parts_changed(
+        &mut self,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+        scores: &mut PartScores,
+        levels: u32,
+        changes: Changes<'_>,
+    ) -> Option<Score> {
+        scores.score_changed(
+            &self.hf,
+            a,
+            b,
+            classes,
+            levels,
+            changes,
+            &mut self.row_scratch,
+        )
     }
 
     /// The kept points of the last [`score`](Self::score) call, increasing, corners included.

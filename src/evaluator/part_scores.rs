@@ -39,6 +39,9 @@ use super::triangle_memo::TriangleMemo;
 use super::triangulation::{NONE, Triangulation, next};
 use crate::heightfield::Heightfield;
 
+mod changes;
+pub use changes::Changes;
+
 /// A class of parent triangles (see the module docs) and the totals of its triangles.
 #[derive(Clone, Copy, Debug)]
 struct Class {
@@ -199,6 +202,8 @@ pub struct RowScratch {
     pub(super) memo: TriangleMemo,
     /// A child built from scratch (when it reuses nothing).
     sub: Triangulation,
+    /// Scratch of [`PartScores::change`].
+    changes: changes::ChangeScratch,
 }
 
 impl PartScores {
@@ -442,7 +447,6 @@ impl PartScores {
     /// (and a fresh evaluation) gives, without building the child's mesh. `None` when this was
     /// not prepared for `a` and `b` as they are now, or when a guard fails (the caller then
     /// scores the child another way).
-    #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
     pub fn score(
         &mut self,
         hf: &Heightfield,
@@ -452,9 +456,30 @@ impl PartScores {
         levels: u32,
         scratch: &mut RowScratch,
     ) -> Option<Score> {
+        self.score_changed(hf, a, b, classes, levels, Changes::default(), scratch)
+    }
+
+    /// [`score`](Self::score) for that child with `changes` made to its kept points (a mutant
+    /// of it): bit for bit a fresh evaluation of the changed set, still without a mesh. The
+    /// reused triangles that a removed point is a vertex of, or whose circle an inserted point
+    /// is inside, join R. `None` also when a removed point is not the child's or an inserted
+    /// one is.
+    #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
+    #[allow(clippy::too_many_arguments)] // the parents, their classification, the child, scratch
+    pub fn score_changed(
+        &mut self,
+        hf: &Heightfield,
+        a: &MeshState,
+        b: &MeshState,
+        classes: &PartClasses,
+        levels: u32,
+        changes: Changes<'_>,
+        scratch: &mut RowScratch,
+    ) -> Option<Score> {
         if !self.is_for(classes, a, b) {
             return None;
         }
+        let changed = !changes.removed.is_empty() || !changes.inserted.is_empty();
         let (w, n) = (hf.width(), hf.len());
         let parents = [a, b];
         let parts = classes.rects.len();
@@ -477,7 +502,7 @@ impl PartScores {
         if taken_count == 0 {
             // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled for the
             // other): the child is scored from scratch.
-            return Some(self.fresh(hf, parents, classes, levels, scratch));
+            return Some(self.fresh(hf, parents, classes, levels, changes, scratch));
         }
         // Euler's count of the child's triangles: 2V − B − 2.
         let (mut vertices, mut on_border) = (0u32, 0u32);
@@ -485,6 +510,28 @@ impl PartScores {
             let (k, border) = self.counts[usize::from(label(p as u8))][p];
             vertices += k;
             on_border += border;
+        }
+        if changed {
+            let kept =
+                |p: u32| parents[usize::from(label(classes.part[p as usize]))].kept[p as usize];
+            let on_edge = |p: u32| {
+                let (x, y) = ((p as usize) % w, (p as usize) / w);
+                u32::from(x == 0 || y == 0 || x == w - 1 || y == hf.height() - 1)
+            };
+            for &p in changes.removed {
+                if !kept(p) {
+                    return None;
+                }
+                vertices -= 1;
+                on_border -= on_edge(p);
+            }
+            for &p in changes.inserted {
+                if kept(p) {
+                    return None;
+                }
+                vertices += 1;
+                on_border += on_edge(p);
+            }
         }
         let expected = (2 * vertices).checked_sub(on_border + 2)?;
         scratch.listed.resize(n, false);
@@ -494,6 +541,24 @@ impl PartScores {
             self.r_by_level_sets(levels, scratch);
         } else {
             self.r_by_search(hf, parents, classes, levels, scratch);
+        }
+        if changed {
+            self.change(
+                hf,
+                parents,
+                classes,
+                changes,
+                scratch,
+                &mut totals,
+                &mut taken_count,
+            )?;
+            if taken_count == 0 {
+                // The changes dropped every reused triangle (a sparse child on a small grid).
+                for &p in &scratch.points {
+                    scratch.listed[p as usize] = false;
+                }
+                return Some(self.fresh(hf, parents, classes, levels, changes, scratch));
+            }
         }
         for &p in &scratch.points {
             scratch.listed[p as usize] = false;
@@ -609,13 +674,15 @@ impl PartScores {
         }
     }
 
-    /// The child's score from its canonical triangulation built from scratch.
+    /// The child's score, with `changes` made, from its canonical triangulation built from
+    /// scratch.
     fn fresh(
         &self,
         hf: &Heightfield,
         parents: [&MeshState; 2],
         classes: &PartClasses,
         levels: u32,
+        changes: Changes<'_>,
         scratch: &mut RowScratch,
     ) -> Score {
         let w = hf.width();
@@ -624,6 +691,11 @@ impl PartScores {
             if parents[((levels >> part) & 1) as usize].kept[i] {
                 scratch.points.push(i as u32);
             }
+        }
+        if !changes.removed.is_empty() || !changes.inserted.is_empty() {
+            scratch.points.retain(|p| !changes.removed.contains(p));
+            scratch.points.extend_from_slice(changes.inserted);
+            scratch.points.sort_unstable();
         }
         let sub = &mut scratch.sub;
         sub.rebuild_delaunay(w, &scratch.points);

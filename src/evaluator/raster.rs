@@ -206,7 +206,7 @@ impl Grid<'_> {
     /// The totals, in `units`, of the errors of the points each triangle `tris` yields owns
     /// (counter-clockwise, vertices excluded; each with a key), each given to `done` with its
     /// key: the errors of [`for_each_error`](Self::for_each_error), summed with the fastest
-    /// kernel this CPU has (see [`span_sum`](super::span_sum); every kernel gives the same
+    /// kernel this CPU has (see [`span_sum`]; every kernel gives the same
     /// bits).
     pub fn sum_triangles<Key>(
         &self,

@@ -30,7 +30,7 @@ pub trait Kernel: Copy {
     fn sums(&self) -> Self::Sums;
     /// The per-triangle constants for z̃'s step along a row.
     fn step(&self, step: f64) -> Self::Step;
-    /// Adds |z[k] − (start + k·step)| for k in `0..len` (`len` ≤ 0: nothing). `z` starts at the
+    /// Adds |z\[k\] − (start + k·step)| for k in `0..len` (`len` ≤ 0: nothing). `z` starts at the
     /// span's first point and holds at least `len` heights.
     fn add_span(&self, sums: &mut Self::Sums, step: &Self::Step, z: &[f64], len: i64, start: f64);
     /// The totals of `sums`.

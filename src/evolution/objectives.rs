@@ -23,10 +23,16 @@
 //! other chromosomes (beyond [`CROSSED_POOLED`] of them), as the parents of later crossovers
 //! are among the others, and the GA's current population last of all
 //! ([`Scorer::keep_alive`]).
+//!
+//! Most offspring never need a mesh: only those that join the population become parents, and
+//! in the paper run on jacksboro_65x65 about one in four did. So a crossed child is scored
+//! without one ([`PartScores`]), a mutant of it too (its few changed points dropping the
+//! reused triangles they spoil, [`PartScores::score_changed`]), and their meshes are composed
+//! only for the offspring that the next [`Scorer::keep_alive`] declares alive.
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
-use crate::evaluator::{Evaluator, MeshState, PartClasses, PartScores};
+use crate::evaluator::{Changes, Evaluator, MeshState, PartClasses, PartScores};
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
@@ -206,7 +212,46 @@ pub struct Scorer {
     crossing_scores: PartScores,
     /// The children of that crossover scored without their meshes.
     rows: Vec<Row>,
+    /// Offspring scored without their meshes since the last [`keep_alive`](Self::keep_alive),
+    /// whose meshes are composed only if they join the population (see [`Deferred`]).
+    deferred: Vec<Deferred>,
+    /// The classifications the deferred offspring are composed from, and buffers for more.
+    retained: Vec<PartClasses>,
+    spare: Vec<PartClasses>,
 }
+
+/// An offspring that goes on without its mesh: a crossed child that no mutation changed, or a
+/// mutant of one scored without a mesh ([`PartScores::score_changed`]). Most
+/// offspring die at the next survival (about four in five of the paper run's), so its mesh is
+/// composed only when it joins the population ([`Scorer::keep_alive`]), from its crossover's
+/// parents (still pooled then: they are the population it was bred from) and classification.
+#[derive(Clone, Debug)]
+struct Deferred {
+    genes: Chromosome,
+    ones: usize,
+    profile: Profile,
+    objectives: Objectives,
+    /// Its crossover's classification, in [`Scorer::retained`].
+    classes: usize,
+    /// The pool slots of its crossover's parents A and B.
+    parents: [usize; 2],
+    /// Bit k: block k from parent B.
+    levels: u32,
+    /// What its mutation changed in the crossed child with `levels` (nothing for one that
+    /// went on unchanged).
+    removed: Vec<u32>,
+    inserted: Vec<u32>,
+}
+
+/// A mutant of a crossed child scored without a mesh differs from it in at most this many
+/// genes (beyond, the child's mesh is composed and edited). The paper run's mutants differ in
+/// one or two.
+const MUTANT_CHANGES: usize = 8;
+
+/// Most offspring deferred at once: beyond, a GA that declares no population
+/// ([`Scorer::keep_alive`]) would keep every classification; they are then dropped (their
+/// offspring are scored like any chromosome should they come back).
+const MAX_DEFERRED: usize = 1024;
 
 /// A child of the current crossover scored without its mesh ([`Scorer::crossing_row`]).
 #[derive(Clone, Debug)]
@@ -258,6 +303,9 @@ impl Scorer {
             crossing_parents: [usize::MAX; 2],
             crossing_scores: PartScores::default(),
             rows: Vec::new(),
+            deferred: Vec::new(),
+            retained: Vec::new(),
+            spare: Vec::new(),
         }
     }
 
@@ -310,8 +358,16 @@ impl Scorer {
             self.remember(i);
             return self.pool[i].objectives;
         }
-        // A crossed child scored without its mesh is the base of its mutant: its mesh is
-        // composed now (not an evaluation: its objectives are known).
+        // A mutant of a crossed child scored without its mesh is scored without one too, its
+        // mesh deferred; failing that, the child's mesh is composed now (not an evaluation: its
+        // objectives are known) and edited.
+        if let Some((Base::Row(r), d)) = nearest
+            && made.is_none()
+            && d <= MUTANT_CHANGES
+            && let Some(o) = self.mutant_row(c, ones, profile, r)
+        {
+            return o;
+        }
         if let Some((Base::Row(r), d)) = nearest {
             nearest = self.materialize(r, true).map(|slot| (Base::Pool(slot), d));
         }
@@ -605,27 +661,179 @@ impl Scorer {
     /// flipped no gene): it may become a parent, so its mesh is kept like the other offspring's.
     /// Spends no evaluation.
     pub fn promote(&mut self, c: &Chromosome) {
-        let i = self.pooled(c).or_else(|| {
-            let r = self.rows.iter().position(|r| r.genes == *c)?;
-            self.materialize(r, false)
-        });
-        if let Some(i) = i {
+        if let Some(i) = self.pooled(c) {
             self.pool[i].crossed = false;
             self.pool[i].used = self.tick;
+        } else if let Some(r) = self.rows.iter().position(|r| r.genes == *c) {
+            let row = &self.rows[r];
+            let (ones, profile, objectives) = (row.ones, row.profile, row.objectives);
+            self.defer(c, ones, profile, objectives, r, false);
         }
+    }
+
+    /// Scores `c` (`ones` set genes, `profile`), a mutant of the current crossover's row `r`,
+    /// without a mesh, and defers its mesh; `None` when the mutant cannot be scored so.
+    fn mutant_row(
+        &mut self,
+        c: &Chromosome,
+        ones: usize,
+        profile: Profile,
+        r: usize,
+    ) -> Option<Objectives> {
+        let [a, b] = self.crossing_parents;
+        if a >= self.pool.len() || b >= self.pool.len() {
+            return None;
+        }
+        let row = &self.rows[r];
+        row.genes
+            .write_differences(c, &mut self.removed, &mut self.inserted);
+        let corners = self.evaluator.heightfield().corners();
+        self.removed.retain(|i| !corners.contains(i));
+        self.inserted.retain(|i| !corners.contains(i));
+        let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
+        let changes = Changes {
+            removed: &self.removed,
+            inserted: &self.inserted,
+        };
+        let s = self.evaluator.score_parts_changed(
+            pa,
+            pb,
+            &self.crossing,
+            &mut self.crossing_scores,
+            row.levels,
+            changes,
+        )?;
+        let objectives = Objectives {
+            e_sum: s.e_sum,
+            e_max: s.e_max,
+            t: s.t,
+        };
+        self.defer(c, ones, profile, objectives, r, true);
+        Some(objectives)
+    }
+
+    /// Defers the mesh of `c` (`ones` set genes, `profile`, scored `objectives`): the current
+    /// crossover's row `r`, changed by `self.removed` and `self.inserted` when `changed` (see
+    /// [`Deferred`]), retaining the crossover's classification for it.
+    fn defer(
+        &mut self,
+        c: &Chromosome,
+        ones: usize,
+        profile: Profile,
+        objectives: Objectives,
+        r: usize,
+        changed: bool,
+    ) {
+        if self.deferred.len() >= MAX_DEFERRED {
+            self.drop_deferred();
+        }
+        let retained = self
+            .retained
+            .last()
+            .is_some_and(|k| k.id() == self.crossing.id());
+        if !retained {
+            let mut copy = self.spare.pop().unwrap_or_default();
+            copy.clone_from(&self.crossing);
+            self.retained.push(copy);
+        }
+        let (removed, inserted) = match changed {
+            true => (self.removed.clone(), self.inserted.clone()),
+            false => (Vec::new(), Vec::new()),
+        };
+        self.deferred.push(Deferred {
+            genes: c.clone(),
+            ones,
+            profile,
+            objectives,
+            classes: self.retained.len() - 1,
+            parents: self.crossing_parents,
+            levels: self.rows[r].levels,
+            removed,
+            inserted,
+        });
+    }
+
+    /// Forgets the deferred offspring, keeping their classifications' buffers.
+    fn drop_deferred(&mut self) {
+        self.deferred.clear();
+        self.spare.append(&mut self.retained);
+    }
+
+    /// Composes the mesh of deferred offspring `d` into a pool slot that is neither alive nor
+    /// a parent of another deferred offspring, and returns the slot; `None` when its parents
+    /// changed or composing refused (it then stays unpooled).
+    fn compose_deferred(&mut self, d: usize) -> Option<usize> {
+        let Deferred {
+            ones,
+            profile,
+            objectives,
+            classes,
+            parents: [a, b],
+            levels,
+            ..
+        } = self.deferred[d];
+        let genes = std::mem::replace(&mut self.deferred[d].genes, Chromosome::empty(0));
+        let slot = self.free_slot(&genes, ones, profile, [Some(a), Some(b), None]);
+        let mut state = std::mem::take(&mut self.pool[slot].state);
+        let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
+        let classes = &self.retained[classes];
+        let mut score = classes
+            .is_for(pa, pb)
+            .then(|| {
+                self.evaluator
+                    .compose_parts(&mut state, pa, pb, classes, levels)
+            })
+            .flatten();
+        let Deferred {
+            removed, inserted, ..
+        } = &self.deferred[d];
+        if score.is_some() && !(removed.is_empty() && inserted.is_empty()) {
+            score = self.evaluator.edit(&mut state, removed, inserted).ok();
+        }
+        debug_assert!(score.is_none_or(|s| (s.e_sum, s.t) == (objectives.e_sum, objectives.t)));
+        self.pool[slot].state = state;
+        if score.is_none() {
+            self.pool[slot].genes = Chromosome::empty(0);
+            self.keys[slot].ones = usize::MAX;
+            return None;
+        }
+        self.keys[slot] = Key { ones, profile };
+        let entry = &mut self.pool[slot];
+        entry.genes = genes;
+        entry.objectives = objectives;
+        entry.used = self.tick;
+        entry.crossed = false;
+        entry.alive = true;
+        Some(slot)
     }
 
     /// Tells the scorer which chromosomes make up the GA's population now: their meshes are
     /// replaced only after every other one, so that the parents of the coming crossovers stay
     /// pooled to compose from. Spends no evaluation.
     pub fn keep_alive<'a>(&mut self, population: impl IntoIterator<Item = &'a Chromosome>) {
+        // The new population joins the old one first, so that composing its deferred members
+        // replaces neither (the old one holds their parents); then the old one is let go.
+        let members: Vec<&Chromosome> = population.into_iter().collect();
+        let mut pooled: Vec<Option<usize>> = members.iter().map(|c| self.pooled(c)).collect();
+        for i in pooled.iter().flatten() {
+            self.pool[*i].alive = true;
+        }
+        if !self.deferred.is_empty() {
+            for (c, at) in members.iter().zip(&mut pooled) {
+                if at.is_some() {
+                    continue;
+                }
+                if let Some(d) = self.deferred.iter().position(|d| d.genes == **c) {
+                    *at = self.compose_deferred(d);
+                }
+            }
+            self.drop_deferred();
+        }
         for p in &mut self.pool {
             p.alive = false;
         }
-        for c in population {
-            if let Some(i) = self.pooled(c) {
-                self.pool[i].alive = true;
-            }
+        for i in pooled.into_iter().flatten() {
+            self.pool[i].alive = true;
         }
     }
 
@@ -796,6 +1004,106 @@ mod tests {
             scorer.score(c);
         }
         assert!(alive.iter().all(|c| scorer.pooled(c).is_none()));
+    }
+
+    #[test]
+    fn offspring_scored_without_meshes_get_them_when_they_join_the_population() {
+        // OAX crossovers of two pooled parents on a 33×29 grid, as NSGA-II runs them: the rows
+        // are scored without meshes, each chosen child is mutated (0–3 flips) and scored, an
+        // unchanged one promoted. Every score must be the fresh one's bits, mutants must be
+        // scored without a mesh (deferred), and those declared alive afterwards must be pooled
+        // with the mesh of their genes, while the others are not.
+        use crate::evolution::oax;
+        let (w, h) = (33, 29);
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(4);
+        let z = (0..w * h).map(|_| rng.random_range(0..9) as f64).collect();
+        let hf = Arc::new(Heightfield::new(w, h, z).unwrap());
+        let n = hf.len();
+        let corners = hf.corners();
+        let random = |rng: &mut rand_pcg::Pcg64Mcg, density: f64| {
+            let kept: Vec<u32> = (0..n as u32)
+                .filter(|_| rng.random::<f64>() < density)
+                .chain(corners)
+                .collect();
+            Chromosome::from_indices(n, &kept)
+        };
+        let mut scorer = Scorer::new(hf.clone());
+        let mut population = vec![random(&mut rng, 0.3), random(&mut rng, 0.12)];
+        let bits = |o: Objectives| (o.e_sum.to_bits(), o.e_max.to_bits(), o.t);
+        let (mut deferred_mutants, mut deferred_rows) = (0, 0);
+        for round in 0..12 {
+            let scored: Vec<Objectives> = population.iter().map(|c| scorer.score(c)).collect();
+            scorer.keep_alive(population.iter());
+            let blocks = oax::spatial_blocks(w, h, 7, &mut rng);
+            let record = oax::crossover(
+                (&population[0], scored[0]),
+                (&population[1], scored[1]),
+                w,
+                blocks,
+                0.5,
+                |c, made| {
+                    let o = scorer.score_crossed(c, made);
+                    assert_eq!(bits(o), fresh(&hf, c), "round {round}: row");
+                    o
+                },
+                |o| o.e_sum + o.t as f64,
+            );
+            let mut offspring = Vec::new();
+            for (k, &i) in record.chosen.iter().enumerate() {
+                let mut c = record.child(i).genes.clone();
+                // The first mutated by 1–3 flips, the second unchanged every other round.
+                let flips = if k == 0 { 1 + round % 3 } else { round % 2 };
+                for _ in 0..flips {
+                    let g = rng.random_range(0..n);
+                    if !corners.contains(&(g as u32)) {
+                        c.flip(g);
+                    }
+                }
+                if c == record.child(i).genes {
+                    scorer.promote(&c);
+                } else {
+                    let o = scorer.score(&c);
+                    assert_eq!(bits(o), fresh(&hf, &c), "round {round}: mutant");
+                }
+                offspring.push(c);
+            }
+            let deferred: Vec<Chromosome> =
+                scorer.deferred.iter().map(|d| d.genes.clone()).collect();
+            for (k, c) in offspring.iter().enumerate() {
+                if deferred.contains(c) {
+                    match *c == record.child(record.chosen[k]).genes {
+                        true => deferred_rows += 1,
+                        false => deferred_mutants += 1,
+                    }
+                }
+            }
+            // The first offspring joins the population (with the better parent); the second
+            // dies.
+            let next = [population[0].clone(), offspring[0].clone()];
+            scorer.keep_alive(next.iter());
+            assert!(scorer.deferred.is_empty());
+            let i = scorer
+                .pooled(&offspring[0])
+                .expect("a new member is pooled");
+            assert_eq!(
+                scorer.pool[i]
+                    .state
+                    .score()
+                    .map(|s| (s.e_sum.to_bits(), s.e_max.to_bits(), s.t)),
+                Some(fresh(&hf, &offspring[0])),
+                "round {round}: the member's mesh"
+            );
+            if offspring[1] != offspring[0] && deferred.contains(&offspring[1]) {
+                assert!(scorer.pooled(&offspring[1]).is_none(), "round {round}");
+            }
+            // New parents for the next round (rounds of one lineage converge, and their
+            // children come near pooled chromosomes, which are edited instead).
+            population = vec![random(&mut rng, 0.3), random(&mut rng, 0.12)];
+        }
+        assert!(
+            deferred_mutants >= 6 && deferred_rows >= 2,
+            "{deferred_mutants} mutants and {deferred_rows} unchanged rows deferred"
+        );
     }
 
     #[test]

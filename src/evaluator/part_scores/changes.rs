@@ -1,0 +1,218 @@
+//! A crossover child's mutant scored without a mesh: the child's region R, changed by the
+//! mutation's few points.
+//!
+//! Why it is exact: as for the child itself ([`compose`](super::super::compose)), a reused
+//! triangle stays in the mutant's canonical triangulation exactly when its vertices are all
+//! kept and no kept point is inside its circle, so it goes exactly when it has a removed
+//! vertex or an inserted point inside its circle (under the tie rule). Those are found in each
+//! parent's mesh: a removed point's star, and an inserted point's *cavity* (the triangles
+//! whose circles hold it, which form a connected set around the triangle holding it in any
+//! Delaunay triangulation). Whatever the remaining reused triangles leave uncovered, R grown
+//! by the dropped triangles, is tiled as before ([`Region::wrap`](super::Region::wrap)).
+//!
+//! Why bother: a mutant usually differs from its crossed child in a gene or two, and most
+//! mutants die at the next survival; building the crossed child's mesh only to edit it cost
+//! about as much as scoring a whole crossover's rows (paper run, session 14).
+
+use super::{PartScores, RowScratch, class_of};
+use crate::evaluator::compose::PartClasses;
+use crate::evaluator::errors::ErrorTotals;
+use crate::evaluator::incremental::MeshState;
+use crate::evaluator::predicates::{Lattice, in_circle};
+use crate::evaluator::triangulation::{NONE, next};
+use crate::heightfield::Heightfield;
+
+/// Changes to a crossover child's kept points: `removed` ones it keeps (not grid corners) and
+/// `inserted` ones it does not keep, each listed once.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Changes<'a> {
+    /// Points the child keeps that the mutant does not.
+    pub removed: &'a [u32],
+    /// Points the mutant keeps that the child does not.
+    pub inserted: &'a [u32],
+}
+
+/// Scratch of [`PartScores::change`], kept between calls.
+#[derive(Clone, Debug, Default)]
+pub(super) struct ChangeScratch {
+    /// The reused triangles the changes drop: (parent, slot).
+    dropped: Vec<(usize, u32)>,
+    /// The triangles of a cavity search, seen so far, and those still to visit.
+    seen: Vec<u32>,
+    queue: Vec<u32>,
+    /// Per dropped class: whether a dropped triangle may hold its largest error.
+    classes: Vec<u32>,
+}
+
+impl PartScores {
+    /// Turns R (`scratch.points`, `scratch.open`) and the reused triangles' `totals` and count
+    /// of the child with the classes `scratch.taken` into the mutant's (see the module docs).
+    /// `None` when a parent's mesh is not as its classification says.
+    #[allow(clippy::too_many_arguments)] // the parents, their classification, the child, scratch
+    pub(super) fn change(
+        &self,
+        hf: &Heightfield,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+        changes: Changes<'_>,
+        scratch: &mut RowScratch,
+        totals: &mut ErrorTotals,
+        taken_count: &mut u32,
+    ) -> Option<()> {
+        let lattice = Lattice::new(hf.width());
+        let RowScratch {
+            taken,
+            listed,
+            points,
+            open,
+            changes: work,
+            ..
+        } = scratch;
+        let reused = |side: usize, t: u32| {
+            taken[class_of(classes, &self.special, side, t as usize) as usize]
+        };
+        work.dropped.clear();
+        // A removed point's star, in each parent that keeps it.
+        for &p in changes.removed {
+            for (side, parent) in parents.into_iter().enumerate() {
+                if !parent.kept[p as usize] {
+                    continue;
+                }
+                let m = &parent.mesh;
+                let first = m.leaving(parent.hint[p as usize], p)?;
+                for e in m.fan(first) {
+                    let t = e / 3;
+                    if reused(side, t) && !work.dropped.contains(&(side, t)) {
+                        work.dropped.push((side, t));
+                    }
+                }
+            }
+        }
+        // An inserted point's cavity, in each parent that does not keep it (in one that does,
+        // no circle holds it).
+        for &q in changes.inserted {
+            let at = lattice.point(q);
+            for (side, parent) in parents.into_iter().enumerate() {
+                if parent.kept[q as usize] {
+                    continue;
+                }
+                let m = &parent.mesh;
+                let start = parent.locate(lattice, start_near(parent, q), at);
+                work.seen.clear();
+                work.queue.clear();
+                work.seen.push(start);
+                work.queue.push(start);
+                while let Some(t) = work.queue.pop() {
+                    let tri = m.triangle(t as usize);
+                    let p = tri.map(|i| lattice.point(i));
+                    if !in_circle([p[0], p[1], p[2], at], [tri[0], tri[1], tri[2], q]) {
+                        continue;
+                    }
+                    if reused(side, t) && !work.dropped.contains(&(side, t)) {
+                        work.dropped.push((side, t));
+                    }
+                    for e in 3 * t..3 * t + 3 {
+                        let g = m.twin[e as usize];
+                        if g != NONE && !work.seen.contains(&(g / 3)) {
+                            work.seen.push(g / 3);
+                            work.queue.push(g / 3);
+                        }
+                    }
+                }
+            }
+        }
+        // The dropped triangles leave the totals. A sum subtracts; a maximum is made again from
+        // the classes, each recomputed without its dropped triangles where one of them may
+        // have held it.
+        work.classes.clear();
+        for &(side, t) in &work.dropped {
+            let own = &parents[side].totals[t as usize];
+            totals.sum -= own.sum;
+            totals.sum_sq -= own.sum_sq;
+            *taken_count -= 1;
+            let c = class_of(classes, &self.special, side, t as usize);
+            if own.max >= self.classes[c as usize].totals.max && !work.classes.contains(&c) {
+                work.classes.push(c);
+            }
+        }
+        let mut max = 0.0f64;
+        for (c, class) in self.classes.iter().enumerate() {
+            if !taken[c] {
+                continue;
+            }
+            let class_max = if work.classes.contains(&(c as u32)) {
+                let side = usize::from(class.side);
+                let parent = parents[side];
+                (0..parent.mesh.len() as u32)
+                    .filter(|&t| {
+                        class_of(classes, &self.special, side, t as usize) == c as u32
+                            && !work.dropped.contains(&(side, t))
+                    })
+                    .map(|t| parent.totals[t as usize].max)
+                    .fold(0.0, f64::max)
+            } else {
+                class.totals.max
+            };
+            max = if class_max > max { class_max } else { max };
+        }
+        totals.max = max;
+        // R's boundary: a dropped triangle's edge with R across is inside R now; one with a
+        // remaining reused triangle across is on R's boundary, seen from that triangle; one
+        // with another dropped triangle across is inside; one on the grid border stays there.
+        for &(side, t) in &work.dropped {
+            let m = &parents[side].mesh;
+            for e in 3 * t..3 * t + 3 {
+                if m.twin[e as usize] == NONE {
+                    continue;
+                }
+                let (u, v) = (m.vertices[e as usize], m.vertices[next(e) as usize]);
+                let across_dropped = work.dropped.iter().any(|&(s, d)| {
+                    let dm = &parents[s].mesh;
+                    (3 * d..3 * d + 3)
+                        .any(|f| dm.vertices[f as usize] == v && dm.vertices[next(f) as usize] == u)
+                });
+                if across_dropped {
+                    continue;
+                }
+                match open.iter().position(|&(_, a, b)| a == u && b == v) {
+                    Some(i) => {
+                        open.swap_remove(i);
+                    }
+                    None => open.push((0, v, u)),
+                }
+            }
+            // Its vertices are R's now (the removed ones aside, taken out below).
+            for v in m.triangle(t as usize) {
+                if !std::mem::replace(&mut listed[v as usize], true) {
+                    points.push(v);
+                }
+            }
+        }
+        for &q in changes.inserted {
+            if !std::mem::replace(&mut listed[q as usize], true) {
+                points.push(q);
+            }
+        }
+        for &p in changes.removed {
+            listed[p as usize] = false;
+        }
+        points.retain(|p| !changes.removed.contains(p));
+        Some(())
+    }
+}
+
+/// A triangle slot near grid point `q` in `parent`'s mesh, to start a walk to it from: of the
+/// kept point nearest before it in index order (usually on its row), else after it.
+fn start_near(parent: &MeshState, q: u32) -> u32 {
+    let bits = &parent.kept_bits;
+    let (word, bit) = ((q / 64) as usize, q % 64);
+    let below = bits[word] & ((1u64 << bit) - 1);
+    if below != 0 {
+        return parent.hint[64 * word + 63 - below.leading_zeros() as usize];
+    }
+    if let Some(w) = (0..word).rev().find(|&w| bits[w] != 0) {
+        return parent.hint[64 * w + 63 - bits[w].leading_zeros() as usize];
+    }
+    // Corner 0 is kept: only a bad index gets here.
+    parent.hint[0]
+}
