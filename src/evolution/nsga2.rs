@@ -200,6 +200,9 @@ impl Nsga2 {
             self.initial_individual();
             if self.population.len() == mu {
                 rank_and_crowd(&mut self.population);
+                // The first crossovers' parents: kept pooled (and the pool sized for them).
+                self.scorer
+                    .keep_alive(self.population.iter().map(|i| &i.genes));
                 self.done = self.params.generations == 0;
             }
             return;

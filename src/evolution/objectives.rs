@@ -114,17 +114,24 @@ pub const CROSSED_POOLED: usize = 24;
 /// How many of the most recently scored chromosomes the [`Scorer`] compares with first.
 const RECENT: usize = 16;
 
-/// Most meshes the [`Scorer`] keeps: the population, which the GAs declare alive
-/// ([`Scorer::keep_alive`]) so that both parents of every crossover are pooled to compose from,
-/// and about two offspring generations of the paper's size (μ = λ = 100) plus a crossover's
-/// children, as bases to edit. Before populations were kept alive, 400 meshes left both parents
-/// pooled for 85 % of the crossed children of the paper run on jacksboro_65x65 (30 % with 216).
-/// With them kept alive (min of four to six alternating runs of that run): 400 meshes 2.94 s,
-/// 320 meshes 2.83 s, 250 meshes 2.86 s, against 3.13 s before at 400.
-pub const POOL_STATES: usize = 320;
+/// Most meshes the [`Scorer`] keeps until the GA declares a population larger than half of
+/// it ([`Scorer::keep_alive`]), and then [`POOL_PER_MEMBER`] per member. The pool holds the
+/// population, which the GAs declare alive so that both parents of every crossover are pooled
+/// to compose from, the offspring that join it (their meshes are composed while the old
+/// population, which holds their parents, is still pooled), and the bases of a crossover's
+/// edits. Offspring meshes are built only for those that join the population, so the pool
+/// need not hold whole offspring generations any more: in the paper run on jacksboro_65x65
+/// (min / median of ten alternating runs, session 15) 320 meshes took 973 / 1 041 ms, 200
+/// took 901 / 995 ms and 160 907 / 976 ms (fewer first touches of memory: 25.7 k page faults
+/// at 320, 19.9 k at 200), but 128 took 2.8 s, as composing the offspring that join the
+/// population then replaced their parents.
+pub const POOL_STATES: usize = 200;
 
-/// Memory the pool may use, in bytes (≈105 MB for 320 meshes of a 65×65 grid); on large grids
-/// it keeps fewer meshes (at least one).
+/// Meshes the pool holds per member of the declared population, when that is more than
+/// [`POOL_STATES`]: the old and the new population (see [`POOL_STATES`]). Why it scales: with a
+/// fixed 200, `--pop 200` on the paper run took 3.97 s instead of 1.08 s.
+pub const POOL_PER_MEMBER: usize = 2;
+
 pub const POOL_BYTES: usize = 160 << 20;
 
 /// The gene counts of [`PROFILE_PARTS`] consecutive stretches of a chromosome. The Hamming
@@ -195,6 +202,8 @@ pub struct Scorer {
     /// may match).
     keys: Vec<Key>,
     capacity: usize,
+    /// The most meshes [`POOL_BYTES`] allows.
+    capacity_by_bytes: usize,
     tick: u64,
     removed: Vec<u32>,
     /// The last [`RECENT`] pool slots scored (a ring; `usize::MAX` while unfilled).
@@ -285,6 +294,7 @@ impl Scorer {
         // bit; per triangle (at most 2 per point) 6 half-edge words of 4 bytes and a disc box
         // of 8.
         let state_bytes = hf.len() * (8 + 4 + 1 + 2 * (24 + 8)) + hf.len() / 8;
+        let capacity_by_bytes = (POOL_BYTES / state_bytes.max(1)).max(1);
         Self {
             evaluator,
             indices: Vec::new(),
@@ -292,7 +302,8 @@ impl Scorer {
             normalisers: (if e0 > 0.0 { e0 } else { 1.0 }, t0),
             pool: Vec::new(),
             keys: Vec::new(),
-            capacity: (POOL_BYTES / state_bytes.max(1)).clamp(1, POOL_STATES),
+            capacity: capacity_by_bytes.min(POOL_STATES),
+            capacity_by_bytes,
             tick: 0,
             removed: Vec::new(),
             recent: [usize::MAX; RECENT],
@@ -814,6 +825,9 @@ impl Scorer {
         // The new population joins the old one first, so that composing its deferred members
         // replaces neither (the old one holds their parents); then the old one is let go.
         let members: Vec<&Chromosome> = population.into_iter().collect();
+        // The pool never shrinks: its meshes stay where they are.
+        let wanted = (POOL_PER_MEMBER * members.len()).min(self.capacity_by_bytes);
+        self.capacity = self.capacity.max(wanted);
         let mut pooled: Vec<Option<usize>> = members.iter().map(|c| self.pooled(c)).collect();
         for i in pooled.iter().flatten() {
             self.pool[*i].alive = true;
@@ -1004,6 +1018,41 @@ mod tests {
             scorer.score(c);
         }
         assert!(alive.iter().all(|c| scorer.pooled(c).is_none()));
+    }
+
+    #[test]
+    fn the_pool_grows_to_hold_two_populations_of_the_declared_size() {
+        // A population of 150 on a small grid (the bytes allow thousands of meshes): a fixed
+        // pool of POOL_STATES = 200 could not hold it and as many offspring, which is what
+        // made `--pop 300` three times slower; declaring it sizes the pool for both.
+        let hf = bumpy(6);
+        let n = hf.len();
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(9);
+        let mut random = |density: f64| {
+            let kept: Vec<u32> = (0..n as u32)
+                .filter(|_| rng.random::<f64>() < density)
+                .chain(hf.corners())
+                .collect();
+            Chromosome::from_indices(n, &kept)
+        };
+        let population: Vec<Chromosome> =
+            (0..150).map(|k| random(0.05 + 0.005 * k as f64)).collect();
+        let mut scorer = Scorer::new(hf.clone());
+        assert_eq!(scorer.capacity, POOL_STATES);
+        for c in &population {
+            scorer.score(c);
+        }
+        scorer.keep_alive(population.iter());
+        assert_eq!(scorer.capacity, POOL_PER_MEMBER * population.len());
+        let offspring: Vec<Chromosome> = (0..150).map(|k| random(0.8 - 0.004 * k as f64)).collect();
+        for c in &offspring {
+            scorer.score(c);
+        }
+        assert!(population.iter().all(|c| scorer.pooled(c).is_some()));
+        assert!(offspring.iter().all(|c| scorer.pooled(c).is_some()));
+        // It never shrinks: a smaller population leaves it as it is.
+        scorer.keep_alive(population[..10].iter());
+        assert_eq!(scorer.capacity, POOL_PER_MEMBER * population.len());
     }
 
     #[test]

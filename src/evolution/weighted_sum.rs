@@ -178,6 +178,11 @@ impl WeightedSum {
                 objectives,
                 fitness,
             });
+            if self.population.len() == mu {
+                // The first crossovers' parents: kept pooled (and the pool sized for them).
+                self.scorer
+                    .keep_alive(self.population.iter().map(|m| &m.genes));
+            }
         } else {
             self.mating();
             if self.pending.is_some() {
