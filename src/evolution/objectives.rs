@@ -262,6 +262,26 @@ const MUTANT_CHANGES: usize = 8;
 /// offspring are scored like any chromosome should they come back).
 const MAX_DEFERRED: usize = 1024;
 
+/// Where the classification of a mesh to compose is: the current crossover's, or one retained
+/// for deferred offspring ([`Scorer::retained`]).
+#[derive(Clone, Copy, Debug)]
+enum ClassesAt {
+    Crossing,
+    Retained(usize),
+}
+
+/// How to compose a mesh from pooled parents ([`Scorer::compose_pooled`]).
+#[derive(Clone, Copy, Debug)]
+struct Recipe {
+    /// The pool slots of parents A and B.
+    parents: [usize; 2],
+    classes: ClassesAt,
+    /// Bit k: block k from parent B.
+    levels: u32,
+    /// The deferred offspring whose changes are then made (none for a crossed child).
+    changed_as: Option<usize>,
+}
+
 /// A child of the current crossover scored without its mesh ([`Scorer::crossing_row`]).
 #[derive(Clone, Debug)]
 struct Row {
@@ -380,7 +400,7 @@ impl Scorer {
             return o;
         }
         if let Some((Base::Row(r), d)) = nearest {
-            nearest = self.materialize(r, true).map(|slot| (Base::Pool(slot), d));
+            nearest = self.materialize(r).map(|slot| (Base::Pool(slot), d));
         }
         let nearest = nearest.map(|(base, d)| match base {
             Base::Pool(i) => (d, i),
@@ -626,21 +646,65 @@ impl Scorer {
         Some(objectives)
     }
 
-    /// Composes the mesh of the current crossover's row `r` into a pool slot (`crossed`: as an
-    /// intermediate, replaced early) and returns the slot; `None` when its parents changed or
-    /// composing refused.
-    fn materialize(&mut self, r: usize, crossed: bool) -> Option<usize> {
-        let [a, b] = self.crossing_parents;
+    /// Composes the mesh of the current crossover's row `r` into a pool slot, as an intermediate
+    /// (replaced early), and returns the slot; `None` when its parents changed or composing
+    /// refused.
+    fn materialize(&mut self, r: usize) -> Option<usize> {
+        let row = self.rows[r].clone();
+        let recipe = Recipe {
+            parents: self.crossing_parents,
+            classes: ClassesAt::Crossing,
+            levels: row.levels,
+            changed_as: None,
+        };
+        let key = Key {
+            ones: row.ones,
+            profile: row.profile,
+        };
+        self.compose_pooled(row.genes, key, row.objectives, recipe, true)
+    }
+
+    /// Composes the mesh of `genes` (with `key`, scored `objectives`) as `recipe` says into a
+    /// pool slot that is neither alive nor one of its parents, and returns the slot: a crossed
+    /// child (`crossed`, an intermediate replaced early, and among the recently scored) or an
+    /// offspring that joins the population (alive). `None` when its parents changed or
+    /// composing refused (it then stays unpooled).
+    fn compose_pooled(
+        &mut self,
+        genes: Chromosome,
+        key: Key,
+        objectives: Objectives,
+        recipe: Recipe,
+        crossed: bool,
+    ) -> Option<usize> {
+        let [a, b] = recipe.parents;
         if a >= self.pool.len() || b >= self.pool.len() {
             return None;
         }
-        let row = self.rows[r].clone();
-        let slot = self.free_slot(&row.genes, row.ones, row.profile, [Some(a), Some(b), None]);
+        let slot = self.free_slot(&genes, key.ones, key.profile, [Some(a), Some(b), None]);
         let mut state = std::mem::take(&mut self.pool[slot].state);
         let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
-        let score = self
-            .evaluator
-            .compose_parts(&mut state, pa, pb, &self.crossing, row.levels);
+        let classes = match recipe.classes {
+            ClassesAt::Crossing => &self.crossing,
+            ClassesAt::Retained(k) => &self.retained[k],
+        };
+        let mut score = classes
+            .is_for(pa, pb)
+            .then(|| {
+                self.evaluator
+                    .compose_parts(&mut state, pa, pb, classes, recipe.levels)
+            })
+            .flatten();
+        if let Some(d) = recipe.changed_as.map(|d| &self.deferred[d])
+            && score.is_some()
+            && !(d.removed.is_empty() && d.inserted.is_empty())
+        {
+            score = self
+                .evaluator
+                .edit(&mut state, &d.removed, &d.inserted)
+                .ok();
+        }
+        debug_assert!(score.is_none_or(|s| (s.e_sum, s.t) == (objectives.e_sum, objectives.t)));
         self.pool[slot].state = state;
         if score.is_none() {
             // The slot's mesh is unscored now: nothing may match it.
@@ -648,17 +712,17 @@ impl Scorer {
             self.keys[slot].ones = usize::MAX;
             return None;
         }
-        self.keys[slot] = Key {
-            ones: row.ones,
-            profile: row.profile,
-        };
+        self.keys[slot] = key;
         let entry = &mut self.pool[slot];
-        entry.genes = row.genes;
-        entry.objectives = row.objectives;
+        entry.genes = genes;
+        entry.objectives = objectives;
         entry.used = self.tick;
         entry.crossed = crossed;
-        entry.alive = false;
-        self.remember(slot);
+        entry.alive = !crossed;
+        if crossed {
+            // About to be a mutant's base.
+            self.remember(slot);
+        }
         Some(slot)
     }
 
@@ -770,52 +834,26 @@ impl Scorer {
         self.spare.append(&mut self.retained);
     }
 
-    /// Composes the mesh of deferred offspring `d` into a pool slot that is neither alive nor
-    /// a parent of another deferred offspring, and returns the slot; `None` when its parents
-    /// changed or composing refused (it then stays unpooled).
+    /// Composes the mesh of deferred offspring `d` into a pool slot, alive (see
+    /// [`compose_pooled`](Self::compose_pooled)).
     fn compose_deferred(&mut self, d: usize) -> Option<usize> {
         let Deferred {
             ones,
             profile,
             objectives,
             classes,
-            parents: [a, b],
+            parents,
             levels,
             ..
         } = self.deferred[d];
         let genes = std::mem::replace(&mut self.deferred[d].genes, Chromosome::empty(0));
-        let slot = self.free_slot(&genes, ones, profile, [Some(a), Some(b), None]);
-        let mut state = std::mem::take(&mut self.pool[slot].state);
-        let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
-        let classes = &self.retained[classes];
-        let mut score = classes
-            .is_for(pa, pb)
-            .then(|| {
-                self.evaluator
-                    .compose_parts(&mut state, pa, pb, classes, levels)
-            })
-            .flatten();
-        let Deferred {
-            removed, inserted, ..
-        } = &self.deferred[d];
-        if score.is_some() && !(removed.is_empty() && inserted.is_empty()) {
-            score = self.evaluator.edit(&mut state, removed, inserted).ok();
-        }
-        debug_assert!(score.is_none_or(|s| (s.e_sum, s.t) == (objectives.e_sum, objectives.t)));
-        self.pool[slot].state = state;
-        if score.is_none() {
-            self.pool[slot].genes = Chromosome::empty(0);
-            self.keys[slot].ones = usize::MAX;
-            return None;
-        }
-        self.keys[slot] = Key { ones, profile };
-        let entry = &mut self.pool[slot];
-        entry.genes = genes;
-        entry.objectives = objectives;
-        entry.used = self.tick;
-        entry.crossed = false;
-        entry.alive = true;
-        Some(slot)
+        let recipe = Recipe {
+            parents,
+            classes: ClassesAt::Retained(classes),
+            levels,
+            changed_as: Some(d),
+        };
+        self.compose_pooled(genes, Key { ones, profile }, objectives, recipe, false)
     }
 
     /// Tells the scorer which chromosomes make up the GA's population now: their meshes are
