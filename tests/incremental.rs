@@ -6,7 +6,7 @@ mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::evaluator::incremental::canonical_set as triangle_set;
-use paretomesh::evaluator::{EvaluateError, Evaluator, MeshState};
+use paretomesh::evaluator::{Changes, EvaluateError, Evaluator, MeshState};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -288,4 +288,102 @@ fn a_one_pass_score_equals_an_editable_build() {
             assert_eq!(bits(editable), bits(once), "density {density}");
         }
     }
+}
+
+/// Scores random mutants (1–8 flips, corners excluded) of random meshes of `hf` with
+/// [`Evaluator::score_mutant`], which leaves the base as it is, against fresh evaluations.
+/// Returns (mutants scored, mutants refused).
+fn mutant_scores(hf: Arc<Heightfield>, seed: u64, rounds: usize) -> (usize, usize) {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed);
+    let mut ev = Evaluator::new(hf.clone());
+    let n = hf.len();
+    let corners = hf.corners();
+    let (mut scored, mut refused) = (0, 0);
+    for round in 0..rounds {
+        let density = [0.02, 0.1, 0.3, 0.7, 1.0][rng.random_range(0..5)];
+        let kept = random_kept(n, density, &mut rng);
+        let mut base = MeshState::default();
+        ev.score_into(&kept, &mut base).unwrap();
+        base.ensure_discs();
+        let before = base.score().unwrap();
+        for _ in 0..8 {
+            let flips = rng.random_range(1..=8);
+            let mut flip: Vec<u32> = Vec::new();
+            while flip.len() < flips.min(n - 4) {
+                let i = rng.random_range(0..n as u32);
+                if !corners.contains(&i) && !flip.contains(&i) {
+                    flip.push(i);
+                }
+            }
+            let (removed, inserted) = as_edit(&base, flip);
+            let changes = Changes {
+                removed: &removed,
+                inserted: &inserted,
+            };
+            let Some(score) = ev.score_mutant(&base, changes) else {
+                refused += 1;
+                continue;
+            };
+            scored += 1;
+            let mutant: Vec<u32> = (0..n as u32)
+                .filter(|&i| base.is_kept(i) != (removed.contains(&i) || inserted.contains(&i)))
+                .collect();
+            let fresh = ev.evaluate(&mutant).unwrap();
+            assert_eq!(
+                bits(score),
+                bits(fresh.score),
+                "{}×{} seed {seed} round {round} (−{removed:?} +{inserted:?})",
+                hf.width(),
+                hf.height(),
+            );
+        }
+        assert_eq!(
+            bits(base.score().unwrap()),
+            bits(before),
+            "the base is unchanged"
+        );
+    }
+    (scored, refused)
+}
+
+#[test]
+fn mutants_scored_without_a_copy_match_fresh_evaluation() {
+    // Synthetic grids with exact ties and odd shapes (a mutant of a sparse mesh on a tiny grid
+    // may drop every triangle, and is then built from scratch): none refused.
+    for (w, h) in [(3, 3), (5, 4), (2, 7), (9, 9), (17, 11)] {
+        for seed in 0..4 {
+            let (scored, refused) = mutant_scores(synthetic(w, h, seed), seed, 12);
+            assert_eq!((scored, refused), (96, 0), "{w}×{h} seed {seed}");
+        }
+    }
+    // Real data: none refused.
+    for (name, seed) in [
+        ("jacksboro_33x33", 1),
+        ("volcano_33x33", 2),
+        ("camera_33x33", 3),
+    ] {
+        let (scored, refused) = mutant_scores(fixture(name), seed, 20);
+        assert_eq!((scored, refused), (160, 0), "{name}");
+    }
+}
+
+#[test]
+fn a_mutant_that_is_not_one_is_refused() {
+    // A corner cannot be removed, a kept point cannot be inserted, nor a point that the base
+    // does not keep removed: each is refused rather than scored as something else.
+    let hf = synthetic(5, 5, 1);
+    let mut ev = Evaluator::new(hf.clone());
+    let mut base = MeshState::default();
+    ev.score_into(&[0, 4, 6, 12, 18, 20, 24], &mut base)
+        .unwrap();
+    base.ensure_discs();
+    let refused = |removed: &[u32], inserted: &[u32], ev: &mut Evaluator| {
+        let changes = Changes { removed, inserted };
+        ev.score_mutant(&base, changes).is_none()
+    };
+    assert!(refused(&[0], &[], &mut ev), "a corner removed");
+    assert!(refused(&[], &[12], &mut ev), "a kept point inserted");
+    assert!(refused(&[13], &[], &mut ev), "a point not kept removed");
+    assert!(refused(&[], &[25], &mut ev), "out of range");
+    assert!(!refused(&[12], &[13], &mut ev), "a real mutant");
 }

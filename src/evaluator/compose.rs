@@ -584,6 +584,17 @@ impl MeshState {
             }));
             self.discs_valid = true;
         }
+        self.ensure_lookups();
+    }
+
+    /// Fills this state's kept points' bitset and summed-area table if they are stale (part of
+    /// [`ensure_discs`](Self::ensure_discs), and all that
+    /// [`Evaluator::score_mutant`](super::Evaluator::score_mutant) needs).
+    pub fn ensure_lookups(&mut self) {
+        let Some(hf) = self.hf.clone() else {
+            return;
+        };
+        let (w, h) = (hf.width(), hf.height());
         if !self.lookup_valid {
             let kept = &self.kept[..w * h];
             self.kept_bits.clear();

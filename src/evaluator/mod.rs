@@ -383,6 +383,16 @@ impl Evaluator {
         )
     }
 
+    /// The score of the mesh that `base` (scored by this evaluator, its lookups filled:
+    /// [`MeshState::ensure_discs`]) becomes with `changes` made to its kept points: bit for bit
+    /// what [`edit`](Self::edit)ing a copy of it gives, without the copy or the edit (its
+    /// triangles but those the changes drop are reused, and the region they leave is tiled and
+    /// rasterised). `None` when `base` is not ready, a removed point is a corner or not kept,
+    /// an inserted one is kept, or a guard fails: score it another way.
+    pub fn score_mutant(&mut self, base: &MeshState, changes: Changes<'_>) -> Option<Score> {
+        part_scores::score_mutant(&self.hf, base, changes, &mut self.row_scratch)
+    }
+
     /// The kept points of the last [`score`](Self::score) call, increasing, corners included.
     pub fn kept(&self) -> &[u32] {
         &self.kept

@@ -41,6 +41,7 @@ use crate::heightfield::Heightfield;
 
 mod changes;
 pub use changes::Changes;
+pub(super) use changes::score_mutant;
 
 /// A class of parent triangles (see the module docs) and the totals of its triangles.
 #[derive(Clone, Copy, Debug)]

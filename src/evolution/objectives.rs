@@ -240,16 +240,25 @@ struct Deferred {
     ones: usize,
     profile: Profile,
     objectives: Objectives,
-    /// Its crossover's classification, in [`Scorer::retained`].
-    classes: usize,
-    /// The pool slots of its crossover's parents A and B.
-    parents: [usize; 2],
-    /// Bit k: block k from parent B.
-    levels: u32,
-    /// What its mutation changed in the crossed child with `levels` (nothing for one that
-    /// went on unchanged).
+    origin: Origin,
+    /// What its mutation changed in the crossed child or the base (nothing for a crossed
+    /// child that went on unchanged).
     removed: Vec<u32>,
     inserted: Vec<u32>,
+}
+
+/// What a deferred offspring's mesh is made from.
+#[derive(Clone, Debug)]
+enum Origin {
+    /// A crossed child with `levels` (bit k: block k from parent B) of the parents in pool
+    /// slots `parents`, whose classification is `retained[classes]`.
+    Crossed {
+        classes: usize,
+        parents: [usize; 2],
+        levels: u32,
+    },
+    /// A pooled chromosome, edited (found by its genes when the mesh is made).
+    Edited { base: Chromosome },
 }
 
 /// A mutant of a crossed child scored without a mesh differs from it in at most this many
@@ -399,6 +408,15 @@ impl Scorer {
         {
             return o;
         }
+        // So is a mutant of a pooled chromosome that it would otherwise copy to edit.
+        if let Some((Base::Pool(i), d)) = nearest
+            && made.is_none()
+            && d <= MUTANT_CHANGES
+            && !self.pool[i].crossed
+            && let Some(o) = self.mutant_of_pooled(c, ones, profile, i)
+        {
+            return o;
+        }
         if let Some((Base::Row(r), d)) = nearest {
             nearest = self.materialize(r).map(|slot| (Base::Pool(slot), d));
         }
@@ -450,14 +468,7 @@ impl Scorer {
                 self.removed.retain(|i| !corners.contains(i));
                 self.inserted.retain(|i| !corners.contains(i));
                 if b != slot {
-                    let (from, to) = if b < slot {
-                        let (lo, hi) = self.pool.split_at_mut(slot);
-                        (&lo[b], &mut hi[0])
-                    } else {
-                        let (lo, hi) = self.pool.split_at_mut(b);
-                        (&hi[0], &mut lo[slot])
-                    };
-                    to.state.clone_from(&from.state);
+                    self.copy_state(b, slot);
                     self.pool[b].used = self.tick;
                 }
                 self.evaluator
@@ -820,12 +831,60 @@ impl Scorer {
             ones,
             profile,
             objectives,
-            classes: self.retained.len() - 1,
-            parents: self.crossing_parents,
-            levels: self.rows[r].levels,
+            origin: Origin::Crossed {
+                classes: self.retained.len() - 1,
+                parents: self.crossing_parents,
+                levels: self.rows[r].levels,
+            },
             removed,
             inserted,
         });
+    }
+
+    /// Scores `c` (`ones` set genes, `profile`), a mutant of pooled chromosome `i` (not a
+    /// crossed child, whose mesh is edited in place instead), without a copy of its mesh
+    /// ([`Evaluator::score_mutant`]), and defers the mutant's mesh; `None` when it cannot be
+    /// scored so.
+    fn mutant_of_pooled(
+        &mut self,
+        c: &Chromosome,
+        ones: usize,
+        profile: Profile,
+        i: usize,
+    ) -> Option<Objectives> {
+        let base = &mut self.pool[i];
+        base.genes
+            .write_differences(c, &mut self.removed, &mut self.inserted);
+        let corners = self.evaluator.heightfield().corners();
+        self.removed.retain(|i| !corners.contains(i));
+        self.inserted.retain(|i| !corners.contains(i));
+        base.state.ensure_lookups();
+        let changes = Changes {
+            removed: &self.removed,
+            inserted: &self.inserted,
+        };
+        let s = self.evaluator.score_mutant(&base.state, changes)?;
+        base.used = self.tick;
+        let objectives = Objectives {
+            e_sum: s.e_sum,
+            e_max: s.e_max,
+            t: s.t,
+        };
+        if self.deferred.len() >= MAX_DEFERRED {
+            self.drop_deferred();
+        }
+        self.deferred.push(Deferred {
+            genes: c.clone(),
+            ones,
+            profile,
+            objectives,
+            origin: Origin::Edited {
+                base: self.pool[i].genes.clone(),
+            },
+            removed: self.removed.clone(),
+            inserted: self.inserted.clone(),
+        });
+        Some(objectives)
     }
 
     /// Forgets the deferred offspring, keeping their classifications' buffers.
@@ -834,26 +893,65 @@ impl Scorer {
         self.spare.append(&mut self.retained);
     }
 
-    /// Composes the mesh of deferred offspring `d` into a pool slot, alive (see
-    /// [`compose_pooled`](Self::compose_pooled)).
+    /// Makes the mesh of deferred offspring `d` in a pool slot, alive, and returns the slot
+    /// (see [`compose_pooled`](Self::compose_pooled)); `None` when what it is made from is no
+    /// longer pooled or composing refused (it then stays unpooled).
     fn compose_deferred(&mut self, d: usize) -> Option<usize> {
-        let Deferred {
-            ones,
-            profile,
-            objectives,
-            classes,
-            parents,
-            levels,
-            ..
-        } = self.deferred[d];
-        let genes = std::mem::replace(&mut self.deferred[d].genes, Chromosome::empty(0));
-        let recipe = Recipe {
-            parents,
-            classes: ClassesAt::Retained(classes),
-            levels,
-            changed_as: Some(d),
+        let (ones, profile, objectives) = {
+            let d = &self.deferred[d];
+            (d.ones, d.profile, d.objectives)
         };
-        self.compose_pooled(genes, Key { ones, profile }, objectives, recipe, false)
+        let genes = std::mem::replace(&mut self.deferred[d].genes, Chromosome::empty(0));
+        let key = Key { ones, profile };
+        let base = match &self.deferred[d].origin {
+            &Origin::Crossed {
+                classes,
+                parents,
+                levels,
+            } => {
+                let recipe = Recipe {
+                    parents,
+                    classes: ClassesAt::Retained(classes),
+                    levels,
+                    changed_as: Some(d),
+                };
+                return self.compose_pooled(genes, key, objectives, recipe, false);
+            }
+            Origin::Edited { base } => self.pooled(base)?,
+        };
+        let slot = self.free_slot(&genes, ones, profile, [Some(base), None, None]);
+        self.copy_state(base, slot);
+        let Deferred {
+            removed, inserted, ..
+        } = &self.deferred[d];
+        let state = &mut self.pool[slot].state;
+        let score = self.evaluator.edit(state, removed, inserted).ok();
+        debug_assert!(score.is_none_or(|s| (s.e_sum, s.t) == (objectives.e_sum, objectives.t)));
+        if score.is_none() {
+            self.pool[slot].genes = Chromosome::empty(0);
+            self.keys[slot].ones = usize::MAX;
+            return None;
+        }
+        self.keys[slot] = key;
+        let entry = &mut self.pool[slot];
+        entry.genes = genes;
+        entry.objectives = objectives;
+        entry.used = self.tick;
+        entry.crossed = false;
+        entry.alive = true;
+        Some(slot)
+    }
+
+    /// Copies the mesh of pool slot `from` into slot `to` (another one), reusing its buffers.
+    fn copy_state(&mut self, from: usize, to: usize) {
+        let (from, to) = if from < to {
+            let (lo, hi) = self.pool.split_at_mut(to);
+            (&lo[from], &mut hi[0])
+        } else {
+            let (lo, hi) = self.pool.split_at_mut(from);
+            (&hi[0], &mut lo[to])
+        };
+        to.state.clone_from(&from.state);
     }
 
     /// Tells the scorer which chromosomes make up the GA's population now: their meshes are
@@ -1052,10 +1150,74 @@ mod tests {
         assert!(alive.iter().all(|c| scorer.pooled(c).is_some()));
         assert!(scorer.pooled(&others[0]).is_none(), "the pool is full");
         scorer.keep_alive([]);
-        for c in &others[..4] {
-            scorer.score(c);
+        // Far from every pooled chromosome (a near one would be scored without a mesh, as its
+        // mutant): each takes a slot.
+        for _ in 0..4 {
+            let c = random(0.5);
+            scorer.score(&c);
+            assert!(scorer.pooled(&c).is_some());
         }
         assert!(alive.iter().all(|c| scorer.pooled(c).is_none()));
+    }
+
+    #[test]
+    fn mutants_of_pooled_chromosomes_are_scored_without_copies_and_pooled_when_alive() {
+        // A population on a 33×29 grid, each member mutated in 1–4 genes: every mutant scores
+        // as a fresh evaluation does, none takes a pool slot (its mesh is deferred), and those
+        // declared alive then hold meshes equal to fresh ones; the others stay unpooled.
+        let (w, h) = (33, 29);
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(21);
+        let z = (0..w * h).map(|_| rng.random_range(0..40) as f64).collect();
+        let hf = Arc::new(Heightfield::new(w, h, z).unwrap());
+        let n = hf.len();
+        let corners = hf.corners();
+        let random = |density: f64, rng: &mut rand_pcg::Pcg64Mcg| {
+            let kept: Vec<u32> = (0..n as u32)
+                .filter(|_| rng.random::<f64>() < density)
+                .chain(corners)
+                .collect();
+            Chromosome::from_indices(n, &kept)
+        };
+        let population: Vec<Chromosome> = (0..12)
+            .map(|k| random(0.05 + 0.07 * k as f64, &mut rng))
+            .collect();
+        let mut scorer = Scorer::new(hf.clone());
+        for c in &population {
+            scorer.score(c);
+        }
+        scorer.keep_alive(population.iter());
+        let pooled_before = scorer.pool.len();
+        let mut mutants = Vec::new();
+        for c in &population {
+            let mut m = c.clone();
+            for _ in 0..rng.random_range(1..=4) {
+                let i = loop {
+                    let i = rng.random_range(0..n as u32);
+                    if !corners.contains(&i) {
+                        break i;
+                    }
+                };
+                m.flip(i as usize);
+            }
+            let o = scorer.score(&m);
+            assert_eq!((o.e_sum.to_bits(), o.e_max.to_bits(), o.t), fresh(&hf, &m));
+            mutants.push(m);
+        }
+        assert_eq!(scorer.pool.len(), pooled_before, "no mutant took a slot");
+        assert!(mutants.iter().all(|m| scorer.pooled(m).is_none()));
+        let alive: Vec<&Chromosome> = mutants.iter().step_by(2).collect();
+        scorer.keep_alive(alive.iter().copied());
+        for (k, m) in mutants.iter().enumerate() {
+            match scorer.pooled(m) {
+                Some(i) => {
+                    assert!(k % 2 == 0, "mutant {k} was not declared alive");
+                    let s = scorer.pool[i].state.score().unwrap();
+                    assert_eq!((s.e_sum.to_bits(), s.e_max.to_bits(), s.t), fresh(&hf, m));
+                    assert!(scorer.pool[i].alive);
+                }
+                None => assert!(k % 2 == 1, "alive mutant {k} has no mesh"),
+            }
+        }
     }
 
     #[test]

@@ -14,10 +14,11 @@
 //! mutants die at the next survival; building the crossed child's mesh only to edit it cost
 //! about as much as scoring a whole crossover's rows (paper run, session 14).
 
-use super::{PartScores, RowScratch, class_of};
+use super::{PartScores, RowScratch, class_of, score_of};
+use crate::evaluator::Score;
 use crate::evaluator::compose::PartClasses;
-use crate::evaluator::errors::ErrorTotals;
-use crate::evaluator::incremental::MeshState;
+use crate::evaluator::errors::{ErrorTotals, ErrorUnits};
+use crate::evaluator::incremental::{MeshState, canonical, grid_of};
 use crate::evaluator::predicates::{Lattice, in_circle};
 use crate::evaluator::triangulation::{NONE, next};
 use crate::heightfield::Heightfield;
@@ -215,4 +216,174 @@ fn start_near(parent: &MeshState, q: u32) -> u32 {
     }
     // Corner 0 is kept: only a bad index gets here.
     parent.hint[0]
+}
+
+/// The score of the mesh that `base` (a scored mesh on `hf`) becomes with `changes` made to its
+/// kept points, without changing `base` or building that mesh: bit for bit what an
+/// [`edit`](crate::evaluator::Evaluator::edit) of a copy (and a fresh evaluation) gives. Every
+/// triangle of `base` is reused but those the changes drop (as for a crossover child's mutant,
+/// see the module docs); they are R, which is tiled and rasterised. `None` when `base`'s
+/// lookups are stale ([`MeshState::ensure_discs`]), when a removed point is a corner or not
+/// kept, an inserted one is kept or out of range, or a guard fails (score it another way).
+pub(in crate::evaluator) fn score_mutant(
+    hf: &std::sync::Arc<Heightfield>,
+    base: &MeshState,
+    changes: Changes<'_>,
+    scratch: &mut RowScratch,
+) -> Option<Score> {
+    let (w, h, n) = (hf.width(), hf.height(), hf.len());
+    let base_score = base.score?;
+    let same_field = base
+        .hf
+        .as_ref()
+        .is_some_and(|f| std::sync::Arc::ptr_eq(f, hf));
+    if !same_field || !base.lookup_valid || base.kept.len() < n {
+        return None;
+    }
+    let corners = hf.corners();
+    let on_border = |p: u32| {
+        let (x, y) = ((p as usize) % w, (p as usize) / w);
+        i64::from(x == 0 || y == 0 || x == w - 1 || y == h - 1)
+    };
+    // Euler's count of the mutant's triangles, from the base's: 2V − B − 2.
+    let mut expected = base_score.t as i64;
+    for &p in changes.removed {
+        if (p as usize) >= n || !base.kept[p as usize] || corners.contains(&p) {
+            return None;
+        }
+        expected -= 2 - on_border(p);
+    }
+    for &q in changes.inserted {
+        if (q as usize) >= n || base.kept[q as usize] {
+            return None;
+        }
+        expected += 2 - on_border(q);
+    }
+    let lattice = Lattice::new(w);
+    let m = &base.mesh;
+    let RowScratch {
+        listed,
+        points,
+        open,
+        region,
+        unknown,
+        memo,
+        changes: work,
+        sub,
+        ..
+    } = scratch;
+    // The dropped triangles: removed points' stars and inserted points' cavities.
+    work.dropped.clear();
+    for &p in changes.removed {
+        let first = m.leaving(base.hint[p as usize], p)?;
+        for e in m.fan(first) {
+            if !work.dropped.contains(&(0, e / 3)) {
+                work.dropped.push((0, e / 3));
+            }
+        }
+    }
+    for &q in changes.inserted {
+        let at = lattice.point(q);
+        let start = base.locate(lattice, start_near(base, q), at);
+        work.seen.clear();
+        work.queue.clear();
+        work.seen.push(start);
+        work.queue.push(start);
+        while let Some(t) = work.queue.pop() {
+            let tri = m.triangle(t as usize);
+            let p = tri.map(|i| lattice.point(i));
+            if !in_circle([p[0], p[1], p[2], at], [tri[0], tri[1], tri[2], q]) {
+                continue;
+            }
+            if !work.dropped.contains(&(0, t)) {
+                work.dropped.push((0, t));
+            }
+            for e in 3 * t..3 * t + 3 {
+                let g = m.twin[e as usize];
+                if g != NONE && !work.seen.contains(&(g / 3)) {
+                    work.seen.push(g / 3);
+                    work.queue.push(g / 3);
+                }
+            }
+        }
+    }
+    if work.dropped.is_empty() {
+        return (changes.removed.is_empty() && changes.inserted.is_empty()).then_some(base_score);
+    }
+    // The reused triangles' totals: all of the base's but the dropped ones (a sum over the
+    // base's triangles is cheaper than the copy an edit needs). Sums subtract; the maximum is
+    // made again without the dropped triangles only when one of them may have held it.
+    let is_dropped = |t: usize| work.dropped.iter().any(|&(_, d)| d as usize == t);
+    let all = &base.totals[..m.len()];
+    let mut totals = ErrorTotals::default();
+    for own in all {
+        totals.add(own);
+    }
+    let mut max_dropped = false;
+    for &(_, t) in &work.dropped {
+        let own = &all[t as usize];
+        totals.sum -= own.sum;
+        totals.sum_sq -= own.sum_sq;
+        max_dropped |= own.max >= totals.max;
+    }
+    if max_dropped {
+        totals.max = (all.iter().enumerate())
+            .filter(|&(t, _)| !is_dropped(t))
+            .map(|(_, own)| own.max)
+            .fold(0.0, f64::max);
+    }
+    let reused = m.len() as i64 - work.dropped.len() as i64;
+    // R's boundary: the dropped triangles' edges with a reused triangle across, seen from it
+    // (R lies left of v → u); those on the grid border stay there.
+    listed.resize(n, false);
+    points.clear();
+    open.clear();
+    for &(_, t) in &work.dropped {
+        for e in 3 * t..3 * t + 3 {
+            let g = m.twin[e as usize];
+            if g != NONE && !is_dropped((g / 3) as usize) {
+                let (u, v) = (m.vertices[e as usize], m.vertices[next(e) as usize]);
+                open.push((0, v, u));
+            }
+        }
+        for v in m.triangle(t as usize) {
+            if !std::mem::replace(&mut listed[v as usize], true) {
+                points.push(v);
+            }
+        }
+    }
+    for &q in changes.inserted {
+        if !std::mem::replace(&mut listed[q as usize], true) {
+            points.push(q);
+        }
+    }
+    for &p in points.iter() {
+        listed[p as usize] = false;
+    }
+    points.retain(|p| !changes.removed.contains(p));
+    let units = ErrorUnits::of(hf);
+    if open.is_empty() {
+        // The changes drop every triangle (a sparse mesh on a small grid), and wrapping starts
+        // from a boundary edge: the mutant is built from scratch.
+        points.clear();
+        points.extend((0..n as u32).filter(|&i| base.kept[i as usize]));
+        points.retain(|p| !changes.removed.contains(p));
+        points.extend_from_slice(changes.inserted);
+        points.sort_unstable();
+        sub.rebuild_delaunay(w, points);
+        let mut totals = ErrorTotals::default();
+        let tris =
+            (0..sub.len()).map(|t| ((), canonical(sub.triangle(t)).map(|i| lattice.point(i))));
+        grid_of(hf).sum_triangles(units, tris, |_, t| totals.add(&t));
+        return Some(score_of(units, &totals, sub.len() as u32, n));
+    }
+    region.wrap(w, h, points, open)?;
+    if reused + region.triangles.len() as i64 != expected {
+        debug_assert!(false, "R's triangles do not complete the mutant");
+        return None;
+    }
+    memo.prepare(Some(hf));
+    let tris = region.triangles.iter().map(|&t| ((), canonical(t)));
+    memo.sum_triangles(hf, tris, unknown, |_, t| totals.add(&t));
+    Some(score_of(units, &totals, expected as u32, n))
 }
