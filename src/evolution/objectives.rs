@@ -1062,6 +1062,16 @@ mod tests {
         Arc::new(Heightfield::new(9, 7, z).unwrap())
     }
 
+    /// A chromosome of `hf` keeping each point with probability `density`, and the corners.
+    fn random_genes(hf: &Heightfield, density: f64, rng: &mut rand_pcg::Pcg64Mcg) -> Chromosome {
+        let n = hf.len();
+        let kept: Vec<u32> = (0..n as u32)
+            .filter(|_| rng.random::<f64>() < density)
+            .chain(hf.corners())
+            .collect();
+        Chromosome::from_indices(n, &kept)
+    }
+
     fn fresh(hf: &Arc<Heightfield>, c: &Chromosome) -> (u64, u64, usize) {
         let o = Objectives::from_fresh(hf, c);
         (o.e_sum.to_bits(), o.e_max.to_bits(), o.t)
@@ -1127,15 +1137,8 @@ mod tests {
         // A pool of 4 meshes: two chromosomes declared alive must survive 40 other scorings,
         // which evict everything else; once no longer alive, they are replaced like the rest.
         let hf = bumpy(5);
-        let n = hf.len();
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(8);
-        let mut random = |density: f64| {
-            let kept: Vec<u32> = (0..n as u32)
-                .filter(|_| rng.random::<f64>() < density)
-                .chain(hf.corners())
-                .collect();
-            Chromosome::from_indices(n, &kept)
-        };
+        let mut random = |density: f64| random_genes(&hf, density, &mut rng);
         let alive = [random(0.3), random(0.6)];
         let mut scorer = Scorer::new(hf.clone());
         scorer.capacity = 4;
@@ -1171,15 +1174,8 @@ mod tests {
         let hf = Arc::new(Heightfield::new(w, h, z).unwrap());
         let n = hf.len();
         let corners = hf.corners();
-        let random = |density: f64, rng: &mut rand_pcg::Pcg64Mcg| {
-            let kept: Vec<u32> = (0..n as u32)
-                .filter(|_| rng.random::<f64>() < density)
-                .chain(corners)
-                .collect();
-            Chromosome::from_indices(n, &kept)
-        };
         let population: Vec<Chromosome> = (0..12)
-            .map(|k| random(0.05 + 0.07 * k as f64, &mut rng))
+            .map(|k| random_genes(&hf, 0.05 + 0.07 * k as f64, &mut rng))
             .collect();
         let mut scorer = Scorer::new(hf.clone());
         for c in &population {
@@ -1226,15 +1222,8 @@ mod tests {
         // pool of POOL_STATES = 200 could not hold it and as many offspring, which is what
         // made `--pop 300` three times slower; declaring it sizes the pool for both.
         let hf = bumpy(6);
-        let n = hf.len();
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(9);
-        let mut random = |density: f64| {
-            let kept: Vec<u32> = (0..n as u32)
-                .filter(|_| rng.random::<f64>() < density)
-                .chain(hf.corners())
-                .collect();
-            Chromosome::from_indices(n, &kept)
-        };
+        let mut random = |density: f64| random_genes(&hf, density, &mut rng);
         let population: Vec<Chromosome> =
             (0..150).map(|k| random(0.05 + 0.005 * k as f64)).collect();
         let mut scorer = Scorer::new(hf.clone());

@@ -92,34 +92,17 @@ impl PartScores {
         // An inserted point's cavity, in each parent that does not keep it (in one that does,
         // no circle holds it).
         for &q in changes.inserted {
-            let at = lattice.point(q);
             for (side, parent) in parents.into_iter().enumerate() {
                 if parent.kept[q as usize] {
                     continue;
                 }
-                let m = &parent.mesh;
-                let start = parent.locate(lattice, start_near(parent, q), at);
-                work.seen.clear();
-                work.queue.clear();
-                work.seen.push(start);
-                work.queue.push(start);
-                while let Some(t) = work.queue.pop() {
-                    let tri = m.triangle(t as usize);
-                    let p = tri.map(|i| lattice.point(i));
-                    if !in_circle([p[0], p[1], p[2], at], [tri[0], tri[1], tri[2], q]) {
-                        continue;
+                let dropped = &mut work.dropped;
+                let (seen, queue) = (&mut work.seen, &mut work.queue);
+                cavity(parent, lattice, q, [seen, queue], |t| {
+                    if reused(side, t) && !dropped.contains(&(side, t)) {
+                        dropped.push((side, t));
                     }
-                    if reused(side, t) && !work.dropped.contains(&(side, t)) {
-                        work.dropped.push((side, t));
-                    }
-                    for e in 3 * t..3 * t + 3 {
-                        let g = m.twin[e as usize];
-                        if g != NONE && !work.seen.contains(&(g / 3)) {
-                            work.seen.push(g / 3);
-                            work.queue.push(g / 3);
-                        }
-                    }
-                }
+                });
             }
         }
         // The dropped triangles leave the totals. A sum subtracts; a maximum is made again from
@@ -184,21 +167,58 @@ impl PartScores {
             }
             // Its vertices are R's now (the removed ones aside, taken out below).
             for v in m.triangle(t as usize) {
-                if !std::mem::replace(&mut listed[v as usize], true) {
-                    points.push(v);
-                }
+                list(listed, points, v);
             }
         }
         for &q in changes.inserted {
-            if !std::mem::replace(&mut listed[q as usize], true) {
-                points.push(q);
-            }
+            list(listed, points, q);
         }
         for &p in changes.removed {
             listed[p as usize] = false;
         }
         points.retain(|p| !changes.removed.contains(p));
         Some(())
+    }
+}
+
+/// Adds grid point `p` to R's `points` unless `listed` says it is there already.
+fn list(listed: &mut [bool], points: &mut Vec<u32>, p: u32) {
+    if !std::mem::replace(&mut listed[p as usize], true) {
+        points.push(p);
+    }
+}
+
+/// Calls `visit` on each triangle of `state`'s mesh whose circle holds grid point `q` (not
+/// kept; under the tie rule): its cavity, connected around the triangle that holds `q`, found by
+/// a walk there and a breadth-first search (`seen` and `queue` are scratch).
+fn cavity(
+    state: &MeshState,
+    lattice: Lattice,
+    q: u32,
+    [seen, queue]: [&mut Vec<u32>; 2],
+    mut visit: impl FnMut(u32),
+) {
+    let m = &state.mesh;
+    let at = lattice.point(q);
+    let start = state.locate(lattice, start_near(state, q), at);
+    seen.clear();
+    queue.clear();
+    seen.push(start);
+    queue.push(start);
+    while let Some(t) = queue.pop() {
+        let tri = m.triangle(t as usize);
+        let p = tri.map(|i| lattice.point(i));
+        if !in_circle([p[0], p[1], p[2], at], [tri[0], tri[1], tri[2], q]) {
+            continue;
+        }
+        visit(t);
+        for e in 3 * t..3 * t + 3 {
+            let g = m.twin[e as usize];
+            if g != NONE && !seen.contains(&(g / 3)) {
+                seen.push(g / 3);
+                queue.push(g / 3);
+            }
+        }
     }
 }
 
@@ -283,29 +303,12 @@ pub(in crate::evaluator) fn score_mutant(
         }
     }
     for &q in changes.inserted {
-        let at = lattice.point(q);
-        let start = base.locate(lattice, start_near(base, q), at);
-        work.seen.clear();
-        work.queue.clear();
-        work.seen.push(start);
-        work.queue.push(start);
-        while let Some(t) = work.queue.pop() {
-            let tri = m.triangle(t as usize);
-            let p = tri.map(|i| lattice.point(i));
-            if !in_circle([p[0], p[1], p[2], at], [tri[0], tri[1], tri[2], q]) {
-                continue;
+        let dropped = &mut work.dropped;
+        cavity(base, lattice, q, [&mut work.seen, &mut work.queue], |t| {
+            if !dropped.contains(&(0, t)) {
+                dropped.push((0, t));
             }
-            if !work.dropped.contains(&(0, t)) {
-                work.dropped.push((0, t));
-            }
-            for e in 3 * t..3 * t + 3 {
-                let g = m.twin[e as usize];
-                if g != NONE && !work.seen.contains(&(g / 3)) {
-                    work.seen.push(g / 3);
-                    work.queue.push(g / 3);
-                }
-            }
-        }
+        });
     }
     if work.dropped.is_empty() {
         return (changes.removed.is_empty() && changes.inserted.is_empty()).then_some(base_score);
@@ -347,15 +350,11 @@ pub(in crate::evaluator) fn score_mutant(
             }
         }
         for v in m.triangle(t as usize) {
-            if !std::mem::replace(&mut listed[v as usize], true) {
-                points.push(v);
-            }
+            list(listed, points, v);
         }
     }
     for &q in changes.inserted {
-        if !std::mem::replace(&mut listed[q as usize], true) {
-            points.push(q);
-        }
+        list(listed, points, q);
     }
     for &p in points.iter() {
         listed[p as usize] = false;
