@@ -94,10 +94,7 @@ impl RunFile {
                 .then(|| Chromosome::from_indices(n, &s.kept));
             let near = match (&previous, &genes) {
                 (Some(p), Some(g)) => {
-                    p.write_differences(g, &mut removed, &mut inserted);
-                    // The evaluator keeps the corners whatever the list says.
-                    removed.retain(|i| !corners.contains(i));
-                    inserted.retain(|i| !corners.contains(i));
+                    p.write_edit(g, &corners, &mut removed, &mut inserted);
                     2 * (removed.len() + inserted.len()) < s.kept.len()
                 }
                 _ => false,

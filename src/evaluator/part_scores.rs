@@ -515,10 +515,7 @@ impl PartScores {
         if changed {
             let kept =
                 |p: u32| parents[usize::from(label(classes.part[p as usize]))].kept[p as usize];
-            let on_edge = |p: u32| {
-                let (x, y) = ((p as usize) % w, (p as usize) / w);
-                u32::from(x == 0 || y == 0 || x == w - 1 || y == hf.height() - 1)
-            };
+            let on_edge = |p: u32| u32::from(on_grid_border(hf, p));
             for &p in changes.removed {
                 if !kept(p) {
                     return None;
@@ -686,7 +683,6 @@ impl PartScores {
         changes: Changes<'_>,
         scratch: &mut RowScratch,
     ) -> Score {
-        let w = hf.width();
         scratch.points.clear();
         for (i, &part) in classes.part.iter().enumerate() {
             if parents[((levels >> part) & 1) as usize].kept[i] {
@@ -698,14 +694,7 @@ impl PartScores {
             scratch.points.extend_from_slice(changes.inserted);
             scratch.points.sort_unstable();
         }
-        let sub = &mut scratch.sub;
-        sub.rebuild_delaunay(w, &scratch.points);
-        let lattice = Lattice::new(w);
-        let mut totals = ErrorTotals::default();
-        let tris =
-            (0..sub.len()).map(|t| ((), canonical(sub.triangle(t)).map(|i| lattice.point(i))));
-        grid_of(hf).sum_triangles(self.units, tris, |_, t| totals.add(&t));
-        score_of(self.units, &totals, sub.len() as u32, hf.len())
+        score_from_scratch(hf, self.units, &scratch.points, &mut scratch.sub)
     }
 }
 
@@ -733,6 +722,29 @@ fn cross_twin(parent: &MeshState, u: u32, v: u32) -> u32 {
     m.leaving(parent.hint[v as usize], v)
         .and_then(|e| edge_from(m, e, u))
         .unwrap_or(NONE)
+}
+
+/// The score of the canonical triangulation of `points` (increasing, the grid's corners
+/// included) on `hf`, built from scratch into `sub`.
+fn score_from_scratch(
+    hf: &Heightfield,
+    units: ErrorUnits,
+    points: &[u32],
+    sub: &mut Triangulation,
+) -> Score {
+    let lattice = Lattice::new(hf.width());
+    sub.rebuild_delaunay(hf.width(), points);
+    let mut totals = ErrorTotals::default();
+    let tris = (0..sub.len()).map(|t| ((), canonical(sub.triangle(t)).map(|i| lattice.point(i))));
+    grid_of(hf).sum_triangles(units, tris, |_, t| totals.add(&t));
+    score_of(units, &totals, sub.len() as u32, hf.len())
+}
+
+/// Is grid point `p` of `hf` on the grid's border (B of Euler's count 2V − B − 2)?
+fn on_grid_border(hf: &Heightfield, p: u32) -> bool {
+    let (w, h) = (hf.width(), hf.height());
+    let (x, y) = ((p as usize) % w, (p as usize) / w);
+    x == 0 || y == 0 || x == w - 1 || y == h - 1
 }
 
 fn score_of(units: ErrorUnits, totals: &ErrorTotals, t: u32, n: usize) -> Score {

@@ -112,6 +112,21 @@ impl Chromosome {
         }
     }
 
+    /// The edit that turns `self`'s kept set into `other`'s: [`write_differences`](Self::write_differences)
+    /// without the genes in `fixed` (a grid's corners, which the evaluator keeps whatever the
+    /// genes say), those only in `self` into `removed`, those only in `other` into `inserted`.
+    pub fn write_edit(
+        &self,
+        other: &Chromosome,
+        fixed: &[u32],
+        removed: &mut Vec<u32>,
+        inserted: &mut Vec<u32>,
+    ) {
+        self.write_differences(other, removed, inserted);
+        removed.retain(|i| !fixed.contains(i));
+        inserted.retain(|i| !fixed.contains(i));
+    }
+
     /// The set indices in increasing order, written into `out` (cleared first): the form
     /// [`Evaluator::score`](crate::evaluator::Evaluator::score) takes.
     pub fn write_indices(&self, out: &mut Vec<u32>) {

@@ -460,13 +460,8 @@ impl Scorer {
         let score = match (score, base) {
             (Some(s), _) => Ok(s),
             (None, Some(b)) => {
-                self.pool[b]
-                    .genes
-                    .write_differences(c, &mut self.removed, &mut self.inserted);
-                // The evaluator keeps the corners whatever the genes say.
                 let corners = self.evaluator.heightfield().corners();
-                self.removed.retain(|i| !corners.contains(i));
-                self.inserted.retain(|i| !corners.contains(i));
+                (self.pool[b].genes).write_edit(c, &corners, &mut self.removed, &mut self.inserted);
                 if b != slot {
                     self.copy_state(b, slot);
                     self.pool[b].used = self.tick;
@@ -717,8 +712,28 @@ impl Scorer {
         }
         debug_assert!(score.is_none_or(|s| (s.e_sum, s.t) == (objectives.e_sum, objectives.t)));
         self.pool[slot].state = state;
-        if score.is_none() {
-            // The slot's mesh is unscored now: nothing may match it.
+        let slot = self.settle(slot, score.is_some(), genes, key, objectives, crossed)?;
+        if crossed {
+            // About to be a mutant's base.
+            self.remember(slot);
+        }
+        Some(slot)
+    }
+
+    /// Makes pool slot `slot`, whose mesh has just been made (`made`) for `genes` (with `key`,
+    /// scored `objectives`), hold them, as a crossed child (`crossed`, an intermediate) or an
+    /// offspring that joins the population (alive), and returns it. When the mesh could not be
+    /// made, the slot's mesh is unscored: nothing may match it, and `None`.
+    fn settle(
+        &mut self,
+        slot: usize,
+        made: bool,
+        genes: Chromosome,
+        key: Key,
+        objectives: Objectives,
+        crossed: bool,
+    ) -> Option<usize> {
+        if !made {
             self.pool[slot].genes = Chromosome::empty(0);
             self.keys[slot].ones = usize::MAX;
             return None;
@@ -730,10 +745,6 @@ impl Scorer {
         entry.used = self.tick;
         entry.crossed = crossed;
         entry.alive = !crossed;
-        if crossed {
-            // About to be a mutant's base.
-            self.remember(slot);
-        }
         Some(slot)
     }
 
@@ -771,11 +782,8 @@ impl Scorer {
             return None;
         }
         let row = &self.rows[r];
-        row.genes
-            .write_differences(c, &mut self.removed, &mut self.inserted);
         let corners = self.evaluator.heightfield().corners();
-        self.removed.retain(|i| !corners.contains(i));
-        self.inserted.retain(|i| !corners.contains(i));
+        (row.genes).write_edit(c, &corners, &mut self.removed, &mut self.inserted);
         let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
         let changes = Changes {
             removed: &self.removed,
@@ -853,11 +861,8 @@ impl Scorer {
         i: usize,
     ) -> Option<Objectives> {
         let base = &mut self.pool[i];
-        base.genes
-            .write_differences(c, &mut self.removed, &mut self.inserted);
         let corners = self.evaluator.heightfield().corners();
-        self.removed.retain(|i| !corners.contains(i));
-        self.inserted.retain(|i| !corners.contains(i));
+        (base.genes).write_edit(c, &corners, &mut self.removed, &mut self.inserted);
         base.state.ensure_lookups();
         let changes = Changes {
             removed: &self.removed,
@@ -927,19 +932,7 @@ impl Scorer {
         let state = &mut self.pool[slot].state;
         let score = self.evaluator.edit(state, removed, inserted).ok();
         debug_assert!(score.is_none_or(|s| (s.e_sum, s.t) == (objectives.e_sum, objectives.t)));
-        if score.is_none() {
-            self.pool[slot].genes = Chromosome::empty(0);
-            self.keys[slot].ones = usize::MAX;
-            return None;
-        }
-        self.keys[slot] = key;
-        let entry = &mut self.pool[slot];
-        entry.genes = genes;
-        entry.objectives = objectives;
-        entry.used = self.tick;
-        entry.crossed = false;
-        entry.alive = true;
-        Some(slot)
+        self.settle(slot, score.is_some(), genes, key, objectives, false)
     }
 
     /// Copies the mesh of pool slot `from` into slot `to` (another one), reusing its buffers.

@@ -14,11 +14,11 @@
 //! mutants die at the next survival; building the crossed child's mesh only to edit it cost
 //! about as much as scoring a whole crossover's rows (paper run, session 14).
 
-use super::{PartScores, RowScratch, class_of, score_of};
+use super::{PartScores, RowScratch, class_of, on_grid_border, score_from_scratch, score_of};
 use crate::evaluator::Score;
 use crate::evaluator::compose::PartClasses;
 use crate::evaluator::errors::{ErrorTotals, ErrorUnits};
-use crate::evaluator::incremental::{MeshState, canonical, grid_of};
+use crate::evaluator::incremental::{MeshState, canonical};
 use crate::evaluator::predicates::{Lattice, in_circle};
 use crate::evaluator::triangulation::{NONE, next};
 use crate::heightfield::Heightfield;
@@ -261,10 +261,7 @@ pub(in crate::evaluator) fn score_mutant(
         return None;
     }
     let corners = hf.corners();
-    let on_border = |p: u32| {
-        let (x, y) = ((p as usize) % w, (p as usize) / w);
-        i64::from(x == 0 || y == 0 || x == w - 1 || y == h - 1)
-    };
+    let on_border = |p: u32| i64::from(on_grid_border(hf, p));
     // Euler's count of the mutant's triangles, from the base's: 2V − B − 2.
     let mut expected = base_score.t as i64;
     for &p in changes.removed {
@@ -369,12 +366,7 @@ pub(in crate::evaluator) fn score_mutant(
         points.retain(|p| !changes.removed.contains(p));
         points.extend_from_slice(changes.inserted);
         points.sort_unstable();
-        sub.rebuild_delaunay(w, points);
-        let mut totals = ErrorTotals::default();
-        let tris =
-            (0..sub.len()).map(|t| ((), canonical(sub.triangle(t)).map(|i| lattice.point(i))));
-        grid_of(hf).sum_triangles(units, tris, |_, t| totals.add(&t));
-        return Some(score_of(units, &totals, sub.len() as u32, n));
+        return Some(score_from_scratch(hf, units, points, sub));
     }
     region.wrap(w, h, points, open)?;
     if reused + region.triangles.len() as i64 != expected {
