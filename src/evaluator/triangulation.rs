@@ -973,4 +973,64 @@ mod tests {
             assert_eq!(fast.twin, steps.twin, "round {round}");
         }
     }
+
+    #[test]
+    fn insertion_order_takes_every_point_once_by_rows_or_by_bands() {
+        // A dense set goes row by row: each group one row of `kept`, rounds y ≡ 0, 2, then odd
+        // (mod 4). A sparse one goes by bands: each group one band of rows in one round, its
+        // cells left to right, and row order kept within a cell. Either way every point (repeats
+        // included) comes exactly once.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(0x0bde);
+        let (w, h) = (257usize, 200usize);
+        let lattice = Lattice::new(w);
+        // The band (log₂ of the cell side) each density gets: cells of about four points.
+        for (fraction, band) in [(0.02, Some(4)), (0.05, Some(3)), (0.3, None), (1.0, None)] {
+            let mut kept: Vec<u32> = (0..(w * h) as u32)
+                .filter(|_| rng.random::<f64>() < fraction)
+                .collect();
+            kept.push(kept[kept.len() / 3]);
+            kept.sort_unstable();
+            let mut plan = InsertionOrder::default();
+            let (points, groups) = plan.plan(lattice, &kept, [0, 0, w as i64 - 1, h as i64 - 1]);
+            let mut sequence: Vec<u32> = groups
+                .iter()
+                .flat_map(|&(s, e)| points[s as usize..e as usize].iter().copied())
+                .collect();
+            assert_eq!(sequence.len(), kept.len(), "{fraction}");
+            let round = |p: u32| InsertionOrder::round_of(lattice.point(p)[1]);
+            let rounds: Vec<usize> = sequence.iter().map(|&p| round(p)).collect();
+            assert!(rounds.is_sorted(), "{fraction}: rounds in order");
+            let rows_of = |&(s, e): &(u32, u32)| -> Vec<i64> {
+                let mut ys: Vec<i64> = points[s as usize..e as usize]
+                    .iter()
+                    .map(|&p| lattice.point(p)[1])
+                    .collect();
+                ys.dedup();
+                ys
+            };
+            if let Some(band) = band {
+                assert!(groups.windows(2).all(|g| g[0].1 == g[1].0), "{fraction}");
+                for g in groups {
+                    let ys = rows_of(g);
+                    let bands: Vec<i64> = ys.iter().map(|y| y >> band).collect();
+                    assert!(bands.iter().all(|&b| b == bands[0]), "{fraction}: one band");
+                }
+                assert!(
+                    groups.iter().any(|g| rows_of(g).len() > 1),
+                    "{fraction}: a group spans several rows"
+                );
+                for &(s, e) in groups {
+                    let xs: Vec<i64> = points[s as usize..e as usize]
+                        .iter()
+                        .map(|&p| lattice.point(p)[0] >> band)
+                        .collect();
+                    assert!(xs.is_sorted(), "{fraction}: cells left to right");
+                }
+            } else {
+                assert!(groups.iter().all(|g| rows_of(g).len() == 1), "{fraction}");
+            }
+            sequence.sort_unstable();
+            assert_eq!(sequence, kept, "{fraction}: every point once");
+        }
+    }
 }
