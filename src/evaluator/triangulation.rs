@@ -273,8 +273,8 @@ fn tie_half(halves: &[Half], edges: [u32; 4]) -> bool {
 /// Why: one sweep up the grid keeps inserting points just above a front whose triangles fan
 /// out to the box's top corners, and each insertion then flips much of that fan; the rounds
 /// fill in between rows already there. On camera_257x257 at 30 % kept: 4.2 flips and 11.5
-/// in-circle tests per point instead of 6.2 and 15.3; 6–8 % faster at 2 % and 30 % kept. Two
-/// rounds or four were no better.
+/// in-circle tests per point instead of 6.2 and 15.3 (walks: 3.8 steps instead of 2.3); 6–8 %
+/// faster at 2 % and 30 % kept. Two rounds or four were no better.
 ///
 /// Within a round, a dense set goes row by row (a group per row). A sparse one goes by bands of
 /// `c` rows (`c` a power of two, chosen so that a `c`×`c` cell holds about four points) and
@@ -283,8 +283,9 @@ fn tie_half(halves: &[Half], edges: [u32; 4]) -> bool {
 /// walk between them crossed ≈ 9 thin triangles. On camera_257x257 at 2 % kept (c = 16): walk
 /// steps per point 9.3 → 4.3, the same in-circle tests and flips, the triangulation
 /// 380–420 → 310–340 µs (min of 400 builds, alternating runs); at 10 % (c = 8) the same time
-/// within noise, so denser sets keep the rows. The bands come from a counting sort, stable, so
-/// a cell's points stay in row order.
+/// within noise, and at 30 % bands were never faster than rows, so sets denser than about one
+/// point per 8×8 cell (c < 8, about 12 % kept) keep the rows. The bands come from a counting
+/// sort, stable, so a cell's points stay in row order.
 #[derive(Clone, Debug, Default)]
 pub(super) struct InsertionOrder {
     /// The points in insertion order (unused when the groups index `kept` itself).
