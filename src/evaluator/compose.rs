@@ -342,8 +342,14 @@ impl PartClasses {
                 // The parts the box meets (its rectangle's last column and row are x1 − 1 and
                 // y1 − 1), but its own.
                 let [x0, y0, x1, y1] = disc;
-                let mut met =
-                    starts_x[x1 - 1] & ends_x[x0] & starts_y[y1 - 1] & ends_y[y0] & !(1 << own);
+                // A part that already drops the triangle (the other parent lacks a vertex there)
+                // needs no search.
+                let mut met = starts_x[x1 - 1]
+                    & ends_x[x0]
+                    & starts_y[y1 - 1]
+                    & ends_y[y0]
+                    & !(1 << own)
+                    & !kill[t];
                 if met != 0 && parent.discs[t].area() > MAX_SEARCHED_BOX {
                     kill[t] |= met;
                 } else if met != 0 {
@@ -483,8 +489,13 @@ fn spoils_bits(
 ) -> bool {
     let p = tri.map(|i| lattice.point(i));
     let circle = Circle::new(p[0], p[1], p[2]);
-    // Each row only where the circle crosses it (a conservative chord: the exact test decides).
+    // Each row only where the circle crosses it (a conservative chord: the exact test decides),
+    // and only if it has a set bit in the rectangle at all: a word or two, read before the
+    // chord's square root (most rows of a sparse set have none there).
     for y in y0..y1 {
+        if !any_in(bits, y * width + x0, y * width + x1) {
+            continue;
+        }
         let Some([cx0, cx1]) = circumcircle.chord(y as f64) else {
             continue;
         };
@@ -507,6 +518,23 @@ fn spoils_bits(
         }
     }
     false
+}
+
+/// Is any bit `lo..hi` of the bitset `bits` (bit `i` of word `i / 64`) set?
+#[inline]
+fn any_in(bits: &[u64], lo: usize, hi: usize) -> bool {
+    if lo >= hi {
+        return false;
+    }
+    let (first, last) = (lo / 64, (hi - 1) / 64);
+    let low = u64::MAX << (lo % 64);
+    let high = u64::MAX >> (63 - (hi - 1) % 64);
+    if first == last {
+        return bits[first] & low & high != 0;
+    }
+    bits[first] & low != 0
+        || bits[first + 1..last].iter().any(|&w| w != 0)
+        || bits[last] & high != 0
 }
 
 /// A triangle's circumcircle in floating point, for conservative geometric pre-filters (the
@@ -958,4 +986,29 @@ fn twin_in(parent: &MeshState, map: &[u32], from: u32, to: u32) -> Option<u32> {
     let e = edge_from(m, m.leaving(t, from)?, to)?;
     let slot = map[(e / 3) as usize];
     (slot != NONE).then(|| 3 * slot + e % 3)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::any_in;
+    use rand::{RngExt, SeedableRng};
+
+    /// `any_in` against a bit-by-bit scan, on sparse random bitsets (so that most ranges hold
+    /// no bit and the answer turns on the words' edges), over ranges within a word, across one
+    /// boundary and across several.
+    #[test]
+    fn any_in_finds_a_set_bit_exactly_when_a_scan_does() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(7);
+        for _ in 0..2000 {
+            let bits: Vec<u64> = (0..5)
+                .map(|_| {
+                    (0..rng.random_range(0..3)).fold(0, |w, _| w | 1 << rng.random_range(0..64))
+                })
+                .collect();
+            let lo = rng.random_range(0..320);
+            let hi = rng.random_range(lo..=320);
+            let scan = (lo..hi).any(|i| bits[i / 64] >> (i % 64) & 1 == 1);
+            assert_eq!(any_in(&bits, lo, hi), scan, "bits {bits:x?}, {lo}..{hi}");
+        }
+    }
 }

@@ -94,6 +94,16 @@ const UNKNOWN: u32 = u32::MAX - 1;
 /// an L8 array (OAX's default).
 const LEVEL_SET_PARTS: usize = 7;
 
+/// Slots of [`PartScores::special_index`]: a side, a home part and a kill mask of at most
+/// [`LEVEL_SET_PARTS`] parts.
+const SPECIAL_SLOTS: usize = 2 << (3 + LEVEL_SET_PARTS);
+
+/// The [`PartScores::special_index`] slot of a special class (at most [`LEVEL_SET_PARTS`]
+/// parts: the home part in 3 bits, the kill mask in 7).
+fn special_slot(side: usize, home: u8, kill: u32) -> usize {
+    (side << (3 + LEVEL_SET_PARTS)) | (usize::from(home) << LEVEL_SET_PARTS) | kill as usize
+}
+
 /// Per part, per parent: the children that label the part for that parent.
 const LABELLED: [[LevelSet; 2]; LEVEL_SET_PARTS] = {
     let mut table = [[LevelSet([0; 2]); 2]; LEVEL_SET_PARTS];
@@ -174,6 +184,9 @@ pub struct PartScores {
     /// reads at random).
     is_variable: [Vec<u64>; 2],
     either: Vec<u64>,
+    /// Scratch of `prepare`, with at most [`LEVEL_SET_PARTS`] parts: per (side, home part,
+    /// kill mask), its class among the special ones, or [`NONE`] (reset after use).
+    special_index: Vec<u32>,
     /// Scratch of `prepare`: one parent's triangles with a variable vertex.
     covering: Vec<u32>,
     /// Scratch of `prepare`: the candidate edges (parent, u, v, children) that the other parent
@@ -246,6 +259,10 @@ impl PartScores {
             }
         }
         let plain = self.classes.len();
+        let parts = classes.rects.len();
+        if parts <= LEVEL_SET_PARTS {
+            self.special_index.resize(SPECIAL_SLOTS, NONE);
+        }
         // Variable points: a vertex of a triangle whose class is not its own part's plain one,
         // which is near a block's edge.
         for (side, parent) in parents.into_iter().enumerate() {
@@ -262,12 +279,22 @@ impl PartScores {
                 let (home, k) = (first[t], kill[t]);
                 let tri = &vertices[3 * t..3 * t + 3];
                 if k != 0 {
-                    let found = self.classes[plain..]
-                        .iter()
-                        .position(|c| c.side == side as u8 && c.home == home && c.kill == k);
+                    // By the table with few parts, else by a linear search (they are few).
+                    let slot = (parts <= LEVEL_SET_PARTS).then(|| special_slot(side, home, k));
+                    let found = match slot {
+                        Some(i) => Some(self.special_index[i])
+                            .filter(|&c| c != NONE)
+                            .map(|c| c as usize - plain),
+                        None => self.classes[plain..]
+                            .iter()
+                            .position(|c| c.side == side as u8 && c.home == home && c.kill == k),
+                    };
                     let c = match found {
                         Some(i) => plain + i,
                         None => {
+                            if let Some(i) = slot {
+                                self.special_index[i] = self.classes.len() as u32;
+                            }
                             self.classes.push(Class {
                                 side: side as u8,
                                 home,
@@ -301,6 +328,11 @@ impl PartScores {
         // With level sets, each such triangle marks the children that reuse it on its
         // vertices, and each candidate edge is kept with the children on whose R boundary it
         // lies, in the same pass.
+        if parts <= LEVEL_SET_PARTS {
+            for c in &self.classes[plain..] {
+                self.special_index[special_slot(c.side.into(), c.home, c.kill)] = NONE;
+            }
+        }
         let [va, vb] = &self.is_variable;
         self.either.clear();
         self.either.extend(va.iter().zip(vb).map(|(a, b)| a | b));
