@@ -187,6 +187,9 @@ pub struct PartScores {
     /// Scratch of `prepare`, with at most [`LEVEL_SET_PARTS`] parts: per (side, home part,
     /// kill mask), its class among the special ones, or [`NONE`] (reset after use).
     special_index: Vec<u32>,
+    /// Scratch of `prepare`: the edges (3t + k) of one parent's triangles with a variable
+    /// vertex that some child reuses on one side only, with those children.
+    staged: Vec<(u32, LevelSet)>,
     /// Scratch of `prepare`: one parent's triangles with a variable vertex.
     covering: Vec<u32>,
     /// Scratch of `prepare`: the candidate edges (parent, u, v, children) that the other parent
@@ -365,53 +368,64 @@ impl PartScores {
                 len += variable(tri[0]) | variable(tri[1]) | variable(tri[2]);
             }
             covering.truncate(len);
-            for &t in covering.iter() {
-                let t = t as usize;
-                let tri = m.triangle(t);
-                let class = class_of(classes, &self.special, side, t);
-                if level_sets {
-                    let set = self.class_levels[class as usize];
-                    for v in tri {
+            if level_sets {
+                // Each triangle marks the children that reuse it on its vertices, and stages
+                // each edge with the children that reuse it but not the triangle across (none
+                // across the grid border: the triangle itself stands in). Without branches: the
+                // classes of neighbours near a block's edge follow no pattern.
+                let cl = &self.class_levels;
+                let staged = &mut self.staged;
+                staged.resize(3 * covering.len(), (0, LevelSet::default()));
+                let mut len = 0;
+                for &t in covering.iter() {
+                    let t = t as usize;
+                    let class = class_of(classes, &self.special, side, t);
+                    let set = cl[class as usize];
+                    for v in m.triangle(t) {
                         let r = &mut self.reused_by[v as usize];
                         *r = r.or(set);
                     }
-                } else {
-                    coverage.push((t as u32, class));
+                    for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
+                        let across = if g == NONE { t } else { (g / 3) as usize };
+                        let twin_class = class_of(classes, &self.special, side, across);
+                        let on_boundary = set.and_not(cl[twin_class as usize]);
+                        staged[len] = ((3 * t + k) as u32, on_boundary);
+                        len += usize::from(!on_boundary.is_empty());
+                    }
                 }
-                for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
-                    if g == NONE {
-                        continue;
-                    }
-                    let twin_class = class_of(classes, &self.special, side, (g / 3) as usize);
-                    if twin_class == class {
-                        continue;
-                    }
-                    let edge = (3 * t + k) as u32;
-                    if !level_sets {
-                        self.candidates.push(Candidate {
-                            side: side as u8,
-                            edge,
-                            class,
-                            twin_class,
-                            cross: UNKNOWN,
-                            cross_class: 0,
-                        });
-                        continue;
-                    }
-                    // On the R boundary of the children that reuse this triangle but neither
-                    // the one across nor the other parent's triangle across the edge.
-                    let cl = &self.class_levels;
-                    let set = cl[class as usize].and_not(cl[twin_class as usize]);
-                    if set.is_empty() {
-                        continue;
-                    }
-                    let (u, v) = (tri[k], m.vertices[next(edge) as usize]);
-                    let other = parents[1 - side];
+                // The staged edges lie on the R boundary of the children that reuse this
+                // triangle but neither the one across nor the other parent's triangle across
+                // the edge.
+                let other = parents[1 - side];
+                for &(edge, set) in &staged[..len] {
+                    let (u, v) = (m.vertices[edge as usize], m.vertices[next(edge) as usize]);
                     if other.kept[u as usize] && other.kept[v as usize] {
                         // The other parent may have the edge: looked up below.
                         self.crossing.push((side as u8, u, v, set));
                     } else {
                         self.r_edges.push((u, v, set));
+                    }
+                }
+                continue;
+            }
+            for &t in covering.iter() {
+                let t = t as usize;
+                let class = class_of(classes, &self.special, side, t);
+                coverage.push((t as u32, class));
+                for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
+                    if g == NONE {
+                        continue;
+                    }
+                    let twin_class = class_of(classes, &self.special, side, (g / 3) as usize);
+                    if twin_class != class {
+                        self.candidates.push(Candidate {
+                            side: side as u8,
+                            edge: (3 * t + k) as u32,
+                            class,
+                            twin_class,
+                            cross: UNKNOWN,
+                            cross_class: 0,
+                        });
                     }
                 }
             }
@@ -732,12 +746,14 @@ impl PartScores {
 
 /// The class (in [`PartScores::classes`]) of triangle `t` of parent `side`: its part's plain one
 /// when its kill mask is empty, else the one `prepare` found for it (`special`).
+/// Both are read and one is selected without a branch (whether a triangle near a block's edge
+/// has a kill mask follows no pattern; `prepare` makes `special` as long as the parent).
+#[inline]
 fn class_of(classes: &PartClasses, special: &[Vec<u32>; 2], side: usize, t: usize) -> u32 {
-    if classes.kill[side][t] == 0 {
-        (side * classes.rects.len() + classes.first[side][t] as usize) as u32
-    } else {
-        special[side][t]
-    }
+    let plain = (side * classes.rects.len() + classes.first[side][t] as usize) as u32;
+    let found = special[side][t];
+    let is_special = 0u32.wrapping_sub(u32::from(classes.kill[side][t] != 0));
+    (plain & !is_special) | (found & is_special)
 }
 
 /// Bit `i` of the bitset `bits` (bit `i` of word `i / 64`), as 0 or 1.
