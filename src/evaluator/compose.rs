@@ -177,7 +177,9 @@ pub struct PartClasses {
     pub(super) id: u64,
     /// Per parent: the slots of its triangles whose disc box leaves their own part (the others'
     /// kill masks are empty).
-    pub(super) near: [Vec<u32>; 2],
+    near: [Vec<u32>; 2],
+    /// Per parent: how many of `near` are its (the rest is stale; see [`near`](Self::near)).
+    near_len: [usize; 2],
     /// Per parent, per part: the error totals and number of its triangles whose smallest
     /// vertex is in the part and whose kill mask is empty.
     pub(super) plain: [Vec<(ErrorTotals, u32)>; 2],
@@ -295,7 +297,8 @@ impl PartClasses {
             let bits = &self.only_other;
             let m = &parent.mesh;
             let (first, kill) = (&mut self.first[side], &mut self.kill[side]);
-            first.clear();
+            // Every slot is written below: only a longer parent needs more room (a clear
+            // first would fill the whole length again, per parent per crossover).
             first.resize(m.len(), 0);
             kill.clear();
             kill.resize(m.len(), 0);
@@ -304,9 +307,11 @@ impl PartClasses {
             // order; branches on it mispredicted several times per triangle). A triangle whose
             // box stays in its own part has all its vertices there too, so no part but its own
             // can drop it: its kill mask is empty.
+            // Written up to its length below, so only grown (as `first`).
             let near = &mut self.near[side];
-            near.clear();
-            near.resize(m.len(), 0);
+            if near.len() < m.len() {
+                near.resize(m.len(), 0);
+            }
             let mut near_len = 0;
             let part = &self.part[..];
             let plain = &mut self.plain[side];
@@ -329,9 +334,9 @@ impl PartClasses {
                     p.1 += 1;
                 }
             }
-            near.truncate(near_len);
+            self.near_len[side] = near_len;
             let kept = &other.kept[..];
-            for &t in near.iter() {
+            for &t in &near[..near_len] {
                 let t = t as usize;
                 let tri = m.triangle(t);
                 let own = first[t];
@@ -379,6 +384,12 @@ impl PartClasses {
         self.made_from = [a.revision, b.revision];
         self.id = super::incremental::next_revision();
         true
+    }
+
+    /// The slots of parent `side`'s triangles whose disc box leaves their own part (the others'
+    /// kill masks are empty).
+    pub(super) fn near(&self, side: usize) -> &[u32] {
+        &self.near[side][..self.near_len[side]]
     }
 
     /// A number no other classification had (0 until made); a copy keeps it.

@@ -277,7 +277,7 @@ impl PartScores {
             is_variable.resize(n.div_ceil(64), 0);
             let variable = &mut self.variable[side];
             variable.clear();
-            for &t in &classes.near[side] {
+            for &t in classes.near(side) {
                 let t = t as usize;
                 let (home, k) = (first[t], kill[t]);
                 let tri = &vertices[3 * t..3 * t + 3];
@@ -360,14 +360,18 @@ impl PartScores {
             // First the triangles with a variable vertex, without branches (a quarter of them,
             // in no order the slots follow).
             let variable = |v: u32| bit_of(&self.either, v);
+            // Written up to its length, so only grown (a clear would fill it again per parent
+            // per crossover).
             let covering = &mut self.covering;
-            covering.resize(m.len(), 0);
+            if covering.len() < m.len() {
+                covering.resize(m.len(), 0);
+            }
             let mut len = 0;
             for (t, tri) in m.vertices.chunks_exact(3).enumerate() {
                 covering[len] = t as u32;
                 len += variable(tri[0]) | variable(tri[1]) | variable(tri[2]);
             }
-            covering.truncate(len);
+            let covering = &covering[..len];
             if level_sets {
                 // Each triangle marks the children that reuse it on its vertices, and stages
                 // each edge with the children that reuse it but not the triangle across (none
@@ -375,7 +379,9 @@ impl PartScores {
                 // classes of neighbours near a block's edge follow no pattern.
                 let cl = &self.class_levels;
                 let staged = &mut self.staged;
-                staged.resize(3 * covering.len(), (0, LevelSet::default()));
+                if staged.len() < 3 * covering.len() {
+                    staged.resize(3 * covering.len(), (0, LevelSet::default()));
+                }
                 let mut len = 0;
                 for &t in covering.iter() {
                     let t = t as usize;
