@@ -58,7 +58,8 @@ pub struct RunFile {
 
 impl RunFile {
     /// Builds the file of a run that produced `front` on `evaluator`'s height field. The
-    /// triangles are recomputed with `evaluator`; fails only when a kept index is out of range.
+    /// triangles are recomputed with `evaluator`; fails only when a kept index is out of range
+    /// ([`EvaluateError::IndexOutOfRange`]).
     pub fn new(
         evaluator: &mut Evaluator,
         algorithm: &str,
@@ -74,40 +75,52 @@ impl RunFile {
             height: hf.height(),
             source: hf.source().to_string(),
         };
-        // Members next to each other on the front (by T) usually share most of their points (a
-        // median of 200 genes apart on a paper run's front of jacksboro_65x65, out of ≈1 660
-        // kept), so each is scored by editing the previous one's mesh when that is nearer than
-        // half its kept points, else from scratch: the triangles are the same either way (the
-        // evaluator's contract), listed in canonical order so that the file does not depend on
-        // which way they were made.
+        // Members close in T usually share most of their points, so each member is scored by
+        // editing the mesh of the one before it in a nearest-neighbour tour (by Hamming
+        // distance) of the front, or from scratch when that is nearer than half its kept
+        // points: the triangles are the same either way (the evaluator's contract), listed in
+        // canonical order so that the file does not depend on how they were made. On a paper
+        // run's front of jacksboro_65x65 (427 members) the tour edits 102 k points where the
+        // T order edited 160 k.
         let (n, corners) = (hf.len(), hf.corners());
-        let mut state = MeshState::default();
-        let mut previous: Option<Chromosome> = None;
-        let (mut removed, mut inserted) = (Vec::new(), Vec::new());
-        let mut members = Vec::with_capacity(front.solutions().len());
-        for s in front.solutions() {
-            // An index out of range is left to the fresh evaluation, which reports it.
-            let genes = s
-                .kept
-                .iter()
-                .all(|&i| (i as usize) < n)
-                .then(|| Chromosome::from_indices(n, &s.kept));
-            let near = match (&previous, &genes) {
-                (Some(p), Some(g)) => {
-                    p.write_edit(g, &corners, &mut removed, &mut inserted);
-                    2 * (removed.len() + inserted.len()) < s.kept.len()
-                }
-                _ => false,
-            };
-            if !near || evaluator.edit(&mut state, &removed, &inserted).is_err() {
-                evaluator.score_into(&s.kept, &mut state)?;
-            }
-            members.push(RunSolution {
-                triangles: canonical_set(&state.triangles()),
-                solution: s.clone(),
+        let members = front.solutions();
+        if let Some(&index) = members
+            .iter()
+            .flat_map(|s| &s.kept)
+            .find(|&&i| i as usize >= n)
+        {
+            return Err(EvaluateError::IndexOutOfRange {
+                index: index.into(),
+                len: n,
             });
-            previous = genes;
         }
+        let genes: Vec<Chromosome> = members
+            .iter()
+            .map(|s| Chromosome::from_indices(n, &s.kept))
+            .collect();
+        let mut state = MeshState::default();
+        let mut previous: Option<usize> = None;
+        let (mut removed, mut inserted) = (Vec::new(), Vec::new());
+        let mut triangles = vec![Vec::new(); members.len()];
+        for m in edit_tour(&genes) {
+            let near = previous.is_some_and(|p| {
+                genes[p].write_edit(&genes[m], &corners, &mut removed, &mut inserted);
+                2 * (removed.len() + inserted.len()) < members[m].kept.len()
+            });
+            if !near || evaluator.edit(&mut state, &removed, &inserted).is_err() {
+                evaluator.score_into(&members[m].kept, &mut state)?;
+            }
+            triangles[m] = canonical_set(&state.triangles());
+            previous = Some(m);
+        }
+        let members = members
+            .iter()
+            .zip(triangles)
+            .map(|(s, triangles)| RunSolution {
+                solution: s.clone(),
+                triangles,
+            })
+            .collect();
         Ok(Self {
             grid,
             algorithm: algorithm.to_string(),
@@ -127,6 +140,66 @@ impl RunFile {
         }
         out
     }
+}
+
+/// An order that visits every chromosome once, starting at the first, each next one the nearest
+/// (Hamming distance) not yet visited; of equally near ones, the first found by the scan below
+/// (a fixed order, so the tour depends on the chromosomes alone). The distance is at least the
+/// difference of the two counts of set genes, so candidates are scanned outward by count, one
+/// step down then one up, and each side stops where that bound reaches the best distance found.
+fn edit_tour(genes: &[Chromosome]) -> Vec<usize> {
+    let counts: Vec<usize> = genes.iter().map(Chromosome::count_ones).collect();
+    let mut by_count: Vec<usize> = (0..genes.len()).collect();
+    by_count.sort_by_key(|&i| (counts[i], i));
+    let mut rank = vec![0; genes.len()];
+    for (r, &i) in by_count.iter().enumerate() {
+        rank[i] = r;
+    }
+    let mut visited = vec![false; genes.len()];
+    let mut tour = Vec::with_capacity(genes.len());
+    let mut current = 0;
+    while current < genes.len() {
+        visited[current] = true;
+        tour.push(current);
+        let c = counts[current];
+        // (distance, member) of the nearest unvisited member found so far.
+        let mut best: Option<(usize, usize)> = None;
+        // by_count[..below] and by_count[above..] are still to scan.
+        let (mut below, mut above) = (rank[current], rank[current] + 1);
+        while below > 0 || above < by_count.len() {
+            for candidate in [
+                below.checked_sub(1).map(|b| by_count[b]),
+                by_count.get(above).copied(),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                let bound = best.map_or(usize::MAX, |(d, _)| d);
+                let further_out_is_no_nearer = counts[candidate].abs_diff(c) >= bound;
+                if rank[candidate] < rank[current] {
+                    below = if further_out_is_no_nearer {
+                        0
+                    } else {
+                        below - 1
+                    };
+                } else {
+                    above = if further_out_is_no_nearer {
+                        by_count.len()
+                    } else {
+                        above + 1
+                    };
+                }
+                if further_out_is_no_nearer || visited[candidate] {
+                    continue;
+                }
+                if let Some(d) = genes[current].hamming_below(&genes[candidate], bound) {
+                    best = Some((d, candidate));
+                }
+            }
+        }
+        current = best.map_or(genes.len(), |(_, m)| m);
+    }
+    tour
 }
 
 #[cfg(test)]
@@ -176,5 +249,70 @@ mod tests {
             let expected = canonical_set(&fresh.evaluate(&m.solution.kept).unwrap().triangles);
             assert_eq!(m.triangles, expected, "T {}", m.solution.t);
         }
+    }
+
+    #[test]
+    fn a_kept_index_out_of_range_is_an_error_not_a_panic() {
+        // A front read from a file may name points the grid does not have.
+        let hf = Arc::new(Heightfield::new(3, 3, vec![0.0; 9]).unwrap());
+        let mut front = Front::default();
+        front.offer(Solution {
+            e_sum: 1.0,
+            e_max: 1.0,
+            t: 2,
+            kept: vec![0, 2, 6, 8],
+        });
+        front.offer(Solution {
+            e_sum: 0.0,
+            e_max: 0.0,
+            t: 4,
+            kept: vec![0, 2, 6, 8, 9],
+        });
+        let mut ev = Evaluator::new(hf);
+        let made = RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front);
+        assert!(
+            matches!(made, Err(EvaluateError::IndexOutOfRange { .. })),
+            "{made:?}"
+        );
+    }
+
+    #[test]
+    fn the_edit_tour_visits_each_member_once_going_to_a_nearest_unvisited_one() {
+        // Random bitsets of very different densities (so the count bound prunes) and a few
+        // duplicates (distance 0, ties): the tour must be a permutation starting at 0 whose
+        // every step goes to an unvisited member at the least distance, checked by brute force.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(3);
+        let n = 300;
+        let mut genes: Vec<Chromosome> = (0..60)
+            .map(|_| {
+                let density = rng.random::<f64>();
+                let kept: Vec<u32> = (0..n as u32)
+                    .filter(|_| rng.random::<f64>() < density)
+                    .collect();
+                Chromosome::from_indices(n, &kept)
+            })
+            .collect();
+        for i in [5, 17, 17, 40] {
+            genes.push(genes[i].clone());
+        }
+        let tour = edit_tour(&genes);
+        let mut seen = vec![false; genes.len()];
+        for &m in &tour {
+            assert!(!seen[m], "member {m} twice");
+            seen[m] = true;
+        }
+        assert!(seen.iter().all(|&s| s), "every member visited");
+        assert_eq!(tour[0], 0);
+        let mut visited = vec![false; genes.len()];
+        for step in tour.windows(2) {
+            visited[step[0]] = true;
+            let nearest = (0..genes.len())
+                .filter(|&j| !visited[j])
+                .map(|j| genes[step[0]].hamming(&genes[j]))
+                .min()
+                .unwrap();
+            assert_eq!(genes[step[0]].hamming(&genes[step[1]]), nearest);
+        }
+        assert!(edit_tour(&[]).is_empty());
     }
 }

