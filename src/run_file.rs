@@ -145,8 +145,9 @@ impl RunFile {
 /// An order that visits every chromosome once, starting at the first, each next one the nearest
 /// (Hamming distance) not yet visited; of equally near ones, the first found by the scan below
 /// (a fixed order, so the tour depends on the chromosomes alone). The distance is at least the
-/// difference of the two counts of set genes, so candidates are scanned outward by count, one
-/// step down then one up, and each side stops where that bound reaches the best distance found.
+/// difference of the two counts of set genes, so candidates are scanned in increasing order of
+/// that difference, outward from the current one in a list sorted by count, and the scan stops
+/// where it reaches the best distance found.
 fn edit_tour(genes: &[Chromosome]) -> Vec<usize> {
     let counts: Vec<usize> = genes.iter().map(Chromosome::count_ones).collect();
     let mut by_count: Vec<usize> = (0..genes.len()).collect();
@@ -161,40 +162,34 @@ fn edit_tour(genes: &[Chromosome]) -> Vec<usize> {
     while current < genes.len() {
         visited[current] = true;
         tour.push(current);
-        let c = counts[current];
+        let gap = |m: usize| counts[m].abs_diff(counts[current]);
         // (distance, member) of the nearest unvisited member found so far.
         let mut best: Option<(usize, usize)> = None;
         // by_count[..below] and by_count[above..] are still to scan.
         let (mut below, mut above) = (rank[current], rank[current] + 1);
-        while below > 0 || above < by_count.len() {
-            for candidate in [
-                below.checked_sub(1).map(|b| by_count[b]),
-                by_count.get(above).copied(),
-            ]
-            .into_iter()
-            .flatten()
+        loop {
+            let down = below.checked_sub(1).map(|b| by_count[b]);
+            let up = by_count.get(above).copied();
+            let candidate = match (down, up) {
+                (Some(d), Some(u)) if gap(d) <= gap(u) => d,
+                (Some(d), None) => d,
+                (_, Some(u)) => u,
+                (None, None) => break,
+            };
+            let bound = best.map_or(usize::MAX, |(d, _)| d);
+            if gap(candidate) >= bound {
+                // Every member not scanned yet is at least this far in count.
+                break;
+            }
+            if Some(candidate) == down {
+                below -= 1;
+            } else {
+                above += 1;
+            }
+            if !visited[candidate]
+                && let Some(d) = genes[current].hamming_below(&genes[candidate], bound)
             {
-                let bound = best.map_or(usize::MAX, |(d, _)| d);
-                let further_out_is_no_nearer = counts[candidate].abs_diff(c) >= bound;
-                if rank[candidate] < rank[current] {
-                    below = if further_out_is_no_nearer {
-                        0
-                    } else {
-                        below - 1
-                    };
-                } else {
-                    above = if further_out_is_no_nearer {
-                        by_count.len()
-                    } else {
-                        above + 1
-                    };
-                }
-                if further_out_is_no_nearer || visited[candidate] {
-                    continue;
-                }
-                if let Some(d) = genes[current].hamming_below(&genes[candidate], bound) {
-                    best = Some((d, candidate));
-                }
+                best = Some((d, candidate));
             }
         }
         current = best.map_or(genes.len(), |(_, m)| m);
