@@ -9,7 +9,7 @@
 //! ```
 
 use crate::evaluator::incremental::canonical_set;
-use crate::evaluator::{EvaluateError, Evaluator, MeshState};
+use crate::evaluator::{EvaluateError, Evaluator, MeshState, check_indices};
 use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
@@ -84,15 +84,8 @@ impl RunFile {
         // T order edited 160 k.
         let (n, corners) = (hf.len(), hf.corners());
         let members = front.solutions();
-        if let Some(&index) = members
-            .iter()
-            .flat_map(|s| &s.kept)
-            .find(|&&i| i as usize >= n)
-        {
-            return Err(EvaluateError::IndexOutOfRange {
-                index: index.into(),
-                len: n,
-            });
+        for s in members {
+            check_indices(&s.kept, n)?;
         }
         let genes: Vec<Chromosome> = members
             .iter()

@@ -144,6 +144,18 @@ impl fmt::Display for EvaluateError {
 
 impl std::error::Error for EvaluateError {}
 
+/// `Err(`[`EvaluateError::IndexOutOfRange`]`)` for the first of `indices` that is not below
+/// `len` (the number of grid points), else `Ok`.
+pub fn check_indices(indices: &[u32], len: usize) -> Result<(), EvaluateError> {
+    match indices.iter().find(|&&i| i as usize >= len) {
+        Some(&bad) => Err(EvaluateError::IndexOutOfRange {
+            index: bad.into(),
+            len,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Scores kept sets (or whole triangulations) on one height field. Reuses its buffers between
 /// calls, so keep one per thread.
 pub struct Evaluator {
@@ -210,13 +222,7 @@ impl Evaluator {
 
     /// Checks `kept` and sets `self.kept` to it plus the corners, increasing, without repeats.
     fn gather(&mut self, kept: &[u32]) -> Result<(), EvaluateError> {
-        let n = self.hf.len();
-        if let Some(&bad) = kept.iter().find(|&&i| i as usize >= n) {
-            return Err(EvaluateError::IndexOutOfRange {
-                index: bad as u64,
-                len: n,
-            });
-        }
+        check_indices(kept, self.hf.len())?;
         for &i in kept.iter().chain(self.hf.corners().iter()) {
             self.kept_mark[i as usize] = true;
         }
@@ -415,12 +421,7 @@ impl Evaluator {
         let mut oriented = Vec::with_capacity(triangles.len());
         let mut area = 0i64;
         for &tri in triangles {
-            if let Some(&bad) = tri.iter().find(|&&i| i as usize >= n) {
-                return Err(EvaluateError::IndexOutOfRange {
-                    index: bad as u64,
-                    len: n,
-                });
-            }
+            check_indices(&tri, n)?;
             let o = predicates::orient(point(tri[0]), point(tri[1]), point(tri[2]));
             if o == 0 {
                 return Err(EvaluateError::DegenerateTriangle { triangle: tri });
