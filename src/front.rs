@@ -1,28 +1,94 @@
 //! Solutions and the non-dominated front of (E, T), both minimised.
 
-use serde::{Deserialize, Serialize};
+use crate::evaluator::Score;
+use serde::{Deserialize, Deserializer, Serialize, Serializer, ser::SerializeStruct};
+use std::ops::Deref;
 
-/// One simplified mesh: its kept grid points and its objectives as the
-/// [`Evaluator`](crate::evaluator::Evaluator) scores them.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+impl Score {
+    /// The minimised objective vector (E, T).
+    pub fn objectives(&self) -> [f64; 2] {
+        [self.e_sum, self.t as f64]
+    }
+}
+
+/// One simplified mesh: its kept grid points and their score as the
+/// [`Evaluator`](crate::evaluator::Evaluator) gives it. It reads as its score (`s.e_sum`,
+/// `s.t`).
+///
+/// front.json and results.json record E_sum, E_max and T, not the rms, so a solution read from
+/// a file (or made by [`Solution::recorded`]) has an rms of NaN, and solutions compare by the
+/// recorded numbers and the kept set alone.
+#[derive(Clone, Debug)]
 pub struct Solution {
-    /// E = Σ over all grid points of |z − z̃|.
-    #[serde(rename = "E_sum")]
-    pub e_sum: f64,
-    /// Largest |z − z̃| over all grid points.
-    #[serde(rename = "E_max")]
-    pub e_max: f64,
-    /// Number of triangles.
-    #[serde(rename = "T")]
-    pub t: usize,
+    /// The score of the kept set.
+    pub score: Score,
     /// Kept grid indices (y·W + x), increasing, corners included.
     pub kept: Vec<u32>,
 }
 
 impl Solution {
+    /// A solution with the numbers a file records (E_sum, E_max, T) and no rms (NaN).
+    pub fn recorded(e_sum: f64, e_max: f64, t: usize, kept: Vec<u32>) -> Self {
+        let score = Score {
+            e_sum,
+            e_max,
+            rms: f64::NAN,
+            t,
+        };
+        Self { score, kept }
+    }
+
     /// The objective vector (E, T).
     pub fn objectives(&self) -> [f64; 2] {
-        [self.e_sum, self.t as f64]
+        self.score.objectives()
+    }
+}
+
+impl Deref for Solution {
+    type Target = Score;
+
+    fn deref(&self) -> &Score {
+        &self.score
+    }
+}
+
+impl PartialEq for Solution {
+    fn eq(&self, other: &Self) -> bool {
+        let recorded = |s: &Self| (s.e_sum, s.e_max, s.t);
+        recorded(self) == recorded(other) && self.kept == other.kept
+    }
+}
+
+/// The fields of a solution in the files, in their order.
+const RECORDED_FIELDS: [&str; 4] = ["E_sum", "E_max", "T", "kept"];
+
+impl Serialize for Solution {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut record = serializer.serialize_struct("Solution", RECORDED_FIELDS.len())?;
+        record.serialize_field(RECORDED_FIELDS[0], &self.e_sum)?;
+        record.serialize_field(RECORDED_FIELDS[1], &self.e_max)?;
+        record.serialize_field(RECORDED_FIELDS[2], &self.t)?;
+        record.serialize_field(RECORDED_FIELDS[3], &self.kept)?;
+        record.end()
+    }
+}
+
+/// A solution as the files record it.
+#[derive(Deserialize)]
+struct Record {
+    #[serde(rename = "E_sum")]
+    e_sum: f64,
+    #[serde(rename = "E_max")]
+    e_max: f64,
+    #[serde(rename = "T")]
+    t: usize,
+    kept: Vec<u32>,
+}
+
+impl<'de> Deserialize<'de> for Solution {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let r = Record::deserialize(deserializer)?;
+        Ok(Self::recorded(r.e_sum, r.e_max, r.t, r.kept))
     }
 }
 
@@ -37,7 +103,7 @@ pub fn dominates(a: [f64; 2], b: [f64; 2]) -> bool {
 ///
 /// ```
 /// use paretomesh::front::{Front, Solution};
-/// let s = |e: f64, t: usize| Solution { e_sum: e, e_max: e, t, kept: vec![] };
+/// let s = |e: f64, t: usize| Solution::recorded(e, e, t, vec![]);
 /// let mut front = Front::default();
 /// assert!(front.offer(s(10.0, 2)));
 /// assert!(front.offer(s(4.0, 6)));
@@ -69,6 +135,22 @@ impl Front {
         true
     }
 
+    /// [`offer`](Self::offer) of a solution with `score`, asking for its kept set (`kept`)
+    /// only when it enters: most offers of a run are refused, and listing the kept set is the
+    /// costly part.
+    pub fn offer_score(&mut self, score: Score, kept: impl FnOnce() -> Vec<u32>) -> bool {
+        // Sorted by increasing T and decreasing E: the member with the largest T ≤ score.t is
+        // the only one that can dominate or equal the score.
+        let at = self.solutions.partition_point(|m| m.t <= score.t);
+        if at > 0 && self.solutions[at - 1].e_sum <= score.e_sum {
+            return false;
+        }
+        self.offer(Solution {
+            score,
+            kept: kept(),
+        })
+    }
+
     /// The members, by increasing T.
     pub fn solutions(&self) -> &[Solution] {
         &self.solutions
@@ -91,5 +173,54 @@ impl Front {
             f.offer(s.clone());
         }
         f
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    #[test]
+    fn offer_score_agrees_with_offer() {
+        // Random (E, T) pairs on a coarse lattice, so that ties in E, in T and in both occur:
+        // the shortcut must accept exactly what `Front::offer` accepts.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(8);
+        let (mut fast, mut plain) = (Front::default(), Front::default());
+        let kept = vec![0, 1, 2, 3];
+        for _ in 0..2000 {
+            let score = Score {
+                e_sum: rng.random_range(0..40) as f64,
+                e_max: 0.0,
+                rms: 0.0,
+                t: rng.random_range(2..40),
+            };
+            let entered = fast.offer_score(score, || kept.clone());
+            let expected = plain.offer(Solution {
+                score,
+                kept: kept.clone(),
+            });
+            assert_eq!(entered, expected, "{score:?}");
+        }
+        assert_eq!(fast, plain);
+    }
+
+    #[test]
+    fn a_solution_is_written_and_read_as_its_recorded_numbers() {
+        // The files hold E_sum, E_max, T and kept, in this order; the rms is not recorded.
+        let s = Solution {
+            score: Score {
+                e_sum: 2.5,
+                e_max: 1.0,
+                rms: 0.75,
+                t: 6,
+            },
+            kept: vec![0, 2, 6, 8],
+        };
+        let json = serde_json::to_string(&s).unwrap();
+        assert_eq!(json, r#"{"E_sum":2.5,"E_max":1.0,"T":6,"kept":[0,2,6,8]}"#);
+        let read: Solution = serde_json::from_str(&json).unwrap();
+        assert_eq!(read, s);
+        assert!(read.rms.is_nan());
     }
 }

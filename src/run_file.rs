@@ -222,12 +222,7 @@ mod tests {
             let kept: Vec<u32> = (0..n).filter(|&i| keep[i as usize]).collect();
             // Objectives made up so that every member enters, in this order (the file takes
             // the triangles from the kept points alone).
-            assert!(front.offer(Solution {
-                e_sum: 100.0 - step as f64,
-                e_max: 0.0,
-                t: step,
-                kept,
-            }));
+            assert!(front.offer(Solution::recorded(100.0 - step as f64, 0.0, step, kept)));
         }
         let mut ev = Evaluator::new(hf.clone());
         let file = RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
@@ -244,18 +239,8 @@ mod tests {
         // A front read from a file may name points the grid does not have.
         let hf = Arc::new(Heightfield::new(3, 3, vec![0.0; 9]).unwrap());
         let mut front = Front::default();
-        front.offer(Solution {
-            e_sum: 1.0,
-            e_max: 1.0,
-            t: 2,
-            kept: vec![0, 2, 6, 8],
-        });
-        front.offer(Solution {
-            e_sum: 0.0,
-            e_max: 0.0,
-            t: 4,
-            kept: vec![0, 2, 6, 8, 9],
-        });
+        front.offer(Solution::recorded(1.0, 1.0, 2, vec![0, 2, 6, 8]));
+        front.offer(Solution::recorded(0.0, 0.0, 4, vec![0, 2, 6, 8, 9]));
         let mut ev = Evaluator::new(hf);
         let made = RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front);
         assert!(

@@ -5,8 +5,8 @@
 //! debug build.
 
 use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
+use paretomesh::evaluator::Score;
 use paretomesh::evaluator::{Evaluator, incremental::canonical_set};
-use paretomesh::evolution::objectives::Objectives;
 use paretomesh::evolution::{
     CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,
 };
@@ -217,7 +217,7 @@ fn nsga2_fronts_are_non_dominated_and_rescore_exactly_for_every_crossover() {
         for ind in opt.population() {
             assert!(opt.front().solutions().iter().any(|s| {
                 let o = s.objectives();
-                o == ind.objectives.pair() || dominates(o, ind.objectives.pair())
+                o == ind.objectives.objectives() || dominates(o, ind.objectives.objectives())
             }));
         }
     }
@@ -234,7 +234,7 @@ fn population_reports_ranks_and_crowding() {
         // dominates it.
         let dominators: Vec<_> = pop
             .iter()
-            .filter(|b| dominates(b.objectives.pair(), a.objectives.pair()))
+            .filter(|b| dominates(b.objectives.objectives(), a.objectives.objectives()))
             .collect();
         assert_eq!(a.rank == 0, dominators.is_empty());
         if a.rank > 0 {
@@ -259,7 +259,7 @@ fn crossover_record_is_consistent_with_the_evaluator() {
     assert_eq!(r.rows.len(), 8);
     assert_eq!(r.rows[0].genes, r.parents[0].0);
     let mut ev = Evaluator::new(hf.clone());
-    let scalar = |o: &Objectives| {
+    let scalar = |o: &Score| {
         let e0 = ev_corners(&hf);
         r.weight * o.e_sum / e0 + (1.0 - r.weight) * o.t as f64 / hf.full_triangles() as f64
     };
@@ -449,7 +449,7 @@ fn greedy_seeds_are_greedy_solutions_spread_over_its_front() {
         .iter()
         .zip([0, n / 2, n - 1].map(|i| &greedy_front[i]))
     {
-        assert_eq!(seed.objectives.pair(), solution.objectives());
+        assert_eq!(seed.objectives.objectives(), solution.objectives());
     }
     // The others are random, not greedy meshes.
     for other in &population[3..] {
@@ -701,7 +701,11 @@ fn the_generation_trace_agrees_with_the_population_it_produced() {
     let children: Vec<_> = trace.matings.iter().flat_map(|m| m.children).collect();
     assert_eq!(children, trace.offspring);
     // The union's fronts are the non-dominated sort of parents + offspring.
-    let points: Vec<[f64; 2]> = trace.union.iter().map(|m| m.objectives.pair()).collect();
+    let points: Vec<[f64; 2]> = trace
+        .union
+        .iter()
+        .map(|m| m.objectives.objectives())
+        .collect();
     assert_eq!(trace.union.len(), 2 * mu);
     for (rank, front) in non_dominated_fronts(&points).iter().enumerate() {
         for &i in front {

@@ -74,11 +74,13 @@ fn non_dominated_agrees_with_front_merged_on_random_solutions() {
     let mut rng = Pcg64Mcg::seed_from_u64(7);
     for _ in 0..50 {
         let solutions: Vec<Solution> = (0..40)
-            .map(|_| Solution {
-                e_sum: rng.random_range(0..20) as f64,
-                e_max: 0.0,
-                t: rng.random_range(2..20),
-                kept: vec![],
+            .map(|_| {
+                Solution::recorded(
+                    rng.random_range(0..20) as f64,
+                    0.0,
+                    rng.random_range(2..20),
+                    vec![],
+                )
             })
             .collect();
         let by_front = metrics::objectives(Front::merged(&solutions).solutions());

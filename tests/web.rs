@@ -287,18 +287,8 @@ mod views_and_exports {
     fn the_front_csv_has_one_row_per_member() {
         use paretomesh::front::{Front, Solution};
         let mut f = Front::default();
-        f.offer(Solution {
-            e_sum: 9.0,
-            e_max: 3.0,
-            t: 2,
-            kept: vec![0, 1, 2, 3],
-        });
-        f.offer(Solution {
-            e_sum: 1.5,
-            e_max: 1.0,
-            t: 4,
-            kept: vec![0, 1, 2, 3, 4],
-        });
+        f.offer(Solution::recorded(9.0, 3.0, 2, vec![0, 1, 2, 3]));
+        f.offer(Solution::recorded(1.5, 1.0, 4, vec![0, 1, 2, 3, 4]));
         assert_eq!(front_csv(&f), "T,E_sum,E_max,kept\n2,9,3,4\n4,1.5,1,5\n");
     }
 }

@@ -307,12 +307,7 @@ impl EdgeDecimation {
             .evaluator
             .score(&kept)
             .expect("kept indices are grid indices");
-        let s = Solution {
-            e_sum: score.e_sum,
-            e_max: score.e_max,
-            t: score.t,
-            kept,
-        };
+        let s = Solution { score, kept };
         self.front.offer(s.clone());
         let first = self.recorded.len();
         for k in first..=last {

@@ -504,12 +504,7 @@ impl GreedyInsertion {
             .evaluator
             .score(&kept)
             .expect("kept indices are grid indices");
-        let s = Solution {
-            e_sum: score.e_sum,
-            e_max: score.e_max,
-            t: score.t,
-            kept,
-        };
+        let s = Solution { score, kept };
         self.last_recorded_points = self.kept_count;
         self.front.offer(s.clone());
         self.recorded.push(s);

@@ -11,9 +11,11 @@
 
 use super::chromosome::Chromosome;
 use super::oax::{self, OaxInProgress, OaxRecord};
-use super::objectives::{Objectives, Scalarisation, Scorer};
 use super::operators::{self, CrossoverKind};
 use super::params::GaParams;
+use super::scalarisation::Scalarisation;
+use super::scorer::Scorer;
+use crate::evaluator::Score;
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 
@@ -26,7 +28,7 @@ pub(crate) struct MatingContext<'a> {
 }
 
 /// A child before its mutation: its genes, and its objectives when they are already known.
-type Crossed = (Chromosome, Option<Objectives>);
+type Crossed = (Chromosome, Option<Score>);
 
 enum Stage {
     /// The orthogonal-array crossover is making its children.
@@ -41,11 +43,11 @@ pub(crate) struct PendingMating {
     scalar: Scalarisation,
     stage: Stage,
     /// The offspring made so far (mutated and evaluated), in order.
-    offspring: Vec<(Chromosome, Objectives)>,
+    offspring: Vec<(Chromosome, Score)>,
     /// What the trace reports about this mating (see [`super::trace::MatingTrace`]).
     pub(crate) crossed: bool,
     pub(crate) parents: [usize; 2],
-    pub(crate) before_mutation: [Option<Objectives>; 2],
+    pub(crate) before_mutation: [Option<Score>; 2],
     pub(crate) crossover_evaluations: usize,
     pub(crate) flipped: [usize; 2],
 }
@@ -57,8 +59,8 @@ impl PendingMating {
     pub fn start(
         params: &GaParams,
         scalar: Scalarisation,
-        a: (&Chromosome, Objectives),
-        b: (&Chromosome, Objectives),
+        a: (&Chromosome, Score),
+        b: (&Chromosome, Score),
         scorer: &Scorer,
         rng: &mut Pcg64Mcg,
     ) -> Self {
@@ -114,9 +116,9 @@ impl PendingMating {
     pub fn advance(
         &mut self,
         ctx: MatingContext<'_>,
-        seen: &mut impl FnMut(&Chromosome, &Objectives),
+        seen: &mut impl FnMut(&Chromosome, &Score),
         record: &mut Option<OaxRecord>,
-    ) -> Option<[(Chromosome, Objectives); 2]> {
+    ) -> Option<[(Chromosome, Score); 2]> {
         let MatingContext {
             mutation,
             rng,

@@ -5,6 +5,8 @@
 //! - [`operators`]: initialisation, bit-flip mutation, uniform and two-point crossover.
 //! - [`orthogonal_array`] and [`oax`]: orthogonal-array crossover (Huang & Ho 2003).
 //! - [`ranking`]: non-dominated sorting and crowding distance.
+//! - [`scalarisation`]: the normalised weighted sum of E and T, the scalar fitness.
+//! - [`scorer`]: scores chromosomes, reusing the meshes of those scored before.
 //! - [`nsga2`]: NSGA-II (Deb et al. 2002).
 //! - [`trace`]: what one NSGA-II generation did, phase by phase (for the teaching view).
 //! - [`weighted_sum`]: the weighted-sum single-objective GA, one run per weight.
@@ -13,11 +15,12 @@ pub mod chromosome;
 mod mating;
 pub mod nsga2;
 pub mod oax;
-pub mod objectives;
 pub mod operators;
 pub mod orthogonal_array;
 pub mod params;
 pub mod ranking;
+pub mod scalarisation;
+pub mod scorer;
 pub mod trace;
 pub mod weighted_sum;
 

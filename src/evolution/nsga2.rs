@@ -11,7 +11,7 @@
 //!   included, so it is the front of everything seen.
 //!
 //! OAX's factor analysis needs a scalar fitness. Here it is the normalised weighted sum
-//! F = w·E/E₀ + (1 − w)·T/T₀ ([`Scalarisation`](super::objectives::Scalarisation)) with a fresh random w ~ U(0, 1) per crossover.
+//! F = w·E/E₀ + (1 − w)·T/T₀ ([`Scalarisation`](super::scalarisation::Scalarisation)) with a fresh random w ~ U(0, 1) per crossover.
 //! Why: the rank of a child among 8 siblings says little (most of them are mutually
 //! non-dominated, so ranks tie), and ranking against the whole population would make a
 //! crossover's outcome depend on the rest of the population. A random weight asks each
@@ -54,12 +54,13 @@
 use super::chromosome::Chromosome;
 use super::mating::{MatingContext, PendingMating};
 use super::oax::OaxRecord;
-use super::objectives::{Objectives, Scorer, offer};
 use super::operators;
 use super::params::{GaParams, ParamsError};
 use super::ranking::{crowding_distances, non_dominated_fronts};
+use super::scorer::Scorer;
 use super::trace::{GenerationTrace, MatingTrace, Member};
 use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
+use crate::evaluator::Score;
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -74,7 +75,7 @@ pub struct Individual {
     /// Its kept set.
     pub genes: Chromosome,
     /// Its objectives.
-    pub objectives: Objectives,
+    pub objectives: Score,
     /// Non-domination rank in the population (0 = non-dominated).
     pub rank: usize,
     /// Crowding distance within its rank (infinite at the ends of a front; JSON writes `null`).
@@ -264,7 +265,7 @@ impl Nsga2 {
             operators::random_chromosome(&hf, density, &mut self.rng)
         };
         let objectives = self.scorer.score(&genes);
-        offer(&mut self.archive, &genes, &objectives);
+        self.archive.offer_score(objectives, || genes.indices());
         self.population.push(Individual {
             genes,
             objectives,
@@ -324,7 +325,7 @@ impl Nsga2 {
                 scorer: &mut self.scorer,
             },
             &mut |c, o| {
-                offer(archive, c, o);
+                archive.offer_score(*o, || c.indices());
             },
             &mut self.last_crossover,
         ) else {
@@ -364,7 +365,7 @@ impl Nsga2 {
             .collect();
         let points: Vec<[f64; 2]> = union
             .iter()
-            .map(|s| s.as_ref().expect("all present").objectives.pair())
+            .map(|s| s.as_ref().expect("all present").objectives.objectives())
             .collect();
         let fronts = non_dominated_fronts(&points);
         self.trace.union = union
@@ -417,7 +418,10 @@ fn member(i: &Individual) -> Member {
 
 /// Sets every individual's rank and crowding distance within `population`.
 fn rank_and_crowd(population: &mut [Individual]) {
-    let points: Vec<[f64; 2]> = population.iter().map(|s| s.objectives.pair()).collect();
+    let points: Vec<[f64; 2]> = population
+        .iter()
+        .map(|s| s.objectives.objectives())
+        .collect();
     for (rank, front) in non_dominated_fronts(&points).iter().enumerate() {
         for (&i, d) in front.iter().zip(crowding_distances(&points, front)) {
             population[i].rank = rank;

@@ -23,8 +23,8 @@
 //! fittest with different genes (the same one twice only when all children are equal).
 
 use super::chromosome::Chromosome;
-use super::objectives::Objectives;
 use super::orthogonal_array::{OrthogonalArray, factor_analysis};
+use crate::evaluator::Score;
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
@@ -139,7 +139,7 @@ fn mark_block(mask: &mut Chromosome, block: &Block, width: usize) {
 }
 
 /// How a child of a crossover is made, for a scorer that reuses the parents' meshes
-/// ([`Scorer::score_crossed`](super::objectives::Scorer::score_crossed)): each gene comes from
+/// ([`Scorer::score_crossed`](super::scorer::Scorer::score_crossed)): each gene comes from
 /// `parents[0]` where `from_b` is clear and from `parents[1]` where it is set, which is block
 /// by block: from B in the blocks whose level is 1.
 #[derive(Clone, Copy, Debug)]
@@ -162,7 +162,7 @@ pub struct OaxChild {
     /// Its genes.
     pub genes: Chromosome,
     /// Its objectives.
-    pub objectives: Objectives,
+    pub objectives: Score,
     /// Its scalar fitness (minimised).
     pub fitness: f64,
     /// False when its objectives were known already (it equals a parent or an earlier child),
@@ -178,7 +178,7 @@ pub struct OaxRecord {
     /// The factors: factor f is `blocks[f]` and uses array column f + 1.
     pub blocks: Vec<Block>,
     /// The parents A and B with their objectives.
-    pub parents: [(Chromosome, Objectives); 2],
+    pub parents: [(Chromosome, Score); 2],
     /// The weight w of the scalar fitness F = w·E/E₀ + (1 − w)·T/T₀.
     pub weight: f64,
     /// The M children, one per array row.
@@ -213,13 +213,13 @@ impl OaxRecord {
 /// [`Parentage`] says (the caller
 /// counts it); `fitness` is the scalar to minimise, reported as `weight` in the record.
 pub fn crossover(
-    parent_a: (&Chromosome, Objectives),
-    parent_b: (&Chromosome, Objectives),
+    parent_a: (&Chromosome, Score),
+    parent_b: (&Chromosome, Score),
     width: usize,
     blocks: Vec<Block>,
     weight: f64,
-    mut evaluate: impl FnMut(&Chromosome, Parentage<'_>) -> Objectives,
-    fitness: impl Fn(&Objectives) -> f64,
+    mut evaluate: impl FnMut(&Chromosome, Parentage<'_>) -> Score,
+    fitness: impl Fn(&Score) -> f64,
 ) -> OaxRecord {
     let mut pending = OaxInProgress::new(parent_a, parent_b, width, blocks, weight);
     while !pending.is_complete() {
@@ -236,7 +236,7 @@ pub fn crossover(
 pub struct OaxInProgress {
     array: OrthogonalArray,
     blocks: Vec<Block>,
-    parents: [(Chromosome, Objectives); 2],
+    parents: [(Chromosome, Score); 2],
     width: usize,
     weight: f64,
     rows: Vec<OaxChild>,
@@ -248,8 +248,8 @@ impl OaxInProgress {
     /// A crossover of `parent_a` and `parent_b` (same length, on a grid `width` wide) over
     /// `blocks` (one per factor), with no child made yet; `weight` is reported in the record.
     pub fn new(
-        parent_a: (&Chromosome, Objectives),
-        parent_b: (&Chromosome, Objectives),
+        parent_a: (&Chromosome, Score),
+        parent_b: (&Chromosome, Score),
         width: usize,
         blocks: Vec<Block>,
         weight: f64,
@@ -286,8 +286,8 @@ impl OaxInProgress {
     /// of one crossover. Does nothing once complete.
     pub fn next_child(
         &mut self,
-        evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Objectives,
-        fitness: &impl Fn(&Objectives) -> f64,
+        evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Score,
+        fitness: &impl Fn(&Score) -> f64,
     ) {
         let factors = self.blocks.len();
         if self.rows.len() < self.array.rows() {
@@ -306,8 +306,8 @@ impl OaxInProgress {
     fn child(
         &self,
         levels: Vec<u8>,
-        evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Objectives,
-        fitness: &impl Fn(&Objectives) -> f64,
+        evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Score,
+        fitness: &impl Fn(&Score) -> f64,
     ) -> OaxChild {
         let [(a, a_objectives), (b, b_objectives)] = &self.parents;
         let mut genes = a.clone();
@@ -414,9 +414,10 @@ mod tests {
         let mut b = a.clone();
         let b0 = blocks[0];
         b.set(b0.y0 * 8 + b0.x0, true);
-        let score = |c: &Chromosome| Objectives {
+        let score = |c: &Chromosome| Score {
             e_sum: c.count_ones() as f64,
             e_max: 0.0,
+            rms: 0.0,
             t: 0,
         };
         let mut evaluations = 0;
@@ -451,9 +452,10 @@ mod tests {
         for (block, _) in blocks.iter().zip(target_levels).filter(|(_, l)| *l == 1) {
             copy_block(&mut target, &b, block, 8);
         }
-        let score = |c: &Chromosome| Objectives {
+        let score = |c: &Chromosome| Score {
             e_sum: c.hamming(&target) as f64,
             e_max: 0.0,
+            rms: 0.0,
             t: 0,
         };
         let mut evaluations = 0;
@@ -493,9 +495,10 @@ mod tests {
         let blocks = spatial_blocks(8, 8, 7, &mut rng);
         let a = Chromosome::from_indices(64, &(0..64).filter(|i| i % 3 == 0).collect::<Vec<_>>());
         let b = Chromosome::from_indices(64, &(0..64).filter(|i| i % 2 == 0).collect::<Vec<_>>());
-        let score = |c: &Chromosome| Objectives {
+        let score = |c: &Chromosome| Score {
             e_sum: c.count_ones() as f64,
             e_max: 0.0,
+            rms: 0.0,
             t: 0,
         };
         let (pa, pb) = ((&a, score(&a)), (&b, score(&b)));

@@ -5,7 +5,7 @@
 //! Recording draws no random numbers and changes nothing the run does, so a traced run and an
 //! untraced one are the same run.
 
-use super::objectives::Objectives;
+use crate::evaluator::Score;
 use serde::Serialize;
 
 /// The phases of one NSGA-II generation, in order.
@@ -91,7 +91,7 @@ impl Phase {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Member {
     /// Its objectives.
-    pub objectives: Objectives,
+    pub objectives: Score,
     /// Its front (0 = F1) in the population it was ranked in.
     pub rank: usize,
     /// Its crowding distance in that front (infinite at the ends).
@@ -110,13 +110,13 @@ pub struct MatingTrace {
     /// Objectives of the two children before mutation, when known then (the parents' when not
     /// crossed, the chosen rows' for orthogonal-array crossover; unknown for uniform and
     /// two-point crossover, whose children are only scored after mutation).
-    pub before_mutation: [Option<Objectives>; 2],
+    pub before_mutation: [Option<Score>; 2],
     /// Evaluations the crossover itself spent (orthogonal-array rows).
     pub crossover_evaluations: usize,
     /// Genes flipped by mutation in each child.
     pub flipped: [usize; 2],
     /// The children's final objectives.
-    pub children: [Objectives; 2],
+    pub children: [Score; 2],
 }
 
 /// What one generation did; see the module doc.
@@ -129,7 +129,7 @@ pub struct GenerationTrace {
     /// The matings, in order.
     pub matings: Vec<MatingTrace>,
     /// The offspring (λ = μ children) in order: the union below is `parents` then these.
-    pub offspring: Vec<Objectives>,
+    pub offspring: Vec<Score>,
     /// For each member of the union (parents, then offspring): its front and crowding distance
     /// within the union.
     pub union: Vec<Member>,

@@ -22,9 +22,11 @@
 use super::chromosome::Chromosome;
 use super::mating::{MatingContext, PendingMating};
 use super::oax::OaxRecord;
-use super::objectives::{Objectives, Scalarisation, Scorer};
 use super::operators;
 use super::params::{GaParams, ParamsError};
+use super::scalarisation::Scalarisation;
+use super::scorer::Scorer;
+use crate::evaluator::Score;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -56,7 +58,7 @@ impl Default for WeightedSumParams {
 #[derive(Clone, Debug)]
 struct Member {
     genes: Chromosome,
-    objectives: Objectives,
+    objectives: Score,
     fitness: f64,
 }
 
@@ -152,7 +154,7 @@ impl WeightedSum {
     }
 
     /// Scores `genes` and remembers it when it is the run's best so far.
-    fn note(best: &mut Option<Member>, genes: &Chromosome, objectives: Objectives, fitness: f64) {
+    fn note(best: &mut Option<Member>, genes: &Chromosome, objectives: Score, fitness: f64) {
         if best.as_ref().is_none_or(|b| fitness < b.fitness) {
             *best = Some(Member {
                 genes: genes.clone(),
@@ -283,9 +285,7 @@ impl WeightedSum {
     fn finish_run(&mut self) {
         if let Some(best) = self.best.take() {
             let solution = Solution {
-                e_sum: best.objectives.e_sum,
-                e_max: best.objectives.e_max,
-                t: best.objectives.t,
+                score: best.objectives,
                 kept: best.genes.indices(),
             };
             self.front.offer(solution.clone());

@@ -279,12 +279,7 @@ pub(crate) mod tests {
             evaluations: 1,
             front: points
                 .iter()
-                .map(|&(e, t)| Solution {
-                    e_sum: e,
-                    e_max: e,
-                    t,
-                    kept: vec![],
-                })
+                .map(|&(e, t)| Solution::recorded(e, e, t, vec![]))
                 .collect(),
         }
     }

@@ -29,9 +29,7 @@ pub fn meshes(record: &OaxRecord) -> Vec<Solution> {
     parents
         .chain(children)
         .map(|(genes, o)| Solution {
-            e_sum: o.e_sum,
-            e_max: o.e_max,
-            t: o.t,
+            score: o,
             kept: genes.indices(),
         })
         .collect()

@@ -7,8 +7,8 @@
 //! is the same as without the teaching view (tracing never changes it).
 
 use super::plot::{Mark, PlotPoint, Shape, format_value, rank_colour};
+use crate::evaluator::Score;
 use crate::evolution::CrossoverKind;
-use crate::evolution::objectives::Objectives;
 use crate::evolution::trace::{GenerationTrace, Member, Phase};
 
 /// What the page must do after a teaching click.
@@ -134,13 +134,7 @@ fn mark(p: PlotPoint, colour: &'static str, shape: Shape, radius: f64, label: St
 }
 
 /// A mark for objectives `o` labelled "`who` · T = … · E = …".
-fn objective_mark(
-    o: &Objectives,
-    colour: &'static str,
-    shape: Shape,
-    radius: f64,
-    who: &str,
-) -> Mark {
+fn objective_mark(o: &Score, colour: &'static str, shape: Shape, radius: f64, who: &str) -> Mark {
     let p = PlotPoint {
         t: o.t as f64,
         e: o.e_sum,
