@@ -106,8 +106,47 @@ fn expected_cost_rank(method: Method) -> u8 {
     }
 }
 
+/// `paretomesh experiment`: runs the protocol on every input, then writes the report, the
+/// figures and results.json.
 pub fn run(args: &ExperimentArgs) -> Result<(), String> {
     let start = Instant::now();
+    let settings = settings(args)?;
+    let datasets = load_datasets(args)?;
+    // Bad parameters fail now, not after the other runs.
+    experiment::check_methods(&settings, &datasets[0]).map_err(|e| e.to_string())?;
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot start the worker threads: {e}"))?;
+    let threads = pool.current_num_threads();
+    let jobs = experiment::plan(datasets.len(), &settings);
+    eprintln!(
+        "experiment: {} data set(s), {} runs on {threads} thread(s)",
+        datasets.len(),
+        jobs.len()
+    );
+    let (records, run_timings) = run_jobs(&pool, &jobs, &datasets, &settings)?;
+    let mut results = experiment::assemble(&settings, &datasets, &jobs, records, None)
+        .map_err(|e| e.to_string())?;
+    let analysis = Analysis::of(&results).map_err(|e| e.to_string())?;
+    results.timings = Some(Timings {
+        wall_seconds: start.elapsed().as_secs_f64(),
+        threads,
+        runs: run_timings,
+    });
+
+    let out = write_outputs(&args.out, &results, &analysis, true)?;
+    println!(
+        "wrote {out} (report.md, results.json, {} figure(s)) in {:.1} s",
+        results.datasets.len(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// The protocol's settings from the options, validated.
+fn settings(args: &ExperimentArgs) -> Result<Settings, String> {
     let settings = Settings {
         methods: args
             .methods
@@ -124,7 +163,12 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
             .unwrap_or(paretomesh::metrics::DEFAULT_REFERENCE_POINT),
     };
     settings.validate().map_err(|e| e.to_string())?;
+    Ok(settings)
+}
 
+/// Every input grid as a data set, each loaded with the first one's import options; their
+/// names must differ.
+fn load_datasets(args: &ExperimentArgs) -> Result<Vec<Dataset>, String> {
     let mut datasets: Vec<Dataset> = Vec::new();
     for path in std::iter::once(&args.input.grid).chain(&args.more) {
         let input = InputArgs {
@@ -144,21 +188,17 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
         }
         datasets.push(Dataset::new(name, hf, e_units(path)).map_err(|e| format!("{e}"))?);
     }
+    Ok(datasets)
+}
 
-    // Bad parameters fail now, not after the other runs.
-    experiment::check_methods(&settings, &datasets[0]).map_err(|e| e.to_string())?;
-
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| format!("cannot start the worker threads: {e}"))?;
-    let threads = pool.current_num_threads();
-    let jobs = experiment::plan(datasets.len(), &settings);
-    eprintln!(
-        "experiment: {} data set(s), {} runs on {threads} thread(s)",
-        datasets.len(),
-        jobs.len()
-    );
+/// Runs every job on `pool`, reporting each on stderr as it ends, and returns their records
+/// and timings in plan order; the first failed job's error otherwise.
+fn run_jobs(
+    pool: &rayon::ThreadPool,
+    jobs: &[experiment::Job],
+    datasets: &[Dataset],
+    settings: &Settings,
+) -> Result<(Vec<RunRecord>, Vec<RunTiming>), String> {
     let done = AtomicUsize::new(0);
     // Longest jobs first (a weighted-sum sweep costs about 11 NSGA-II runs), handed out one at a
     // time to whichever thread is free, so the last jobs to finish are short. Each job is a pure
@@ -174,7 +214,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
                 let job = &jobs[i];
                 let t0 = Instant::now();
                 let dataset = &datasets[job.dataset];
-                let record = experiment::run_job(job, dataset, &settings);
+                let record = experiment::run_job(job, dataset, settings);
                 let millis = t0.elapsed().as_millis() as u64;
                 let k = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if let Ok(r) = &record {
@@ -205,22 +245,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
             millis,
         });
     }
-    let mut results = experiment::assemble(&settings, &datasets, &jobs, records, None)
-        .map_err(|e| e.to_string())?;
-    let analysis = Analysis::of(&results).map_err(|e| e.to_string())?;
-    results.timings = Some(Timings {
-        wall_seconds: start.elapsed().as_secs_f64(),
-        threads,
-        runs: run_timings,
-    });
-
-    let out = write_outputs(&args.out, &results, &analysis, true)?;
-    println!(
-        "wrote {out} (report.md, results.json, {} figure(s)) in {:.1} s",
-        results.datasets.len(),
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
+    Ok((records, run_timings))
 }
 
 /// Writes report.md, the figures and (if `with_results`) results.json into `out`; returns

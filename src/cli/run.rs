@@ -324,8 +324,8 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
 }
 
 /// Writes a file through a buffer, with the path in the error message. The buffer is large
-/// because a paper run's front.json is about 26 MB: with the default 8 KB, writing it took
-/// 50–60 ms; with 256 KB, 29–33 ms.
+/// because a paper run's front.json is tens of megabytes, which the default 8 KB buffer writes
+/// in many more system calls.
 fn write(
     path: &PathBuf,
     body: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,

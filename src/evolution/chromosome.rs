@@ -156,8 +156,8 @@ impl Chromosome {
     /// Sets genes `start..end`, leaving the rest unchanged.
     pub fn set_range(&mut self, start: usize, end: usize) {
         debug_assert!(start <= end && end <= self.len);
-        // Word by word (a crossover marks a block a row at a time: a bit at a time cost
-        // several hundred instructions per row).
+        // Word by word: a crossover marks a block a row at a time, and a bit at a time would
+        // cost a loop iteration per gene.
         for (w, mask) in word_masks(start, end) {
             self.words[w] |= mask;
         }

@@ -98,7 +98,7 @@ impl WeightedSum {
             return Err(ParamsError::BadWeights);
         }
         // Seeding is NSGA-II's option: 11 single-objective runs would each need their own
-        // choice of which greedy solutions suit their weight, which the issue does not ask for.
+        // choice of which greedy solutions suit their weight, which the method does not define.
         if params.ga.greedy_seed_fraction > 0.0 {
             return Err(ParamsError::SeedingUnsupported);
         }

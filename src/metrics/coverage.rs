@@ -38,7 +38,7 @@ pub fn coverage(a_set: &[Point], b_set: &[Point]) -> Result<f64, MetricsError> {
 ///
 /// It differs from [`coverage`] only on points of B that are equal to a point of A (and
 /// dominated by none): they count as covered there and not here. So for a mutually
-/// non-dominated A, strict C(A, A) = 0 — the value issue 4 asks to check — while C(A, B) = 1
+/// non-dominated A, strict C(A, A) = 0, a value worth checking, while C(A, B) = 1
 /// when every point of B is strictly dominated by some point of A, under both definitions.
 ///
 /// Same contract as [`coverage`]: `b_set` must be non-empty, coordinates finite.

@@ -34,13 +34,12 @@ pub fn trade_off_pick(front: &[Point], seed: u64) -> Result<TradeOffPick, Metric
 /// w uniform in [0, 1) from `rng` (the same weights for every point); score each point by the
 /// mean over the weights of α·w·E + (1−w)·T; pick the lowest mean score.
 ///
-/// This is the issue's wording ("the lowest mean over 1 000 random weights"), implemented
-/// literally. Observation: the score is linear in w, so its mean over the weights equals the
+/// This implements "the lowest mean over 1 000 random weights" literally. Observation: the score is linear in w, so its mean over the weights equals the
 /// score at the mean weight w̄: the pick is the minimiser of α·w̄·E + (1−w̄)·T, a single weighted
 /// sum with w̄ ≈ 0.5 (the random draw moves w̄ by about 0.29/√1000 ≈ 0.01). A different reading
 /// — the point that wins for the most weights — would favour the vertex of the front's convex
-/// hull with the widest range of winning weights; it is not what the issue describes and is not
-/// implemented. Since α·E is in units of T, the pick does not change when E or T is rescaled
+/// hull with the widest range of winning weights; it is not what the method describes and is
+/// not implemented. Since α·E is in units of T, the pick does not change when E or T is rescaled
 /// (normalised or not).
 ///
 /// E = 0 (an exact mesh) makes T/E infinite; such points are left out of the mean that defines

@@ -185,8 +185,8 @@ fn mutants_of_pooled_chromosomes_are_scored_without_copies_and_pooled_when_alive
 #[test]
 fn the_pool_grows_to_hold_two_populations_of_the_declared_size() {
     // A population of 150 on a small grid (the bytes allow thousands of meshes): a fixed
-    // pool of POOL_STATES = 200 could not hold it and as many offspring, which is what
-    // made `--pop 300` three times slower; declaring it sizes the pool for both.
+    // pool of POOL_STATES = 200 could not hold it and as many offspring, so composing new
+    // members would replace their parents; declaring it sizes the pool for both.
     let hf = bumpy(6);
     let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(9);
     let mut random = |density: f64| random_genes(&hf, density, &mut rng);
