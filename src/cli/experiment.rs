@@ -131,6 +131,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
             grid: path.clone(),
             projection: args.input.projection,
             grid_size: args.input.grid_size,
+            surface: args.input.surface,
             terrain_rgb: args.input.terrain_rgb,
         };
         let hf = input
