@@ -227,7 +227,11 @@ fn a_grid_size_resamples_by_area_averaging() {
         }
     }
     assert!((small.z_at(x as usize, y as usize) - sum / 4.0).abs() < 1e-9);
-    assert!(small.source().contains("area averaging"), "{}", small.source());
+    assert!(
+        small.source().contains("area averaging"),
+        "{}",
+        small.source()
+    );
     assert_eq!(small.filled(), 14);
 }
 
@@ -240,7 +244,11 @@ fn an_oversized_grid_is_resampled_to_fit() {
     let hf = parse(&bytes).unwrap();
     assert_eq!(hf.width(), 257);
     assert_eq!(hf.height(), 2);
-    assert!(hf.source().contains("over the size limit"), "{}", hf.source());
+    assert!(
+        hf.source().contains("over the size limit"),
+        "{}",
+        hf.source()
+    );
     // Asked-for sizes are checked against the grid limits.
     let options = ImportOptions {
         grid_size: Some((1, 5)),

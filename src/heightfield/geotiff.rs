@@ -78,7 +78,10 @@ fn compression_name(code: u16) -> String {
 }
 
 /// Values of a numeric tag as f64, `None` when the tag is absent.
-fn f64_tag(decoder: &mut Decoder<Cursor<&[u8]>>, tag: Tag) -> Result<Option<Vec<f64>>, ImportError> {
+fn f64_tag(
+    decoder: &mut Decoder<Cursor<&[u8]>>,
+    tag: Tag,
+) -> Result<Option<Vec<f64>>, ImportError> {
     match decoder.find_tag(tag).map_err(decoding)? {
         None => Ok(None),
         Some(value) => value

@@ -208,16 +208,14 @@ pub fn to_heightfield(
             _ => &Projection::Cylindrical,
         }),
     };
-    // The outer surface is asked for only where a single surface is not there: with the automatic
-    // choice, the single-surface projections are tried first and give the same grid.
-    let single_first = options.surface == Surface::Single || options.projection == Projection::Auto;
+    // With the automatic choice, every projection is first tried as a single surface; the outer
+    // surface comes after, in the projection that suits the mesh's shape.
+    let surface = match options.projection {
+        Projection::Auto => Surface::Single,
+        _ => options.surface,
+    };
     let mut tried: Vec<(Projection, Option<f64>)> = Vec::new();
     for &projection in tries {
-        let surface = if single_first {
-            Surface::Single
-        } else {
-            options.surface
-        };
         match resample::resample(mesh, projection, options.grid_size, surface)? {
             resample::Outcome::Grid(grid) => {
                 let note = format!(

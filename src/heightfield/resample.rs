@@ -344,14 +344,36 @@ pub fn outer_projection(mesh: &TriangleMesh) -> Projection {
 }
 
 /// Projects `mesh` (validated, with triangles) and rasterises it onto a grid of `size` (or the
-/// automatic size), keeping the `surface` asked for. The planar projection tries each candidate
-/// normal (`planar_normals`) and keeps the one with the least overlap. Fails only on a grid size
-/// over the limits.
+/// automatic size). The planar projection tries each candidate normal (`planar_normals`) and
+/// keeps the one with the least overlap. When every candidate folds and the outer surface is
+/// asked for, the outermost hits are kept instead: around the principal axis, or along the PCA
+/// normal signed so that its largest component is positive (a slab lying in x, y is seen from
+/// +z) — the candidates' facing rules mean nothing for a closed surface. Fails only on a grid
+/// size over the limits.
 pub fn resample(
     mesh: &TriangleMesh,
     projection: Projection,
     size: Option<(usize, usize)>,
     surface: Surface,
+) -> Result<Outcome, ImportError> {
+    let single = resample_single(mesh, projection, size)?;
+    if surface == Surface::Single || matches!(single, Outcome::Grid(_)) {
+        return Ok(single);
+    }
+    let projected = match projection {
+        Projection::Cylindrical => project_cylindrical(mesh),
+        _ => {
+            let (_, [_, _, normal]) = principal_frame(&mesh.vertices);
+            project_planar(mesh, normal)
+        }
+    };
+    resample_projected(mesh, projected, size, Surface::Outer)
+}
+
+fn resample_single(
+    mesh: &TriangleMesh,
+    projection: Projection,
+    size: Option<(usize, usize)>,
 ) -> Result<Outcome, ImportError> {
     let candidates: Vec<Projected> = match projection {
         Projection::Cylindrical => vec![project_cylindrical(mesh)],
@@ -364,7 +386,7 @@ pub fn resample(
     let mut best: Option<Resampled> = None;
     let mut least: Option<f64> = None;
     for projected in candidates {
-        match resample_projected(mesh, projected, size, surface)? {
+        match resample_projected(mesh, projected, size, Surface::Single)? {
             Outcome::Grid(grid) => {
                 if best.as_ref().is_none_or(|b| grid.overlap < b.overlap) {
                     best = Some(grid);
@@ -674,7 +696,9 @@ mod tests {
     #[test]
     fn area_average_keeps_a_plane_and_the_same_size() {
         // A plane stays a plane inside (symmetric weights), and the same size is the identity.
-        let z: Vec<f64> = (0..7 * 4).map(|i| (i % 7) as f64 * 2.0 + (i / 7) as f64).collect();
+        let z: Vec<f64> = (0..7 * 4)
+            .map(|i| (i % 7) as f64 * 2.0 + (i / 7) as f64)
+            .collect();
         assert_eq!(area_average(&z, 7, 4, 7, 4), z);
         let small = area_average(&z, 7, 4, 4, 4);
         assert!((small[1] - (2.0 * 2.0)).abs() < 1e-12, "{small:?}");
