@@ -5,7 +5,8 @@
 //! crossover and its baselines.
 //!
 //! - [`heightfield`]: the height field z = f(x, y) on a W×H grid and its import (raw f32, PNG,
-//!   PLY, OBJ, STL).
+//!   GeoTIFF, PLY, OBJ, STL).
+//! - [`export`]: writing meshes for other 3-D tools (binary glTF).
 //! - [`evaluator`]: the ruler: Delaunay triangulation of a kept set of grid points and the exact
 //!   error E = Σ|z − z̃| over every grid point, counted once.
 //! - [`front`]: solutions and the non-dominated front of (E, T).
@@ -21,6 +22,7 @@ pub mod baselines;
 pub mod evaluator;
 pub mod evolution;
 pub mod experiment;
+pub mod export;
 pub mod front;
 pub mod heightfield;
 pub mod metrics;

@@ -107,3 +107,103 @@ fn bad_files_print_a_message_and_exit_non_zero() {
     assert!(!out.status.success());
     assert!(text(&out.stderr).contains("cannot read missing.ply"));
 }
+
+#[test]
+fn info_shows_a_geotiffs_georeferencing_and_nodata() {
+    let tif = data("volcano_87x61_int16_lzw_nodata.tif");
+    let out = paretomesh(&["info", tif.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("size: 87×61"), "{stdout}");
+    assert!(stdout.contains("spacing: [10.0, 10.0]"), "{stdout}");
+    assert!(
+        stdout.contains("origin: [2667405.0, 6478105.0]"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("pixel scale (tag 33550): x 10, y 10"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("raster (0, 0, 0) = map (2667400, 6478710, 0), pixel is area"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("nodata (tag 42113): -9999"), "{stdout}");
+    assert!(stdout.contains("filled: 14 nodata cells"), "{stdout}");
+    // --grid-size resamples it.
+    let out = paretomesh(&["info", tif.to_str().unwrap(), "--grid-size", "44x31"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("size: 44×31"));
+    // An unsupported codec is named.
+    let jpeg = data("bunny_33x33_jpeg.tif");
+    let out = paretomesh(&["info", jpeg.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("JPEG"), "{}", text(&out.stderr));
+}
+
+/// A closed tube shell along z as OBJ text: an outer wall of radius 1, an inner wall of 0.95,
+/// joined by flat rings at both ends.
+fn thick_tube_obj() -> String {
+    let (angles, rows) = (48usize, 17usize);
+    let mut obj = String::new();
+    for radius in [1.0f64, 0.95] {
+        for r in 0..rows {
+            for a in 0..angles {
+                let theta = std::f64::consts::TAU * a as f64 / angles as f64;
+                let z = -2.0 + 4.0 * r as f64 / (rows - 1) as f64;
+                obj.push_str(&format!(
+                    "v {} {} {z}\n",
+                    radius * theta.cos(),
+                    radius * theta.sin()
+                ));
+            }
+        }
+    }
+    // OBJ indices start at 1.
+    let at = |wall: usize, r: usize, a: usize| wall * rows * angles + r * angles + a % angles + 1;
+    for a in 0..angles {
+        for r in 0..rows - 1 {
+            for wall in 0..2 {
+                let (p, q, s, t) = (
+                    at(wall, r, a),
+                    at(wall, r, a + 1),
+                    at(wall, r + 1, a + 1),
+                    at(wall, r + 1, a),
+                );
+                obj.push_str(&format!("f {p} {q} {s}\nf {p} {s} {t}\n"));
+            }
+        }
+        for r in [0, rows - 1] {
+            let (o0, o1, i0, i1) = (at(0, r, a), at(0, r, a + 1), at(1, r, a), at(1, r, a + 1));
+            obj.push_str(&format!("f {o0} {o1} {i1}\nf {o0} {i1} {i0}\n"));
+        }
+    }
+    obj
+}
+
+#[test]
+fn a_closed_thick_mesh_needs_surface_outer() {
+    let dir = scratch("thick");
+    let path = dir.join("tube.obj");
+    std::fs::write(&path, thick_tube_obj()).unwrap();
+    let file = path.to_str().unwrap();
+    let out = paretomesh(&["info", file]);
+    assert!(!out.status.success());
+    let stderr = text(&out.stderr);
+    assert!(stderr.contains("folds over itself"), "{stderr}");
+    assert!(stderr.contains("--surface outer"), "{stderr}");
+    let out = paretomesh(&["info", file, "--surface", "outer", "--grid-size", "64x32"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("placement: cylindrical unwrap"), "{stdout}");
+    assert!(stdout.contains("outer surface: "), "{stdout}");
+    // The outer wall's radius is 1 (chords of 48 segments sag by under 0.3 %).
+    let range = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("z range: "))
+        .unwrap();
+    let (lo, hi) = range.split_once(" .. ").unwrap();
+    let (lo, hi): (f64, f64) = (lo.parse().unwrap(), hi.parse().unwrap());
+    assert!(lo > 0.99 && hi <= 1.0 + 1e-9, "{range}");
+    std::fs::remove_dir_all(dir).ok();
+}

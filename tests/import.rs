@@ -3,7 +3,7 @@
 
 use paretomesh::heightfield::{
     self, Heightfield, HeightfieldError, ImportError, ImportOptions, Placement, Projection,
-    TriangleMesh, mesh, ply, stl,
+    Surface, TriangleMesh, mesh, ply, stl,
 };
 use rand::{RngExt, SeedableRng};
 use std::path::PathBuf;
@@ -23,7 +23,7 @@ fn with(projection: Projection, grid_size: Option<(usize, usize)>) -> ImportOpti
     ImportOptions {
         projection,
         grid_size,
-        terrain_rgb: false,
+        ..defaults()
     }
 }
 
@@ -732,6 +732,173 @@ fn a_closed_sphere_has_no_planar_projection_but_unwraps_cylindrically() {
     );
     // Every radius is at most the sphere's.
     assert!(hf.z().iter().all(|&z| z <= 2.0 + 1e-9));
+}
+
+/// Outer radius of the test bust at angle θ and height ζ: a wavy, bulging column.
+fn bust_radius(theta: f64, zeta: f64) -> f64 {
+    1.0 + 0.1 * (3.0 * theta).sin() + 0.08 * (std::f64::consts::FRAC_PI_4 * zeta).cos()
+}
+
+/// A closed, thick bust along z (ζ from −2 to 2): an outer wall of radius `bust_radius`, an
+/// inner wall 5 % of the radius inside it, wound the other way, and flat annular caps joining
+/// them at both ends, as a printable shell is.
+fn thick_bust(angles: usize, rows: usize) -> TriangleMesh {
+    let mut m = TriangleMesh::default();
+    for wall in [1.0, 0.95] {
+        for r in 0..rows {
+            let zeta = -2.0 + 4.0 * r as f64 / (rows - 1) as f64;
+            for a in 0..angles {
+                let theta = std::f64::consts::TAU * a as f64 / angles as f64;
+                let rho = wall * bust_radius(theta, zeta);
+                m.vertices
+                    .push([rho * theta.cos(), rho * theta.sin(), zeta]);
+            }
+        }
+    }
+    let at =
+        |wall: usize, r: usize, a: usize| (wall * rows * angles + r * angles + a % angles) as u32;
+    for a in 0..angles {
+        for r in 0..rows - 1 {
+            // Outer wall faces out, inner wall faces in (towards the axis).
+            m.triangles
+                .push([at(0, r, a), at(0, r, a + 1), at(0, r + 1, a + 1)]);
+            m.triangles
+                .push([at(0, r, a), at(0, r + 1, a + 1), at(0, r + 1, a)]);
+            m.triangles
+                .push([at(1, r, a), at(1, r + 1, a + 1), at(1, r, a + 1)]);
+            m.triangles
+                .push([at(1, r, a), at(1, r + 1, a), at(1, r + 1, a + 1)]);
+        }
+        for (r, flip) in [(0, true), (rows - 1, false)] {
+            let (o0, o1, i0, i1) = (at(0, r, a), at(0, r, a + 1), at(1, r, a), at(1, r, a + 1));
+            let (t0, t1) = ([o0, o1, i1], [o0, i1, i0]);
+            if flip {
+                m.triangles.push([t0[0], t0[2], t0[1]]);
+                m.triangles.push([t1[0], t1[2], t1[1]]);
+            } else {
+                m.triangles.push(t0);
+                m.triangles.push(t1);
+            }
+        }
+    }
+    m
+}
+
+#[test]
+fn a_closed_thick_bust_imports_as_its_outer_surface() {
+    let bust = thick_bust(96, 41);
+    // As a single surface every projection folds, and the message points to the outer surface.
+    for projection in [Projection::Auto, Projection::Cylindrical] {
+        let err = resampled(&bust, &with(projection, Some((128, 64)))).unwrap_err();
+        assert!(matches!(err, ImportError::NoProjection { .. }), "{err}");
+        let message = err.to_string();
+        assert!(message.contains("folds over itself"), "{message}");
+        assert!(message.contains("--surface outer"), "{message}");
+    }
+    for projection in [Projection::Auto, Projection::Cylindrical] {
+        let options = ImportOptions {
+            surface: Surface::Outer,
+            ..with(projection, Some((128, 64)))
+        };
+        let hf = resampled(&bust, &options).unwrap();
+        assert!(matches!(hf.placement(), Placement::Cylindrical { .. }));
+        assert_eq!((hf.width(), hf.height()), (128, 64));
+        // Every grid point lies on the outer wall: its radius within 1 % of the analytic one.
+        for i in 0..hf.len() as u32 {
+            let p = hf.to_world(i, hf.z()[i as usize]);
+            let rho = p[0].hypot(p[1]);
+            let want = bust_radius(p[1].atan2(p[0]), p[2]);
+            assert!(
+                (rho - want).abs() <= 0.01 * want,
+                "grid point {i}: radius {rho}, the outer wall's is {want}"
+            );
+        }
+        // The report counts the points taken from the outer wall and the share covered twice.
+        let source = hf.source();
+        let counted: usize = source
+            .split("outer surface: ")
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no outer-surface count in: {source}"));
+        assert!(counted > hf.len() / 2, "{source}");
+        assert!(source.contains("covered more than once"), "{source}");
+    }
+}
+
+#[test]
+fn the_outer_surface_of_a_closed_slab_is_its_top() {
+    // A closed terrain block: a bumpy top over 4 × 3, a flat bottom at z = −0.5, side walls.
+    let (nx, ny) = (21usize, 16usize);
+    let top = |x: f64, y: f64| 0.3 * (x * 1.3).sin() * (y * 0.9).cos();
+    let mut m = TriangleMesh::default();
+    for level in 0..2 {
+        for j in 0..ny {
+            for i in 0..nx {
+                let (x, y) = (
+                    4.0 * i as f64 / (nx - 1) as f64,
+                    3.0 * j as f64 / (ny - 1) as f64,
+                );
+                m.vertices
+                    .push([x, y, if level == 0 { top(x, y) } else { -0.5 }]);
+            }
+        }
+    }
+    let at = |level: usize, i: usize, j: usize| (level * nx * ny + j * nx + i) as u32;
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            m.triangles
+                .push([at(0, i, j), at(0, i + 1, j), at(0, i + 1, j + 1)]);
+            m.triangles
+                .push([at(0, i, j), at(0, i + 1, j + 1), at(0, i, j + 1)]);
+            m.triangles
+                .push([at(1, i, j), at(1, i + 1, j + 1), at(1, i + 1, j)]);
+            m.triangles
+                .push([at(1, i, j), at(1, i, j + 1), at(1, i + 1, j + 1)]);
+        }
+    }
+    // Side walls along the four edges.
+    let mut ring: Vec<(usize, usize)> = (0..nx).map(|i| (i, 0)).collect();
+    ring.extend((1..ny).map(|j| (nx - 1, j)));
+    ring.extend((0..nx - 1).rev().map(|i| (i, ny - 1)));
+    ring.extend((1..ny - 1).rev().map(|j| (0, j)));
+    for k in 0..ring.len() {
+        let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+        m.triangles
+            .push([at(0, a.0, a.1), at(1, a.0, a.1), at(1, b.0, b.1)]);
+        m.triangles
+            .push([at(0, a.0, a.1), at(1, b.0, b.1), at(0, b.0, b.1)]);
+    }
+    // Seen along z, top and bottom cover the same rectangle: a single surface is refused.
+    let single = resampled(&m, &with(Projection::Planar, Some((41, 31))));
+    assert!(matches!(single, Err(ImportError::NoProjection { .. })));
+    let options = ImportOptions {
+        surface: Surface::Outer,
+        ..with(Projection::Planar, Some((41, 31)))
+    };
+    let hf = resampled(&m, &options).unwrap();
+    assert!(
+        matches!(hf.placement(), Placement::Planar { .. }),
+        "{}",
+        hf.source()
+    );
+    // Seen from above: every grid point inside the rim is on the top, none on the bottom. (On
+    // the rim the side walls are edge-on, and the PCA normal leans a little with the bumps.)
+    let bad: Vec<[f64; 3]> = (0..hf.len() as u32)
+        .filter(|&i| {
+            let (x, y) = hf.coords(i);
+            x > 0 && y > 0 && x + 1 < hf.width() && y + 1 < hf.height()
+        })
+        .map(|i| hf.to_world(i, hf.z()[i as usize]))
+        .filter(|p| (p[2] - top(p[0], p[1])).abs() >= 0.02)
+        .collect();
+    assert!(
+        bad.is_empty(),
+        "{} points off the top: {:?}",
+        bad.len(),
+        &bad[..bad.len().min(5)]
+    );
+    assert!(hf.source().contains("outer surface"), "{}", hf.source());
 }
 
 #[test]

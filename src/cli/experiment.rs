@@ -175,6 +175,7 @@ fn load_datasets(args: &ExperimentArgs) -> Result<Vec<Dataset>, String> {
             grid: path.clone(),
             projection: args.input.projection,
             grid_size: args.input.grid_size,
+            surface: args.input.surface,
             terrain_rgb: args.input.terrain_rgb,
         };
         let hf = input

@@ -24,10 +24,35 @@ pub fn run(input: &InputArgs) -> Result<(), String> {
         ),
     }
     println!("full mesh: {} triangles", hf.full_triangles());
-    println!(
-        "filled: {} grid points had no triangle and took their nearest value",
-        hf.filled()
-    );
+    if hf.georeference().is_some() {
+        println!(
+            "filled: {} nodata cells took their nearest valid value",
+            hf.filled()
+        );
+    } else {
+        println!(
+            "filled: {} grid points had no triangle and took their nearest value",
+            hf.filled()
+        );
+    }
+    if let Some(geo) = hf.georeference() {
+        if let Some([sx, sy, sz]) = geo.pixel_scale {
+            println!("GeoTIFF pixel scale (tag 33550): x {sx}, y {sy}, z {sz}");
+        }
+        if let Some([i, j, k, x, y, z]) = geo.tiepoint {
+            println!(
+                "GeoTIFF tie point (tag 33922): raster ({i}, {j}, {k}) = map ({x}, {y}, {z}), {}",
+                if geo.pixel_is_point {
+                    "pixel is point"
+                } else {
+                    "pixel is area"
+                }
+            );
+        }
+        if let Some(nodata) = &geo.nodata {
+            println!("GeoTIFF nodata (tag 42113): {nodata}");
+        }
+    }
     println!("source: {}", hf.source());
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! The input options every subcommand that reads a grid shares: the file and how to import it.
 
 use clap::{Args, ValueEnum};
-use paretomesh::heightfield::{self, Heightfield, ImportOptions, Projection};
+use paretomesh::heightfield::{self, Heightfield, ImportOptions, Projection, Surface};
 use std::path::PathBuf;
 
 /// How a mesh becomes a grid, as spelled on the command line.
@@ -16,18 +16,33 @@ pub enum ProjectionArg {
     Cylindrical,
 }
 
+/// Which surface of a folding mesh is kept, as spelled on the command line.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum SurfaceArg {
+    /// The mesh must be one surface in the projection; a mesh that folds over itself is refused.
+    #[default]
+    Single,
+    /// The outermost hit at every grid point (largest radius, or highest point): for closed and
+    /// thick meshes.
+    Outer,
+}
+
 /// An input grid file and its import options.
 #[derive(Args, Debug)]
 pub struct InputArgs {
-    /// Input: .f32 (with its .json sidecar), PNG, PLY, OBJ or STL.
+    /// Input: .f32 (with its .json sidecar), PNG, GeoTIFF (.tif), PLY, OBJ or STL.
     pub grid: PathBuf,
     /// How a mesh becomes a height field.
     #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
     pub projection: ProjectionArg,
-    /// Grid size WxH for resampling a mesh, e.g. 129x129 (default: about one grid point per
-    /// vertex, at most 257 per side).
+    /// Grid size WxH for resampling a mesh or a GeoTIFF, e.g. 129x129 (default: for a mesh,
+    /// about one grid point per vertex, at most 257 per side; a GeoTIFF keeps its size unless it
+    /// is over the grid limit).
     #[arg(long, value_name = "WxH", value_parser = parse_grid_size)]
     pub grid_size: Option<(usize, usize)>,
+    /// Which surface a mesh that folds over itself keeps.
+    #[arg(long, value_enum, default_value_t = SurfaceArg::Single)]
+    pub surface: SurfaceArg,
     /// Read an RGB PNG as Mapbox terrain-RGB: h = −10000 + (R·65536 + G·256 + B)·0.1.
     #[arg(long)]
     pub terrain_rgb: bool,
@@ -53,6 +68,10 @@ impl InputArgs {
                 ProjectionArg::Cylindrical => Projection::Cylindrical,
             },
             grid_size: self.grid_size,
+            surface: match self.surface {
+                SurfaceArg::Single => Surface::Single,
+                SurfaceArg::Outer => Surface::Outer,
+            },
             terrain_rgb: self.terrain_rgb,
         }
     }

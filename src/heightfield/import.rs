@@ -2,11 +2,11 @@
 //! the import error.
 //!
 //! Formats: raw `.f32` with its `.json` sidecar ([`super::raw`]), PNG heightmaps
-//! ([`super::heightmap_png`]), and meshes — PLY ([`super::ply`]), OBJ ([`super::obj`]), STL
+//! ([`super::heightmap_png`]), GeoTIFF DEMs ([`super::geotiff`]), and meshes — PLY ([`super::ply`]), OBJ ([`super::obj`]), STL
 //! ([`super::stl`]) — which become a grid either exactly (their vertices already form a regular
 //! grid) or by resampling ([`super::resample`]).
 
-use super::{Heightfield, HeightfieldError, heightmap_png, mesh, obj, ply, raw, stl};
+use super::{Heightfield, HeightfieldError, geotiff, heightmap_png, mesh, obj, ply, raw, stl};
 use std::fmt;
 use std::path::Path;
 
@@ -37,17 +37,42 @@ impl Projection {
     }
 }
 
+/// Which surface a mesh keeps where its projection covers a grid point more than once.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Surface {
+    /// The mesh must be a single surface in the projection: one that folds over itself on more
+    /// than [`super::resample::MAX_OVERLAP`] of the grid is refused.
+    #[default]
+    Single,
+    /// The outermost hit at every grid point (largest radius in a cylindrical unwrap, highest
+    /// point in a planar one), like a depth map seen from outside: for closed and thick meshes.
+    Outer,
+}
+
+impl Surface {
+    /// The word used on the command line and in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Single => "single",
+            Self::Outer => "outer",
+        }
+    }
+}
+
 /// Choices for turning a file into a height field. `Default` gives the documented defaults:
 /// automatic projection, automatic grid size, plain grayscale PNG.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ImportOptions {
     /// How a mesh becomes a grid (meshes only). Default: [`Projection::Auto`].
     pub projection: Projection,
-    /// Grid size `(width, height)` for resampling a mesh. `None`: about as many grid points as
-    /// the mesh has vertices, with the aspect ratio of the projected surface, each side capped at
-    /// [`mesh::DEFAULT_MAX_SIDE`]. With [`Projection::Auto`], a mesh whose vertices already form
-    /// a grid is used as is unless a different size is asked for.
+    /// Grid size `(width, height)` for resampling a mesh or a GeoTIFF. `None`: for a mesh, about
+    /// as many grid points as the mesh has vertices, with the aspect ratio of the projected
+    /// surface, each side capped at [`mesh::DEFAULT_MAX_SIDE`]; a GeoTIFF keeps its own size
+    /// unless it is over the grid limits. With [`Projection::Auto`], a mesh whose vertices
+    /// already form a grid is used as is unless a different size is asked for.
     pub grid_size: Option<(usize, usize)>,
+    /// Which surface a folding mesh keeps (meshes only). Default: [`Surface::Single`].
+    pub surface: Surface,
     /// Read an RGB PNG as Mapbox terrain-RGB: h = −10000 + (R·65536 + G·256 + B)·0.1.
     pub terrain_rgb: bool,
 }
@@ -61,6 +86,11 @@ pub enum ImportError {
     UnknownFormat { name: String },
     /// A raw `.f32` grid came without its `.json` sidecar.
     MissingSidecar { name: String },
+    /// The file is valid but uses something ParetoMesh does not read (a codec, several bands).
+    Unsupported {
+        format: &'static str,
+        message: String,
+    },
     /// The file is not valid for its format.
     Malformed {
         format: &'static str,
@@ -108,12 +138,15 @@ impl fmt::Display for ImportError {
             Self::Io { path, message } => write!(f, "cannot read {path}: {message}"),
             Self::UnknownFormat { name } => write!(
                 f,
-                "{name}: unknown file type; ParetoMesh reads .f32 (with a .json sidecar), .png, .ply, .obj and .stl"
+                "{name}: unknown file type; ParetoMesh reads .f32 (with a .json sidecar), .png, .tif (GeoTIFF), .ply, .obj and .stl"
             ),
             Self::MissingSidecar { name } => write!(
                 f,
                 "{name}: a raw .f32 grid needs its .json sidecar (with width and height) beside it"
             ),
+            Self::Unsupported { format, message } => {
+                write!(f, "unsupported {format} file: {message}")
+            }
             Self::Malformed { format, message } => write!(f, "invalid {format} file: {message}"),
             Self::Truncated { format, message } => {
                 write!(f, "the {format} file is truncated: {message}")
@@ -162,7 +195,7 @@ impl fmt::Display for ImportError {
                 }
                 write!(
                     f,
-                    " (at most {:.0} % is accepted)",
+                    " (at most {:.0} % is accepted); a closed or thick mesh can be imported as its outer surface (--surface outer)",
                     super::resample::MAX_OVERLAP * 100.0
                 )
             }
@@ -185,13 +218,14 @@ impl From<HeightfieldError> for ImportError {
 enum Kind {
     Raw,
     Png,
+    Tiff,
     Ply,
     Obj,
     Stl,
 }
 
 /// The kind by the name's extension (case-insensitive); for an unknown extension, by the magic
-/// bytes of PNG and PLY, the two formats that have them.
+/// bytes of PNG, TIFF and PLY, the formats that have them.
 fn kind_of(file_name: &str, bytes: &[u8]) -> Option<Kind> {
     let ext = Path::new(file_name)
         .extension()
@@ -201,10 +235,18 @@ fn kind_of(file_name: &str, bytes: &[u8]) -> Option<Kind> {
     match ext.as_str() {
         "f32" => Some(Kind::Raw),
         "png" => Some(Kind::Png),
+        "tif" | "tiff" => Some(Kind::Tiff),
         "ply" => Some(Kind::Ply),
         "obj" => Some(Kind::Obj),
         "stl" => Some(Kind::Stl),
         _ if bytes.starts_with(b"\x89PNG\r\n\x1a\n") => Some(Kind::Png),
+        // Classic TIFF and BigTIFF, little- and big-endian.
+        _ if [b"II*\0", b"MM\0*", b"II+\0", b"MM\0+"]
+            .iter()
+            .any(|m| bytes.starts_with(*m)) =>
+        {
+            Some(Kind::Tiff)
+        }
         _ if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n") => Some(Kind::Ply),
         _ => None,
     }
@@ -212,9 +254,9 @@ fn kind_of(file_name: &str, bytes: &[u8]) -> Option<Kind> {
 
 /// Parses a file given as bytes — the browser's entry point, also used by [`load_with`].
 ///
-/// `file_name` picks the format by its extension (`.f32`, `.png`, `.ply`, `.obj`, `.stl`,
-/// case-insensitive; an unknown extension is sniffed for PNG and PLY magic bytes) and appears in
-/// the source note. A `.f32` grid needs its JSON `sidecar`; other formats ignore it. Never
+/// `file_name` picks the format by its extension (`.f32`, `.png`, `.tif`/`.tiff`, `.ply`,
+/// `.obj`, `.stl`, case-insensitive; an unknown extension is sniffed for PNG, TIFF and PLY magic
+/// bytes) and appears in the source note. A `.f32` grid needs its JSON `sidecar`; other formats ignore it. Never
 /// panics: every bad input is an [`ImportError`].
 pub fn from_bytes(
     file_name: &str,
@@ -238,6 +280,7 @@ pub fn from_bytes(
             raw::parse(bytes, json, file_name)
         }
         Kind::Png => heightmap_png::parse(bytes, file_name, options.terrain_rgb),
+        Kind::Tiff => geotiff::parse(bytes, file_name, options.grid_size),
         Kind::Ply => mesh::to_heightfield(&ply::parse(bytes)?, "PLY", file_name, options),
         Kind::Obj => mesh::to_heightfield(&obj::parse(bytes)?, "OBJ", file_name, options),
         Kind::Stl => mesh::to_heightfield(&stl::parse(bytes)?, "STL", file_name, options),

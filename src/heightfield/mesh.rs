@@ -1,7 +1,7 @@
 //! A triangle mesh as read from PLY, OBJ or STL, its limits, and how it becomes a height field:
 //! exactly when its vertices already form a regular grid, otherwise by resampling.
 
-use super::import::{ImportError, ImportOptions, Projection};
+use super::import::{ImportError, ImportOptions, Projection, Surface};
 use super::{Heightfield, Placement, resample};
 
 /// Most vertices a mesh file may claim (16 M): checked against the header before allocating.
@@ -208,9 +208,15 @@ pub fn to_heightfield(
             _ => &Projection::Cylindrical,
         }),
     };
+    // With the automatic choice, every projection is first tried as a single surface; the outer
+    // surface comes after, in the projection that suits the mesh's shape.
+    let surface = match options.projection {
+        Projection::Auto => Surface::Single,
+        _ => options.surface,
+    };
     let mut tried: Vec<(Projection, Option<f64>)> = Vec::new();
     for &projection in tries {
-        match resample::resample(mesh, projection, options.grid_size)? {
+        match resample::resample(mesh, projection, options.grid_size, surface)? {
             resample::Outcome::Grid(grid) => {
                 let note = format!(
                     "{summary}: resampled onto a {}×{} grid by {}; {:.1} % of the covered grid covered more than once (highest wins); {} grid points had no triangle and took their nearest value",
@@ -235,6 +241,11 @@ pub fn to_heightfield(
                     }
                     None => note,
                 };
+                let note = if grid.overlap > resample::MAX_OVERLAP {
+                    outer_note(&note, &grid)
+                } else {
+                    note
+                };
                 return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
                     .with_geometry(grid.origin, grid.spacing)?
                     .with_placement(grid.placement)
@@ -249,5 +260,49 @@ pub fn to_heightfield(
         // No projection has any area: every triangle is degenerate.
         return Err(ImportError::EmptyMesh { format });
     }
+    if options.surface == Surface::Outer && options.projection == Projection::Auto {
+        // Every single-surface projection folds: the outer surface in the projection that suits
+        // the mesh's shape.
+        let projection = resample::outer_projection(mesh);
+        if let resample::Outcome::Grid(grid) =
+            resample::resample(mesh, projection, options.grid_size, Surface::Outer)?
+        {
+            let folds = tried
+                .iter()
+                .map(|(p, share)| match share {
+                    Some(share) => format!("{}: {:.0} %", p.name(), share * 100.0),
+                    None => format!("{}: no area", p.name()),
+                })
+                .collect::<Vec<_>>()
+                .join(", ");
+            let note = format!(
+                "{summary}: resampled onto a {}×{} grid by {}; {} grid points had no triangle and took their nearest value (as a single surface every projection folds, covered more than once: {folds})",
+                grid.width,
+                grid.height,
+                match projection {
+                    Projection::Cylindrical => "cylindrical unwrap around the principal axis",
+                    _ => "planar projection onto the best-fit plane",
+                },
+                grid.filled
+            );
+            let note = outer_note(&note, &grid);
+            return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
+                .with_geometry(grid.origin, grid.spacing)?
+                .with_placement(grid.placement)
+                .with_filled(grid.filled)
+                .with_resampled()
+                .with_source(note));
+        }
+    }
     Err(ImportError::NoProjection { tried })
+}
+
+/// The import report's words on an outer surface: how many grid points were covered more than
+/// once and took the outer wall's height, and their share of the covered grid.
+fn outer_note(note: &str, grid: &resample::Resampled) -> String {
+    format!(
+        "{note}; outer surface: {} grid points ({:.1} % of the covered grid) were covered more than once and took the outermost hit",
+        grid.covered_twice,
+        grid.overlap * 100.0
+    )
 }

@@ -4,6 +4,7 @@
 //! in these indices. [`Placement`] remembers how the grid sits in the input's 3-D space so that a
 //! simplified mesh can be exported in the input's own coordinates.
 
+pub mod geotiff;
 pub mod heightmap_png;
 pub mod import;
 pub mod mesh;
@@ -13,7 +14,7 @@ pub mod raw;
 pub mod resample;
 pub mod stl;
 
-pub use import::{ImportError, ImportOptions, Projection, from_bytes, load, load_with};
+pub use import::{ImportError, ImportOptions, Projection, Surface, from_bytes, load, load_with};
 pub use mesh::TriangleMesh;
 
 use std::fmt;
@@ -47,6 +48,21 @@ pub enum Placement {
         axis: [f64; 3],
         reference: [f64; 3],
     },
+}
+
+/// A GeoTIFF's georeferencing as the file gives it, kept so that `info` and exports can show where
+/// the grid lies on the map.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Georeference {
+    /// ModelPixelScale (tag 33550): map units per pixel along x, y and z.
+    pub pixel_scale: Option<[f64; 3]>,
+    /// ModelTiepoint (tag 33922), the first tie point: raster (i, j, k) and map (x, y, z).
+    pub tiepoint: Option<[f64; 6]>,
+    /// Raster type (GeoKey 1025) is PixelIsPoint: the tie point is a pixel's centre, not its
+    /// upper-left corner.
+    pub pixel_is_point: bool,
+    /// GDAL_NODATA (tag 42113) as written in the file.
+    pub nodata: Option<String>,
 }
 
 /// Why a height field could not be built.
@@ -134,6 +150,7 @@ pub struct Heightfield {
     source: String,
     filled: usize,
     resampled: bool,
+    georeference: Option<Georeference>,
 }
 
 impl Heightfield {
@@ -165,6 +182,7 @@ impl Heightfield {
             source: String::new(),
             filled: 0,
             resampled: false,
+            georeference: None,
         })
     }
 
@@ -199,6 +217,17 @@ impl Heightfield {
     pub fn with_filled(mut self, filled: usize) -> Self {
         self.filled = filled;
         self
+    }
+
+    /// Keeps the georeferencing the grid was read with.
+    pub fn with_georeference(mut self, georeference: Georeference) -> Self {
+        self.georeference = Some(georeference);
+        self
+    }
+
+    /// The GeoTIFF georeferencing the grid was read with, if any.
+    pub fn georeference(&self) -> Option<&Georeference> {
+        self.georeference.as_ref()
     }
 
     /// Marks the grid as made by rasterising a mesh (not read as is), so an app can offer the
@@ -272,7 +301,8 @@ impl Heightfield {
     pub fn source(&self) -> &str {
         &self.source
     }
-    /// How many grid points were filled from their nearest valid neighbour during resampling.
+    /// How many grid points were filled from their nearest valid neighbour: points no triangle
+    /// covered when a mesh was resampled, or a GeoTIFF's nodata cells.
     pub fn filled(&self) -> usize {
         self.filled
     }

@@ -22,12 +22,14 @@
 //!   (planar) or from outside (cylindrical, largest ρ).
 //! - **Folds.** A grid point strictly inside two or more triangles is covered twice. When more
 //!   than [`MAX_OVERLAP`] of the points strictly inside some triangle are covered twice, the
-//!   surface folds over itself and the projection is refused.
+//!   surface folds over itself and the projection is refused — unless the outer surface is asked
+//!   for ([`Surface::Outer`]): then every point keeps its outermost hit, as the highest-wins rule
+//!   already gives, and the doubly covered points are counted.
 //! - **Fill.** A point no triangle covers takes the value of its nearest covered point in
 //!   4-neighbour steps (breadth-first from all covered points, ties to the lower grid index).
 
 use super::Placement;
-use super::import::{ImportError, Projection};
+use super::import::{ImportError, Projection, Surface};
 use super::mesh::{DEFAULT_MAX_SIDE, TriangleMesh};
 use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
@@ -52,8 +54,11 @@ pub struct Resampled {
     pub placement: Placement,
     /// Points no triangle covered, filled from their nearest covered neighbour.
     pub filled: usize,
-    /// Share of covered grid points covered more than once (at most [`MAX_OVERLAP`]).
+    /// Share of covered grid points covered more than once (at most [`MAX_OVERLAP`] for
+    /// [`Surface::Single`]).
     pub overlap: f64,
+    /// Grid points covered more than once, which took the outermost hit.
+    pub covered_twice: usize,
 }
 
 /// What a projection gives.
@@ -82,8 +87,8 @@ fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
-/// Mean of the vertices and the eigenvectors of their covariance by decreasing eigenvalue.
-fn principal_frame(vertices: &[[f64; 3]]) -> ([f64; 3], [[f64; 3]; 3]) {
+/// Mean and covariance of the vertices, each weighted equally.
+fn covariance(vertices: &[[f64; 3]]) -> ([f64; 3], [[f64; 3]; 3]) {
     let n = vertices.len() as f64;
     let mut mean = [0.0; 3];
     for p in vertices {
@@ -100,6 +105,12 @@ fn principal_frame(vertices: &[[f64; 3]]) -> ([f64; 3], [[f64; 3]; 3]) {
             }
         }
     }
+    (mean, cov)
+}
+
+/// Mean of the vertices and the eigenvectors of their covariance by decreasing eigenvalue.
+fn principal_frame(vertices: &[[f64; 3]]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let (mean, cov) = covariance(vertices);
     let (values, vectors) = symmetric_eigen(cov);
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
@@ -317,11 +328,49 @@ fn automatic_size(vertices: usize, world_x: f64, world_y: f64) -> (usize, usize)
     (side((n * aspect).sqrt()), side((n / aspect).sqrt()))
 }
 
+/// The projection that shows a closed or thick mesh's outer surface best: planar (seen from
+/// above) when the mesh is flat — its smallest principal variance under a quarter of the middle
+/// one, like a terrain slab with a base — otherwise cylindrical, which sees a round object from
+/// all sides instead of one.
+pub fn outer_projection(mesh: &TriangleMesh) -> Projection {
+    let (_, cov) = covariance(&mesh.vertices);
+    let (mut values, _) = symmetric_eigen(cov);
+    values.sort_by(f64::total_cmp);
+    if values[0] < 0.25 * values[1] {
+        Projection::Planar
+    } else {
+        Projection::Cylindrical
+    }
+}
+
 /// Projects `mesh` (validated, with triangles) and rasterises it onto a grid of `size` (or the
-/// automatic size). The planar projection tries each candidate normal (`planar_normals`) and keeps the one
-/// with the least overlap. Fails only on a grid size over the
-/// limits.
+/// automatic size). The planar projection tries each candidate normal (`planar_normals`) and
+/// keeps the one with the least overlap. When every candidate folds and the outer surface is
+/// asked for, the outermost hits are kept instead: around the principal axis, or along the PCA
+/// normal signed so that its largest component is positive (a slab lying in x, y is seen from
+/// +z) — the candidates' facing rules mean nothing for a closed surface. Fails only on a grid
+/// size over the limits.
 pub fn resample(
+    mesh: &TriangleMesh,
+    projection: Projection,
+    size: Option<(usize, usize)>,
+    surface: Surface,
+) -> Result<Outcome, ImportError> {
+    let single = resample_single(mesh, projection, size)?;
+    if surface == Surface::Single || matches!(single, Outcome::Grid(_)) {
+        return Ok(single);
+    }
+    let projected = match projection {
+        Projection::Cylindrical => project_cylindrical(mesh),
+        _ => {
+            let (_, [_, _, normal]) = principal_frame(&mesh.vertices);
+            project_planar(mesh, normal)
+        }
+    };
+    resample_projected(mesh, projected, size, Surface::Outer)
+}
+
+fn resample_single(
     mesh: &TriangleMesh,
     projection: Projection,
     size: Option<(usize, usize)>,
@@ -337,7 +386,7 @@ pub fn resample(
     let mut best: Option<Resampled> = None;
     let mut least: Option<f64> = None;
     for projected in candidates {
-        match resample_projected(mesh, projected, size)? {
+        match resample_projected(mesh, projected, size, Surface::Single)? {
             Outcome::Grid(grid) => {
                 if best.as_ref().is_none_or(|b| grid.overlap < b.overlap) {
                     best = Some(grid);
@@ -364,13 +413,14 @@ pub fn resample_along(
     n: [f64; 3],
     size: Option<(usize, usize)>,
 ) -> Result<Outcome, ImportError> {
-    resample_projected(mesh, project_planar(mesh, n), size)
+    resample_projected(mesh, project_planar(mesh, n), size, Surface::Single)
 }
 
 fn resample_projected(
     mesh: &TriangleMesh,
     projected: Projected,
     size: Option<(usize, usize)>,
+    surface: Surface,
 ) -> Result<Outcome, ImportError> {
     let points = &projected.points;
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -403,7 +453,7 @@ fn resample_projected(
     } else {
         raster.inside_twice as f64 / covered as f64
     };
-    if overlap > MAX_OVERLAP {
+    if overlap > MAX_OVERLAP && surface == Surface::Single {
         return Ok(Outcome::Folded {
             overlap: Some(overlap),
         });
@@ -419,6 +469,7 @@ fn resample_projected(
         placement: projected.placement,
         filled,
         overlap,
+        covered_twice: raster.inside_twice,
     }))
 }
 
@@ -532,7 +583,7 @@ fn draw_triangle(c: &[[f64; 3]; 3], width: usize, height: usize, z: &mut [f64], 
 /// Fills NaN points with the value of the nearest non-NaN point in 4-neighbour steps (ties: the
 /// one reached first from the lower grid index); returns how many were filled. At least one
 /// point must be non-NaN.
-fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
+pub(crate) fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
     let mut queue: VecDeque<usize> = (0..z.len()).filter(|&i| !z[i].is_nan()).collect();
     let filled = z.len() - queue.len();
     while let Some(i) = queue.pop_front() {
@@ -553,9 +604,106 @@ fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
     filled
 }
 
+/// Weights of the source samples `0..from` that a target sample of a `to`-point axis averages:
+/// `(first source index, weights)` per target sample. Both axes span the same extent with their
+/// end points on each other; each source sample stands for a cell one spacing wide around it, and
+/// each target sample averages the source cells over the width of its own cell, by overlap length.
+fn box_weights(from: usize, to: usize) -> Vec<(usize, Vec<f64>)> {
+    let ratio = (from - 1) as f64 / (to - 1) as f64;
+    // Never narrower than one source cell, so that enlarging interpolates between neighbours.
+    let half = (ratio / 2.0).max(0.5);
+    (0..to)
+        .map(|t| {
+            let centre = t as f64 * ratio;
+            let lo = (centre - half).max(-0.5);
+            let hi = (centre + half).min(from as f64 - 0.5);
+            let first = ((lo + 0.5).floor().max(0.0) as usize).min(from - 1);
+            let last = ((hi + 0.5).ceil() as usize).clamp(first + 1, from);
+            let mut weights: Vec<f64> = (first..last)
+                .map(|s| ((s as f64 + 0.5).min(hi) - (s as f64 - 0.5).max(lo)).max(0.0))
+                .collect();
+            let sum: f64 = weights.iter().sum();
+            if sum > 0.0 {
+                weights.iter_mut().for_each(|w| *w /= sum);
+            } else {
+                weights = vec![1.0];
+            }
+            (first, weights)
+        })
+        .collect()
+}
+
+/// Resamples a `width × height` grid (row-major, all finite) to `to_width × to_height` by area
+/// averaging: each target point is the mean of the source over its own cell, the source's
+/// samples weighted by how much of their cell falls inside. The corner points stay on the
+/// corners, so the grid keeps its extent; both grids need at least 2 points per side.
+pub fn area_average(
+    z: &[f64],
+    width: usize,
+    height: usize,
+    to_width: usize,
+    to_height: usize,
+) -> Vec<f64> {
+    let along_x = box_weights(width, to_width);
+    let along_y = box_weights(height, to_height);
+    // Separable: rows first (height × to_width), then columns.
+    let mut rows = vec![0.0; height * to_width];
+    for y in 0..height {
+        let source = &z[y * width..(y + 1) * width];
+        for (t, (first, weights)) in along_x.iter().enumerate() {
+            rows[y * to_width + t] = weights
+                .iter()
+                .enumerate()
+                .map(|(k, w)| w * source[first + k])
+                .sum();
+        }
+    }
+    let mut out = vec![0.0; to_width * to_height];
+    for (t, (first, weights)) in along_y.iter().enumerate() {
+        for x in 0..to_width {
+            out[t * to_width + x] = weights
+                .iter()
+                .enumerate()
+                .map(|(k, w)| w * rows[(first + k) * to_width + x])
+                .sum();
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn area_average_halves_a_grid_by_cell_means() {
+        // 5 → 3 points per side: each target cell is two source cells wide; the middle target
+        // averages source 1 (half), 2 (whole), 3 (half); the ends keep half a cell inside.
+        let z: Vec<f64> = (0..25).map(|i| (i % 5) as f64).collect();
+        let out = area_average(&z, 5, 5, 3, 3);
+        let expected_row = [
+            (0.0 + 0.5 * 1.0) / 1.5,
+            (0.5 * 1.0 + 2.0 + 0.5 * 3.0) / 2.0,
+            (0.5 * 3.0 + 4.0) / 1.5,
+        ];
+        for y in 0..3 {
+            for x in 0..3 {
+                assert!((out[y * 3 + x] - expected_row[x]).abs() < 1e-12, "{out:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn area_average_keeps_a_plane_and_the_same_size() {
+        // A plane stays a plane inside (symmetric weights), and the same size is the identity.
+        let z: Vec<f64> = (0..7 * 4)
+            .map(|i| (i % 7) as f64 * 2.0 + (i / 7) as f64)
+            .collect();
+        assert_eq!(area_average(&z, 7, 4, 7, 4), z);
+        let small = area_average(&z, 7, 4, 4, 4);
+        assert!((small[1] - (2.0 * 2.0)).abs() < 1e-12, "{small:?}");
+        assert!((small[2] - (4.0 * 2.0)).abs() < 1e-12, "{small:?}");
+    }
 
     #[test]
     fn jacobi_finds_axis_aligned_eigenvectors() {

@@ -79,6 +79,7 @@ pub fn options(projection: &str, width: u32, height: u32) -> Result<ImportOption
         projection,
         grid_size,
         terrain_rgb: false,
+        ..ImportOptions::default()
     })
 }
 

@@ -1,0 +1,3 @@
+//! Writing simplified meshes to the file formats other 3-D tools read.
+
+pub mod glb;

@@ -1,0 +1,317 @@
+//! GeoTIFF import: the files in tests/data made with GDAL from the raw grids (see SOURCES.md),
+//! and files written in memory with the `tiff` crate's encoder for the other sample types.
+
+use paretomesh::heightfield::{
+    self, Heightfield, ImportError, ImportOptions, geotiff::MAX_SOURCE_POINTS,
+};
+use std::io::Cursor;
+use std::path::PathBuf;
+use tiff::encoder::{TiffEncoder, colortype};
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+fn raw(name: &str) -> Vec<f64> {
+    std::fs::read(data(name))
+        .unwrap()
+        .chunks_exact(4)
+        .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+        .collect()
+}
+
+fn load(name: &str) -> Result<Heightfield, ImportError> {
+    heightfield::load(&data(name))
+}
+
+/// Grid row y of a georeferenced file is file row H−1−y.
+fn file_row_order(hf: &Heightfield) -> Vec<f64> {
+    hf.z()
+        .chunks_exact(hf.width())
+        .rev()
+        .flatten()
+        .copied()
+        .collect()
+}
+
+#[test]
+fn int16_lzw_with_nodata_fills_and_counts_the_missing_cells() {
+    let hf = load("volcano_87x61_int16_lzw_nodata.tif").unwrap();
+    assert_eq!((hf.width(), hf.height()), (87, 61));
+    let source = raw("volcano_87x61.f32");
+    let z = file_row_order(&hf);
+    // The 14 cells written as -9999: a 4×3 block, the corner (0, 0) and (50, 30).
+    let mut missing: Vec<usize> = (5..8)
+        .flat_map(|y| (10..14).map(move |x| y * 87 + x))
+        .collect();
+    missing.extend([0, 30 * 87 + 50]);
+    assert_eq!(hf.filled(), 14);
+    for (i, (&got, &want)) in z.iter().zip(&source).enumerate() {
+        if missing.contains(&i) {
+            continue;
+        }
+        assert_eq!(got, want, "cell {i}");
+    }
+    // Each missing cell took the value of a valid cell at the nearest 4-neighbour distance.
+    for &i in &missing {
+        assert_ne!(z[i], -9999.0);
+        let (x, y) = (i % 87, i / 87);
+        let nearest = (0..source.len())
+            .filter(|j| !missing.contains(j))
+            .map(|j| (j % 87).abs_diff(x) + (j / 87).abs_diff(y))
+            .min()
+            .unwrap();
+        let candidates: Vec<f64> = (0..source.len())
+            .filter(|j| {
+                !missing.contains(j) && (j % 87).abs_diff(x) + (j / 87).abs_diff(y) == nearest
+            })
+            .map(|j| source[j])
+            .collect();
+        assert!(candidates.contains(&z[i]), "cell {i}: {}", z[i]);
+    }
+    assert!(hf.source().contains("14 nodata cells"), "{}", hf.source());
+    // Spacing 10 m; sample centres: the tie point is the upper-left corner (pixel is area).
+    let geo = hf.georeference().expect("georeferencing kept");
+    assert_eq!(geo.pixel_scale.unwrap()[..2], [10.0, 10.0]);
+    assert_eq!(geo.tiepoint.unwrap()[3..5], [2667400.0, 6478710.0]);
+    assert!(!geo.pixel_is_point);
+    assert_eq!(geo.nodata.as_deref(), Some("-9999"));
+    assert_eq!(hf.spacing(), [10.0, 10.0]);
+    assert_eq!(hf.origin(), [2667405.0, 6478710.0 - 5.0 - 600.0]);
+    // The grid's own coordinates are map coordinates: the north-west sample sits at the top.
+    let north_west = hf.to_world(hf.index(0, 60), 0.0);
+    assert_eq!(north_west[..2], [2667405.0, 6478705.0]);
+}
+
+#[test]
+fn float32_tiled_deflate_equals_the_source_grid() {
+    let hf = load("jacksboro_65x65_float32_tiled_deflate.tif").unwrap();
+    assert_eq!((hf.width(), hf.height()), (65, 65));
+    // f32 in, f32 out: exact.
+    assert_eq!(file_row_order(&hf), raw("jacksboro_65x65.f32"));
+    assert_eq!(hf.filled(), 0);
+    let geo = hf.georeference().unwrap();
+    // GDAL writes a PixelIsPoint file's tie point at the centre of pixel (0, 0).
+    assert!(geo.pixel_is_point);
+    assert_eq!(hf.spacing(), [10.0, 10.0]);
+    assert_eq!(hf.origin(), [500005.0, 4000005.0]);
+}
+
+#[test]
+fn float64_without_georeferencing_keeps_the_file_order() {
+    let hf = load("camera_33x33_float64.tif").unwrap();
+    assert_eq!(hf.z(), raw("camera_33x33.f32"));
+    assert_eq!(hf.origin(), [0.0, 0.0]);
+    assert_eq!(hf.spacing(), [1.0, 1.0]);
+    let geo = hf.georeference().unwrap();
+    assert_eq!((geo.pixel_scale, geo.tiepoint), (None, None));
+    assert!(hf.source().contains("no georeferencing"), "{}", hf.source());
+}
+
+#[test]
+fn uint16_packbits_in_several_strips_equals_the_source_grid() {
+    let hf = load("volcano_87x61_uint16_packbits.tif").unwrap();
+    assert_eq!(hf.z(), raw("volcano_87x61.f32"));
+}
+
+#[test]
+fn unsupported_compression_and_bands_are_named() {
+    let err = load("bunny_33x33_jpeg.tif").unwrap_err();
+    assert!(matches!(err, ImportError::Unsupported { .. }), "{err}");
+    let message = err.to_string();
+    assert!(message.contains("JPEG"), "{message}");
+    assert!(message.contains("LZW, Deflate and PackBits"), "{message}");
+
+    let err = load("camera_33x33_two_bands.tif").unwrap_err();
+    assert!(matches!(err, ImportError::Unsupported { .. }), "{err}");
+    assert!(err.to_string().contains("2 bands"), "{err}");
+}
+
+fn encode<C: colortype::ColorType>(width: u32, height: u32, data: &[C::Inner]) -> Vec<u8>
+where
+    [C::Inner]: tiff::encoder::TiffValue,
+{
+    let mut out = Cursor::new(Vec::new());
+    TiffEncoder::new(&mut out)
+        .unwrap()
+        .write_image::<C>(width, height, data)
+        .unwrap();
+    out.into_inner()
+}
+
+fn parse(bytes: &[u8]) -> Result<Heightfield, ImportError> {
+    heightfield::from_bytes("dem.tif", bytes, None, &ImportOptions::default())
+}
+
+#[test]
+fn every_integer_and_float_sample_type_reads_its_values() {
+    let (w, h) = (5u32, 4u32);
+    let n = (w * h) as usize;
+    let expect = |values: Vec<f64>, bytes: Vec<u8>| {
+        let hf = parse(&bytes).unwrap();
+        assert_eq!(hf.z(), values);
+    };
+    let u8s: Vec<u8> = (0..n).map(|i| (i * 13) as u8).collect();
+    expect(
+        u8s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::Gray8>(w, h, &u8s),
+    );
+    let i8s: Vec<i8> = (0..n).map(|i| i as i8 - 10).collect();
+    expect(
+        i8s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::GrayI8>(w, h, &i8s),
+    );
+    let u16s: Vec<u16> = (0..n).map(|i| (i * 3001) as u16).collect();
+    expect(
+        u16s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::Gray16>(w, h, &u16s),
+    );
+    let i16s: Vec<i16> = (0..n).map(|i| (i as i16 - 10) * 1000).collect();
+    expect(
+        i16s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::GrayI16>(w, h, &i16s),
+    );
+    let u32s: Vec<u32> = (0..n).map(|i| (i as u32) * 200_000_000).collect();
+    expect(
+        u32s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::Gray32>(w, h, &u32s),
+    );
+    let i32s: Vec<i32> = (0..n).map(|i| (i as i32 - 10) * 100_000_000).collect();
+    expect(
+        i32s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::GrayI32>(w, h, &i32s),
+    );
+    let f32s: Vec<f32> = (0..n).map(|i| i as f32 * 0.1 - 0.7).collect();
+    expect(
+        f32s.iter().map(|&v| f64::from(v)).collect(),
+        encode::<colortype::Gray32Float>(w, h, &f32s),
+    );
+    let f64s: Vec<f64> = (0..n).map(|i| i as f64 * 0.1 - 1e9).collect();
+    expect(f64s.clone(), encode::<colortype::Gray64Float>(w, h, &f64s));
+}
+
+#[test]
+fn nan_cells_are_missing_even_without_a_nodata_tag() {
+    let mut values = vec![1.0f32; 16];
+    values[5] = f32::NAN;
+    values[6] = f32::INFINITY;
+    let hf = parse(&encode::<colortype::Gray32Float>(4, 4, &values)).unwrap();
+    assert_eq!(hf.filled(), 2);
+    assert!(hf.z().iter().all(|&v| v == 1.0));
+    let err = parse(&encode::<colortype::Gray32Float>(2, 2, &[f32::NAN; 4])).unwrap_err();
+    assert!(err.to_string().contains("every cell is nodata"), "{err}");
+}
+
+#[test]
+fn a_grid_size_resamples_by_area_averaging() {
+    let options = ImportOptions {
+        grid_size: Some((44, 31)),
+        ..ImportOptions::default()
+    };
+    let path = data("volcano_87x61_int16_lzw_nodata.tif");
+    let full = heightfield::load(&path).unwrap();
+    let small = heightfield::load_with(&path, &options).unwrap();
+    assert_eq!((small.width(), small.height()), (44, 31));
+    // Same extent: the spacing doubles exactly (86/43, 60/30), the corners stay put.
+    assert_eq!(small.spacing(), [20.0, 20.0]);
+    assert_eq!(small.origin(), full.origin());
+    // Each inner point is the cell mean of the full grid: weights ½, 1, ½ in each direction.
+    let (x, y) = (10, 7);
+    let mut sum = 0.0;
+    for (dy, wy) in [(-1i64, 0.5), (0, 1.0), (1, 0.5)] {
+        for (dx, wx) in [(-1i64, 0.5), (0, 1.0), (1, 0.5)] {
+            let z = full.z_at((2 * x + dx) as usize, (2 * y + dy) as usize);
+            sum += wx * wy * z;
+        }
+    }
+    assert!((small.z_at(x as usize, y as usize) - sum / 4.0).abs() < 1e-9);
+    assert!(
+        small.source().contains("area averaging"),
+        "{}",
+        small.source()
+    );
+    assert_eq!(small.filled(), 14);
+}
+
+#[test]
+fn an_oversized_grid_is_resampled_to_fit() {
+    // One sample over the 16 384-per-side limit, and cheap: 16 385 × 2.
+    let (w, h) = (16_385u32, 2u32);
+    let values: Vec<u8> = (0..w * h).map(|i| (i % 251) as u8).collect();
+    let bytes = encode::<colortype::Gray8>(w, h, &values);
+    let hf = parse(&bytes).unwrap();
+    assert_eq!(hf.width(), 257);
+    assert_eq!(hf.height(), 2);
+    assert!(
+        hf.source().contains("over the size limit"),
+        "{}",
+        hf.source()
+    );
+    // Asked-for sizes are checked against the grid limits.
+    let options = ImportOptions {
+        grid_size: Some((1, 5)),
+        ..ImportOptions::default()
+    };
+    let err = heightfield::from_bytes("dem.tif", &bytes, None, &options).unwrap_err();
+    assert!(err.to_string().contains("at least 2×2"), "{err}");
+}
+
+#[test]
+fn a_header_over_the_sample_limit_is_refused_before_decoding() {
+    // A valid 8-bit image whose width field is then raised: the limit check comes first.
+    let mut bytes = encode::<colortype::Gray8>(4, 4, &[0u8; 16]);
+    let side = (MAX_SOURCE_POINTS as f64).sqrt() as u32 * 2;
+    // Patch the ImageWidth and ImageLength entries (tags 256 and 257) in the directory.
+    let ifd = u32::from_le_bytes(bytes[4..8].try_into().unwrap()) as usize;
+    let count = u16::from_le_bytes([bytes[ifd], bytes[ifd + 1]]) as usize;
+    for e in 0..count {
+        let at = ifd + 2 + 12 * e;
+        let tag = u16::from_le_bytes([bytes[at], bytes[at + 1]]);
+        let kind = u16::from_le_bytes([bytes[at + 2], bytes[at + 3]]);
+        if tag == 256 || tag == 257 {
+            match kind {
+                3 => bytes[at + 8..at + 10].copy_from_slice(&(side as u16).to_le_bytes()),
+                _ => bytes[at + 8..at + 12].copy_from_slice(&side.to_le_bytes()),
+            }
+        }
+    }
+    let err = parse(&bytes).unwrap_err();
+    assert!(matches!(err, ImportError::OverLimit { .. }), "{err}");
+}
+
+#[test]
+fn truncated_and_garbage_bytes_are_errors_not_panics() {
+    let names = [
+        "volcano_87x61_int16_lzw_nodata.tif",
+        "jacksboro_65x65_float32_tiled_deflate.tif",
+        "camera_33x33_float64.tif",
+        "volcano_87x61_uint16_packbits.tif",
+    ];
+    for name in names {
+        let bytes = std::fs::read(data(name)).unwrap();
+        // (The last bytes of a GDAL file may be padding, so cuts stop at half the file.)
+        for cut in [0, 3, 8, 20, 100, bytes.len() / 2] {
+            match parse(&bytes[..cut]) {
+                Ok(_) => panic!("{name} cut at {cut} was read"),
+                Err(e) => assert!(e.to_string().contains("GeoTIFF") || cut < 4, "{e}"),
+            }
+        }
+        // Flipped bytes anywhere: an error or a grid, never a panic.
+        let mut state = 0x2545F491u32;
+        for _ in 0..300 {
+            let mut damaged = bytes.clone();
+            for _ in 0..4 {
+                state ^= state << 13;
+                state ^= state >> 17;
+                state ^= state << 5;
+                let at = state as usize % damaged.len();
+                damaged[at] ^= (state >> 24) as u8 | 1;
+            }
+            let _ = parse(&damaged);
+        }
+    }
+    let err = parse(b"II*\0garbage").map(|_| ()).unwrap_err();
+    assert!(err.to_string().contains("GeoTIFF"), "{err}");
+}
