@@ -14,6 +14,18 @@ pub fn fixture(name: &str) -> Heightfield {
     heightfield::load(&path).unwrap_or_else(|e| panic!("fixture {name}: {e}"))
 }
 
+/// The side of the benches' large generated grid: 257, or 65 when the bench runs as a test.
+/// `cargo test --all-targets` (CI) runs every bench once to check that it works, in a debug
+/// build, where greedy insertion and decimation of 257×257 points take most of a minute; the
+/// check needs only that the code runs. `cargo bench` passes `--bench`.
+pub fn large_size() -> usize {
+    if std::env::args().any(|a| a == "--bench") {
+        257
+    } else {
+        65
+    }
+}
+
 /// The name of [`synthetic_terrain`]'s grid of `size`×`size` points, as the benches report it.
 pub fn synthetic_name(size: usize) -> String {
     format!("synthetic_{size}x{size}")
