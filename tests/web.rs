@@ -1267,7 +1267,7 @@ mod curated_examples {
             };
             surfaces.push(name.clone());
         }
-        // A terrain, a face-like relief and a range scan, as the issue asks.
+        // The examples cover a terrain, a face-like relief and a range scan.
         for wanted in ["jacksboro_65x65", "camera_65x65", "bunny_65x65"] {
             assert!(surfaces.iter().any(|s| s == wanted), "{wanted}");
         }
