@@ -1,5 +1,5 @@
 //! `paretomesh experiment GRID... [--budget equal|per-weight] [--evals 17400 | --gens 50]
-//! [--pop 100] [--runs 10] [--weighted-runs 1] [--seed S] [--methods nsga2,weighted,…]
+//! [--pop 100] [--runs 10] [--weighted-runs N] [--seed S] [--methods nsga2,weighted,…]
 //! [--external NAME=FILE[,NAME=FILE…]]… [--reference E,T] [--threads N] --out DIR`:
 //! the protocol on every input, on every core, then report.md, fronts-<name>.svg and
 //! results.json in DIR. And `paretomesh report RESULTS --out DIR`: the report and figures again
@@ -29,9 +29,11 @@ pub struct ExperimentArgs {
     /// Runs of NSGA-II (deterministic methods run once).
     #[arg(long, default_value_t = 10)]
     runs: usize,
-    /// Runs of the weighted-sum GA, each a sweep over its 11 weights (the paper: one sweep).
-    #[arg(long, default_value_t = 1)]
-    weighted_runs: usize,
+    /// Runs of the weighted-sum GA, each a sweep over its 11 weights [default: --runs with
+    /// --budget equal, where a sweep costs one NSGA-II run; 1 with --budget per-weight, the
+    /// paper's one sweep].
+    #[arg(long)]
+    weighted_runs: Option<usize>,
     /// Run k of a stochastic method uses seed SEED + k.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -49,12 +51,8 @@ pub struct ExperimentArgs {
     /// GA generations with `--budget per-weight` [default: 50].
     #[arg(long)]
     gens: Option<usize>,
-    /// Comma-separated methods to compare, in table order.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "nsga2,weighted,decimation,greedy"
-    )]
+    /// Comma-separated methods to compare, in table order [default: every method].
+    #[arg(long, value_delimiter = ',')]
     methods: Vec<String>,
     /// Fronts made by other tools, one option per grid in grid order, each NAME=FILE,…: FILE is
     /// a front.json, a JSON list of {vertices: [grid indices], triangles: [[a, b, c], …]}
@@ -293,13 +291,19 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
     let start = Instant::now();
     let (budget, generations) = budget(args)?;
     let settings = Settings {
-        methods: args
-            .methods
-            .iter()
-            .map(|m| Method::parse(m))
-            .collect::<Result<_, _>>()?,
+        methods: if args.methods.is_empty() {
+            Method::ALL.to_vec()
+        } else {
+            args.methods
+                .iter()
+                .map(|m| Method::parse(m))
+                .collect::<Result<_, _>>()?
+        },
         runs: args.runs,
-        weighted_runs: args.weighted_runs,
+        weighted_runs: args.weighted_runs.unwrap_or(match budget {
+            Budget::Equal { .. } => args.runs,
+            Budget::PerWeight => 1,
+        }),
         seed: args.seed,
         population: args.pop,
         generations,

@@ -5,9 +5,10 @@
 //!   ([`run_seed`]).
 //! - The weighted-sum GA: one *run* is one sweep over all 11 weights w = 0, 0.1, …, 1 — 11 GA
 //!   runs inside one [`WeightedSum`](crate::evolution::WeightedSum) optimizer, whose 11 best
-//!   solutions make that run's front. [`Settings::weighted_runs`] sweeps are run (default 1,
-//!   the paper's "once per weight"); with one sweep its HVR has no spread and the rank-sum test
-//!   against it is not applicable (marked `n/a`).
+//!   solutions make that run's front. [`Settings::weighted_runs`] sweeps are run: as many as
+//!   NSGA-II's runs at equal budgets, one (the paper's "once per weight") at per-weight budgets,
+//!   where a sweep costs about 11 NSGA-II runs. With one sweep its HVR has no spread and the
+//!   rank-sum test against it is not applicable (marked `n/a`).
 //! - The GA budget ([`Budget`]): by default every GA run, whatever the method, stops after the
 //!   same number of evaluations, so that the methods are compared at equal cost; the weighted-sum
 //!   GA shares them between its weights. [`Budget::PerWeight`] is the paper's budget instead:
@@ -57,7 +58,7 @@ pub enum Budget {
 }
 
 impl Budget {
-    /// The budget results.json files written before budgets were chosen were run with.
+    /// What a results.json that names no budget was run with: the paper's per-weight budget.
     fn per_weight() -> Budget {
         Budget::PerWeight
     }
@@ -70,7 +71,9 @@ pub struct Settings {
     pub methods: Vec<Method>,
     /// Runs of NSGA-II. Paper: 10.
     pub runs: usize,
-    /// Runs of the weighted-sum GA, each a sweep over its 11 weights. Paper: 1.
+    /// Runs of the weighted-sum GA, each a sweep over its 11 weights. Paper: 1 (with
+    /// per-weight budgets a sweep costs about 11 NSGA-II runs); at equal budgets a sweep costs
+    /// one NSGA-II run, so it gets as many runs as NSGA-II by default.
     pub weighted_runs: usize,
     /// Run k of a stochastic method uses seed `seed + k`; also seeds the trade-off picks.
     pub seed: u64,
@@ -86,14 +89,14 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// The paper's settings at equal budgets: every method, 10 NSGA-II runs, one weighted-sum
-    /// sweep, seed 1, population 100, [`DEFAULT_EQUAL_EVALUATIONS`] per GA run (50 generations
-    /// under [`Budget::PerWeight`]), reference point (1.1, 1.1).
+    /// The paper's settings at equal budgets: every method, 10 runs of each GA, seed 1,
+    /// population 100, [`DEFAULT_EQUAL_EVALUATIONS`] per GA run (50 generations under
+    /// [`Budget::PerWeight`]), reference point (1.1, 1.1).
     fn default() -> Self {
         Settings {
             methods: Method::ALL.to_vec(),
             runs: 10,
-            weighted_runs: 1,
+            weighted_runs: 10,
             seed: 1,
             population: 100,
             generations: 50,
@@ -385,8 +388,8 @@ mod tests {
             ]
         );
         assert!(jobs[7..].iter().all(|j| j.dataset == 1));
-        // The paper's protocol: 10 NSGA-II runs, one weighted-sum sweep.
-        assert_eq!(plan(1, &Settings::default()).len(), 13);
+        // Equal budgets: 10 runs of each GA, then the two deterministic methods.
+        assert_eq!(plan(1, &Settings::default()).len(), 22);
     }
 
     #[test]

@@ -249,6 +249,10 @@ fn cell(text: &str) -> String {
     text.replace('|', "\\|").replace('\n', " ")
 }
 
+/// Refused meshes listed per outside front; a tool run on the wrong grid would otherwise list
+/// every mesh of its front.
+const LISTED_REFUSALS: usize = 20;
+
 /// The outside fronts: where each came from, how many meshes were read, kept and refused, and
 /// why.
 fn outside_fronts(w: &mut String, results: &Results) {
@@ -281,8 +285,15 @@ fn outside_fronts(w: &mut String, results: &Results) {
     for d in &results.datasets {
         for x in d.external.iter().filter(|x| !x.rejected.is_empty()) {
             let _ = writeln!(w, "\nRefused from {} on {}:\n", cell(&x.name), d.name);
-            for r in &x.rejected {
+            for r in x.rejected.iter().take(LISTED_REFUSALS) {
                 let _ = writeln!(w, "- {}: {}", cell(&r.mesh), cell(&r.reason));
+            }
+            if x.rejected.len() > LISTED_REFUSALS {
+                let _ = writeln!(
+                    w,
+                    "- and {} more (every one with its reason in results.json)",
+                    x.rejected.len() - LISTED_REFUSALS
+                );
             }
         }
     }
@@ -298,9 +309,7 @@ fn table_ii(w: &mut String, results: &Results, analysis: &Analysis) {
         Budget::PerWeight => {
             "all its runs together; a weighted-sum sweep is 11 GA runs, about the evaluations of 10 NSGA-II runs"
         }
-        Budget::Equal { .. } => {
-            "all its runs together; at equal budgets every GA's runs together cost the same per run"
-        }
+        Budget::Equal { .. } => "all its runs together: its runs × the budget per run",
     };
     let _ = writeln!(w, "\nHVR of each method's merged front ({merged_note}):\n");
     method_table(w, analysis, |m| format!("{:.4}", m.merged_hvr));
