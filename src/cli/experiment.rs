@@ -147,6 +147,25 @@ fn budget(args: &ExperimentArgs) -> Result<(Budget, usize), String> {
     }
 }
 
+/// One `--external` value: its (name, file) pairs.
+fn parse_external(text: &str) -> Result<Vec<(String, PathBuf)>, String> {
+    text.split(',')
+        .map(|part| {
+            let (name, file) = part
+                .split_once('=')
+                .map(|(n, f)| (n.trim(), f.trim()))
+                .filter(|(n, f)| !n.is_empty() && !f.is_empty())
+                .ok_or_else(|| format!("--external wants NAME=FILE[,NAME=FILE…], got {part:?}"))?;
+            if Method::parse(name).is_ok() {
+                return Err(format!(
+                    "the outside front {name:?} has a method's name; name it after its tool"
+                ));
+            }
+            Ok((name.to_string(), PathBuf::from(file)))
+        })
+        .collect()
+}
+
 /// `--external` options: per grid, the (name, file) pairs.
 fn external_specs(
     args: &ExperimentArgs,
@@ -161,28 +180,11 @@ fn external_specs(
             args.external.len()
         ));
     }
-    let specs =
-        args.external
-            .iter()
-            .map(|text| {
-                text.split(',')
-                .map(|part| {
-                    let (name, file) = part.split_once('=').filter(|(n, f)| {
-                        !n.trim().is_empty() && !f.trim().is_empty()
-                    }).ok_or_else(|| {
-                        format!("--external wants NAME=FILE[,NAME=FILE…], got {part:?}")
-                    })?;
-                    let name = name.trim().to_string();
-                    if Method::parse(&name).is_ok() {
-                        return Err(format!(
-                            "the outside front {name:?} has a method's name; name it after its tool"
-                        ));
-                    }
-                    Ok((name, PathBuf::from(file.trim())))
-                })
-                .collect::<Result<Vec<_>, String>>()
-            })
-            .collect::<Result<Vec<_>, String>>()?;
+    let specs = args
+        .external
+        .iter()
+        .map(|text| parse_external(text))
+        .collect::<Result<Vec<_>, String>>()?;
     let names = |v: &Vec<(String, PathBuf)>| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
     let first = names(&specs[0]);
     for (i, n) in first.iter().enumerate() {

@@ -393,6 +393,18 @@ mod tests {
     }
 
     #[test]
+    fn settings_without_a_budget_read_as_the_papers_per_weight_budget() {
+        let mut json = serde_json::to_value(Settings::default()).unwrap();
+        assert_eq!(
+            json["budget"],
+            serde_json::json!({"kind": "equal", "evaluations": DEFAULT_EQUAL_EVALUATIONS})
+        );
+        json.as_object_mut().unwrap().remove("budget");
+        let read: Settings = serde_json::from_value(json).unwrap();
+        assert_eq!(read.budget, Budget::PerWeight);
+    }
+
+    #[test]
     fn bad_settings_are_refused_with_a_reason() {
         let cases = [
             Settings {
@@ -413,6 +425,10 @@ mod tests {
             },
             Settings {
                 reference_point: [f64::NAN, 1.1],
+                ..Settings::default()
+            },
+            Settings {
+                budget: Budget::Equal { evaluations: 10 },
                 ..Settings::default()
             },
         ];

@@ -66,9 +66,18 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
             registry::ga_runs_per_run(Method::Weighted)
         ),
     };
+    let times = |n: usize| {
+        if n == 1 {
+            "once".to_string()
+        } else {
+            format!("{n} times")
+        }
+    };
     p.push_str(&format!(
-        " NSGA-II runs {} time(s) and the weighted-sum GA {} time(s) (run k with seed {} + k); decimation and greedy insertion are deterministic, stop by their own rule and run once.",
-        s.runs, s.weighted_runs, s.seed
+        " NSGA-II runs {} and the weighted-sum GA {} (run k with seed {} + k); decimation and greedy insertion are deterministic, stop by their own rule and run once.",
+        times(s.runs),
+        times(s.weighted_runs),
+        s.seed
     ));
     if has_external {
         p.push_str(" Outside fronts were made by other tools at budgets this experiment does not control; each is re-scored here and counts as a single run, so its std and rank-sum tests are n/a.");
@@ -89,7 +98,7 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
     }
     let _ = writeln!(
         w,
-        "The protocol of the source paper, run by `paretomesh experiment`. Every run's front is in `results.json`; every number below can be recomputed from it.\n"
+        "The source paper's protocol at the budget below, run by `paretomesh experiment`. Every run's front is in `results.json`; every number below can be recomputed from it.\n"
     );
     let has_external = results.datasets.iter().any(|d| !d.external.is_empty());
     let _ = writeln!(w, "## Protocol\n");
