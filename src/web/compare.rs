@@ -20,8 +20,8 @@ use super::algorithms::{Algorithm, Params};
 use super::app::{App, RunConfig, Status, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
-    Analysis, DatasetResults, GridSummary, Method, MethodRuns, Pick, RESULTS_FORMAT, Results,
-    RunRecord, Scales, Settings,
+    Analysis, Budget, DatasetResults, GridSummary, Method, MethodRuns, Pick, RESULTS_FORMAT,
+    Results, RunRecord, Scales, Settings,
 };
 use crate::front::{Front, Solution};
 use crate::metrics::{DEFAULT_REFERENCE_POINT, Normalization, Point};
@@ -325,6 +325,7 @@ impl CompareRun {
                 seed: self.params.seed,
                 population: self.params.population,
                 generations: self.params.generations,
+                budget: Budget::PerWeight,
                 reference_point: DEFAULT_REFERENCE_POINT,
             },
             datasets: vec![DatasetResults {
@@ -340,8 +341,10 @@ impl CompareRun {
                     t_scale: n.t_scale(),
                 },
                 methods,
+                external: Vec::new(),
             }],
             timings: None,
+            command: None,
         })
     }
 
