@@ -22,7 +22,7 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use paretomesh::{
-    evaluator::{Evaluator, MeshState, PartClasses, triangulation::Triangulation as Mesh},
+    evaluator::{Evaluator, MeshState, PartClasses, Triangulation as Mesh},
     heightfield,
 };
 use rand::{RngExt, SeedableRng};

@@ -5,7 +5,7 @@
 //! debug build.
 
 use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
-use paretomesh::evaluator::{Evaluator, incremental::canonical_set};
+use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::evolution::objectives::Objectives;
 use paretomesh::evolution::{
     CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,

@@ -18,10 +18,10 @@
 use super::ParamsError;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
-use crate::evaluator::incremental::canonical;
-use crate::evaluator::predicates::{self, GridPoint};
+use crate::evaluator::exact::predicates::{self, GridPoint};
+use crate::evaluator::mesh::canonical_form::canonical;
+use crate::evaluator::mesh::canonical_triangulation::Triangulation;
 use crate::evaluator::raster::Grid;
-use crate::evaluator::triangulation::Triangulation;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -394,7 +394,7 @@ impl GreedyInsertion {
     /// The exact reduction of E_sum if grid point `p`, owned by triangle `t`, were inserted:
     /// Σ over its Delaunay cavity of the cached sums minus Σ over the fan of new triangles.
     pub(crate) fn exact_gain(&mut self, t: u32, p: u32) -> f64 {
-        use crate::evaluator::triangulation::{NONE, next};
+        use crate::evaluator::mesh::canonical_triangulation::{NONE, next};
         let q = self.point(p);
         let mut cavity = std::mem::take(&mut self.changed);
         cavity.clear();

@@ -17,10 +17,11 @@
 use super::{PartScores, RowScratch, class_of, on_grid_border, score_from_scratch, score_of};
 use crate::evaluator::Score;
 use crate::evaluator::compose::PartClasses;
-use crate::evaluator::errors::{ErrorTotals, ErrorUnits};
-use crate::evaluator::incremental::{MeshState, canonical};
-use crate::evaluator::predicates::{Lattice, in_circle};
-use crate::evaluator::triangulation::{NONE, next};
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::predicates::{Lattice, in_circle};
+use crate::evaluator::mesh::canonical_form::canonical;
+use crate::evaluator::mesh::canonical_triangulation::{NONE, next};
+use crate::evaluator::mesh::state::MeshState;
 use crate::heightfield::Heightfield;
 
 /// Changes to a crossover child's kept points: `removed` ones it keeps (not grid corners) and
@@ -35,7 +36,7 @@ pub struct Changes<'a> {
 
 /// Scratch of [`PartScores::change`], kept between calls.
 #[derive(Clone, Debug, Default)]
-pub(super) struct ChangeScratch {
+pub(crate) struct ChangeScratch {
     /// The reused triangles the changes drop: (parent, slot).
     dropped: Vec<(usize, u32)>,
     /// The triangles of a cavity search, seen so far, and those still to visit.
@@ -50,7 +51,7 @@ impl PartScores {
     /// of the child with the classes `scratch.taken` into the mutant's (see the module docs).
     /// `None` when a parent's mesh is not as its classification says.
     #[allow(clippy::too_many_arguments)] // the parents, their classification, the child, scratch
-    pub(super) fn change(
+    pub(crate) fn change(
         &self,
         hf: &Heightfield,
         parents: [&MeshState; 2],
@@ -245,7 +246,7 @@ fn start_near(parent: &MeshState, q: u32) -> u32 {
 /// see the module docs); they are R, which is tiled and rasterised. `None` when `base`'s
 /// lookups are stale ([`MeshState::ensure_discs`]), when a removed point is a corner or not
 /// kept, an inserted one is kept or out of range, or a guard fails (score it another way).
-pub(in crate::evaluator) fn score_mutant(
+pub(crate) fn score_mutant(
     hf: &std::sync::Arc<Heightfield>,
     base: &MeshState,
     changes: Changes<'_>,

@@ -8,9 +8,9 @@
 //! ones spares the raster of each repeat: a probe costs a few dozen instructions, a raster
 //! hundreds.
 
-use super::errors::{ErrorTotals, ErrorUnits};
-use super::incremental::grid_of;
-use super::predicates::Lattice;
+use super::grid_of;
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::predicates::Lattice;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 

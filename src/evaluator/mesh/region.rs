@@ -37,8 +37,8 @@
 //! of that triangulation lies outside R. Wrapping makes only R's triangles, each after a search
 //! of the grid near its edge.
 
-use super::predicates::{GridPoint, Lattice, in_circle};
-use super::triangulation::NONE;
+use super::canonical_triangulation::NONE;
+use crate::evaluator::exact::predicates::{GridPoint, Lattice, in_circle};
 use std::ops::Range;
 
 /// Marks a [`Region::twins`] entry that is a boundary edge: the low bits are its index in the
@@ -869,7 +869,7 @@ fn on_border(p: GridPoint, q: GridPoint, width: usize, height: usize) -> bool {
 /// Calls `visit` with every grid point set in `bits` (bit `i` of word `i / 64`) inside the
 /// half-open rectangle `[x0, y0, x1, y1]` of a grid `width` wide, row by row, until it returns
 /// true; returns whether it did.
-pub(super) fn for_each_in(
+pub(crate) fn for_each_in(
     bits: &[u64],
     width: usize,
     [x0, y0, x1, y1]: [i64; 4],
@@ -1059,8 +1059,8 @@ impl EdgeTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::evaluator::incremental::canonical_set;
-    use crate::evaluator::triangulation::{Triangulation, next};
+    use crate::evaluator::mesh::canonical_form::canonical_set;
+    use crate::evaluator::mesh::canonical_triangulation::{Triangulation, next};
     use rand::{RngExt, SeedableRng};
     use rand_pcg::Pcg64Mcg;
 

@@ -9,7 +9,7 @@
 //! from `vertices[e]` to `vertices[next(e)]`; `twin[e]` is the opposite half-edge or [`NONE`] on
 //! the grid border. Triangles are counter-clockwise (x right, y up).
 
-use super::predicates::{self, GridPoint, Lattice};
+use crate::evaluator::exact::predicates::{self, GridPoint, Lattice};
 use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 
 /// Spade triangulates the points sheared to (x + y·SHEAR, y). Why: grid points are very often
@@ -287,7 +287,7 @@ fn tie_half(halves: &[Half], edges: [u32; 4]) -> bool {
 /// point per 8×8 cell (c < 8, about 12 % kept) keep the rows. The bands come from a counting
 /// sort, stable, so a cell's points stay in row order.
 #[derive(Clone, Debug, Default)]
-pub(super) struct InsertionOrder {
+pub(crate) struct InsertionOrder {
     /// The points in insertion order (unused when the groups index `kept` itself).
     points: Vec<u32>,
     /// Each group as a range of the points.
@@ -319,7 +319,7 @@ impl InsertionOrder {
     /// Plans the insertion of `kept` (increasing grid indices, repeats allowed), whose bounding
     /// box is `[x0, y0, x1, y1]`: the sequence of points and the ranges of its groups, in
     /// insertion order.
-    pub(super) fn plan<'a>(
+    pub(crate) fn plan<'a>(
         &'a mut self,
         lattice: Lattice,
         kept: &'a [u32],
@@ -431,7 +431,7 @@ impl Clone for Triangulation {
 /// meshes of a few triangles and of thousands; grown by doubling (and copied on each growth),
 /// each kept room for the largest it ever held, twice over, and the pool took about four times
 /// the memory its meshes use, most of the run's page faults.
-pub(super) fn fit<T>(v: &mut Vec<T>, len: usize) {
+pub(crate) fn fit<T>(v: &mut Vec<T>, len: usize) {
     if v.capacity() < len || v.capacity() > 2 * len + 256 {
         *v = Vec::with_capacity(len + len / 8 + 64);
     }
@@ -439,7 +439,7 @@ pub(super) fn fit<T>(v: &mut Vec<T>, len: usize) {
 }
 
 /// `dst` made a copy of `src`, in a buffer [`fit`] for it.
-pub(super) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
+pub(crate) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
     fit(dst, src.len());
     dst.extend_from_slice(src);
 }
@@ -447,7 +447,7 @@ pub(super) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
 impl Triangulation {
     /// Empties `self` for triangles of points on a grid `width` wide, to be filled by hand
     /// (scratch buffers kept).
-    pub(super) fn clear_for(&mut self, width: usize) {
+    pub(crate) fn clear_for(&mut self, width: usize) {
         self.lattice = Lattice::new(width);
         self.vertices.clear();
         self.twin.clear();
@@ -706,7 +706,7 @@ impl Triangulation {
     /// when `claim` takes it (`claim` returns false for a triangle already claimed). Used to
     /// find the triangles of a sub-triangulation that lie in a region, from the region's
     /// boundary edges.
-    pub(super) fn flood(
+    pub(crate) fn flood(
         &self,
         inside: &mut Vec<u32>,
         wall: impl Fn(u32) -> bool,
@@ -896,9 +896,43 @@ impl Triangulation {
     }
 }
 
+/// The half-edge of `mesh` from the origin of its half-edge `leaving` to `to`, by walking that
+/// origin's fan from `leaving`: counter-clockwise, then, past the border, clockwise. (Not from
+/// the fan's first half-edge, which for an inner vertex means walking the whole fan first: the
+/// walk is a chain of dependent reads, a third of a crossover's preparation.)
+pub(crate) fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
+    if leaving == NONE {
+        return None;
+    }
+    let ends_at_to = |e: u32| mesh.vertices[next(e) as usize] == to;
+    // Counter-clockwise, then clockwise (from the half-edge before `leaving`).
+    for (step, start) in [
+        (
+            Triangulation::fan_next as fn(&Triangulation, u32) -> u32,
+            leaving,
+        ),
+        (Triangulation::fan_prev, mesh.fan_prev(leaving)),
+    ] {
+        let mut at = start;
+        while at != NONE {
+            if ends_at_to(at) {
+                return Some(at);
+            }
+            at = step(mesh, at);
+            if at == leaving {
+                // Once around an inner vertex: no such edge.
+                return None;
+            }
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluator::mesh::canonical_form::canonical as rotate_min_first;
+    use crate::evaluator::test_grids::random_subset;
     use rand::{RngExt, SeedableRng};
 
     /// [`Triangulation::insert_all`] as it reads with `walk` and `insert_point` on the half-edge
@@ -1032,6 +1066,112 @@ mod tests {
             }
             sequence.sort_unstable();
             assert_eq!(sequence, kept, "{fraction}: every point once");
+        }
+    }
+
+    /// The triangulation depends on the point set only, not on the order it is given in.
+    #[test]
+    fn triangulation_ignores_insertion_order() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(9);
+        // A 9×9 grid with every point kept is full of co-circular squares: a stress test for ties.
+        let width = 9;
+        for fraction in [1.0, 0.5, 0.25] {
+            let mut kept: Vec<u32> = random_subset(81, fraction, &mut rng);
+            kept.extend([0, 8, 72, 80]);
+            kept.sort_unstable();
+            kept.dedup();
+            let mut canonical = Triangulation::default();
+            canonical.rebuild_delaunay(width, &kept);
+            let mut expected = canonical
+                .triangles()
+                .into_iter()
+                .map(rotate_min_first)
+                .collect::<Vec<_>>();
+            expected.sort_unstable();
+            for _ in 0..5 {
+                let mut shuffled = kept.clone();
+                for i in (1..shuffled.len()).rev() {
+                    shuffled.swap(i, rng.random_range(0..=i));
+                }
+                let mut t = Triangulation::default();
+                t.rebuild_delaunay(width, &shuffled);
+                let mut got = t
+                    .triangles()
+                    .into_iter()
+                    .map(rotate_min_first)
+                    .collect::<Vec<_>>();
+                got.sort_unstable();
+                assert_eq!(got, expected, "fraction {fraction}");
+            }
+        }
+    }
+
+    /// Lawson insertion ([`Triangulation::insert_all`], what the evaluator uses) and spade's bulk
+    /// load with legalisation ([`Triangulation::rebuild_with_spade`]) are independent algorithms:
+    /// they must give the same canonical triangles on every point set, from sparse to the full grid
+    /// (full of co-circular squares), with points on the box's border, and on a box smaller than the
+    /// grid. Without the box's four corners, `insert_all` declines and the spade path is taken.
+    #[test]
+    fn insertion_and_spade_build_the_same_triangulation() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(21);
+        let canonical = |t: &Triangulation| {
+            let mut v: Vec<_> = t.triangles().into_iter().map(rotate_min_first).collect();
+            v.sort_unstable();
+            v
+        };
+        for (width, height) in [(2usize, 2usize), (9, 9), (17, 5), (33, 33), (65, 40)] {
+            let n = width * height;
+            for fraction in [0.0, 0.03, 0.1, 0.3, 0.7, 1.0] {
+                // The whole grid's box, then a box from (1, 1) to (width − 2, height − 1) when the
+                // grid is big enough: its corners kept, only points inside it.
+                let mut boxes = vec![(0, 0, width - 1, height - 1)];
+                if width > 3 && height > 3 {
+                    boxes.push((1, 1, width - 2, height - 1));
+                }
+                for (x0, y0, x1, y1) in boxes {
+                    let inside = |i: u32| {
+                        let (x, y) = (i as usize % width, i as usize / width);
+                        (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+                    };
+                    let mut kept: Vec<u32> = random_subset(n, fraction, &mut rng)
+                        .into_iter()
+                        .filter(|&i| inside(i))
+                        .collect();
+                    kept.extend(
+                        [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
+                            .map(|(x, y)| (y * width + x) as u32),
+                    );
+                    kept.sort_unstable();
+                    kept.dedup();
+                    let (mut by_insertion, mut by_spade) =
+                        (Triangulation::default(), Triangulation::default());
+                    assert!(by_insertion.insert_all(width, &kept));
+                    by_spade.rebuild_with_spade(width, &kept);
+                    assert_eq!(
+                        canonical(&by_insertion),
+                        canonical(&by_spade),
+                        "{width}×{height}, {fraction} kept, box {:?}",
+                        (x0, y0, x1, y1)
+                    );
+                    // A repeated point changes nothing.
+                    if let Some(&again) = kept.get(kept.len() / 2) {
+                        let mut repeated = kept.clone();
+                        repeated.push(again);
+                        let mut with_repeat = Triangulation::default();
+                        assert!(with_repeat.insert_all(width, &repeated));
+                        assert_eq!(canonical(&with_repeat), canonical(&by_spade));
+                    }
+                    // Without a corner of its box the set is refused, and rebuild_delaunay falls
+                    // back to spade.
+                    if kept.len() > 4 {
+                        let without = &kept[1..];
+                        assert!(!by_insertion.insert_all(width, without));
+                        by_insertion.rebuild_delaunay(width, without);
+                        by_spade.rebuild_with_spade(width, without);
+                        assert_eq!(canonical(&by_insertion), canonical(&by_spade));
+                    }
+                }
+            }
         }
     }
 }

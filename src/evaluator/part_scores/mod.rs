@@ -29,19 +29,21 @@
 //! from 15 µs to 3 µs; a crossover, which has 7 rows or more, prepares them in the pass that
 //! finds the candidate edges.)
 
-use super::Score;
-use super::compose::{PartClasses, counted_in, next_stamp, overlap};
-use super::errors::{ErrorTotals, ErrorUnits};
-use super::incremental::{MeshState, canonical, edge_from, grid_of};
-use super::predicates::Lattice;
-use super::region::Region;
-use super::triangle_memo::TriangleMemo;
-use super::triangulation::{NONE, Triangulation, next};
+use crate::evaluator::Score;
+use crate::evaluator::compose::{PartClasses, counted_in, next_stamp, overlap};
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::predicates::Lattice;
+use crate::evaluator::mesh::canonical_form::canonical;
+use crate::evaluator::mesh::canonical_triangulation::{NONE, Triangulation, edge_from, next};
+use crate::evaluator::mesh::region::Region;
+use crate::evaluator::mesh::state::MeshState;
+use crate::evaluator::raster::grid_of;
+use crate::evaluator::raster::triangle_memo::TriangleMemo;
 use crate::heightfield::Heightfield;
 
 mod changes;
 pub use changes::Changes;
-pub(super) use changes::score_mutant;
+pub(crate) use changes::score_mutant;
 
 /// A class of parent triangles (see the module docs) and the totals of its triangles.
 #[derive(Clone, Copy, Debug)]
@@ -216,7 +218,7 @@ pub struct RowScratch {
     unknown: Vec<((), [u32; 3])>,
     /// The totals of the latest R triangles, of rows and compositions (see
     /// [`TriangleMemo`]).
-    pub(super) memo: TriangleMemo,
+    pub(crate) memo: TriangleMemo,
     /// A child built from scratch (when it reuses nothing).
     sub: Triangulation,
     /// Scratch of [`PartScores::change`].

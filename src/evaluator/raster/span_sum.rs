@@ -16,8 +16,8 @@
 //! so the wrapping sums are exact.
 
 #[cfg(target_arch = "x86_64")]
-use super::errors::ROUNDER;
-use super::errors::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::fixed_point::ROUNDER;
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 
 /// A way to sum spans (see the module docs). `Sums` are one triangle's running sums, `Step` a
 /// triangle's per-span constants.
