@@ -78,11 +78,6 @@ enum Labels<'a> {
     Parts(&'a PartClasses, u32),
 }
 
-/// Is `s` scored on `hf` with its disc boxes filled?
-fn composable(s: &MeshState, hf: &Arc<Heightfield>) -> bool {
-    s.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf)) && s.score.is_some() && s.discs_valid
-}
-
 impl MeshState {
     /// Makes `self` the scored mesh of the child that keeps `a`'s kept points where `from_b`
     /// is clear and `b`'s where it is set (`from_b` a bitset over the grid indices, bit `i` of
@@ -145,7 +140,7 @@ impl MeshState {
             Labels::Bits(from_b) => from_b.len() >= n.div_ceil(64),
             Labels::Parts(classes, _) => classes.is_for(a, b) && classes.part.len() == n,
         };
-        if !labels_fit || !composable(a, hf) || !composable(b, hf) {
+        if !labels_fit || !a.is_composable_on(hf) || !b.is_composable_on(hf) {
             return None;
         }
         let parents = [a, b];

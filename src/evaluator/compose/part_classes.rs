@@ -1,6 +1,5 @@
 //! Both parents' triangles classified once for all the children of one crossover.
 
-use super::composable;
 use super::spoiling::{
     Circumcircle, MAX_SEARCHED_BOX, contains_all, is_empty, overlap, spoils_bits,
 };
@@ -85,8 +84,8 @@ impl PartClasses {
         self.id = 0;
         let (w, h, n) = (hf.width(), hf.height(), hf.len());
         if parts.len() > Self::MAX_PARTS
-            || !composable(a, hf)
-            || !composable(b, hf)
+            || !a.is_composable_on(hf)
+            || !b.is_composable_on(hf)
             || !a.lookup_valid
             || !b.lookup_valid
         {

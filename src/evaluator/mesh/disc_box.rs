@@ -1,7 +1,6 @@
 //! The grid box of a triangle's circumcircle: where to look for points that would spoil it.
 
-use super::state::MeshState;
-use crate::evaluator::exact::predicates::{GridPoint, Lattice};
+use crate::evaluator::exact::predicates::GridPoint;
 
 /// The grid box of a triangle's circumcircle disc, clipped to the grid: columns `x0..=x1`, rows
 /// `y0..=y1`. Conservative: it holds every grid point on or inside the circle.
@@ -67,27 +66,5 @@ impl DiscBox {
             self.x1 as usize + 1,
             self.y1 as usize + 1,
         ]
-    }
-}
-
-impl MeshState {
-    /// Fills the disc boxes of this state's triangles, and its kept points' bitset and
-    /// summed-area table, if they are stale (a build or an edit leaves them so). A parent is
-    /// composed from many times, so this is paid once per parent.
-    pub fn ensure_discs(&mut self) {
-        let Some(hf) = self.hf.clone() else {
-            return;
-        };
-        let (w, h) = (hf.width(), hf.height());
-        if !self.discs_valid {
-            let lattice = Lattice::new(w);
-            self.discs.clear();
-            self.discs.extend((0..self.mesh.len()).map(|t| {
-                let p = self.mesh.triangle(t).map(|i| lattice.point(i));
-                DiscBox::of(p, w, h)
-            }));
-            self.discs_valid = true;
-        }
-        self.ensure_lookups();
     }
 }

@@ -139,6 +139,34 @@ impl MeshState {
             .expect("the grid rectangle is covered by the triangles")
     }
 
+    /// Fills the disc boxes of this state's triangles, and its kept points' bitset and
+    /// summed-area table, if they are stale (a build or an edit leaves them so). A parent is
+    /// composed from many times, so this is paid once per parent.
+    pub fn ensure_discs(&mut self) {
+        let Some(hf) = self.hf.clone() else {
+            return;
+        };
+        let (w, h) = (hf.width(), hf.height());
+        if !self.discs_valid {
+            let lattice = Lattice::new(w);
+            self.discs.clear();
+            self.discs.extend((0..self.mesh.len()).map(|t| {
+                let p = self.mesh.triangle(t).map(|i| lattice.point(i));
+                DiscBox::of(p, w, h)
+            }));
+            self.discs_valid = true;
+        }
+        self.ensure_lookups();
+    }
+
+    /// Is this state scored on `hf` with its disc boxes filled, ready to be a composition's
+    /// parent?
+    pub(crate) fn is_composable_on(&self, hf: &Arc<Heightfield>) -> bool {
+        self.hf.as_ref().is_some_and(|h| Arc::ptr_eq(h, hf))
+            && self.score.is_some()
+            && self.discs_valid
+    }
+
     /// Fills this state's kept points' bitset and summed-area table if they are stale (part of
     /// [`ensure_discs`](Self::ensure_discs), and all that
     /// [`Evaluator::score_mutant`](super::Evaluator::score_mutant) needs).

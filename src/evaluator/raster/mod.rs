@@ -9,6 +9,8 @@
 
 mod fresh_build;
 pub(crate) mod span_sum;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod span_sum_avx2;
 pub(crate) mod triangle_memo;
 
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
@@ -220,7 +222,7 @@ impl Grid<'_> {
         done: impl FnMut(Key, ErrorTotals),
     ) {
         #[cfg(target_arch = "x86_64")]
-        if let Some(k) = span_sum::Avx2::detect(units) {
+        if let Some(k) = span_sum_avx2::Avx2::detect(units) {
             // SAFETY: `detect` found AVX2 on this CPU.
             unsafe { self.sum_triangles_avx2(k, tris, done) };
             return;
@@ -237,7 +239,7 @@ impl Grid<'_> {
         tris: impl IntoIterator<Item = [GridPoint; 3]>,
     ) -> ErrorTotals {
         #[cfg(target_arch = "x86_64")]
-        if let Some(k) = span_sum::Avx2::detect(units) {
+        if let Some(k) = span_sum_avx2::Avx2::detect(units) {
             // SAFETY: `detect` found AVX2 on this CPU.
             return unsafe { self.sum_all_avx2(k, tris) };
         }
@@ -248,7 +250,7 @@ impl Grid<'_> {
     #[target_feature(enable = "avx2")]
     unsafe fn sum_all_avx2(
         &self,
-        k: span_sum::Avx2,
+        k: span_sum_avx2::Avx2,
         tris: impl IntoIterator<Item = [GridPoint; 3]>,
     ) -> ErrorTotals {
         self.sum_all_with(k, tris)
@@ -271,7 +273,7 @@ impl Grid<'_> {
     #[target_feature(enable = "avx2")]
     unsafe fn sum_triangles_avx2<Key>(
         &self,
-        k: span_sum::Avx2,
+        k: span_sum_avx2::Avx2,
         tris: impl IntoIterator<Item = (Key, [GridPoint; 3])>,
         done: impl FnMut(Key, ErrorTotals),
     ) {
