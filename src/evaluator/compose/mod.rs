@@ -33,6 +33,7 @@ mod spoiling;
 pub use part_classes::PartClasses;
 pub(crate) use spoiling::{counted_in, next_stamp, overlap};
 
+use crate::evaluator::Score;
 use crate::evaluator::exact::fixed_point::ErrorTotals;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::evaluator::mesh::canonical_triangulation::{NONE, edge_from, fit};
@@ -92,8 +93,8 @@ impl MeshState {
         b: &MeshState,
         from_b: &[u64],
         scratch: &mut ComposeScratch,
-    ) -> Option<super::Score> {
-        self.compose_with(hf, a, b, Labels::Bits(from_b), scratch, None)
+    ) -> Option<Score> {
+        self.compose_with(hf, [a, b], Labels::Bits(from_b), scratch, None)
     }
 
     /// [`compose`](Self::compose) for the child that takes each part of `classes` from `b`
@@ -111,30 +112,30 @@ impl MeshState {
         levels: u32,
         scratch: &mut ComposeScratch,
         memo: &mut TriangleMemo,
-    ) -> Option<super::Score> {
+    ) -> Option<Score> {
         self.compose_with(
             hf,
-            a,
-            b,
+            [a, b],
             Labels::Parts(classes, levels),
             scratch,
             Some(memo),
         )
     }
 
-    #[allow(clippy::needless_range_loop)] // slots and grid indices index several arrays at once
+    /// Composes the child of `parents` that `source` labels: marks its kept points, takes the
+    /// parents' triangles it keeps, and tiles and rasterises the region R they leave.
     fn compose_with(
         &mut self,
         hf: &Arc<Heightfield>,
-        a: &MeshState,
-        b: &MeshState,
+        parents: [&MeshState; 2],
         source: Labels<'_>,
         scratch: &mut ComposeScratch,
         memo: Option<&mut TriangleMemo>,
-    ) -> Option<super::Score> {
+    ) -> Option<Score> {
         self.score = None;
         self.hf = None;
         self.revision = 0;
+        let [a, b] = parents;
         let (w, h, n) = (hf.width(), hf.height(), hf.len());
         let labels_fit = match source {
             Labels::Bits(from_b) => from_b.len() >= n.div_ceil(64),
@@ -143,12 +144,55 @@ impl MeshState {
         if !labels_fit || !a.is_composable_on(hf) || !b.is_composable_on(hf) {
             return None;
         }
-        let parents = [a, b];
-        // Per grid point its label (one byte: read per triangle vertex and per point below),
-        // the child's kept marks, and for a bitset the labels' summed-area table (B labels in
-        // columns < x of rows < y at (y, x)), in one pass.
+        let vertices = self.label_child(parents, source, scratch, w, h);
+        // The child's triangle count, by Euler: a triangulation of the grid rectangle with V
+        // vertices, B of them on its border, has 2V − B − 2 triangles. It sizes the child's
+        // arrays, and guards the reasoning below (a leak or a gap would change the count).
+        let on_border = (0..w)
+            .flat_map(|x| [x, (h - 1) * w + x])
+            .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
+            .filter(|&i| self.kept[i])
+            .count();
+        let expected = (2 * vertices).checked_sub(on_border + 2)? as u32;
+        let taken = choose_taken(parents, &self.kept, source, scratch, w);
+        if taken == 0 {
+            // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled B): the
+            // child is built from scratch.
+            let kept: Vec<u32> = (0..n as u32).filter(|&i| self.kept[i as usize]).collect();
+            let score = self.rebuild(hf, &kept);
+            self.ensure_discs();
+            return Some(score);
+        }
+        let stamp = self.copy_taken(parents, scratch, w, n, expected, taken);
+        list_region_points(&self.kept, scratch, stamp, n);
+        let open_len = scratch.open.len();
+        if open_len == 0 {
+            // Nothing is new: the parents' triangles tile the grid (or the guard fails).
+            if taken != expected || !scratch.points.is_empty() {
+                return None;
+            }
+        } else {
+            self.tile_region(hf, scratch, memo, taken, expected)?;
+        }
+        self.hf = Some(hf.clone());
+        let score = self.finish(hf);
+        self.discs_valid = true;
+        Some(score)
+    }
+
+    /// Writes the child's kept marks and, for a bitset, each grid point's label and the
+    /// labels' summed-area table (B labels in columns < x of rows < y at (y, x)), in one pass;
+    /// returns the child's number of kept points.
+    fn label_child(
+        &mut self,
+        parents: [&MeshState; 2],
+        source: Labels<'_>,
+        scratch: &mut ComposeScratch,
+        w: usize,
+        h: usize,
+    ) -> usize {
         // Each entry is written once, in order: pushed, rather than zeroed first and then
-        // overwritten (a second pass over ≈30 KB per composition).
+        // overwritten (a second pass over the grid per composition).
         self.kept.clear();
         scratch.labels.clear();
         let sw = w + 1;
@@ -176,7 +220,7 @@ impl MeshState {
             Labels::Parts(classes, levels) => {
                 // Part by part, row by row: copies of the labelled parent's kept marks (the
                 // parts' labels decide which triangles are taken, so no label per point).
-                self.kept.resize(n, false);
+                self.kept.resize(w * h, false);
                 for (p, &[x0, y0, x1, y1]) in classes.rects.iter().enumerate() {
                     let l = (levels >> p) & 1;
                     let from = &parents[l as usize].kept;
@@ -188,99 +232,29 @@ impl MeshState {
                 vertices = self.kept.iter().map(|&k| usize::from(k)).sum();
             }
         }
-        // The child's triangle count, by Euler: a triangulation of the grid rectangle with V
-        // vertices, B of them on its border, has 2V − B − 2 triangles. It sizes the child's
-        // arrays, and guards the reasoning below (a leak or a gap would change the count).
-        let on_border = (0..w)
-            .flat_map(|x| [x, (h - 1) * w + x])
-            .chain((1..h - 1).flat_map(|y| [y * w, y * w + w - 1]))
-            .filter(|&i| self.kept[i])
-            .count();
-        let expected = (2 * vertices).checked_sub(on_border + 2)? as u32;
-        let labels = &scratch.labels;
-        let label = |i: u32| u64::from(labels[i as usize]);
-        let child_kept = &self.kept;
-        let kept_in_child = |i: u32| child_kept[i as usize];
-        let lattice = Lattice::new(w);
-        let sat = &scratch.sat;
-        let labelled_b = |d: &DiscBox| counted_in(sat, w, d.rect()) as usize;
+        vertices
+    }
 
-        // Which triangles of each parent the child keeps.
-        let mut next_slot = 0u32;
-        for side in 0..2 {
-            let parent = parents[side];
-            let m = &parent.mesh;
-            let (map, taken) = (&mut scratch.map[side], &mut scratch.taken[side]);
-            map.clear();
-            map.resize(m.len(), NONE);
-            taken.clear();
-            if let Labels::Parts(classes, levels) = source {
-                // The parts labelled for the other parent; a triangle is taken when the part
-                // of its smallest vertex is labelled for this one and none of its kill parts
-                // is labelled for the other (see `PartClasses`).
-                // (A classification has one to 32 parts.)
-                let all = u32::MAX >> (32 - classes.rects.len());
-                let other = if side == 0 { levels } else { !levels } & all;
-                let (first, kill) = (&classes.first[side], &classes.kill[side]);
-                // Without branches: which triangles a row takes follows the blocks, which the
-                // slot order does not.
-                taken.resize(m.len(), 0);
-                let mut count = 0usize;
-                for (t, (&f, &k)) in first.iter().zip(kill).enumerate() {
-                    let take = ((other >> f) & 1 == 0) & (k & other == 0);
-                    map[t] = if take { next_slot + count as u32 } else { NONE };
-                    taken[count] = t as u32;
-                    count += usize::from(take);
-                }
-                taken.truncate(count);
-                next_slot += count as u32;
-                continue;
-            }
-            for t in 0..m.len() {
-                let tri = m.triangle(t);
-                let first = tri[0].min(tri[1]).min(tri[2]);
-                if label(first) as usize != side || !tri.iter().all(|&v| kept_in_child(v)) {
-                    continue;
-                }
-                let disc = &parent.discs[t];
-                let b_points = labelled_b(disc);
-                let other = if side == 0 {
-                    b_points
-                } else {
-                    disc.area() - b_points
-                };
-                let keep = other == 0
-                    || (disc.area() <= MAX_SEARCHED_BOX
-                        && !spoils(tri, disc.rect(), lattice, w, |i| {
-                            label(i as u32) != side as u64 && kept_in_child(i as u32)
-                        }));
-                if keep {
-                    map[t] = next_slot;
-                    next_slot += 1;
-                    taken.push(t as u32);
-                }
-            }
-        }
-        if next_slot == 0 {
-            // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled B): the
-            // child is built from scratch.
-            let kept: Vec<u32> = (0..n as u32).filter(|&i| kept_in_child(i)).collect();
-            let score = self.rebuild(hf, &kept);
-            self.ensure_discs();
-            return Some(score);
-        }
-
-        // The taken triangles, linked to each other where they meet, with their totals; the
-        // half-edges with R across are listed, and each vertex's hint points at one of them.
+    /// Copies the taken triangles (numbered by [`choose_taken`]), linked to each other where
+    /// they meet, with their disc boxes and totals; lists the half-edges with R across and
+    /// points each vertex's hint at one of its triangles. Returns the stamp that marks the
+    /// points of taken triangles in `scratch.covered`.
+    fn copy_taken(
+        &mut self,
+        parents: [&MeshState; 2],
+        scratch: &mut ComposeScratch,
+        w: usize,
+        n: usize,
+        expected: u32,
+        taken: u32,
+    ) -> u32 {
         // The taken slots were numbered parent by parent in slot order, so each parent's taken
-        // triangles fill a run of the child's arrays in order (a push per entry cost a third of
-        // a composition); which kept points a taken triangle has is marked by a stamp, for R's
-        // points below.
-        let taken = next_slot as usize;
+        // triangles fill a run of the child's arrays in order (cheaper than a push per entry).
+        let room = expected.max(taken) as usize;
+        let taken = taken as usize;
         self.hint.resize(n, 0);
         let stamp = next_stamp(&mut scratch.stamp, &mut scratch.covered, n);
         self.mesh.clear_for(w);
-        let room = expected.max(next_slot) as usize;
         fit(&mut self.mesh.vertices, 3 * room);
         self.mesh.vertices.resize(3 * taken, 0);
         fit(&mut self.mesh.twin, 3 * room);
@@ -334,77 +308,154 @@ impl MeshState {
             first_slot = range.end;
         }
         debug_assert_eq!(self.totals.len(), taken);
+        stamp
+    }
 
-        // R's points: the kept points no taken triangle has, and the ends of the half-edges
-        // with R across.
-        scratch.listed.resize(n, false);
-        scratch.points.clear();
-        for (i, (&k, &c)) in self.kept.iter().zip(covered.iter()).enumerate() {
-            if k && c != stamp {
-                scratch.listed[i] = true;
-                scratch.points.push(i as u32);
+    /// Tiles R with its triangles, wrapped from its boundary (see [`region`]), after the
+    /// `taken` ones, linked inside R and across its boundary, and rasterises them. `None` when
+    /// the count is not the `expected` one.
+    fn tile_region(
+        &mut self,
+        hf: &Arc<Heightfield>,
+        scratch: &mut ComposeScratch,
+        memo: Option<&mut TriangleMemo>,
+        taken: u32,
+        expected: u32,
+    ) -> Option<()> {
+        let (w, h) = (hf.width(), hf.height());
+        let lattice = Lattice::new(w);
+        let region = &mut scratch.region;
+        region.wrap(w, h, &scratch.points, &scratch.open)?;
+        let next_new = taken + region.triangles.len() as u32;
+        if next_new != expected {
+            debug_assert!(false, "composed {next_new} triangles, not {expected}");
+            return None;
+        }
+        for (t, tri) in region.triangles.iter().enumerate() {
+            let slot = taken + t as u32;
+            self.mesh.vertices.extend_from_slice(tri);
+            for k in 0..3 {
+                let twin = region.twins[3 * t + k];
+                let twin = if twin == NONE {
+                    NONE
+                } else if twin & BOUNDARY != 0 {
+                    let outer = scratch.open[(twin & !BOUNDARY) as usize].0;
+                    self.mesh.twin[outer as usize] = 3 * slot + k as u32;
+                    outer
+                } else {
+                    3 * taken + twin
+                };
+                self.mesh.twin.push(twin);
+            }
+            let p = tri.map(|i| lattice.point(i));
+            self.discs.push(DiscBox::of(p, w, h));
+        }
+        self.totals
+            .resize(next_new as usize, ErrorTotals::default());
+        match memo {
+            Some(memo) => self.rasterise_with_memo(hf, taken..next_new, memo, &mut scratch.unknown),
+            None => self.rasterise(hf, taken..next_new),
+        }
+        Some(())
+    }
+}
+
+/// Decides which triangles of each parent the child takes: fills `scratch.map` (per parent
+/// slot, its child slot or [`NONE`]) and `scratch.taken` (the taken slots, per parent), and
+/// returns how many are taken. Parent A's are numbered first, then B's, each in slot order.
+#[allow(clippy::needless_range_loop)] // slots and grid indices index several arrays at once
+fn choose_taken(
+    parents: [&MeshState; 2],
+    child_kept: &[bool],
+    source: Labels<'_>,
+    scratch: &mut ComposeScratch,
+    w: usize,
+) -> u32 {
+    let labels = &scratch.labels;
+    let label = |i: u32| u64::from(labels[i as usize]);
+    let kept_in_child = |i: u32| child_kept[i as usize];
+    let lattice = Lattice::new(w);
+    let sat = &scratch.sat;
+    let labelled_b = |d: &DiscBox| counted_in(sat, w, d.rect()) as usize;
+    let mut next_slot = 0u32;
+    for side in 0..2 {
+        let parent = parents[side];
+        let m = &parent.mesh;
+        let (map, taken) = (&mut scratch.map[side], &mut scratch.taken[side]);
+        map.clear();
+        map.resize(m.len(), NONE);
+        taken.clear();
+        if let Labels::Parts(classes, levels) = source {
+            // The parts labelled for the other parent; a triangle is taken when the part
+            // of its smallest vertex is labelled for this one and none of its kill parts
+            // is labelled for the other (see `PartClasses`).
+            // (A classification has one to 32 parts.)
+            let all = u32::MAX >> (32 - classes.rects.len());
+            let other = if side == 0 { levels } else { !levels } & all;
+            let (first, kill) = (&classes.first[side], &classes.kill[side]);
+            // Without branches: which triangles a row takes follows the blocks, which the
+            // slot order does not.
+            taken.resize(m.len(), 0);
+            let mut count = 0usize;
+            for (t, (&f, &k)) in first.iter().zip(kill).enumerate() {
+                let take = ((other >> f) & 1 == 0) & (k & other == 0);
+                map[t] = if take { next_slot + count as u32 } else { NONE };
+                taken[count] = t as u32;
+                count += usize::from(take);
+            }
+            taken.truncate(count);
+            next_slot += count as u32;
+            continue;
+        }
+        for t in 0..m.len() {
+            let tri = m.triangle(t);
+            let first = tri[0].min(tri[1]).min(tri[2]);
+            if label(first) as usize != side || !tri.iter().all(|&v| kept_in_child(v)) {
+                continue;
+            }
+            let disc = &parent.discs[t];
+            let b_points = labelled_b(disc);
+            let other = if side == 0 {
+                b_points
+            } else {
+                disc.area() - b_points
+            };
+            let keep = other == 0
+                || (disc.area() <= MAX_SEARCHED_BOX
+                    && !spoils(tri, disc.rect(), lattice, w, |i| {
+                        label(i as u32) != side as u64 && kept_in_child(i as u32)
+                    }));
+            if keep {
+                map[t] = next_slot;
+                next_slot += 1;
+                taken.push(t as u32);
             }
         }
-        let (taken_len, open_len) = (next_slot, scratch.open.len());
-        for j in 0..open_len {
-            let (_, u, v) = scratch.open[j];
-            for p in [u, v] {
-                if !std::mem::replace(&mut scratch.listed[p as usize], true) {
-                    scratch.points.push(p);
-                }
+    }
+    next_slot
+}
+
+/// Lists R's points in `scratch.points`: the kept points no taken triangle has (their
+/// `covered` entry is not `stamp`), then the ends of the half-edges with R across.
+fn list_region_points(kept: &[bool], scratch: &mut ComposeScratch, stamp: u32, n: usize) {
+    scratch.listed.resize(n, false);
+    scratch.points.clear();
+    for (i, (&k, &c)) in kept.iter().zip(scratch.covered.iter()).enumerate() {
+        if k && c != stamp {
+            scratch.listed[i] = true;
+            scratch.points.push(i as u32);
+        }
+    }
+    for j in 0..scratch.open.len() {
+        let (_, u, v) = scratch.open[j];
+        for p in [u, v] {
+            if !std::mem::replace(&mut scratch.listed[p as usize], true) {
+                scratch.points.push(p);
             }
         }
-        for &p in &scratch.points {
-            scratch.listed[p as usize] = false;
-        }
-        if open_len == 0 {
-            // Nothing is new: the parents' triangles tile the grid (or the guard fails).
-            if taken_len != expected || !scratch.points.is_empty() {
-                return None;
-            }
-        } else {
-            // R's triangles, wrapped from its boundary (see `region`).
-            let region = &mut scratch.region;
-            region.wrap(w, h, &scratch.points, &scratch.open)?;
-            let next_new = taken_len + region.triangles.len() as u32;
-            if next_new != expected {
-                debug_assert!(false, "composed {next_new} triangles, not {expected}");
-                return None;
-            }
-            // R's triangles after the taken ones, in the order found, linked inside R and
-            // across its boundary.
-            for (t, tri) in region.triangles.iter().enumerate() {
-                let slot = taken_len + t as u32;
-                self.mesh.vertices.extend_from_slice(tri);
-                for k in 0..3 {
-                    let twin = region.twins[3 * t + k];
-                    let twin = if twin == NONE {
-                        NONE
-                    } else if twin & BOUNDARY != 0 {
-                        let outer = scratch.open[(twin & !BOUNDARY) as usize].0;
-                        self.mesh.twin[outer as usize] = 3 * slot + k as u32;
-                        outer
-                    } else {
-                        3 * taken_len + twin
-                    };
-                    self.mesh.twin.push(twin);
-                }
-                let p = tri.map(|i| lattice.point(i));
-                self.discs.push(DiscBox::of(p, w, h));
-            }
-            self.totals
-                .resize(next_new as usize, ErrorTotals::default());
-            match memo {
-                Some(memo) => {
-                    self.rasterise_with_memo(hf, taken_len..next_new, memo, &mut scratch.unknown)
-                }
-                None => self.rasterise(hf, taken_len..next_new),
-            }
-        }
-        self.hf = Some(hf.clone());
-        let score = self.finish(hf);
-        self.discs_valid = true;
-        Some(score)
+    }
+    for &p in &scratch.points {
+        scratch.listed[p as usize] = false;
     }
 }
 

@@ -27,12 +27,24 @@ impl MeshState {
         remove: &[u32],
         scratch: &mut EditScratch,
     ) -> bool {
+        // Nothing changes until every check has passed; only the last step rewrites the mesh.
+        if !self.collect_region(lattice, remove, scratch)
+            || !self.triangulate_region_points(hf, remove.len(), scratch)
+            || !self.find_region_triangles(hf.len(), lattice, scratch)
+        {
+            return false;
+        }
+        self.replace_region(scratch);
+        true
+    }
+
+    /// Lists the region, the union of the stars of `remove`, in `scratch.region` (marked in
+    /// `scratch.in_region`), by rotating around each removed vertex from a triangle that has it.
+    fn collect_region(&self, lattice: Lattice, remove: &[u32], scratch: &mut EditScratch) -> bool {
         let m = &self.mesh;
-        let n = hf.len();
         scratch.in_region.clear();
         scratch.in_region.resize(m.len(), false);
         scratch.region.clear();
-        // The stars, by rotating around each removed vertex from a triangle that has it.
         for &v in remove {
             let t = self.locate(lattice, self.hint[v as usize], lattice.point(v));
             let Some(e) = m.leaving(t, v) else {
@@ -46,16 +58,27 @@ impl MeshState {
                 }
             }
         }
-        // The region's remaining kept points (`kept` already says which are removed), and the
-        // corners.
-        // (The marks are cleared again right after, so the buffer is only ever resized.)
-        scratch.listed.resize(n, false);
+        true
+    }
+
+    /// Triangulates the region's remaining kept points (`kept` already says which are removed)
+    /// and the corners into `scratch.sub`; false when they are more than pays for
+    /// `removals` removals.
+    fn triangulate_region_points(
+        &self,
+        hf: &Heightfield,
+        removals: usize,
+        scratch: &mut EditScratch,
+    ) -> bool {
+        let m = &self.mesh;
+        // The marks are cleared again right after, so the buffer is only ever resized.
+        scratch.listed.resize(hf.len(), false);
         scratch.region_points.clear();
         scratch.region_points.extend(hf.corners());
         for &c in &scratch.region_points {
             scratch.listed[c as usize] = true;
         }
-        let limit = REGION_POINTS_PER_REMOVAL * remove.len() + 4;
+        let limit = REGION_POINTS_PER_REMOVAL * removals + 4;
         for &slot in &scratch.region {
             for k in 0..3 {
                 let v = m.vertices[3 * slot as usize + k];
@@ -75,10 +98,15 @@ impl MeshState {
             return false;
         }
         scratch.region_points.sort_unstable();
-        let sub = &mut scratch.sub;
-        if !sub.insert_all(hf.width(), &scratch.region_points) {
-            return false;
-        }
+        scratch.sub.insert_all(hf.width(), &scratch.region_points)
+    }
+
+    /// Lists in `scratch.inside` the triangles of `scratch.sub` that lie inside the region, by a
+    /// flood from its boundary edges (whose outer half-edges go to `scratch.across`), and checks
+    /// that they cover exactly the region's area.
+    fn find_region_triangles(&self, n: usize, lattice: Lattice, scratch: &mut EditScratch) -> bool {
+        let m = &self.mesh;
+        let sub = &scratch.sub;
         // Where each of sub's points has a half-edge leaving it.
         scratch.leaving.resize(n, NONE);
         for (e, &v) in sub.vertices.iter().enumerate() {
@@ -146,9 +174,14 @@ impl MeshState {
             );
             return false;
         }
-        // Nothing has changed so far; from here the mesh is rewritten. The region's slots take
-        // the new triangles, further ones are appended, left-over slots die.
+        true
+    }
+
+    /// Rewrites the region with the triangles [`find_region_triangles`](Self::find_region_triangles)
+    /// found: the region's slots take them, further ones are appended, left-over slots die.
+    fn replace_region(&mut self, scratch: &mut EditScratch) {
         let m = &mut self.mesh;
+        let sub = &scratch.sub;
         let mut slots = scratch.region.iter().copied();
         for &t in &scratch.inside {
             let slot = match slots.next() {
@@ -196,7 +229,6 @@ impl MeshState {
                 }
             }
         }
-        true
     }
 
     /// Removes kept vertex `v` (not a corner): deletes its star and fills the hole with the
