@@ -3,7 +3,7 @@
 //! Starts from the four corners and repeatedly inserts the grid point chosen by the
 //! [`InsertionRule`], keeping the mesh the canonical Delaunay triangulation of the kept points
 //! (the evaluator's, tie rule included). Every triangle caches its candidate (computed over the
-//! grid points it owns, see [`raster`](crate::evaluator::raster)) in a priority queue; after an
+//! grid points it owns, see the evaluator's `raster`) in a priority queue; after an
 //! insertion only the triangles that were split or flipped are re-rasterised.
 //!
 //! One run gives a whole front: a solution is recorded each time the triangle count first

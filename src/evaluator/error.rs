@@ -16,10 +16,10 @@ pub enum EvaluateError {
     OpenEdge { from: u32, to: u32 },
     /// The triangles do not cover the grid rectangle exactly once.
     WrongArea { found: i64, expected: i64 },
-    /// An edit of a [`MeshState`] removes a point that is not kept (or a corner), or inserts a
+    /// An edit of a [`MeshState`](crate::evaluator::MeshState) removes a point that is not kept (or a corner), or inserts a
     /// point that is kept already.
     InvalidEdit { index: u32, why: &'static str },
-    /// A [`MeshState`] was edited that this evaluator's height field did not score (or that
+    /// A [`MeshState`](crate::evaluator::MeshState) was edited that this evaluator's height field did not score (or that
     /// holds a triangulation given from outside).
     ForeignState,
 }

@@ -5,19 +5,29 @@
 //! - The four grid corners are always kept, whether or not the caller lists them; duplicates are
 //!   ignored.
 //! - The triangulation is the canonical Delaunay triangulation of the kept points (one per point
-//!   set; ties settled by the rule in [`predicates`]).
+//!   set; ties settled by the tie rule in `exact/predicates.rs`).
 //! - Every grid point is counted exactly once: kept points contribute 0; every other point is
-//!   interpolated linearly on the one triangle that owns it (see [`raster`]).
+//!   interpolated linearly on the one triangle that owns it (see `raster/`).
 //! - `rms = sqrt(Σ (z − z̃)² / N)` over all N grid points.
 //! - The sums are exact integers in fixed point: each error counts as a whole number of units of
 //!   one power of two, chosen per height field (under 10⁻¹⁴ of the z range on a 65×65 grid; see
-//!   [`errors`]), so they are the same in any order; and each triangle is rasterised in one
-//!   fixed rotation. So the numbers of a kept set are the same bits however its mesh was made.
+//!   `exact/fixed_point.rs`), so they are the same in any order; and each triangle is rasterised
+//!   in one fixed rotation. So the numbers of a kept set are the same bits however its mesh was
+//!   made.
 //!
 //! Besides scoring a kept set from scratch, the evaluator can keep the scored mesh in a
 //! [`MeshState`] and score a nearby kept set by editing it ([`Evaluator::edit`]: local removals
-//! and insertions, only the changed triangles rasterised again), with bit-identical results; see
-//! [`incremental`].
+//! and insertions, only the changed triangles rasterised again), with bit-identical results.
+//!
+//! Layers, each using only those below it:
+//! - `exact/`: integer predicates and the tie rule, fixed-point error sums, and the paper's E by
+//!   brute force (`paper_e.rs`, the reference the tests hold every path to);
+//! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation.rs`), canonical
+//!   forms, [`MeshState`], hole fill and region wrapping;
+//! - `raster/`: which triangle owns which grid point, span sums, the fresh build of a mesh;
+//! - `edit/` (remove and insert points) and `compose/` (the OAX composition of two parents);
+//! - `part_scores/`: a crossover's children and mutants scored without their meshes;
+//! - this facade, [`Evaluator`].
 //!
 //! ```
 //! use paretomesh::{evaluator::Evaluator, heightfield::Heightfield};
@@ -181,7 +191,7 @@ impl Evaluator {
     }
 
     /// Scores the kept set of `state` with the kept points `remove` taken out and the grid
-    /// points `insert` added, by editing `state` in place (see [`incremental`]). The result is
+    /// points `insert` added, by editing `state` in place (see `edit/`). The result is
     /// bit for bit what [`score`](Self::score) gives for the new kept set, and `state` becomes
     /// that set's mesh. `state` must come from [`score_into`](Self::score_into) on this
     /// evaluator (or earlier edits). Each index of `remove` must be kept and not a corner, each
@@ -197,7 +207,7 @@ impl Evaluator {
 
     /// Scores, into `state`, the child that keeps `a`'s kept points where the bitset `from_b`
     /// (bit `i` of word `i / 64` for grid point `i`) is clear and `b`'s where it is set, by
-    /// reusing the triangles and errors of both parents' meshes (see [`compose`]). The result
+    /// reusing the triangles and errors of both parents' meshes (see `compose/`). The result
     /// is bit for bit what [`score`](Self::score) gives for the child's kept set, and `state`
     /// becomes its mesh, ready to edit. `a` and `b` must come from this evaluator and have their
     /// disc boxes filled ([`MeshState::ensure_discs`]); otherwise, or when a guard fails, returns
@@ -261,7 +271,7 @@ impl Evaluator {
     /// The score [`compose_parts`](Self::compose_parts) gives for `levels`, bit for bit, without
     /// building the child's mesh: from what the children of `classes` share, which `scores`
     /// holds once [prepared](PartScores::prepare) for the same parents (see
-    /// [`part_scores`]). `None` when `scores` or `classes` were made for other meshes, or when a
+    /// `part_scores/`). `None` when `scores` or `classes` were made for other meshes, or when a
     /// guard fails.
     ///
     /// ```

@@ -3,12 +3,12 @@
 //! An orthogonal-array child takes each grid point's gene from one of two parents A and B,
 //! block by block: its kept set is A's on the points labelled A and B's on those labelled B.
 //! Most of its canonical triangulation is already in the parents' meshes, with every error
-//! rasterised: [`Evaluator::compose`](super::Evaluator::compose) keeps those triangles and
+//! rasterised: [`Evaluator::compose`](crate::evaluator::Evaluator::compose) keeps those triangles and
 //! their errors, and triangulates and rasterises only what is new along the seams between the
 //! blocks.
 //!
 //! Why it is exact: under the tie rule (a Simulation of Simplicity, see
-//! [`predicates`](super::predicates)) a triangle belongs to the canonical triangulation of a
+//! [`predicates`](crate::evaluator::exact::predicates)) a triangle belongs to the canonical triangulation of a
 //! point set exactly when its vertices are in the set and no other point of the set is inside
 //! its (perturbed) circumcircle. A triangle of A whose vertices the child keeps has no point of
 //! A inside its circle, so only the child's points labelled B can spoil it; those are looked up
@@ -17,14 +17,14 @@
 //! vertex's label names, so none is taken twice. Whatever the taken triangles do not cover (the
 //! region R) is tiled by the child's other triangles, which are those of the canonical
 //! triangulation of R's points that lie in R (as for a region removal in
-//! [`incremental`](super::incremental)). A taken triangle owns the same grid points with the
+//! [`edit`](crate::evaluator::edit)). A taken triangle owns the same grid points with the
 //! same errors as in its parent, so only R's triangles are rasterised.
 //!
 //! The children of one orthogonal-array crossover share their parents and their blocks, and
 //! differ only in which parent gives each block. [`PartClasses`] classifies both parents'
 //! triangles once against the blocks: each triangle gets the set of blocks whose labelling for
 //! the other parent would drop it, so each child's classification is a mask test per triangle
-//! ([`Evaluator::compose_parts`](super::Evaluator::compose_parts)) instead of a summed-area
+//! ([`Evaluator::compose_parts`](crate::evaluator::Evaluator::compose_parts)) instead of a summed-area
 //! lookup and a circle search.
 
 mod part_classes;
@@ -45,7 +45,7 @@ use crate::heightfield::Heightfield;
 use spoiling::{MAX_SEARCHED_BOX, spoils};
 use std::sync::Arc;
 
-/// Scratch buffers of [`Evaluator::compose`](super::Evaluator::compose), kept between calls.
+/// Scratch buffers of [`Evaluator::compose`](crate::evaluator::Evaluator::compose), kept between calls.
 #[derive(Clone, Debug, Default)]
 pub struct ComposeScratch {
     /// Summed-area table of the B labels, `(W + 1) × (H + 1)`.
@@ -311,7 +311,7 @@ impl MeshState {
         stamp
     }
 
-    /// Tiles R with its triangles, wrapped from its boundary (see [`region`]), after the
+    /// Tiles R with its triangles, wrapped from its boundary (see [`region`](crate::evaluator::mesh::region)), after the
     /// `taken` ones, linked inside R and across its boundary, and rasterises them. `None` when
     /// the count is not the `expected` one.
     fn tile_region(

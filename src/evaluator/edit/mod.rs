@@ -1,20 +1,20 @@
 //! A scored mesh that can be edited: remove and insert kept points, and get the score of the new
-//! kept set bit for bit as a fresh [`Evaluator::score`](super::Evaluator::score) would give it.
+//! kept set bit for bit as a fresh [`Evaluator::score`](crate::evaluator::Evaluator::score) would give it.
 //!
 //! How, and why it is exact:
 //! - The triangulation is the canonical Delaunay triangulation of the kept set (unique under the
-//!   tie rule of [`predicates`]), so the triangulation reached by local edits is *the same set of
+//!   tie rule of [`predicates`](crate::evaluator::exact::predicates)), so the triangulation reached by local edits is *the same set of
 //!   triangles* as the one built from scratch. A removal deletes the vertex's star and fills the
-//!   hole with the Delaunay triangles of its boundary (the baselines' `hole::fill`); an insertion
-//!   locates the point by a visibility walk and splits and flips (the baselines'
-//!   [`Triangulation::insert_point`]). Both restore the Delaunay property under the tie rule, so each
+//!   hole with the Delaunay triangles of its boundary
+//!   ([`hole_fill`](crate::evaluator::mesh::hole_fill)); an insertion locates the point by a
+//!   visibility walk and splits and flips ([`Triangulation::insert_point`]). Both restore the Delaunay property under the tie rule, so each
 //!   intermediate mesh is canonical too.
-//! - Every grid point's error comes from the one triangle that owns it ([`raster`](super::raster)),
+//! - Every grid point's error comes from the one triangle that owns it ([`raster`](crate::evaluator::raster)),
 //!   rasterised with its vertices in a canonical rotation (smallest grid index first), so a
 //!   triangle gives the same bits whichever way it was created. The state keeps each triangle's
 //!   error totals; a triangle that no edit touched owns the same points with the same totals as
 //!   before, and only the touched triangles are rasterised again.
-//! - The totals are exact fixed-point integers ([`errors`](super::errors)), so the mesh's score,
+//! - The totals are exact fixed-point integers ([`fixed_point`](crate::evaluator::exact::fixed_point)), so the mesh's score,
 //!   their sum over its triangles, is the same in any order.
 //!
 //! Cost: an edit costs about its walk, its flips or hole fill, and the area of the triangles it
@@ -63,7 +63,7 @@ pub(crate) struct EditScratch {
     /// Per half-edge of `sub`: the mesh's half-edge across the region's boundary, or
     /// [`INSIDE`] for an edge that is not on it.
     across: Vec<u32>,
-    /// Per triangle of `sub`: its slot in the mesh once taken, or [`NONE`].
+    /// Per triangle of `sub`: its slot in the mesh once taken, or `NONE`.
     taken: Vec<u32>,
     /// The triangles of `sub` inside the region.
     inside: Vec<u32>,
@@ -77,10 +77,8 @@ const INSIDE: u32 = u32::MAX - 1;
 pub const REGION_MIN_REMOVALS: usize = 16;
 
 /// ... and when the region's remaining kept points number at most this many per removed point.
-/// Measured over a paper NSGA-II run on jacksboro_65x65 (20 generations): a region costs
-/// ≈0.29 µs per removal (stars, flood, relinking) plus ≈0.43 µs per point triangulated, a
-/// one-by-one removal ≈0.69 µs, so a region pays below about one point per removal; the run's
-/// regions hold a median 0.66.
+/// Why: a region pays per removal (stars, flood, relinking) and per point it triangulates again,
+/// so it beats removing the points one hole at a time only while it holds few points per removal.
 pub const REGION_POINTS_PER_REMOVAL: usize = 1;
 
 impl MeshState {

@@ -18,8 +18,8 @@ impl MeshState {
     /// the region holds too many points for this to pay ([`REGION_POINTS_PER_REMOVAL`]).
     ///
     /// Why: an OAX child takes whole blocks from the other parent, so its removals are dense in
-    /// a few blocks, where re-triangulating the block's survivors costs about a third of
-    /// removing its points one hole at a time.
+    /// a few blocks, where re-triangulating the block's survivors costs less than removing
+    /// its points one hole at a time.
     pub(super) fn remove_region(
         &mut self,
         hf: &Heightfield,

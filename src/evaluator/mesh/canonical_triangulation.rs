@@ -2,7 +2,7 @@
 //!
 //! The points are inserted one by one into their bounding box's two triangles, each followed by
 //! Lawson flips under the project's tie rule ([`predicates::in_circle`], exact integers), which
-//! makes the result a function of the point set alone (see the tie rule in [`predicates`]). A
+//! makes the result a function of the point set alone (see the tie rule in [`predicates`](crate::evaluator::exact::predicates)). A
 //! point set without its box's corners goes through `spade` and the same flips instead.
 //!
 //! Layout (after delaunator): triangle `t` owns half-edges `3t, 3t+1, 3t+2`; half-edge `e` runs
@@ -17,7 +17,7 @@ use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 /// shear breaks the ties (it is exact in f64 for sides up to 2¹⁴ and keeps every orientation
 /// sign, so spade still returns a triangulation of the real points), and [`Triangulation::legalize_all`]'s
 /// flips with the exact tie rule then reach the one canonical triangulation, as they would from
-/// any triangulation. Measured: a fresh evaluation 23 % faster at 30 % kept on a 65×65 grid.
+/// any triangulation.
 pub const SHEAR: f64 = 1.0 / 1024.0;
 
 /// "No half-edge": the twin of a border edge.
@@ -38,8 +38,8 @@ pub fn prev(e: u32) -> u32 {
 /// A half-edge of the mesh [`Triangulation::insert_all`] builds: its origin as coordinates and
 /// as a grid index, and its twin. Why: with `vertices` and `twin` apart, each walk step and
 /// in-circle test converted three or four grid indices to coordinates (a multiply, a shift, a
-/// multiply and a subtraction each, a sixth of the build's instructions) and checked two arrays'
-/// bounds; here one load gives all three.
+/// multiply and a subtraction each) and checked two arrays' bounds; here one load gives all
+/// three.
 #[derive(Clone, Copy, Debug, Default)]
 struct Half {
     at: [i32; 2],
@@ -272,20 +272,17 @@ fn tie_half(halves: &[Half], edges: [u32; 4]) -> bool {
 /// In three rounds of rows (every fourth row, then the rows halfway between, then the rest).
 /// Why: one sweep up the grid keeps inserting points just above a front whose triangles fan
 /// out to the box's top corners, and each insertion then flips much of that fan; the rounds
-/// fill in between rows already there. On camera_257x257 at 30 % kept: 4.2 flips and 11.5
-/// in-circle tests per point instead of 6.2 and 15.3 (walks: 3.8 steps instead of 2.3); 6–8 %
-/// faster at 2 % and 30 % kept. Two rounds or four were no better.
+/// fill in between rows already there, so each point takes fewer flips and in-circle tests
+/// (for slightly longer walks).
 ///
 /// Within a round, a dense set goes row by row (a group per row). A sparse one goes by bands of
 /// `c` rows (`c` a power of two, chosen so that a `c`×`c` cell holds about four points) and
 /// within a band cell by cell (a group per band), so the next point is about one cell away
 /// rather than a whole row's gap: at 2 % kept a row's points are ≈ 50 columns apart, and the
-/// walk between them crossed ≈ 9 thin triangles. On camera_257x257 at 2 % kept (c = 16): walk
-/// steps per point 9.3 → 4.3, the same in-circle tests and flips, the triangulation
-/// 380–420 → 310–340 µs (min of 400 builds, alternating runs); at 10 % (c = 8) the same time
-/// within noise, and at 30 % bands were never faster than rows, so sets denser than about one
-/// point per 8×8 cell (c < 8, about 12 % kept) keep the rows. The bands come from a counting
-/// sort, stable, so a cell's points stay in row order.
+/// walk between them crosses many thin triangles; bands halve the walk steps there. Denser
+/// sets gain nothing from bands, so sets denser than about one point per 8×8 cell (c < 8,
+/// about 12 % kept) keep the rows. The bands come from a counting sort, stable, so a cell's
+/// points stay in row order.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct InsertionOrder {
     /// The points in insertion order (unused when the groups index `kept` itself).
@@ -393,7 +390,7 @@ impl InsertionOrder {
 pub struct Triangulation {
     /// Grid index of the origin of each half-edge; three per triangle.
     pub vertices: Vec<u32>,
-    /// Opposite half-edge, or [`NONE`].
+    /// Opposite half-edge, or `NONE`.
     pub twin: Vec<u32>,
     lattice: Lattice,
     stack: Vec<u32>,
@@ -428,9 +425,9 @@ impl Clone for Triangulation {
 
 /// Makes `v` empty with room for `len` elements and not much more: a new buffer when its own
 /// is too small or over twice too large. Why: the scorer's pooled meshes take turns holding
-/// meshes of a few triangles and of thousands; grown by doubling (and copied on each growth),
-/// each kept room for the largest it ever held, twice over, and the pool took about four times
-/// the memory its meshes use, most of the run's page faults.
+/// meshes of a few triangles and of thousands; grown by doubling, each would keep room for the
+/// largest it ever held, twice over, and the pool would hold several times the memory its
+/// meshes use.
 pub(crate) fn fit<T>(v: &mut Vec<T>, len: usize) {
     if v.capacity() < len || v.capacity() > 2 * len + 256 {
         *v = Vec::with_capacity(len + len / 8 + 64);
@@ -545,9 +542,8 @@ impl Triangulation {
     /// legal. Returns false, changing nothing, unless `kept` holds the box's four corners.
     ///
     /// Why not spade: every point lands inside the box, so there is no hull to maintain; the
-    /// predicates are exact integers; and the points go in an order ([`InsertionOrder`]) where
+    /// predicates are exact integers; and the points go in an order (`InsertionOrder`) where
     /// each next point is usually a neighbour of the last, so walks are short.
-    /// Measured 1.4–1.8× faster than spade's bulk load followed by the tie-rule legalisation.
     pub fn insert_all(&mut self, width: usize, kept: &[u32]) -> bool {
         let lattice = Lattice::new(width);
         let (mut x0, mut y0, mut x1, mut y1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
@@ -674,14 +670,14 @@ impl Triangulation {
     }
 
     /// The half-edge before `e` counter-clockwise around their common origin (the next of
-    /// `e`'s twin), or [`NONE`] past the border.
+    /// `e`'s twin), or `NONE` past the border.
     pub fn fan_prev(&self, e: u32) -> u32 {
         let f = self.twin[e as usize];
         if f == NONE { NONE } else { next(f) }
     }
 
     /// The half-edge after `e` counter-clockwise around their common origin (the twin of `e`'s
-    /// previous half-edge), or [`NONE`] past the border.
+    /// previous half-edge), or `NONE` past the border.
     pub fn fan_next(&self, e: u32) -> u32 {
         self.twin[prev(e) as usize]
     }
@@ -849,9 +845,8 @@ impl Triangulation {
 
     /// Flips half-edge `e` if the tie rule calls it illegal; returns the four outer half-edges of
     /// the flipped quadrilateral, which need checking again.
-    // Always inlined: as a call, its result went through memory and its callers' loops (an
-    // insertion's flips) paid the call on every edge; inlined, a fresh evaluation takes 3.5 %
-    // (2 % kept) to 6 % (30 %) fewer instructions, the paper run 1.7 %.
+    // Always inlined: as a call, its result goes through memory and its callers' loops (an
+    // insertion's flips) pay the call on every edge.
     #[inline(always)]
     pub fn flip_if_illegal(&mut self, e: u32) -> Option<[u32; 4]> {
         let f = self.twin[e as usize];
@@ -899,7 +894,7 @@ impl Triangulation {
 /// The half-edge of `mesh` from the origin of its half-edge `leaving` to `to`, by walking that
 /// origin's fan from `leaving`: counter-clockwise, then, past the border, clockwise. (Not from
 /// the fan's first half-edge, which for an inner vertex means walking the whole fan first: the
-/// walk is a chain of dependent reads, a third of a crossover's preparation.)
+/// walk is a chain of dependent reads.)
 pub(crate) fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
     if leaving == NONE {
         return None;

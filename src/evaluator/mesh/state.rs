@@ -10,8 +10,8 @@ use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
 /// A kept set's canonical triangulation with the error of every grid point: what
-/// [`Evaluator::score_into`](super::Evaluator::score_into) makes and
-/// [`Evaluator::edit`](super::Evaluator::edit) changes. Cloning one is a plain copy (use
+/// [`Evaluator::score_into`](crate::evaluator::Evaluator::score_into) makes and
+/// [`Evaluator::edit`](crate::evaluator::Evaluator::edit) changes. Cloning one is a plain copy (use
 /// `clone_from` to reuse the buffers).
 #[derive(Debug, Default)]
 pub struct MeshState {
@@ -26,7 +26,7 @@ pub struct MeshState {
     pub(crate) hint: Vec<u32>,
     pub(crate) score: Option<Score>,
     /// Per triangle slot, the grid box of its circumcircle's disc (see
-    /// [`compose`](super::compose)); valid only while `discs_valid`. Filled on demand, not by
+    /// [`compose`](crate::evaluator::compose)); valid only while `discs_valid`. Filled on demand, not by
     /// builds and edits, which would pay for it on every triangle.
     pub(crate) discs: Vec<DiscBox>,
     pub(crate) discs_valid: bool,
@@ -38,7 +38,7 @@ pub struct MeshState {
     pub(crate) kept_sat: Vec<u32>,
     pub(crate) lookup_valid: bool,
     /// Changes whenever the mesh does (a new number from [`next_revision`] at every scoring),
-    /// so that what was derived from one mesh ([`PartClasses`](super::compose::PartClasses))
+    /// so that what was derived from one mesh ([`PartClasses`](crate::evaluator::PartClasses))
     /// can tell it from later ones; 0 until scored. A copy keeps it: it is the same mesh.
     pub(crate) revision: u64,
 }
@@ -169,7 +169,7 @@ impl MeshState {
 
     /// Fills this state's kept points' bitset and summed-area table if they are stale (part of
     /// [`ensure_discs`](Self::ensure_discs), and all that
-    /// [`Evaluator::score_mutant`](super::Evaluator::score_mutant) needs).
+    /// [`Evaluator::score_mutant`](crate::evaluator::Evaluator::score_mutant) needs).
     pub fn ensure_lookups(&mut self) {
         let Some(hf) = self.hf.clone() else {
             return;

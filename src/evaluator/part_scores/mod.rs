@@ -1,7 +1,7 @@
 //! Scoring the children of one orthogonal-array crossover without building their meshes.
 //!
 //! A crossover's children take each part (block) of the grid whole from parent A or B
-//! ([`PartClasses`]). [`compose_parts`](super::Evaluator::compose_parts) builds such a child's
+//! ([`PartClasses`]). [`compose_parts`](crate::evaluator::Evaluator::compose_parts) builds such a child's
 //! mesh from the triangles it reuses and the region R they leave uncovered; but factor analysis
 //! needs only the children's scores, and only two of a crossover's children go on. Here a child
 //! is scored from what its crossover's children share, found once per crossover
@@ -25,9 +25,8 @@
 //! Then a child costs a pass over the candidate edges and variable points, the tiling of R
 //! ([`Region::wrap`]), and the raster of R's triangles: the same triangles as `compose_parts`,
 //! each with the same error bits, so the score is bit for bit the same as the composed (and
-//! the fresh) one. (Measured on the paper run on jacksboro_65x65: level sets took a row's pass
-//! from 15 µs to 3 µs; a crossover, which has 7 rows or more, prepares them in the pass that
-//! finds the candidate edges.)
+//! the fresh) one. Level sets make a child's pass several times cheaper, and a crossover, which
+//! has 7 children or more, prepares them in the pass that finds the candidate edges.
 
 use crate::evaluator::Score;
 use crate::evaluator::compose::{PartClasses, counted_in, next_stamp, overlap};
@@ -246,11 +245,22 @@ impl PartScores {
             return false;
         }
         let parents = [a, b];
-        let part = &classes.part[..n];
         self.units = ErrorUnits::of(hf);
-        // The plain classes (an empty kill mask: the triangles a part's label alone decides),
-        // summed by the classification; then the others, only among the triangles near a
-        // block's edge, found by a linear search (they are few).
+        let plain = self.add_plain_classes(classes);
+        self.find_variable_points(parents, classes, plain, n);
+        self.find_candidate_edges(parents, classes, n);
+        self.resolve_crossing_edges(parents, classes);
+        if classes.rects.len() <= LEVEL_SET_PARTS {
+            self.find_r_points(classes);
+        }
+        self.count_kept_per_part(hf, parents, classes);
+        self.made_from = classes.id;
+        true
+    }
+
+    /// Starts the classes with the plain ones (an empty kill mask: the triangles a part's label
+    /// alone decides), summed by the classification; returns how many there are.
+    fn add_plain_classes(&mut self, classes: &PartClasses) -> usize {
         self.classes.clear();
         for (side, plain) in classes.plain.iter().enumerate() {
             for (home, &(totals, count)) in plain.iter().enumerate() {
@@ -263,13 +273,24 @@ impl PartScores {
                 });
             }
         }
-        let plain = self.classes.len();
+        self.classes.len()
+    }
+
+    /// The other classes, only among the triangles near a block's edge, with their totals;
+    /// and the variable points: the vertices of a triangle whose class is not its own part's
+    /// plain one, which is near a block's edge.
+    fn find_variable_points(
+        &mut self,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+        plain: usize,
+        n: usize,
+    ) {
+        let part = &classes.part[..n];
         let parts = classes.rects.len();
         if parts <= LEVEL_SET_PARTS {
             self.special_index.resize(SPECIAL_SLOTS, NONE);
         }
-        // Variable points: a vertex of a triangle whose class is not its own part's plain one,
-        // which is near a block's edge.
         for (side, parent) in parents.into_iter().enumerate() {
             let (first, kill) = (&classes.first[side], &classes.kill[side]);
             let vertices = &parent.mesh.vertices;
@@ -326,18 +347,20 @@ impl PartScores {
                 }
             }
         }
-        // Coverage: the triangles with a vertex variable in either parent. Candidate edges are
-        // among their edges: two neighbours of different classes have a variable vertex in
-        // common (a kill mask makes all three vertices variable; different home parts make a
-        // shared vertex variable for at least one of them, being outside its home part).
-        // With level sets, each such triangle marks the children that reuse it on its
-        // vertices, and each candidate edge is kept with the children on whose R boundary it
-        // lies, in the same pass.
         if parts <= LEVEL_SET_PARTS {
             for c in &self.classes[plain..] {
                 self.special_index[special_slot(c.side.into(), c.home, c.kill)] = NONE;
             }
         }
+    }
+
+    /// Coverage: the triangles with a vertex variable in either parent. Candidate edges are
+    /// among their edges: two neighbours of different classes have a variable vertex in common
+    /// (a kill mask makes all three vertices variable; different home parts make a shared
+    /// vertex variable for at least one of them, being outside its home part). With level
+    /// sets, each such triangle marks the children that reuse it on its vertices, and each
+    /// candidate edge is kept with the children on whose R boundary it lies, in the same pass.
+    fn find_candidate_edges(&mut self, parents: [&MeshState; 2], classes: &PartClasses, n: usize) {
         let [va, vb] = &self.is_variable;
         self.either.clear();
         self.either.extend(va.iter().zip(vb).map(|(a, b)| a | b));
@@ -356,91 +379,125 @@ impl PartScores {
             }
         }
         for (side, parent) in parents.into_iter().enumerate() {
-            let m = &parent.mesh;
-            let coverage = &mut self.coverage[side];
-            coverage.clear();
-            // First the triangles with a variable vertex, without branches (a quarter of them,
-            // in no order the slots follow).
-            let variable = |v: u32| bit_of(&self.either, v);
-            // Written up to its length, so only grown (a clear would fill it again per parent
-            // per crossover).
-            let covering = &mut self.covering;
-            if covering.len() < m.len() {
-                covering.resize(m.len(), 0);
-            }
-            let mut len = 0;
-            for (t, tri) in m.vertices.chunks_exact(3).enumerate() {
-                covering[len] = t as u32;
-                len += variable(tri[0]) | variable(tri[1]) | variable(tri[2]);
-            }
-            let covering = &covering[..len];
+            self.coverage[side].clear();
+            let len = self.find_covering(parent);
             if level_sets {
-                // Each triangle marks the children that reuse it on its vertices, and stages
-                // each edge with the children that reuse it but not the triangle across (none
-                // across the grid border: the triangle itself stands in). Without branches: the
-                // classes of neighbours near a block's edge follow no pattern.
-                let cl = &self.class_levels;
-                let staged = &mut self.staged;
-                if staged.len() < 3 * covering.len() {
-                    staged.resize(3 * covering.len(), (0, LevelSet::default()));
-                }
-                let mut len = 0;
-                for &t in covering.iter() {
-                    let t = t as usize;
-                    let class = class_of(classes, &self.special, side, t);
-                    let set = cl[class as usize];
-                    for v in m.triangle(t) {
-                        let r = &mut self.reused_by[v as usize];
-                        *r = r.or(set);
-                    }
-                    for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
-                        let across = if g == NONE { t } else { (g / 3) as usize };
-                        let twin_class = class_of(classes, &self.special, side, across);
-                        let on_boundary = set.and_not(cl[twin_class as usize]);
-                        staged[len] = ((3 * t + k) as u32, on_boundary);
-                        len += usize::from(!on_boundary.is_empty());
-                    }
-                }
-                // The staged edges lie on the R boundary of the children that reuse this
-                // triangle but neither the one across nor the other parent's triangle across
-                // the edge.
-                let other = parents[1 - side];
-                for &(edge, set) in &staged[..len] {
-                    let (u, v) = (m.vertices[edge as usize], m.vertices[next(edge) as usize]);
-                    if other.kept[u as usize] && other.kept[v as usize] {
-                        // The other parent may have the edge: looked up below.
-                        self.crossing.push((side as u8, u, v, set));
-                    } else {
-                        self.r_edges.push((u, v, set));
-                    }
-                }
-                continue;
+                self.stage_boundary_edges(side, parents, classes, len);
+            } else {
+                self.collect_candidates(side, parent, classes, len);
             }
-            for &t in covering.iter() {
-                let t = t as usize;
-                let class = class_of(classes, &self.special, side, t);
-                coverage.push((t as u32, class));
-                for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
-                    if g == NONE {
-                        continue;
-                    }
-                    let twin_class = class_of(classes, &self.special, side, (g / 3) as usize);
-                    if twin_class != class {
-                        self.candidates.push(Candidate {
-                            side: side as u8,
-                            edge: (3 * t + k) as u32,
-                            class,
-                            twin_class,
-                            cross: UNKNOWN,
-                            cross_class: 0,
-                        });
-                    }
+        }
+    }
+
+    /// Lists in `covering` the triangles of `parent` with a vertex variable in either parent;
+    /// returns how many.
+    fn find_covering(&mut self, parent: &MeshState) -> usize {
+        let m = &parent.mesh;
+        // Without branches (a quarter of the triangles, in no order the slots follow).
+        let variable = |v: u32| bit_of(&self.either, v);
+        // Written up to its length, so only grown (a clear would fill it again per parent
+        // per crossover).
+        let covering = &mut self.covering;
+        if covering.len() < m.len() {
+            covering.resize(m.len(), 0);
+        }
+        let mut len = 0;
+        for (t, tri) in m.vertices.chunks_exact(3).enumerate() {
+            covering[len] = t as u32;
+            len += variable(tri[0]) | variable(tri[1]) | variable(tri[2]);
+        }
+        len
+    }
+
+    /// With level sets: each covering triangle of parent `side` marks the children that reuse
+    /// it on its vertices, and stages each edge with the children that reuse it but not the
+    /// triangle across (none across the grid border: the triangle itself stands in); the
+    /// staged edges go to `r_edges`, or to `crossing` when the other parent may have them.
+    fn stage_boundary_edges(
+        &mut self,
+        side: usize,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+        covering_len: usize,
+    ) {
+        let m = &parents[side].mesh;
+        let covering = &self.covering[..covering_len];
+        // Without branches: the classes of neighbours near a block's edge follow no pattern.
+        let cl = &self.class_levels;
+        let staged = &mut self.staged;
+        if staged.len() < 3 * covering.len() {
+            staged.resize(3 * covering.len(), (0, LevelSet::default()));
+        }
+        let mut len = 0;
+        for &t in covering.iter() {
+            let t = t as usize;
+            let class = class_of(classes, &self.special, side, t);
+            let set = cl[class as usize];
+            for v in m.triangle(t) {
+                let r = &mut self.reused_by[v as usize];
+                *r = r.or(set);
+            }
+            for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
+                let across = if g == NONE { t } else { (g / 3) as usize };
+                let twin_class = class_of(classes, &self.special, side, across);
+                let on_boundary = set.and_not(cl[twin_class as usize]);
+                staged[len] = ((3 * t + k) as u32, on_boundary);
+                len += usize::from(!on_boundary.is_empty());
+            }
+        }
+        // The staged edges lie on the R boundary of the children that reuse this triangle but
+        // neither the one across nor the other parent's triangle across the edge.
+        let other = parents[1 - side];
+        for &(edge, set) in &staged[..len] {
+            let (u, v) = (m.vertices[edge as usize], m.vertices[next(edge) as usize]);
+            if other.kept[u as usize] && other.kept[v as usize] {
+                // The other parent may have the edge: looked up later.
+                self.crossing.push((side as u8, u, v, set));
+            } else {
+                self.r_edges.push((u, v, set));
+            }
+        }
+    }
+
+    /// Without level sets: the covering triangles of parent `side` with their classes, and
+    /// the edges between triangles of different classes as candidates.
+    fn collect_candidates(
+        &mut self,
+        side: usize,
+        parent: &MeshState,
+        classes: &PartClasses,
+        covering_len: usize,
+    ) {
+        let m = &parent.mesh;
+        let coverage = &mut self.coverage[side];
+        for &t in &self.covering[..covering_len] {
+            let t = t as usize;
+            let class = class_of(classes, &self.special, side, t);
+            coverage.push((t as u32, class));
+            for (k, &g) in m.twin[3 * t..3 * t + 3].iter().enumerate() {
+                if g == NONE {
+                    continue;
+                }
+                let twin_class = class_of(classes, &self.special, side, (g / 3) as usize);
+                if twin_class != class {
+                    self.candidates.push(Candidate {
+                        side: side as u8,
+                        edge: (3 * t + k) as u32,
+                        class,
+                        twin_class,
+                        cross: UNKNOWN,
+                        cross_class: 0,
+                    });
                 }
             }
         }
-        // The other parent's triangles across the candidate edges it may have, found by a walk
-        // around an endpoint variable in either parent: all its triangles there have been read
-        // just above (a walk from the other endpoint, or during the pass, reads cold memory).
+    }
+
+    /// The other parent's triangles across the staged edges it may have, found by a walk
+    /// around an endpoint variable in either parent (all its triangles there have just been
+    /// read, where a walk from the other endpoint would read cold memory); the edges still on
+    /// some child's R boundary go to `r_edges`.
+    fn resolve_crossing_edges(&mut self, parents: [&MeshState; 2], classes: &PartClasses) {
         for &(side, u, v, set) in &self.crossing {
             let side = usize::from(side);
             let other = parents[1 - side];
@@ -461,21 +518,30 @@ impl PartScores {
                 self.r_edges.push((u, v, set));
             }
         }
-        if level_sets {
-            // A variable point is in the R of the children that take it from its parent and
-            // reuse none of its triangles (all of which are in the coverage).
-            for (side, variable) in self.variable.iter().enumerate() {
-                for &p in variable {
-                    let part = usize::from(classes.part[p as usize]);
-                    let set = LABELLED[part][side].and_not(self.reused_by[p as usize]);
-                    if !set.is_empty() {
-                        self.r_points.push((p, set));
-                    }
+    }
+
+    /// With level sets: a variable point is in the R of the children that take it from its
+    /// parent and reuse none of its triangles (all of which are in the coverage).
+    fn find_r_points(&mut self, classes: &PartClasses) {
+        for (side, variable) in self.variable.iter().enumerate() {
+            for &p in variable {
+                let part = usize::from(classes.part[p as usize]);
+                let set = LABELLED[part][side].and_not(self.reused_by[p as usize]);
+                if !set.is_empty() {
+                    self.r_points.push((p, set));
                 }
             }
         }
-        // Kept points per part, and those on the grid border, for Euler's count: from each
-        // parent's summed-area table.
+    }
+
+    /// Kept points per part, and those on the grid border, for Euler's count: from each
+    /// parent's summed-area table.
+    fn count_kept_per_part(
+        &mut self,
+        hf: &Heightfield,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+    ) {
         let (w, h) = (hf.width(), hf.height());
         for (side, parent) in parents.into_iter().enumerate() {
             let count = |r: [usize; 4]| counted_in(&parent.kept_sat, w, r);
@@ -493,12 +559,10 @@ impl PartScores {
                 (count(r), on_border)
             }));
         }
-        self.made_from = classes.id;
-        true
     }
 
     /// The score of the child that takes part `p` from `b` where bit `p` of `levels` is set and
-    /// from `a` elsewhere: bit for bit what [`compose_parts`](super::Evaluator::compose_parts)
+    /// from `a` elsewhere: bit for bit what [`compose_parts`](crate::evaluator::Evaluator::compose_parts)
     /// (and a fresh evaluation) gives, without building the child's mesh. `None` when this was
     /// not prepared for `a` and `b` as they are now, or when a guard fails (the caller then
     /// scores the child another way).
@@ -535,61 +599,19 @@ impl PartScores {
             return None;
         }
         let changed = !changes.removed.is_empty() || !changes.inserted.is_empty();
-        let (w, n) = (hf.width(), hf.len());
+        let n = hf.len();
         let parents = [a, b];
-        let parts = classes.rects.len();
-        let all = u32::MAX >> (32 - parts);
-        // The parts labelled for the other parent, by side.
-        let other = [levels & all, !levels & all];
-        let label = |part: u8| ((levels >> part) & 1) as u8;
-        // Which classes the child reuses, and their totals.
-        let mut totals = ErrorTotals::default();
-        let mut taken_count = 0u32;
-        scratch.taken.clear();
-        for c in &self.classes {
-            let take = label(c.home) == c.side && c.kill & other[c.side as usize] == 0;
-            scratch.taken.push(take);
-            if take {
-                totals.add(&c.totals);
-                taken_count += c.count;
-            }
-        }
+        let (mut totals, mut taken_count) = self.reused_totals(classes, levels, scratch);
         if taken_count == 0 {
             // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled for the
             // other): the child is scored from scratch.
             return Some(self.fresh(hf, parents, classes, levels, changes, scratch));
         }
-        // Euler's count of the child's triangles: 2V − B − 2.
-        let (mut vertices, mut on_border) = (0u32, 0u32);
-        for p in 0..parts {
-            let (k, border) = self.counts[usize::from(label(p as u8))][p];
-            vertices += k;
-            on_border += border;
-        }
-        if changed {
-            let kept =
-                |p: u32| parents[usize::from(label(classes.part[p as usize]))].kept[p as usize];
-            let on_edge = |p: u32| u32::from(on_grid_border(hf, p));
-            for &p in changes.removed {
-                if !kept(p) {
-                    return None;
-                }
-                vertices -= 1;
-                on_border -= on_edge(p);
-            }
-            for &p in changes.inserted {
-                if kept(p) {
-                    return None;
-                }
-                vertices += 1;
-                on_border += on_edge(p);
-            }
-        }
-        let expected = (2 * vertices).checked_sub(on_border + 2)?;
+        let expected = self.euler_count(hf, parents, classes, levels, changes)?;
         scratch.listed.resize(n, false);
         scratch.points.clear();
         scratch.open.clear();
-        if parts <= LEVEL_SET_PARTS {
+        if classes.rects.len() <= LEVEL_SET_PARTS {
             self.r_by_level_sets(levels, scratch);
         } else {
             self.r_by_search(hf, parents, classes, levels, scratch);
@@ -620,22 +642,98 @@ impl PartScores {
             return (taken_count == expected && scratch.points.is_empty())
                 .then(|| score_of(self.units, &totals, taken_count, n));
         }
-        let region = &mut scratch.region;
-        region.wrap(w, hf.height(), &scratch.points, &scratch.open)?;
-        scratch
-            .memo
-            .prepare(a.hf.as_ref().filter(|f| std::ptr::eq(f.as_ref(), hf)));
-        if taken_count + region.triangles.len() as u32 != expected {
-            debug_assert!(false, "R's triangles do not complete the child");
-            return None;
-        }
-        // R's triangles, each in the canonical rotation every triangle is rasterised in.
-        let tris = region.triangles.iter().map(|&t| ((), canonical(t)));
-        scratch
-            .memo
-            .sum_triangles(hf, tris, &mut scratch.unknown, |_, t| totals.add(&t));
+        add_region_totals(hf, a, scratch, taken_count, expected, &mut totals)?;
         Some(score_of(self.units, &totals, expected, n))
     }
+
+    /// Marks in `scratch.taken` the classes the child with `levels` reuses; returns their
+    /// summed totals and their number of triangles.
+    fn reused_totals(
+        &self,
+        classes: &PartClasses,
+        levels: u32,
+        scratch: &mut RowScratch,
+    ) -> (ErrorTotals, u32) {
+        let all = u32::MAX >> (32 - classes.rects.len());
+        // The parts labelled for the other parent, by side.
+        let other = [levels & all, !levels & all];
+        let label = |part: u8| ((levels >> part) & 1) as u8;
+        let mut totals = ErrorTotals::default();
+        let mut taken_count = 0u32;
+        scratch.taken.clear();
+        for c in &self.classes {
+            let take = label(c.home) == c.side && c.kill & other[c.side as usize] == 0;
+            scratch.taken.push(take);
+            if take {
+                totals.add(&c.totals);
+                taken_count += c.count;
+            }
+        }
+        (totals, taken_count)
+    }
+
+    /// Euler's count of the triangles of the child with `levels` and `changes`: 2V − B − 2.
+    /// `None` when a removed point is not the child's or an inserted one is.
+    fn euler_count(
+        &self,
+        hf: &Heightfield,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+        levels: u32,
+        changes: Changes<'_>,
+    ) -> Option<u32> {
+        let label = |part: u8| ((levels >> part) & 1) as u8;
+        let (mut vertices, mut on_border) = (0u32, 0u32);
+        for p in 0..classes.rects.len() {
+            let (k, border) = self.counts[usize::from(label(p as u8))][p];
+            vertices += k;
+            on_border += border;
+        }
+        let kept = |p: u32| parents[usize::from(label(classes.part[p as usize]))].kept[p as usize];
+        let on_edge = |p: u32| u32::from(on_grid_border(hf, p));
+        for &p in changes.removed {
+            if !kept(p) {
+                return None;
+            }
+            vertices -= 1;
+            on_border -= on_edge(p);
+        }
+        for &p in changes.inserted {
+            if kept(p) {
+                return None;
+            }
+            vertices += 1;
+            on_border += on_edge(p);
+        }
+        (2 * vertices).checked_sub(on_border + 2)
+    }
+}
+
+/// Tiles R (its points and boundary edges in `scratch`) and adds its triangles' totals, through
+/// the memo, to `totals`; `None` when R's triangles do not complete the `expected` count.
+fn add_region_totals(
+    hf: &Heightfield,
+    a: &MeshState,
+    scratch: &mut RowScratch,
+    taken_count: u32,
+    expected: u32,
+    totals: &mut ErrorTotals,
+) -> Option<()> {
+    let region = &mut scratch.region;
+    region.wrap(hf.width(), hf.height(), &scratch.points, &scratch.open)?;
+    scratch
+        .memo
+        .prepare(a.hf.as_ref().filter(|f| std::ptr::eq(f.as_ref(), hf)));
+    if taken_count + region.triangles.len() as u32 != expected {
+        debug_assert!(false, "R's triangles do not complete the child");
+        return None;
+    }
+    // R's triangles, each in the canonical rotation every triangle is rasterised in.
+    let tris = region.triangles.iter().map(|&t| ((), canonical(t)));
+    scratch
+        .memo
+        .sum_triangles(hf, tris, &mut scratch.unknown, |_, t| totals.add(&t));
+    Some(())
 }
 
 impl PartScores {

@@ -1,13 +1,13 @@
 //! The triangles of a child mesh inside a region that its reused triangles leave uncovered.
 //!
-//! A composed child ([`compose`](super::compose)) reuses most of its parents' triangles; what
+//! A composed child ([`compose`](crate::evaluator::compose)) reuses most of its parents' triangles; what
 //! they leave uncovered, the region R, is tiled by the child's other triangles. Each of them has
 //! an empty circle among all the child's points, so among R's points (the child's points in R
 //! and on its boundary) too; and R's boundary edges are edges of the child, so Delaunay edges
 //! of R's points. [`Region::wrap`] therefore finds them by *gift wrapping* from the boundary:
 //! the triangle left of a Delaunay edge a → b has the apex c, among the points left of it, whose
 //! circle through a, b and c holds no other (under the tie rule of
-//! [`predicates`](super::predicates), a strict order of those points); each new triangle's other
+//! [`predicates`](crate::evaluator::exact::predicates), a strict order of those points); each new triangle's other
 //! two edges are wrapped in turn, until R is tiled. Points right of a → b need no test: the
 //! triangle on that side has an empty circle, which holds the part of any circle through a, b
 //! and a point on the left that lies right of a → b.
