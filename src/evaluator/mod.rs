@@ -20,6 +20,8 @@
 //! and insertions, only the changed triangles rasterised again), with bit-identical results.
 //!
 //! Layers, each using only those below it:
+//! - `score.rs` and `error.rs`: the numbers of a mesh and why a request fails, which every layer
+//!   speaks;
 //! - `exact/`: integer predicates and the tie rule, fixed-point error sums, and the paper's E by
 //!   brute force (`paper_e.rs`, the reference the tests hold every path to);
 //! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation.rs`), canonical
@@ -44,11 +46,12 @@
 
 pub(crate) mod compose;
 pub(crate) mod edit;
-mod error;
+pub(crate) mod error;
 pub(crate) mod exact;
 pub(crate) mod mesh;
 pub(crate) mod part_scores;
 pub(crate) mod raster;
+pub(crate) mod score;
 #[cfg(test)]
 mod test_grids;
 #[cfg(test)]
@@ -60,39 +63,13 @@ pub use mesh::canonical_form::canonical_set;
 pub use mesh::canonical_triangulation::Triangulation;
 pub use mesh::state::MeshState;
 pub use part_scores::{Changes, PartScores};
+pub use score::{Evaluation, Score};
 
 use crate::heightfield::Heightfield;
 use edit::EditScratch;
 use exact::predicates;
 use raster::Grid;
-use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// The error numbers of one mesh.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Score {
-    /// E = Σ |z − z̃| over all grid points.
-    #[serde(rename = "E_sum")]
-    pub e_sum: f64,
-    /// max |z − z̃|.
-    #[serde(rename = "E_max")]
-    pub e_max: f64,
-    /// sqrt(Σ (z − z̃)² / N).
-    pub rms: f64,
-    /// Number of triangles.
-    #[serde(rename = "T")]
-    pub t: usize,
-}
-
-/// A score and the triangles it was measured on (grid-index triples, counter-clockwise).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Evaluation {
-    /// The numbers.
-    #[serde(flatten)]
-    pub score: Score,
-    /// The triangles as grid indices (y·W + x).
-    pub triangles: Vec<[u32; 3]>,
-}
 
 /// Scores kept sets (or whole triangulations) on one height field. Reuses its buffers between
 /// calls, so keep one per thread.

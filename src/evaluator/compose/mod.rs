@@ -33,7 +33,6 @@ mod spoiling;
 pub use part_classes::PartClasses;
 pub(crate) use spoiling::{counted_in, next_stamp, overlap};
 
-use crate::evaluator::Score;
 use crate::evaluator::exact::fixed_point::ErrorTotals;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::evaluator::mesh::canonical_triangulation::{NONE, edge_from, fit};
@@ -41,6 +40,7 @@ use crate::evaluator::mesh::disc_box::DiscBox;
 use crate::evaluator::mesh::region::{BOUNDARY, Region};
 use crate::evaluator::mesh::state::MeshState;
 use crate::evaluator::raster::triangle_memo::TriangleMemo;
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 use spoiling::{MAX_SEARCHED_BOX, spoils};
 use std::sync::Arc;

@@ -7,7 +7,7 @@
 //!   triangles* as the one built from scratch. A removal deletes the vertex's star and fills the
 //!   hole with the Delaunay triangles of its boundary
 //!   ([`hole_fill`](crate::evaluator::mesh::hole_fill)); an insertion locates the point by a
-//!   visibility walk and splits and flips ([`Triangulation::insert_point`]). Both restore the Delaunay property under the tie rule, so each
+//!   visibility walk and splits and flips ([`Triangulation::insert_point`](crate::evaluator::Triangulation::insert_point)). Both restore the Delaunay property under the tie rule, so each
 //!   intermediate mesh is canonical too.
 //! - Every grid point's error comes from the one triangle that owns it ([`raster`](crate::evaluator::raster)),
 //!   rasterised with its vertices in a canonical rotation (smallest grid index first), so a
@@ -21,65 +21,19 @@
 //! changed; a state costs ≈ 5 bytes per grid point plus 48 bytes per triangle.
 
 mod remove;
+mod scratch;
 
+pub(crate) use scratch::EditScratch;
+use scratch::REGION_MIN_REMOVALS;
+
+use crate::evaluator::error::EvaluateError;
 use crate::evaluator::exact::fixed_point::ErrorTotals;
 use crate::evaluator::exact::predicates::Lattice;
-use crate::evaluator::mesh::canonical_triangulation::Triangulation;
 use crate::evaluator::mesh::disc_box::DiscBox;
 use crate::evaluator::mesh::state::MeshState;
-use crate::evaluator::{EvaluateError, Score};
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
-
-/// Scratch buffers of an edit, kept by the evaluator between calls.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct EditScratch {
-    stack: Vec<u32>,
-    /// Slots written by this edit (repeats allowed).
-    touched: Vec<u32>,
-    /// Slots emptied by removals, to be filled by compaction.
-    dead: Vec<u32>,
-    dirty: Vec<bool>,
-    /// The dirty slots, increasing.
-    dirty_slots: Vec<u32>,
-    boundary: Vec<u32>,
-    outer: Vec<u32>,
-    star: Vec<u32>,
-    fill: Vec<[u32; 3]>,
-    /// Diagonals of a hole's fill seen from one side: (from, to) boundary positions, half-edge.
-    diagonals: Vec<(usize, usize, u32)>,
-    /// [`MeshState::remove_region`]: per slot, is it in a removed vertex's star?
-    in_region: Vec<bool>,
-    /// The slots of the region, in the order found.
-    region: Vec<u32>,
-    /// Per grid point: is it already among `region_points`?
-    listed: Vec<bool>,
-    /// The kept points of the region's closure, plus the grid corners.
-    region_points: Vec<u32>,
-    /// Their canonical triangulation.
-    sub: Triangulation,
-    /// Per grid point, a half-edge of `sub` leaving it.
-    leaving: Vec<u32>,
-    /// Per half-edge of `sub`: the mesh's half-edge across the region's boundary, or
-    /// [`INSIDE`] for an edge that is not on it.
-    across: Vec<u32>,
-    /// Per triangle of `sub`: its slot in the mesh once taken, or `NONE`.
-    taken: Vec<u32>,
-    /// The triangles of `sub` inside the region.
-    inside: Vec<u32>,
-}
-
-/// [`EditScratch::across`] of a half-edge that is not on the region's boundary.
-const INSIDE: u32 = u32::MAX - 1;
-
-/// An edit removes its points region by region (`MeshState::remove_region`) when it removes
-/// at least this many.
-pub const REGION_MIN_REMOVALS: usize = 16;
-
-/// ... and when the region's remaining kept points number at most this many per removed point.
-/// Why: a region pays per removal (stars, flood, relinking) and per point it triangulates again,
-/// so it beats removing the points one hole at a time only while it holds few points per removal.
-pub const REGION_POINTS_PER_REMOVAL: usize = 1;
 
 impl MeshState {
     /// Removes the kept points `remove`, then inserts `insert`, and rescores. On error nothing

@@ -1,6 +1,6 @@
 //! Removing kept points: one hole at a time, or a whole region at once.
 
-use super::{EditScratch, INSIDE, REGION_POINTS_PER_REMOVAL};
+use super::scratch::{EditScratch, INSIDE, REGION_POINTS_PER_REMOVAL};
 use crate::evaluator::exact::predicates::{self, Lattice};
 use crate::evaluator::mesh::canonical_triangulation::{NONE, edge_from, next, prev};
 use crate::evaluator::mesh::hole_fill as hole;

@@ -3,9 +3,9 @@
 
 use super::canonical_triangulation::{NONE, Triangulation, copy_fitted};
 use super::disc_box::DiscBox;
-use crate::evaluator::Score;
 use crate::evaluator::exact::fixed_point::ErrorTotals;
 use crate::evaluator::exact::predicates::{self, GridPoint, Lattice};
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 

@@ -15,13 +15,13 @@
 //! cost about as much as scoring all of a crossover's children.
 
 use super::{PartScores, RowScratch, class_of, on_grid_border, score_from_scratch, score_of};
-use crate::evaluator::Score;
 use crate::evaluator::compose::PartClasses;
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::{Lattice, in_circle};
 use crate::evaluator::mesh::canonical_form::canonical;
 use crate::evaluator::mesh::canonical_triangulation::{NONE, next};
 use crate::evaluator::mesh::state::MeshState;
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 
 /// Changes to a crossover child's kept points: `removed` ones it keeps (not grid corners) and

@@ -28,7 +28,6 @@
 //! the fresh) one. Level sets make a child's pass several times cheaper, and a crossover, which
 //! has 7 children or more, prepares them in the pass that finds the candidate edges.
 
-use crate::evaluator::Score;
 use crate::evaluator::compose::{PartClasses, counted_in, next_stamp, overlap};
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::Lattice;
@@ -38,6 +37,7 @@ use crate::evaluator::mesh::region::Region;
 use crate::evaluator::mesh::state::MeshState;
 use crate::evaluator::raster::grid_of;
 use crate::evaluator::raster::triangle_memo::TriangleMemo;
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 
 mod changes;

@@ -3,11 +3,11 @@
 
 use super::grid_of;
 use super::triangle_memo::TriangleMemo;
-use crate::evaluator::Score;
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::Lattice;
 use crate::evaluator::mesh::canonical_form::canonical;
 use crate::evaluator::mesh::state::{MeshState, next_revision};
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
