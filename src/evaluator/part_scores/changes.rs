@@ -14,7 +14,10 @@
 //! mutants die at the next survival; building the crossed child's mesh only to edit it would
 //! cost about as much as scoring all of a crossover's children.
 
-use super::{PartScores, RowScratch, class_of, on_grid_border, score_from_scratch, score_of};
+use super::shared::{
+    ChangeScratch, Changes, PartScores, RowScratch, class_of, on_grid_border, score_from_scratch,
+    score_of,
+};
 use crate::evaluator::compose::PartClasses;
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::{Lattice, in_circle};
@@ -23,28 +26,6 @@ use crate::evaluator::mesh::canonical_triangulation::{NONE, next};
 use crate::evaluator::mesh::state::MeshState;
 use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
-
-/// Changes to a crossover child's kept points: `removed` ones it keeps (not grid corners) and
-/// `inserted` ones it does not keep, each listed once.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Changes<'a> {
-    /// Points the child keeps that the mutant does not.
-    pub removed: &'a [u32],
-    /// Points the mutant keeps that the child does not.
-    pub inserted: &'a [u32],
-}
-
-/// Scratch of [`PartScores::change`], kept between calls.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct ChangeScratch {
-    /// The reused triangles the changes drop: (parent, slot).
-    dropped: Vec<(usize, u32)>,
-    /// The triangles of a cavity search, seen so far, and those still to visit.
-    seen: Vec<u32>,
-    queue: Vec<u32>,
-    /// Per dropped class: whether a dropped triangle may hold its largest error.
-    classes: Vec<u32>,
-}
 
 impl PartScores {
     /// Turns R (`scratch.points`, `scratch.open`) and the reused triangles' `totals` and count
