@@ -1,4 +1,4 @@
-//! What a crossover's children share and the helpers both ways of scoring them use: the
+//! What a crossover's children share and the functions both ways of scoring them use: the
 //! classes of parent triangles, level sets, the prepared data and per-child scratch.
 
 use crate::evaluator::compose::PartClasses;
