@@ -21,9 +21,7 @@ mod common;
 
 use common::{fixture, kept_subset, large_size, synthetic_name, synthetic_terrain};
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use paretomesh::evaluator::{
-    Evaluator, MeshState, PartClasses, triangulation::Triangulation as Mesh,
-};
+use paretomesh::evaluator::{Evaluator, MeshState, PartClasses, Triangulation as Mesh};
 use rand::{RngExt, SeedableRng};
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 use std::hint::black_box;

@@ -8,8 +8,7 @@
 //!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept":[…],"triangles":[[a,b,c],…]},…]}
 //! ```
 
-use crate::evaluator::incremental::canonical_set;
-use crate::evaluator::{EvaluateError, Evaluator, MeshState, check_indices};
+use crate::evaluator::{EvaluateError, Evaluator, MeshState, canonical_set, check_indices};
 use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;

@@ -6,7 +6,7 @@
 
 use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Score;
-use paretomesh::evaluator::{Evaluator, incremental::canonical_set};
+use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::evolution::{
     CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,
 };

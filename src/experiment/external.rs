@@ -19,7 +19,7 @@
 
 use super::results::{ExternalFront, RejectedMesh};
 use crate::evaluator::Evaluator;
-use crate::evaluator::predicates::{Lattice, in_circle_det, orient};
+use crate::evaluator::exact::predicates::{Lattice, in_circle_det, orient};
 use crate::front::{Front, Solution};
 use crate::heightfield::{TriangleMesh, obj, ply};
 use crate::run_file::RunFile;

@@ -8,7 +8,7 @@
 
 use super::algorithms::{self, Algorithm, Params, Running};
 use crate::evaluator::Evaluator;
-use crate::evaluator::predicates::Lattice;
+use crate::evaluator::exact::predicates::Lattice;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Progress;

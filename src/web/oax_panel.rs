@@ -6,7 +6,7 @@
 use super::dom::{self, by_id};
 use super::plot::format_value;
 use crate::evaluator::Evaluator;
-use crate::evaluator::predicates::Lattice;
+use crate::evaluator::exact::predicates::Lattice;
 use crate::evolution::oax::{OaxChild, OaxRecord};
 use crate::front::Solution;
 use crate::heightfield::Heightfield;

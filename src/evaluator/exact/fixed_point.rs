@@ -5,7 +5,7 @@
 //! sums in fixed point ([`ErrorUnits`]): each error is rounded to a whole number of units of
 //! one power of two, chosen per height field so that no sum can overflow, and the integers are
 //! added, which is exact in any order. A mesh scored from scratch, the same mesh reached by local
-//! edits or composed from two parents ([`MeshState`](super::MeshState), which keeps each
+//! edits or composed from two parents ([`MeshState`](crate::evaluator::MeshState), which keeps each
 //! triangle's totals), and a one-pass score all get the same bits; an edit re-rasterises only
 //! the triangles it touched, and a composition reuses its parents' triangles' totals.
 
@@ -21,17 +21,17 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ErrorUnits {
     /// 2ᵏ for |z − z̃|.
-    pub(super) scale: f64,
+    pub(crate) scale: f64,
     /// The same for (z − z̃)², with R² in place of R.
-    pub(super) scale_sq: f64,
+    pub(crate) scale_sq: f64,
     /// 2^top, the largest term: a bound only heights beyond 10¹⁵⁰ (whose squares overflow)
     /// could reach, so that no sum can overflow whatever the input.
-    pub(super) cap: f64,
+    pub(crate) cap: f64,
 }
 
 /// 2⁵²: added to a number in [0, 2⁵¹], it leaves that number rounded to an integer in the low
 /// bits of the sum's mantissa.
-pub(super) const ROUNDER: f64 = 4_503_599_627_370_496.0;
+pub(crate) const ROUNDER: f64 = 4_503_599_627_370_496.0;
 
 impl ErrorUnits {
     /// The units for `points` grid points with heights spanning `z_range` (max − min, ≥ 0).
@@ -106,7 +106,7 @@ fn at_most(x: f64, cap: f64) -> f64 {
 
 /// `x` ∈ [0, 2⁵¹] rounded to the nearest integer: x + 2⁵² has a unit last place, so the sum
 /// rounds x, and its mantissa then holds it. Why not `as`: Rust's saturating float-to-integer
-/// conversion costs compares and branches per point, a third of a sparse mesh's raster.
+/// conversion costs compares and branches per point, a large share of a sparse mesh's raster.
 #[inline]
 fn to_integer(x: f64) -> u64 {
     (x + ROUNDER).to_bits() - ROUNDER.to_bits()

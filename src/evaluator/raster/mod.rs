@@ -7,9 +7,16 @@
 //! point on a shared edge falls in exactly one triangle. The triangle's own vertices are skipped:
 //! they are kept points and their error is zero by definition.
 
-use super::errors::{ErrorTotals, ErrorUnits};
-use super::predicates::{GridPoint, orient};
-use super::span_sum::{self, Kernel};
+mod fresh_build;
+pub(crate) mod span_sum;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod span_sum_avx2;
+pub(crate) mod triangle_memo;
+
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::predicates::{GridPoint, orient};
+use crate::heightfield::Heightfield;
+use span_sum::Kernel;
 
 /// Error sums over the points one triangle owns.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -215,7 +222,7 @@ impl Grid<'_> {
         done: impl FnMut(Key, ErrorTotals),
     ) {
         #[cfg(target_arch = "x86_64")]
-        if let Some(k) = span_sum::Avx2::detect(units) {
+        if let Some(k) = span_sum_avx2::Avx2::detect(units) {
             // SAFETY: `detect` found AVX2 on this CPU.
             unsafe { self.sum_triangles_avx2(k, tris, done) };
             return;
@@ -232,7 +239,7 @@ impl Grid<'_> {
         tris: impl IntoIterator<Item = [GridPoint; 3]>,
     ) -> ErrorTotals {
         #[cfg(target_arch = "x86_64")]
-        if let Some(k) = span_sum::Avx2::detect(units) {
+        if let Some(k) = span_sum_avx2::Avx2::detect(units) {
             // SAFETY: `detect` found AVX2 on this CPU.
             return unsafe { self.sum_all_avx2(k, tris) };
         }
@@ -243,7 +250,7 @@ impl Grid<'_> {
     #[target_feature(enable = "avx2")]
     unsafe fn sum_all_avx2(
         &self,
-        k: span_sum::Avx2,
+        k: span_sum_avx2::Avx2,
         tris: impl IntoIterator<Item = [GridPoint; 3]>,
     ) -> ErrorTotals {
         self.sum_all_with(k, tris)
@@ -266,7 +273,7 @@ impl Grid<'_> {
     #[target_feature(enable = "avx2")]
     unsafe fn sum_triangles_avx2<Key>(
         &self,
-        k: span_sum::Avx2,
+        k: span_sum_avx2::Avx2,
         tris: impl IntoIterator<Item = (Key, [GridPoint; 3])>,
         done: impl FnMut(Key, ErrorTotals),
     ) {
@@ -584,10 +591,22 @@ impl EdgeWalk {
     }
 }
 
+/// The grid of height field `hf`.
+pub(crate) fn grid_of(hf: &Heightfield) -> Grid<'_> {
+    Grid {
+        width: hf.width() as i64,
+        height: hf.height() as i64,
+        z: hf.z(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluator::Evaluator;
+    use crate::evaluator::test_grids::{fixture, random_subset};
     use rand::{RngExt, SeedableRng};
+    use std::sync::Arc;
 
     /// `tri` counter-clockwise, or `None` when its corners are collinear.
     fn counter_clockwise(mut tri: [GridPoint; 3]) -> Option<[GridPoint; 3]> {
@@ -775,6 +794,32 @@ mod tests {
             assert_eq!(got.sum, expected.sum);
             assert_eq!(got.sum_sq, expected.sum_sq);
             assert_eq!(got.max.to_bits(), expected.max.to_bits());
+        }
+    }
+
+    /// Every grid point that is not a vertex is owned by exactly one triangle.
+    #[test]
+    fn every_point_is_counted_exactly_once() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
+        let hf = fixture("volcano_33x33");
+        let mut ev = Evaluator::new(Arc::new(hf.clone()));
+        for fraction in [0.0, 0.05, 0.3, 0.9] {
+            let kept = random_subset(hf.len(), fraction, &mut rng);
+            let e = ev.evaluate(&kept).unwrap();
+            let grid = Grid {
+                width: hf.width() as i64,
+                height: hf.height() as i64,
+                z: hf.z(),
+            };
+            let mut hits = vec![0u32; hf.len()];
+            let w = hf.width() as i64;
+            for t in &e.triangles {
+                grid.for_each_point(t.map(|i| [i as i64 % w, i as i64 / w]), |i, _| hits[i] += 1);
+            }
+            for (i, &h) in hits.iter().enumerate() {
+                let vertex = ev.kept().binary_search(&(i as u32)).is_ok();
+                assert_eq!(h, u32::from(!vertex), "point {i} (vertex: {vertex})");
+            }
         }
     }
 }

@@ -2,14 +2,14 @@
 //!
 //! The points are inserted one by one into their bounding box's two triangles, each followed by
 //! Lawson flips under the project's tie rule ([`predicates::in_circle`], exact integers), which
-//! makes the result a function of the point set alone (see the tie rule in [`predicates`]). A
+//! makes the result a function of the point set alone (see the tie rule in [`predicates`](crate::evaluator::exact::predicates)). A
 //! point set without its box's corners goes through `spade` and the same flips instead.
 //!
 //! Layout (after delaunator): triangle `t` owns half-edges `3t, 3t+1, 3t+2`; half-edge `e` runs
 //! from `vertices[e]` to `vertices[next(e)]`; `twin[e]` is the opposite half-edge or [`NONE`] on
 //! the grid border. Triangles are counter-clockwise (x right, y up).
 
-use super::predicates::{self, GridPoint, Lattice};
+use crate::evaluator::exact::predicates::{self, GridPoint, Lattice};
 use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 
 /// Spade triangulates the points sheared to (x + y·SHEAR, y). Why: grid points are very often
@@ -17,7 +17,7 @@ use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 /// shear breaks the ties (it is exact in f64 for sides up to 2¹⁴ and keeps every orientation
 /// sign, so spade still returns a triangulation of the real points), and [`Triangulation::legalize_all`]'s
 /// flips with the exact tie rule then reach the one canonical triangulation, as they would from
-/// any triangulation. Measured: a fresh evaluation 23 % faster at 30 % kept on a 65×65 grid.
+/// any triangulation.
 pub const SHEAR: f64 = 1.0 / 1024.0;
 
 /// "No half-edge": the twin of a border edge.
@@ -38,8 +38,8 @@ pub fn prev(e: u32) -> u32 {
 /// A half-edge of the mesh [`Triangulation::insert_all`] builds: its origin as coordinates and
 /// as a grid index, and its twin. Why: with `vertices` and `twin` apart, each walk step and
 /// in-circle test converted three or four grid indices to coordinates (a multiply, a shift, a
-/// multiply and a subtraction each, a sixth of the build's instructions) and checked two arrays'
-/// bounds; here one load gives all three.
+/// multiply and a subtraction each) and checked two arrays' bounds; here one load gives all
+/// three.
 #[derive(Clone, Copy, Debug, Default)]
 struct Half {
     at: [i32; 2],
@@ -272,22 +272,19 @@ fn tie_half(halves: &[Half], edges: [u32; 4]) -> bool {
 /// In three rounds of rows (every fourth row, then the rows halfway between, then the rest).
 /// Why: one sweep up the grid keeps inserting points just above a front whose triangles fan
 /// out to the box's top corners, and each insertion then flips much of that fan; the rounds
-/// fill in between rows already there. On camera_257x257 at 30 % kept: 4.2 flips and 11.5
-/// in-circle tests per point instead of 6.2 and 15.3 (walks: 3.8 steps instead of 2.3); 6–8 %
-/// faster at 2 % and 30 % kept. Two rounds or four were no better.
+/// fill in between rows already there, so each point takes fewer flips and in-circle tests
+/// (for slightly longer walks).
 ///
 /// Within a round, a dense set goes row by row (a group per row). A sparse one goes by bands of
 /// `c` rows (`c` a power of two, chosen so that a `c`×`c` cell holds about four points) and
 /// within a band cell by cell (a group per band), so the next point is about one cell away
 /// rather than a whole row's gap: at 2 % kept a row's points are ≈ 50 columns apart, and the
-/// walk between them crossed ≈ 9 thin triangles. On camera_257x257 at 2 % kept (c = 16): walk
-/// steps per point 9.3 → 4.3, the same in-circle tests and flips, the triangulation
-/// 380–420 → 310–340 µs (min of 400 builds, alternating runs); at 10 % (c = 8) the same time
-/// within noise, and at 30 % bands were never faster than rows, so sets denser than about one
-/// point per 8×8 cell (c < 8, about 12 % kept) keep the rows. The bands come from a counting
-/// sort, stable, so a cell's points stay in row order.
+/// walk between them crosses many thin triangles; bands halve the walk steps there. Denser
+/// sets gain nothing from bands, so sets denser than about one point per 8×8 cell (c < 8,
+/// about 12 % kept) keep the rows. The bands come from a counting sort, stable, so a cell's
+/// points stay in row order.
 #[derive(Clone, Debug, Default)]
-pub(super) struct InsertionOrder {
+pub(crate) struct InsertionOrder {
     /// The points in insertion order (unused when the groups index `kept` itself).
     points: Vec<u32>,
     /// Each group as a range of the points.
@@ -319,7 +316,7 @@ impl InsertionOrder {
     /// Plans the insertion of `kept` (increasing grid indices, repeats allowed), whose bounding
     /// box is `[x0, y0, x1, y1]`: the sequence of points and the ranges of its groups, in
     /// insertion order.
-    pub(super) fn plan<'a>(
+    pub(crate) fn plan<'a>(
         &'a mut self,
         lattice: Lattice,
         kept: &'a [u32],
@@ -393,7 +390,7 @@ impl InsertionOrder {
 pub struct Triangulation {
     /// Grid index of the origin of each half-edge; three per triangle.
     pub vertices: Vec<u32>,
-    /// Opposite half-edge, or [`NONE`].
+    /// Opposite half-edge, or `NONE`.
     pub twin: Vec<u32>,
     lattice: Lattice,
     stack: Vec<u32>,
@@ -428,10 +425,10 @@ impl Clone for Triangulation {
 
 /// Makes `v` empty with room for `len` elements and not much more: a new buffer when its own
 /// is too small or over twice too large. Why: the scorer's pooled meshes take turns holding
-/// meshes of a few triangles and of thousands; grown by doubling (and copied on each growth),
-/// each kept room for the largest it ever held, twice over, and the pool took about four times
-/// the memory its meshes use, most of the run's page faults.
-pub(super) fn fit<T>(v: &mut Vec<T>, len: usize) {
+/// meshes of a few triangles and of thousands; grown by doubling, each would keep room for the
+/// largest it ever held, twice over, and the pool would hold several times the memory its
+/// meshes use.
+pub(crate) fn fit<T>(v: &mut Vec<T>, len: usize) {
     if v.capacity() < len || v.capacity() > 2 * len + 256 {
         *v = Vec::with_capacity(len + len / 8 + 64);
     }
@@ -439,7 +436,7 @@ pub(super) fn fit<T>(v: &mut Vec<T>, len: usize) {
 }
 
 /// `dst` made a copy of `src`, in a buffer [`fit`] for it.
-pub(super) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
+pub(crate) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
     fit(dst, src.len());
     dst.extend_from_slice(src);
 }
@@ -447,7 +444,7 @@ pub(super) fn copy_fitted<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
 impl Triangulation {
     /// Empties `self` for triangles of points on a grid `width` wide, to be filled by hand
     /// (scratch buffers kept).
-    pub(super) fn clear_for(&mut self, width: usize) {
+    pub(crate) fn clear_for(&mut self, width: usize) {
         self.lattice = Lattice::new(width);
         self.vertices.clear();
         self.twin.clear();
@@ -545,9 +542,8 @@ impl Triangulation {
     /// legal. Returns false, changing nothing, unless `kept` holds the box's four corners.
     ///
     /// Why not spade: every point lands inside the box, so there is no hull to maintain; the
-    /// predicates are exact integers; and the points go in an order ([`InsertionOrder`]) where
+    /// predicates are exact integers; and the points go in an order (`InsertionOrder`) where
     /// each next point is usually a neighbour of the last, so walks are short.
-    /// Measured 1.4–1.8× faster than spade's bulk load followed by the tie-rule legalisation.
     pub fn insert_all(&mut self, width: usize, kept: &[u32]) -> bool {
         let lattice = Lattice::new(width);
         let (mut x0, mut y0, mut x1, mut y1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
@@ -674,14 +670,14 @@ impl Triangulation {
     }
 
     /// The half-edge before `e` counter-clockwise around their common origin (the next of
-    /// `e`'s twin), or [`NONE`] past the border.
+    /// `e`'s twin), or `NONE` past the border.
     pub fn fan_prev(&self, e: u32) -> u32 {
         let f = self.twin[e as usize];
         if f == NONE { NONE } else { next(f) }
     }
 
     /// The half-edge after `e` counter-clockwise around their common origin (the twin of `e`'s
-    /// previous half-edge), or [`NONE`] past the border.
+    /// previous half-edge), or `NONE` past the border.
     pub fn fan_next(&self, e: u32) -> u32 {
         self.twin[prev(e) as usize]
     }
@@ -706,7 +702,7 @@ impl Triangulation {
     /// when `claim` takes it (`claim` returns false for a triangle already claimed). Used to
     /// find the triangles of a sub-triangulation that lie in a region, from the region's
     /// boundary edges.
-    pub(super) fn flood(
+    pub(crate) fn flood(
         &self,
         inside: &mut Vec<u32>,
         wall: impl Fn(u32) -> bool,
@@ -849,9 +845,8 @@ impl Triangulation {
 
     /// Flips half-edge `e` if the tie rule calls it illegal; returns the four outer half-edges of
     /// the flipped quadrilateral, which need checking again.
-    // Always inlined: as a call, its result went through memory and its callers' loops (an
-    // insertion's flips) paid the call on every edge; inlined, a fresh evaluation takes 3.5 %
-    // (2 % kept) to 6 % (30 %) fewer instructions, the paper run 1.7 %.
+    // Always inlined: as a call, its result goes through memory and its callers' loops (an
+    // insertion's flips) pay the call on every edge.
     #[inline(always)]
     pub fn flip_if_illegal(&mut self, e: u32) -> Option<[u32; 4]> {
         let f = self.twin[e as usize];
@@ -896,9 +891,43 @@ impl Triangulation {
     }
 }
 
+/// The half-edge of `mesh` from the origin of its half-edge `leaving` to `to`, by walking that
+/// origin's fan from `leaving`: counter-clockwise, then, past the border, clockwise. (Not from
+/// the fan's first half-edge, which for an inner vertex means walking the whole fan first: the
+/// walk is a chain of dependent reads.)
+pub(crate) fn edge_from(mesh: &Triangulation, leaving: u32, to: u32) -> Option<u32> {
+    if leaving == NONE {
+        return None;
+    }
+    let ends_at_to = |e: u32| mesh.vertices[next(e) as usize] == to;
+    // Counter-clockwise, then clockwise (from the half-edge before `leaving`).
+    for (step, start) in [
+        (
+            Triangulation::fan_next as fn(&Triangulation, u32) -> u32,
+            leaving,
+        ),
+        (Triangulation::fan_prev, mesh.fan_prev(leaving)),
+    ] {
+        let mut at = start;
+        while at != NONE {
+            if ends_at_to(at) {
+                return Some(at);
+            }
+            at = step(mesh, at);
+            if at == leaving {
+                // Once around an inner vertex: no such edge.
+                return None;
+            }
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluator::mesh::canonical_form::canonical as rotate_min_first;
+    use crate::evaluator::test_grids::random_subset;
     use rand::{RngExt, SeedableRng};
 
     /// [`Triangulation::insert_all`] as it reads with `walk` and `insert_point` on the half-edge
@@ -1032,6 +1061,112 @@ mod tests {
             }
             sequence.sort_unstable();
             assert_eq!(sequence, kept, "{fraction}: every point once");
+        }
+    }
+
+    /// The triangulation depends on the point set only, not on the order it is given in.
+    #[test]
+    fn triangulation_ignores_insertion_order() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(9);
+        // A 9×9 grid with every point kept is full of co-circular squares: a stress test for ties.
+        let width = 9;
+        for fraction in [1.0, 0.5, 0.25] {
+            let mut kept: Vec<u32> = random_subset(81, fraction, &mut rng);
+            kept.extend([0, 8, 72, 80]);
+            kept.sort_unstable();
+            kept.dedup();
+            let mut canonical = Triangulation::default();
+            canonical.rebuild_delaunay(width, &kept);
+            let mut expected = canonical
+                .triangles()
+                .into_iter()
+                .map(rotate_min_first)
+                .collect::<Vec<_>>();
+            expected.sort_unstable();
+            for _ in 0..5 {
+                let mut shuffled = kept.clone();
+                for i in (1..shuffled.len()).rev() {
+                    shuffled.swap(i, rng.random_range(0..=i));
+                }
+                let mut t = Triangulation::default();
+                t.rebuild_delaunay(width, &shuffled);
+                let mut got = t
+                    .triangles()
+                    .into_iter()
+                    .map(rotate_min_first)
+                    .collect::<Vec<_>>();
+                got.sort_unstable();
+                assert_eq!(got, expected, "fraction {fraction}");
+            }
+        }
+    }
+
+    /// Lawson insertion ([`Triangulation::insert_all`], what the evaluator uses) and spade's bulk
+    /// load with legalisation ([`Triangulation::rebuild_with_spade`]) are independent algorithms:
+    /// they must give the same canonical triangles on every point set, from sparse to the full grid
+    /// (full of co-circular squares), with points on the box's border, and on a box smaller than the
+    /// grid. Without the box's four corners, `insert_all` declines and the spade path is taken.
+    #[test]
+    fn insertion_and_spade_build_the_same_triangulation() {
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(21);
+        let canonical = |t: &Triangulation| {
+            let mut v: Vec<_> = t.triangles().into_iter().map(rotate_min_first).collect();
+            v.sort_unstable();
+            v
+        };
+        for (width, height) in [(2usize, 2usize), (9, 9), (17, 5), (33, 33), (65, 40)] {
+            let n = width * height;
+            for fraction in [0.0, 0.03, 0.1, 0.3, 0.7, 1.0] {
+                // The whole grid's box, then a box from (1, 1) to (width − 2, height − 1) when the
+                // grid is big enough: its corners kept, only points inside it.
+                let mut boxes = vec![(0, 0, width - 1, height - 1)];
+                if width > 3 && height > 3 {
+                    boxes.push((1, 1, width - 2, height - 1));
+                }
+                for (x0, y0, x1, y1) in boxes {
+                    let inside = |i: u32| {
+                        let (x, y) = (i as usize % width, i as usize / width);
+                        (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+                    };
+                    let mut kept: Vec<u32> = random_subset(n, fraction, &mut rng)
+                        .into_iter()
+                        .filter(|&i| inside(i))
+                        .collect();
+                    kept.extend(
+                        [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
+                            .map(|(x, y)| (y * width + x) as u32),
+                    );
+                    kept.sort_unstable();
+                    kept.dedup();
+                    let (mut by_insertion, mut by_spade) =
+                        (Triangulation::default(), Triangulation::default());
+                    assert!(by_insertion.insert_all(width, &kept));
+                    by_spade.rebuild_with_spade(width, &kept);
+                    assert_eq!(
+                        canonical(&by_insertion),
+                        canonical(&by_spade),
+                        "{width}×{height}, {fraction} kept, box {:?}",
+                        (x0, y0, x1, y1)
+                    );
+                    // A repeated point changes nothing.
+                    if let Some(&again) = kept.get(kept.len() / 2) {
+                        let mut repeated = kept.clone();
+                        repeated.push(again);
+                        let mut with_repeat = Triangulation::default();
+                        assert!(with_repeat.insert_all(width, &repeated));
+                        assert_eq!(canonical(&with_repeat), canonical(&by_spade));
+                    }
+                    // Without a corner of its box the set is refused, and rebuild_delaunay falls
+                    // back to spade.
+                    if kept.len() > 4 {
+                        let without = &kept[1..];
+                        assert!(!by_insertion.insert_all(width, without));
+                        by_insertion.rebuild_delaunay(width, without);
+                        by_spade.rebuild_with_spade(width, without);
+                        assert_eq!(canonical(&by_insertion), canonical(&by_spade));
+                    }
+                }
+            }
         }
     }
 }

@@ -8,9 +8,9 @@
 //! ones spares the raster of each repeat: a probe costs a few dozen instructions, a raster
 //! hundreds.
 
-use super::errors::{ErrorTotals, ErrorUnits};
-use super::incremental::grid_of;
-use super::predicates::Lattice;
+use super::grid_of;
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::predicates::Lattice;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
@@ -19,8 +19,8 @@ const EMPTY: [u32; 3] = [u32::MAX; 3];
 
 /// Triangles (canonical rotation: smallest grid index first) with their error totals, by open
 /// addressing. The slots hold the vertices and an index into the totals, 16 bytes: a probe
-/// touches a quarter of a cache line (with the totals in the slots, the table outgrew the
-/// first-level cache and a probe cost a sixth of a row's bookkeeping).
+/// touches a quarter of a cache line, and the table stays in the first-level cache (with the
+/// totals in the slots it would not).
 #[derive(Clone, Debug, Default)]
 pub struct TriangleMemo {
     /// The height field the totals are of.

@@ -1,4 +1,4 @@
-//! A brute-force reference evaluator, for testing the fast one.
+//! The paper's E (eq. 2–4) by brute force: the reference the fast evaluator is tested against.
 //!
 //! For every grid point that is not a vertex, it searches *all* triangles for one that contains
 //! the point (closed triangle, exact integer test) and interpolates there with barycentric

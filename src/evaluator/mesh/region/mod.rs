@@ -1,13 +1,13 @@
 //! The triangles of a child mesh inside a region that its reused triangles leave uncovered.
 //!
-//! A composed child ([`compose`](super::compose)) reuses most of its parents' triangles; what
+//! A composed child ([`compose`](crate::evaluator::compose)) reuses most of its parents' triangles; what
 //! they leave uncovered, the region R, is tiled by the child's other triangles. Each of them has
 //! an empty circle among all the child's points, so among R's points (the child's points in R
 //! and on its boundary) too; and R's boundary edges are edges of the child, so Delaunay edges
 //! of R's points. [`Region::wrap`] therefore finds them by *gift wrapping* from the boundary:
 //! the triangle left of a Delaunay edge a → b has the apex c, among the points left of it, whose
 //! circle through a, b and c holds no other (under the tie rule of
-//! [`predicates`](super::predicates), a strict order of those points); each new triangle's other
+//! [`predicates`](crate::evaluator::exact::predicates), a strict order of those points); each new triangle's other
 //! two edges are wrapped in turn, until R is tiled. Points right of a → b need no test: the
 //! triangle on that side has an empty circle, which holds the part of any circle through a, b
 //! and a point on the left that lies right of a → b.
@@ -37,9 +37,15 @@
 //! of that triangulation lies outside R. Wrapping makes only R's triangles, each after a search
 //! of the grid near its edge.
 
-use super::predicates::{GridPoint, Lattice, in_circle};
-use super::triangulation::NONE;
-use std::ops::Range;
+mod edge_table;
+mod scan;
+#[cfg(target_arch = "x86_64")]
+mod scan_avx2;
+
+use crate::evaluator::exact::predicates::{GridPoint, Lattice, in_circle};
+use crate::evaluator::mesh::canonical_triangulation::NONE;
+use edge_table::{EdgeTable, Queued, VACANT};
+use scan::{Band, Edge, GUESS, Least, Scalar, Scan, guess_lines};
 
 /// Marks a [`Region::twins`] entry that is a boundary edge: the low bits are its index in the
 /// boundary list given to [`Region::wrap`].
@@ -74,421 +80,6 @@ pub struct Region {
     edges: EdgeTable,
 }
 
-/// R's points in one order (by row, or by column) as coordinate arrays that a scan reads four
-/// at a time, and where each line (row or column) starts.
-#[derive(Clone, Debug, Default)]
-struct Band {
-    /// Coordinates per position, padded to whole blocks of four with NaN (never left of an edge,
-    /// so never a candidate).
-    x: Vec<f64>,
-    y: Vec<f64>,
-    /// Local index per position (padding: 0, never read).
-    id: Vec<u32>,
-    /// Per line and one past the last: the position of the first point on that line or later.
-    start: Vec<u32>,
-}
-
-impl Band {
-    /// The positions `[from, to)` of the points on lines `lo..hi` (clipped to the grid).
-    #[inline(always)]
-    fn span(&self, lo: i64, hi: i64) -> [usize; 2] {
-        let last = self.start.len() - 1;
-        let at = |line: i64| self.start[(line.max(0) as usize).min(last)] as usize;
-        [at(lo), at(hi)]
-    }
-
-    /// The blocks of four positions that cover `[from, to)`; empty when it is.
-    #[inline(always)]
-    fn blocks([from, to]: [usize; 2]) -> Range<usize> {
-        if from < to {
-            from / 4..to.div_ceil(4)
-        } else {
-            0..0
-        }
-    }
-
-    /// Every block.
-    fn all(&self) -> Range<usize> {
-        0..self.x.len() / 4
-    }
-
-    /// Fills the coordinates from `id` (local indices into `at`) and pads the arrays.
-    fn fill(&mut self, at: &[GridPoint]) {
-        let padded = self.id.len().next_multiple_of(4);
-        self.x.clear();
-        self.y.clear();
-        self.x.resize(padded, f64::NAN);
-        self.y.resize(padded, f64::NAN);
-        for ((x, y), &j) in self.x.iter_mut().zip(self.y.iter_mut()).zip(&self.id) {
-            let [px, py] = at[j as usize];
-            (*x, *y) = (px as f64, py as f64);
-        }
-        self.id.resize(padded, 0);
-    }
-}
-
-/// An edge a → b of the search, as the scans want it.
-#[derive(Clone, Copy, Debug)]
-struct Edge {
-    ax: f64,
-    ay: f64,
-    bx: f64,
-    by: f64,
-    ex: f64,
-    ey: f64,
-    /// |e|².
-    len2: f64,
-}
-
-/// The s of the first window's circle (see [`Region::apex`] and [`guess_lines`]).
-const GUESS: f64 = 1.0;
-
-/// The columns and rows (half-open) that hold the part left of `a → b` of the circle through
-/// a and b whose s is [`GUESS`] (σ = 1/2: the centre a + (e + e⊥)/2, the radius |e|/√2), in
-/// integers: conservative, as [`Edge::cap_lines`], but cheaper (this is every search's).
-#[inline(always)]
-fn guess_lines(a: GridPoint, b: GridPoint) -> [[i64; 2]; 2] {
-    let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
-    // r ≤ (M + m/2)/√2 ≤ (182/256)·(M + m/2) with M, m the larger and smaller of |ex|, |ey|
-    // ((M + m/2)² ≥ M² + m² as M ≥ m), rounded up.
-    let (ax, ay) = (ex.abs(), ey.abs());
-    let (big, small) = if ax < ay { (ay, ax) } else { (ax, ay) };
-    let r = (((2 * big + small) * 91) >> 8) + 1;
-    // Twice the centre, and the circle's extreme lines.
-    let (cx, cy) = (2 * a[0] + ex - ey, 2 * a[1] + ey + ex);
-    let (x0, x1, y0, y1) = (
-        (cx >> 1) - r,
-        (cx >> 1) + r + 1,
-        (cy >> 1) - r,
-        (cy >> 1) + r + 1,
-    );
-    // The circle's extreme point along ±x (±y) lies left of the edge unless the edge is
-    // steeper than 45° that way (e × (centre ± r·axis − a) = |e|²/2 ± r·(−ey or ex)); then
-    // the part ends at an end of the edge. Selects, not branches.
-    let (steep_x, steep_y) = (ey * ey > ex * ex, ex * ex > ey * ey);
-    let (lo_x, hi_x) = (a[0].min(b[0]), a[0].max(b[0]) + 1);
-    let (lo_y, hi_y) = (a[1].min(b[1]), a[1].max(b[1]) + 1);
-    [
-        [
-            if steep_x & (ey < 0) { lo_x } else { x0 },
-            if steep_x & (ey > 0) { hi_x } else { x1 },
-        ],
-        [
-            if steep_y & (ex > 0) { lo_y } else { y0 },
-            if steep_y & (ex < 0) { hi_y } else { y1 },
-        ],
-    ]
-}
-
-impl Edge {
-    fn new(a: GridPoint, b: GridPoint) -> Self {
-        Self {
-            ax: a[0] as f64,
-            ay: a[1] as f64,
-            bx: b[0] as f64,
-            by: b[1] as f64,
-            ex: (b[0] - a[0]) as f64,
-            ey: (b[1] - a[1]) as f64,
-            len2: ((b[0] - a[0]).pow(2) + (b[1] - a[1]).pow(2)) as f64,
-        }
-    }
-
-    /// The lines (columns if `axis` is 0, rows if 1) that hold the part left of the edge of
-    /// the circle through a and b whose s is `s` (finite; see the module docs): conservative,
-    /// every grid point of that part, on the circle included, lies on one of them. Why not the
-    /// circle's extent: a point near the edge makes a huge circle whose left part is a thin
-    /// cap along the edge.
-    #[inline(always)]
-    fn cap_lines(&self, s: f64, axis: usize) -> [i64; 2] {
-        // The centre is a + e/2 + σ·e⊥, the radius |e|·√(1/4 + σ²).
-        let sigma = 0.5 * s;
-        let r = (self.len2 * (0.25 + sigma * sigma)).sqrt();
-        // Along the axis: a's and b's coordinates, e's and e⊥'s (also e × the axis).
-        let (ak, bk, ek, nk) = if axis == 0 {
-            (self.ax, self.bx, self.ex, -self.ey)
-        } else {
-            (self.ay, self.by, self.ey, self.ex)
-        };
-        let c = ak + 0.5 * ek + sigma * nk;
-        // The part is convex: its extreme along the axis is the circle's where that point
-        // lies left of the edge (e × (centre ± r·axis − a) = σ|e|² ± r·nk ≥ 0), else an end of
-        // the edge. The circle's is kept unless the point is clearly right (a rounding near
-        // the line would only make the lines wider).
-        let (base, reach) = (sigma * self.len2, r * nk);
-        let tolerance = 1e-9 * (base.abs() + reach.abs());
-        let margin = 1e-6 * (1.0 + r);
-        // Selects, not branches: which side wins is data.
-        let (low_end, high_end) = if ak < bk { (ak, bk) } else { (bk, ak) };
-        let hi = if base + reach < -tolerance {
-            high_end
-        } else {
-            c + r + margin
-        };
-        let lo = if base - reach < -tolerance {
-            low_end
-        } else {
-            c - r - margin
-        };
-        // Outwards to whole lines: `as` truncates, which is the floor from 0 up, and lines
-        // below 0 are clipped anyway (it saturates far out).
-        [lo as i64, (hi + 1.0) as i64]
-    }
-
-    /// s of the point (x, y) (see the module docs), rounded once; +∞ unless the point lies
-    /// strictly left of the edge (NaN coordinates included). The numerator and denominator are
-    /// exact (integers below 2³⁰), whatever the order of the operations or fused ones.
-    #[inline(always)]
-    fn key(&self, x: f64, y: f64) -> f64 {
-        let (qx, qy) = (x - self.ax, y - self.ay);
-        let den = self.ex * qy - self.ey * qx;
-        let num = qx * (x - self.bx) + qy * (y - self.by);
-        if den > 0.0 { num / den } else { f64::INFINITY }
-    }
-}
-
-/// What a search's scans found.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Least {
-    /// No point left of the edge.
-    Nothing,
-    /// The one point (its position in the band) with the least rounded s: the apex.
-    One(usize),
-    /// The least rounded s, shared by more than one point.
-    Shared(f64),
-}
-
-/// A scan over blocks of a [`Band`] that keeps the least rounded s (see the module docs), per
-/// lane: its value, the position of its first point, and whether a later point has it too.
-trait Scan {
-    /// An empty scan for the edge.
-    fn new(edge: &Edge) -> Self;
-    /// Scans positions `4·blocks.start..4·blocks.end` (within the band's padded arrays; none
-    /// when `blocks` is empty or runs backwards).
-    fn scan(&mut self, band: &Band, blocks: Range<usize>);
-    /// The least value seen (+∞ when none).
-    fn least(&self) -> f64;
-    /// The outcome so far.
-    fn outcome(&self) -> Least;
-    /// Calls `visit` with every position of `blocks` whose rounded s is `least`, in order.
-    fn each_equal(&self, band: &Band, blocks: Range<usize>, least: f64, visit: impl FnMut(usize));
-}
-
-/// One point at a time (every target, and the reference of the tests).
-#[derive(Clone, Copy, Debug)]
-struct Scalar {
-    edge: Edge,
-    least: f64,
-    at: usize,
-    shared: bool,
-}
-
-impl Scan for Scalar {
-    #[inline(always)]
-    fn new(edge: &Edge) -> Self {
-        Self {
-            edge: *edge,
-            least: f64::INFINITY,
-            at: 0,
-            shared: false,
-        }
-    }
-
-    #[inline(always)]
-    fn scan(&mut self, band: &Band, blocks: Range<usize>) {
-        // A range may run backwards (a cap that ends before the window): empty, as the loop's.
-        let range = 4 * blocks.start..4 * blocks.end.max(blocks.start);
-        let (xs, ys) = (&band.x[range.clone()], &band.y[range.clone()]);
-        for (k, (&x, &y)) in xs.iter().zip(ys).enumerate() {
-            let s = self.edge.key(x, y);
-            let (less, equal) = (s < self.least, s == self.least);
-            self.shared = (self.shared | equal) & !less;
-            if less {
-                self.least = s;
-                self.at = range.start + k;
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn least(&self) -> f64 {
-        self.least
-    }
-
-    #[inline(always)]
-    fn outcome(&self) -> Least {
-        if self.least == f64::INFINITY {
-            Least::Nothing
-        } else if self.shared {
-            Least::Shared(self.least)
-        } else {
-            Least::One(self.at)
-        }
-    }
-
-    #[inline(always)]
-    fn each_equal(
-        &self,
-        band: &Band,
-        blocks: Range<usize>,
-        least: f64,
-        mut visit: impl FnMut(usize),
-    ) {
-        for pos in 4 * blocks.start..4 * blocks.end {
-            if self.edge.key(band.x[pos], band.y[pos]) == least {
-                visit(pos);
-            }
-        }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-mod avx2 {
-    //! The scan four points per instruction.
-    use super::{Band, Edge, Least, Range, Scan};
-    use std::arch::x86_64::*;
-
-    /// The edge's constants and, per lane: the least s, its position, whether it is shared (all
-    /// bits set).
-    #[derive(Clone, Copy, Debug)]
-    pub struct Avx2 {
-        ax: __m256d,
-        ay: __m256d,
-        bx: __m256d,
-        by: __m256d,
-        ex: __m256d,
-        ey: __m256d,
-        least: __m256d,
-        at: __m256i,
-        shared: __m256d,
-    }
-
-    /// Does this CPU run [`Avx2`]?
-    pub fn available() -> bool {
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-    }
-
-    impl Avx2 {
-        /// The rounded s of the four points of block `k` ([`Edge::key`] in four lanes: the
-        /// same operations, so the same values).
-        ///
-        /// # Safety
-        /// AVX2 and FMA; `k` a block of the band.
-        #[inline(always)]
-        unsafe fn keys(&self, band: &Band, k: usize) -> __m256d {
-            unsafe {
-                let x = _mm256_loadu_pd(band.x.as_ptr().add(4 * k));
-                let y = _mm256_loadu_pd(band.y.as_ptr().add(4 * k));
-                let (qx, qy) = (_mm256_sub_pd(x, self.ax), _mm256_sub_pd(y, self.ay));
-                let (rx, ry) = (_mm256_sub_pd(x, self.bx), _mm256_sub_pd(y, self.by));
-                let den = _mm256_fmsub_pd(self.ex, qy, _mm256_mul_pd(self.ey, qx));
-                let num = _mm256_fmadd_pd(qx, rx, _mm256_mul_pd(qy, ry));
-                let left = _mm256_cmp_pd::<_CMP_GT_OQ>(den, _mm256_setzero_pd());
-                _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), _mm256_div_pd(num, den), left)
-            }
-        }
-    }
-
-    // SAFETY (every method): called only from code compiled with AVX2 and FMA, which runs only
-    // where `available()` said so; the loads stay in the band's arrays (asserted).
-    impl Scan for Avx2 {
-        #[inline(always)]
-        fn new(edge: &Edge) -> Self {
-            unsafe {
-                Self {
-                    ax: _mm256_set1_pd(edge.ax),
-                    ay: _mm256_set1_pd(edge.ay),
-                    bx: _mm256_set1_pd(edge.bx),
-                    by: _mm256_set1_pd(edge.by),
-                    ex: _mm256_set1_pd(edge.ex),
-                    ey: _mm256_set1_pd(edge.ey),
-                    least: _mm256_set1_pd(f64::INFINITY),
-                    at: _mm256_setzero_si256(),
-                    shared: _mm256_setzero_pd(),
-                }
-            }
-        }
-
-        #[inline(always)]
-        fn scan(&mut self, band: &Band, blocks: Range<usize>) {
-            assert!(4 * blocks.end <= band.x.len() && band.x.len() == band.y.len());
-            unsafe {
-                let mut position = _mm256_add_epi64(
-                    _mm256_set1_epi64x(4 * blocks.start as i64),
-                    _mm256_setr_epi64x(0, 1, 2, 3),
-                );
-                let (mut least, mut at, mut shared) = (self.least, self.at, self.shared);
-                for k in blocks {
-                    let s = self.keys(band, k);
-                    let less = _mm256_cmp_pd::<_CMP_LT_OQ>(s, least);
-                    let equal = _mm256_cmp_pd::<_CMP_EQ_OQ>(s, least);
-                    shared = _mm256_andnot_pd(less, _mm256_or_pd(shared, equal));
-                    least = _mm256_min_pd(s, least);
-                    at = _mm256_castpd_si256(_mm256_blendv_pd(
-                        _mm256_castsi256_pd(at),
-                        _mm256_castsi256_pd(position),
-                        less,
-                    ));
-                    position = _mm256_add_epi64(position, _mm256_set1_epi64x(4));
-                }
-                (self.least, self.at, self.shared) = (least, at, shared);
-            }
-        }
-
-        #[inline(always)]
-        fn least(&self) -> f64 {
-            unsafe {
-                let half = _mm_min_pd(
-                    _mm256_castpd256_pd128(self.least),
-                    _mm256_extractf128_pd::<1>(self.least),
-                );
-                _mm_cvtsd_f64(_mm_min_sd(half, _mm_unpackhi_pd(half, half)))
-            }
-        }
-
-        #[inline(always)]
-        fn outcome(&self) -> Least {
-            let least = self.least();
-            if least == f64::INFINITY {
-                return Least::Nothing;
-            }
-            unsafe {
-                let lanes = _mm256_cmp_pd::<_CMP_EQ_OQ>(self.least, _mm256_set1_pd(least));
-                let lanes = _mm256_movemask_pd(lanes) as u32;
-                let shared = _mm256_movemask_pd(self.shared) as u32;
-                if lanes.is_power_of_two() && shared & lanes == 0 {
-                    let mut at = [0u64; 4];
-                    _mm256_storeu_si256(at.as_mut_ptr().cast(), self.at);
-                    Least::One(at[lanes.trailing_zeros() as usize & 3] as usize)
-                } else {
-                    Least::Shared(least)
-                }
-            }
-        }
-
-        #[inline(always)]
-        fn each_equal(
-            &self,
-            band: &Band,
-            blocks: Range<usize>,
-            least: f64,
-            mut visit: impl FnMut(usize),
-        ) {
-            assert!(4 * blocks.end <= band.x.len() && band.x.len() == band.y.len());
-            unsafe {
-                let least = _mm256_set1_pd(least);
-                for k in blocks {
-                    let equal = _mm256_cmp_pd::<_CMP_EQ_OQ>(self.keys(band, k), least);
-                    let mut lanes = _mm256_movemask_pd(equal) as u32;
-                    while lanes != 0 {
-                        visit(4 * k + lanes.trailing_zeros() as usize);
-                        lanes &= lanes - 1;
-                    }
-                }
-            }
-        }
-    }
-}
-
 impl Region {
     /// Tiles R: `points` are R's points (the child's points inside R and on its boundary), on a
     /// grid `width × height`; R lies left of `v → u` for every boundary edge `(tag, u, v)` of
@@ -517,7 +108,7 @@ impl Region {
     ) -> Option<()> {
         self.prepare(width, height, points, boundary);
         #[cfg(target_arch = "x86_64")]
-        if simd && avx2::available() {
+        if simd && scan_avx2::available() {
             // SAFETY: the CPU has AVX2 and FMA.
             return unsafe { self.tile_avx2(width, height) };
         }
@@ -673,7 +264,7 @@ impl Region {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     unsafe fn tile_avx2(&mut self, width: usize, height: usize) -> Option<()> {
-        self.tile::<avx2::Avx2>(width, height)
+        self.tile::<scan_avx2::Avx2>(width, height)
     }
 
     /// The wrapping itself, on prepared points (see [`wrap`](Self::wrap)).
@@ -869,7 +460,7 @@ fn on_border(p: GridPoint, q: GridPoint, width: usize, height: usize) -> bool {
 /// Calls `visit` with every grid point set in `bits` (bit `i` of word `i / 64`) inside the
 /// half-open rectangle `[x0, y0, x1, y1]` of a grid `width` wide, row by row, until it returns
 /// true; returns whether it did.
-pub(super) fn for_each_in(
+pub(crate) fn for_each_in(
     bits: &[u64],
     width: usize,
     [x0, y0, x1, y1]: [i64; 4],
@@ -905,162 +496,11 @@ pub(super) fn for_each_in(
     false
 }
 
-/// "No claim yet" in an [`EdgeTable`] direction.
-const VACANT: u32 = u32::MAX;
-
-/// An [`EdgeTable`] slot nobody uses.
-const EMPTY: u64 = u64::MAX;
-
-/// A queued edge's slot in the [`EdgeTable`] and which of its directions it is: the slot
-/// times two plus the direction.
-#[derive(Clone, Copy, Debug)]
-struct Queued(u32);
-
-impl Queued {
-    /// The direction of `slot` opposite to `d`.
-    #[inline(always)]
-    fn across(slot: usize, d: usize) -> Self {
-        Self((2 * slot + (1 - d)) as u32)
-    }
-
-    /// The slot and the direction.
-    #[inline(always)]
-    fn slot(self) -> (usize, usize) {
-        ((self.0 >> 1) as usize, (self.0 & 1) as usize)
-    }
-}
-
-/// Undirected edges between local indices with a value per direction ([`VACANT`] until
-/// claimed), by open addressing, and the queue of directed edges that still need a triangle on
-/// their left. Why undirected: claiming one direction returns the other's value in the same
-/// probe, so twins are linked as they are made; and a queued edge keeps its slot, so an edge
-/// claimed since it was queued costs one load.
-#[derive(Clone, Debug, Default)]
-struct EdgeTable {
-    /// Per slot: the key lo << 32 | hi of the edge between lo < hi (or [`EMPTY`]), and the
-    /// values of lo → hi (low half) and hi → lo (high half).
-    slots: Vec<(u64, u64)>,
-    /// The slots in use (the first `count`), to empty them again; as long as `slots`.
-    used: Vec<u32>,
-    count: usize,
-    /// 64 − log2 of the number of slots.
-    shift: u32,
-    /// Directed edges (local indices) that still need a triangle on their left.
-    queue: Vec<(u32, u32, Queued)>,
-}
-
-impl EdgeTable {
-    /// Empties the table and the queue, with room for about `expected` edges.
-    fn reset(&mut self, expected: usize) {
-        for &s in &self.used[..self.count] {
-            self.slots[s as usize].0 = EMPTY;
-        }
-        self.count = 0;
-        self.queue.clear();
-        let want = (2 * expected.max(16)).next_power_of_two();
-        if self.slots.len() < want {
-            self.slots.clear();
-            self.slots.resize(want, (EMPTY, u64::MAX));
-            self.used.resize(want, 0);
-        }
-        self.shift = 64 - self.slots.len().trailing_zeros();
-    }
-
-    /// The key of the edge between `x` and `y`, and which of its values is `x → y`'s.
-    #[inline(always)]
-    fn key(x: u32, y: u32) -> (u64, usize) {
-        if x < y {
-            ((u64::from(x) << 32) | u64::from(y), 0)
-        } else {
-            ((u64::from(y) << 32) | u64::from(x), 1)
-        }
-    }
-
-    /// The slot holding `key`, or the empty slot where it would go.
-    #[inline(always)]
-    fn find(&self, key: u64) -> usize {
-        let mask = self.slots.len() - 1;
-        let mut s = (key.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> self.shift) as usize;
-        loop {
-            let k = self.slots[s].0;
-            if k == key || k == EMPTY {
-                return s;
-            }
-            s = (s + 1) & mask;
-        }
-    }
-
-    /// The slot of the edge between `x` and `y` (made, both directions vacant, if new) and
-    /// which of its values is `x → y`'s.
-    #[inline(always)]
-    fn entry(&mut self, x: u32, y: u32) -> (usize, usize) {
-        if 2 * (self.count + 1) > self.slots.len() {
-            self.grow();
-        }
-        let (key, d) = Self::key(x, y);
-        let s = self.find(key);
-        // New or not is data: written either way, and the slot counted in use only if new.
-        let slot = &mut self.slots[s];
-        let new = slot.0 == EMPTY;
-        // Both vacant (all ones) if new.
-        slot.1 |= u64::from(new).wrapping_neg();
-        slot.0 = key;
-        self.used[self.count] = s as u32;
-        self.count += usize::from(new);
-        (s, d)
-    }
-
-    /// Claims direction `d` of `slot` for `value` (the slot from [`entry`](Self::entry) or the
-    /// queue, with no entry since): the other direction's value ([`VACANT`] if unclaimed), or
-    /// `None` if this one is claimed already (two triangles left of one edge).
-    #[inline(always)]
-    fn claim(&mut self, slot: usize, d: usize, value: u32) -> Option<u32> {
-        let values = &mut self.slots[slot].1;
-        let shift = 32 * d as u32;
-        if (*values >> shift) as u32 != VACANT {
-            return None;
-        }
-        *values = (*values & !(u64::from(u32::MAX) << shift)) | (u64::from(value) << shift);
-        Some((*values >> (32 - shift)) as u32)
-    }
-
-    /// The value of direction `d` of `slot`.
-    #[inline(always)]
-    fn value(&self, slot: usize, d: usize) -> u32 {
-        (self.slots[slot].1 >> (32 * d)) as u32
-    }
-
-    /// Doubles the table, keeping its edges and the queue's slots.
-    #[cold]
-    fn grow(&mut self) {
-        let old: Vec<_> = self.used[..self.count]
-            .iter()
-            .map(|&s| self.slots[s as usize])
-            .collect();
-        let size = 2 * self.slots.len();
-        self.slots.clear();
-        self.slots.resize(size, (EMPTY, u64::MAX));
-        self.used.resize(size, 0);
-        self.shift = 64 - size.trailing_zeros();
-        for (k, &(key, values)) in old.iter().enumerate() {
-            let s = self.find(key);
-            self.slots[s] = (key, values);
-            self.used[k] = s as u32;
-        }
-        for q in 0..self.queue.len() {
-            let (a, b, _) = self.queue[q];
-            let (key, d) = Self::key(a, b);
-            // The queued direction a → b is the one across (b → a)'s.
-            self.queue[q].2 = Queued::across(self.find(key), 1 - d);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::evaluator::incremental::canonical_set;
-    use crate::evaluator::triangulation::{Triangulation, next};
+    use crate::evaluator::mesh::canonical_form::canonical_set;
+    use crate::evaluator::mesh::canonical_triangulation::{Triangulation, next};
     use rand::{RngExt, SeedableRng};
     use rand_pcg::Pcg64Mcg;
 

@@ -8,10 +8,9 @@
 //! [`predicates::in_circle`]. Such an ear is a Delaunay triangle of the boundary set and, being an
 //! ear, inside the hole; one always exists because the hole's Delaunay triangulation has ears.
 //! Each candidate's circle is set up once ([`Circle`]) and tested against the boundary's points,
-//! converted from grid indices once per hole: 5–7 % off a paper NSGA-II run, where hole fills
-//! were a fifth of the time.
+//! converted from grid indices once per hole, since hole fills are a large share of an edit.
 
-use crate::evaluator::predicates::{self, Circle, GridPoint, Lattice};
+use crate::evaluator::exact::predicates::{self, Circle, GridPoint, Lattice};
 
 /// Triangulates the counter-clockwise polygon `boundary` (grid indices on `lattice`,
 /// at least 3) into the Delaunay triangles of its vertices that lie inside it, appended to `out`
@@ -95,9 +94,9 @@ mod tests {
         let mut out = Vec::new();
         assert!(fill(&[a, b, c, d], Lattice::new(10), &mut out));
         assert_eq!(out.len(), 2);
-        let mut mesh = crate::evaluator::triangulation::Triangulation::default();
+        let mut mesh = crate::evaluator::mesh::canonical_triangulation::Triangulation::default();
         mesh.rebuild_delaunay(10, &[0, 1, 10, 11]);
-        let canon = crate::evaluator::incremental::canonical_set;
+        let canon = crate::evaluator::mesh::canonical_form::canonical_set;
         assert_eq!(canon(&out), canon(&mesh.triangles()));
     }
 
