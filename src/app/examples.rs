@@ -7,7 +7,7 @@
 //! show a mesh of a few hundred triangles.
 
 use super::algorithms::{Algorithm, Params};
-use super::render::camera::OrbitCamera;
+use super::camera::OrbitCamera;
 use super::share::{ShareLink, SharedSurface, ViewToggles};
 
 /// A curated demo link.

@@ -17,7 +17,7 @@
 //! seed.
 
 use super::algorithms::{Algorithm, Params};
-use super::app::{App, RunConfig, Status, Surface};
+use super::state::{App, RunConfig, Status, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
     Analysis, DatasetResults, GridSummary, Method, MethodRuns, Pick, RESULTS_FORMAT, Results,

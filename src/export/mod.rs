@@ -1,0 +1,8 @@
+//! File writers shared by the command line and the browser app: the simplified mesh in the
+//! input's own coordinates ([`mesh::WorldMesh`]) as PLY, OBJ or STL, and the front as CSV.
+
+pub mod csv;
+pub mod mesh;
+pub mod obj;
+pub mod ply;
+pub mod stl;
