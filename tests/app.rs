@@ -1105,7 +1105,7 @@ mod curated_examples {
             };
             surfaces.push(name.clone());
         }
-        // A terrain, a face-like relief and a range scan, as the issue asks.
+        // A terrain, a face-like relief and a range scan: three kinds of surface.
         for wanted in ["jacksboro_65x65", "camera_65x65", "bunny_65x65"] {
             assert!(surfaces.iter().any(|s| s == wanted), "{wanted}");
         }

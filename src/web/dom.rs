@@ -1,5 +1,5 @@
 //! The page's controls, found by id in `index.html`: reading the parameter form, writing the
-//! status line and messages, and small helpers for listeners and downloads.
+//! status line and messages, and small functions for listeners and downloads.
 
 use crate::app::algorithms::{Algorithm, Params, crossover_from_key, crossover_key};
 use crate::app::state::{RunConfig, Status};

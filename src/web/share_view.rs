@@ -107,50 +107,51 @@ fn current_link(ui: &Ui, embed: bool) -> Result<(ShareLink, String), String> {
 
 /// The Share button: writes the link into the box and the address bar and copies it.
 pub(super) fn share(ui: &mut Ui) {
-    let embed = dom::checked("share-embed");
-    match current_link(ui, embed) {
-        Ok((link, note)) => {
-            let fragment = share::encode(&link);
-            // Refuse to hand out a link the reader would refuse.
-            if let Err(e) = share::decode(&fragment) {
-                dom::set_text("share-message", &e.to_string());
-                return;
-            }
-            let url = url_with_hash(&fragment);
-            replace_hash(&fragment);
-            if let Ok(input) = by_id::<HtmlInputElement>("share-url") {
-                input.set_value(&url);
-                input.set_hidden(false);
-                input.select();
-            }
-            let copied = web_sys::window()
-                .map(|w| w.navigator().clipboard())
-                .map(|c| c.write_text(&url));
-            if let Some(promise) = copied.clone() {
-                // Clipboard access can be refused (permissions, no focus): say so.
-                wasm_bindgen_futures::spawn_local(async move {
-                    if wasm_bindgen_futures::JsFuture::from(promise).await.is_err() {
-                        dom::set_text(
-                            "share-message",
-                            "The browser refused clipboard access: copy the link from the \
-                             box below.",
-                        );
-                    }
-                });
-            }
-            let message = format!(
-                "Link ({} characters) {}.{note}",
-                url.len(),
-                if copied.is_some() {
-                    "copied to the clipboard; it is also in the box below"
-                } else {
-                    "in the box below: copy it from there"
-                }
-            );
-            dom::set_text("share-message", &message);
-        }
-        Err(e) => dom::set_text("share-message", &format!("Cannot share: {e}.")),
+    let message = match current_link(ui, dom::checked("share-embed")) {
+        Ok((link, note)) => publish(&link, &note),
+        Err(e) => format!("Cannot share: {e}."),
+    };
+    dom::set_text("share-message", &message);
+}
+
+/// Puts `link` in the box and the address bar and copies it; returns the message to show.
+fn publish(link: &ShareLink, note: &str) -> String {
+    let fragment = share::encode(link);
+    // Refuse to hand out a link the reader would refuse.
+    if let Err(e) = share::decode(&fragment) {
+        return e.to_string();
     }
+    let url = url_with_hash(&fragment);
+    replace_hash(&fragment);
+    if let Ok(input) = by_id::<HtmlInputElement>("share-url") {
+        input.set_value(&url);
+        input.set_hidden(false);
+        input.select();
+    }
+    let whereabouts = if copy_to_clipboard(&url) {
+        "copied to the clipboard; it is also in the box below"
+    } else {
+        "in the box below: copy it from there"
+    };
+    format!("Link ({} characters) {whereabouts}.{note}", url.len())
+}
+
+/// Starts copying `text` to the clipboard; false when the page has no clipboard. Access can
+/// still be refused later (permissions, no focus): the share message then says so.
+fn copy_to_clipboard(text: &str) -> bool {
+    let Some(promise) = web_sys::window().map(|w| w.navigator().clipboard().write_text(text))
+    else {
+        return false;
+    };
+    wasm_bindgen_futures::spawn_local(async move {
+        if wasm_bindgen_futures::JsFuture::from(promise).await.is_err() {
+            dom::set_text(
+                "share-message",
+                "The browser refused clipboard access: copy the link from the box below.",
+            );
+        }
+    });
+    true
 }
 
 /// Enables "embed the grid" only when the grid is small enough to travel.

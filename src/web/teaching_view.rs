@@ -96,12 +96,7 @@ pub(super) fn teaching_frame(ui: &mut Ui, now: f64) {
     }
     let status = ui.app.status();
     if ui.app.reproduction().is_none() {
-        if ui.teaching.stepper.waiting.is_some() && status.done {
-            // The run ended before the generation asked for.
-            ui.teaching.stepper.waiting = None;
-            ui.teaching.playing = false;
-        }
-        ui.teaching.stepper.arrived(status.generation);
+        follow_run(ui, status.generation, status.done);
     }
     if ui.teaching.playing
         && ui.teaching.stepper.waiting.is_none()
@@ -118,34 +113,8 @@ pub(super) fn teaching_frame(ui: &mut Ui, now: f64) {
         "teach-play",
         if ui.teaching.playing { "Pause" } else { "Play" },
     );
-    let shown = ui.teaching.stepper.shown;
-    let waiting = ui.teaching.stepper.waiting;
-    if let Ok(list) = by_id::<web_sys::Element>("teach-phases")
-        && let Ok(items) = list.query_selector_all("li")
-    {
-        for (i, phase) in Phase::ALL.iter().enumerate() {
-            if let Some(li) = items
-                .item(i as u32)
-                .and_then(|n| n.dyn_into::<web_sys::Element>().ok())
-            {
-                let _ = li
-                    .class_list()
-                    .toggle_with_force("current", shown == Some(*phase));
-            }
-        }
-    }
-    let traced = ui
-        .app
-        .optimizer()
-        .is_some_and(|o| o.generation_trace().is_some());
-    let caption = match (waiting, traced, shown) {
-        (Some((g, _)), _, _) => format!("Computing generation {g}…"),
-        (None, true, Some(_)) => teaching_scene(ui).map_or(String::new(), |s| s.caption.clone()),
-        (None, true, None) => "Press “Next phase” to see the last generation's selection.".into(),
-        (None, false, _) => "Press “Next phase” to make the first generation and see it \
-                             phase by phase (the initial population is made first)."
-            .into(),
-    };
+    mark_current_phase(ui.teaching.stepper.shown);
+    let caption = caption(ui);
     dom::set_text("teach-caption", &caption);
     // The OAX panel, redrawn when a new generation's crossover is there.
     let generation = status.generation;
@@ -153,6 +122,56 @@ pub(super) fn teaching_frame(ui: &mut Ui, now: f64) {
         ui.teaching.oax_drawn = Some(generation);
         let hf = ui.app.surface().heightfield.clone();
         oax_panel::show(ui.app.optimizer().and_then(|o| o.last_crossover()), &hf);
+    }
+}
+
+/// Tells the stepper the run reached `generation`; a run that ended (`done`) before the
+/// generation asked for stops the wait and the play.
+fn follow_run(ui: &mut Ui, generation: u64, done: bool) {
+    if ui.teaching.stepper.waiting.is_some() && done {
+        ui.teaching.stepper.waiting = None;
+        ui.teaching.playing = false;
+    }
+    ui.teaching.stepper.arrived(generation);
+}
+
+/// Highlights phase `shown` in the phase list.
+fn mark_current_phase(shown: Option<Phase>) {
+    let Ok(items) = by_id::<web_sys::Element>("teach-phases").and_then(|list| {
+        list.query_selector_all("li")
+            .map_err(|_| "no phase list".to_string())
+    }) else {
+        return;
+    };
+    for (i, phase) in Phase::ALL.iter().enumerate() {
+        if let Some(li) = items
+            .item(i as u32)
+            .and_then(|n| n.dyn_into::<web_sys::Element>().ok())
+        {
+            let _ = li
+                .class_list()
+                .toggle_with_force("current", shown == Some(*phase));
+        }
+    }
+}
+
+/// The caption under the teaching plot: the shown phase's, or what to press or wait for.
+fn caption(ui: &mut Ui) -> String {
+    let traced = ui
+        .app
+        .optimizer()
+        .is_some_and(|o| o.generation_trace().is_some());
+    match (
+        ui.teaching.stepper.waiting,
+        traced,
+        ui.teaching.stepper.shown,
+    ) {
+        (Some((g, _)), _, _) => format!("Computing generation {g}…"),
+        (None, true, Some(_)) => teaching_scene(ui).map_or(String::new(), |s| s.caption.clone()),
+        (None, true, None) => "Press “Next phase” to see the last generation's selection.".into(),
+        (None, false, _) => "Press “Next phase” to make the first generation and see it \
+                             phase by phase (the initial population is made first)."
+            .into(),
     }
 }
 
