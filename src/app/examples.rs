@@ -1,4 +1,4 @@
-//! The curated demo links: the page's "Examples" and the README's list (a browser test checks
+//! The curated demo links: the page's "Examples" and the README's list (tests/app.rs checks
 //! the README carries exactly these links).
 //!
 //! Each is an ordinary share link ([`super::share`]) on a built-in surface, so opening one

@@ -34,16 +34,25 @@ pub(super) struct ViewKey {
 
 /// The page's state: the app plus what only the page has (view, plot, pointers, links).
 pub(super) struct Ui {
+    /// The surface, the run and the selection.
     pub(super) app: App,
+    /// The 3-D view, when the browser gave one.
     pub(super) renderer: Option<Renderer>,
     pub(super) camera: OrbitCamera,
+    /// What the 3-D layers were last built from.
     pub(super) view_key: Option<ViewKey>,
+    /// The selected mesh with its per-point errors, as the 3-D view shows it.
     pub(super) shown: Option<ShownMesh>,
+    /// The 3-D view must be drawn again on the next frame.
     pub(super) redraw: bool,
+    /// The plot's layout and front points as of the last frame, for hit-testing.
     pub(super) plot_layout: Layout,
     pub(super) front_points: Vec<PlotPoint>,
+    /// Index of the front member under the mouse.
     pub(super) hovered: Option<usize>,
+    /// Pointers down on the 3-D view: (id, x, y) as last seen.
     pub(super) pointers: Vec<(i32, f64, f64)>,
+    /// The first paint was marked.
     pub(super) painted: bool,
     /// Where the surface came from, for share links.
     pub(super) origin: Origin,
@@ -55,12 +64,14 @@ pub(super) struct Ui {
     pub(super) compare: CompareView,
 }
 
+/// Milliseconds on the page's performance clock (0 without one).
 pub(super) fn performance_now() -> f64 {
     web_sys::window()
         .and_then(|w| w.performance())
         .map_or(0.0, |p| p.now())
 }
 
+/// The unit of z named in the surface's source note ("" when it names none).
 pub(super) fn z_unit(hf: &Heightfield) -> String {
     hf.source()
         .split("; ")
@@ -72,10 +83,13 @@ pub(super) fn z_unit(hf: &Heightfield) -> String {
 /// The teaching view's page state.
 #[derive(Default)]
 pub(super) struct TeachingUi {
+    /// Which phase is shown and which generation is awaited.
     pub(super) stepper: Stepper,
     /// The shown phase's marks, legend and caption, built once per (generation, phase).
     pub(super) scene: Option<TeachingScene>,
+    /// Index of the mark under the mouse.
     pub(super) hovered: Option<usize>,
+    /// Slow-motion play is on.
     pub(super) playing: bool,
     /// When play last advanced a phase (ms, performance clock).
     pub(super) last_auto_ms: f64,
@@ -88,14 +102,38 @@ pub(super) struct TeachingUi {
 /// The compare panel's state.
 #[derive(Default)]
 pub(super) struct CompareView {
+    /// The comparison, once started.
     pub(super) run: Option<CompareRun>,
+    /// The compare plot's layout as of the last frame, for hit-testing.
     pub(super) layout: Option<Layout>,
     /// Every plotted member: (method index, index in its front, position).
     pub(super) points: Vec<(usize, usize, PlotPoint)>,
+    /// Index into `points` under the mouse.
     pub(super) hovered: Option<usize>,
 }
 
 impl Ui {
+    /// The page state of `app` on a surface from `origin`, before the 3-D view exists.
+    pub(super) fn new(app: App, origin: Origin) -> Self {
+        Self {
+            app,
+            renderer: None,
+            camera: OrbitCamera::default(),
+            view_key: None,
+            shown: None,
+            redraw: true,
+            plot_layout: Layout::fit(1.0, 1.0, []),
+            front_points: Vec::new(),
+            hovered: None,
+            pointers: Vec::new(),
+            painted: false,
+            origin,
+            waiting_for: None,
+            teaching: TeachingUi::default(),
+            compare: CompareView::default(),
+        }
+    }
+
     /// The view toggles as the checkboxes say.
     pub(super) fn toggles(&self) -> ViewToggles {
         ViewToggles {

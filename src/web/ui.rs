@@ -5,7 +5,7 @@
 
 use super::dom::{self, by_id, listen};
 use super::gpu::Renderer;
-use super::page::{HIT_RADIUS, TeachingUi, Ui, on_event, performance_now, z_unit};
+use super::page::{HIT_RADIUS, Ui, on_event, performance_now, z_unit};
 use super::{compare_view, plot_canvas, share_view, teaching_view};
 use crate::app::algorithms;
 use crate::app::camera::OrbitCamera;
@@ -33,29 +33,14 @@ use web_sys::{HtmlCanvasElement, KeyboardEvent, MouseEvent, PointerEvent, WheelE
 pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue> {
     install_panic_hook();
     let hf = loader::builtin();
-    let mut ui = Ui {
-        app: App::new(
-            Surface {
-                name: loader::BUILTIN_NAME.to_string(),
-                heightfield: Arc::new(hf),
-            },
-            RunConfig::default(),
-        ),
-        renderer: None,
-        camera: OrbitCamera::default(),
-        view_key: None,
-        shown: None,
-        redraw: true,
-        plot_layout: Layout::fit(1.0, 1.0, []),
-        front_points: Vec::new(),
-        hovered: None,
-        pointers: Vec::new(),
-        painted: false,
-        origin: Origin::Builtin(loader::BUILTIN_NAME),
-        waiting_for: None,
-        teaching: TeachingUi::default(),
-        compare: Default::default(),
-    };
+    let app = App::new(
+        Surface {
+            name: loader::BUILTIN_NAME.to_string(),
+            heightfield: Arc::new(hf),
+        },
+        RunConfig::default(),
+    );
+    let mut ui = Ui::new(app, Origin::Builtin(loader::BUILTIN_NAME));
     teaching_view::fill().map_err(|e| JsValue::from_str(&e))?;
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
     share_view::update_share_controls(&ui);
@@ -84,6 +69,7 @@ pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue>
     Ok(ui)
 }
 
+/// Shows a panic on the page (and the console) instead of a silently frozen app.
 fn install_panic_hook() {
     std::panic::set_hook(Box::new(|info| {
         let message = info.to_string();
@@ -127,6 +113,8 @@ pub(super) fn frame(ui: &mut Ui) {
     }
 }
 
+/// Draws the plot: the teaching plot when that view shows a phase, else the population and the
+/// front, and keeps the layout for hit-testing.
 fn draw_plot(ui: &mut Ui) {
     let Some((ctx, cw, ch)) = dom::canvas_2d("plot") else {
         return;

@@ -2,12 +2,12 @@
 //! one colour and marker shape per method, the picks ringed, the selection and the hovered
 //! member marked, and a hover read-out.
 
-use super::super::dom;
-use super::super::page::{Ui, z_unit};
-use super::super::plot_canvas;
 use crate::app::compare::{METHODS, Picks};
 use crate::app::compare_html::{COLOURS, named_picks};
 use crate::app::plot::{self, Layout, PlotPoint, Scene};
+use crate::web::dom;
+use crate::web::page::{Ui, z_unit};
+use crate::web::plot_canvas;
 use std::fmt::Write;
 use web_sys::CanvasRenderingContext2d;
 
