@@ -376,21 +376,18 @@ impl App {
         let Some(len) = self.front().map(|f| f.len()).filter(|&n| n > 0) else {
             return;
         };
-        let next = match self.selected_front_index() {
-            Some(i) => (i as isize + delta).clamp(0, len as isize - 1) as usize,
-            None => {
-                // The selection left the front: start from the member nearest in T.
-                match self.selected.as_ref() {
-                    Some(s) => {
-                        let front = self.front().expect("len > 0");
-                        let at = front.solutions().partition_point(|m| m.t < s.t);
-                        (at as isize + delta.min(0)).clamp(0, len as isize - 1) as usize
-                    }
-                    None if delta >= 0 => 0,
-                    None => len - 1,
-                }
+        let last = len as isize - 1;
+        let next = match (self.selected_front_index(), self.selected.as_ref()) {
+            (Some(i), _) => (i as isize + delta).clamp(0, last),
+            // The selection left the front: start from the member nearest in T.
+            (None, Some(s)) => {
+                let front = self.front().expect("len > 0");
+                let at = front.solutions().partition_point(|m| m.t < s.t);
+                (at as isize + delta.min(0)).clamp(0, last)
             }
-        };
+            (None, None) if delta >= 0 => 0,
+            (None, None) => last,
+        } as usize;
         self.select_front_index(Some(next));
     }
 

@@ -224,41 +224,43 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
     let picks: web_sys::EventTarget = by_id("compare-picks")?;
     let u = ui.clone();
     listen(&picks, "click", move |e: MouseEvent| {
-        let Some(cell) = e
-            .target()
-            .and_then(|t| t.dyn_into::<web_sys::Element>().ok())
-            .and_then(|t| t.closest("td[data-pick]").ok().flatten())
-        else {
-            return;
-        };
-        let Some(method) = cell
-            .closest("tr[data-method]")
-            .ok()
-            .flatten()
-            .and_then(|r| r.get_attribute("data-method"))
-            .and_then(|m| Method::parse(&m).ok())
-        else {
-            return;
-        };
-        let number = |name: &str| cell.get_attribute(name).and_then(|v| v.parse::<f64>().ok());
-        let (Some(e_value), Some(t_value)) = (number("data-e"), number("data-t")) else {
-            return;
-        };
-        let mut ui = u.borrow_mut();
-        let k = method_index(method);
-        let index = ui
-            .compare
-            .run
-            .as_ref()
-            .and_then(|r| r.front(k))
-            .and_then(|f| {
-                f.solutions()
-                    .iter()
-                    .position(|s| s.t as f64 == t_value && s.e_sum == e_value)
-            });
-        if let Some(i) = index {
-            compare_select(&mut ui, k, i);
+        if let Some((k, t, e_sum)) = clicked_pick(&e) {
+            select_pick(&mut u.borrow_mut(), k, t, e_sum);
         }
     });
     Ok(())
+}
+
+/// The pick cell under click `e`: its method's index in [`METHODS`](crate::app::compare::METHODS)
+/// and its T and E.
+fn clicked_pick(e: &MouseEvent) -> Option<(usize, f64, f64)> {
+    let cell = e
+        .target()
+        .and_then(|t| t.dyn_into::<web_sys::Element>().ok())
+        .and_then(|t| t.closest("td[data-pick]").ok().flatten())?;
+    let method = cell
+        .closest("tr[data-method]")
+        .ok()
+        .flatten()
+        .and_then(|r| r.get_attribute("data-method"))
+        .and_then(|m| Method::parse(&m).ok())?;
+    let number = |name: &str| cell.get_attribute(name).and_then(|v| v.parse::<f64>().ok());
+    Some((method_index(method), number("data-t")?, number("data-e")?))
+}
+
+/// Shows the member of method `k`'s front with `t` triangles and error `e_sum`, if it is there.
+fn select_pick(ui: &mut Ui, k: usize, t: f64, e_sum: f64) {
+    let index = ui
+        .compare
+        .run
+        .as_ref()
+        .and_then(|r| r.front(k))
+        .and_then(|f| {
+            f.solutions()
+                .iter()
+                .position(|s| s.t as f64 == t && s.e_sum == e_sum)
+        });
+    if let Some(i) = index {
+        compare_select(ui, k, i);
+    }
 }
