@@ -210,6 +210,27 @@ impl EmbeddedGrid {
     }
 }
 
+/// Where the shown surface came from: what a share link can say about it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Origin {
+    /// A built-in surface.
+    Builtin(&'static str),
+    /// A user's file, known by its fingerprint.
+    File(FileFingerprint),
+    /// A grid that came embedded in a link (re-sharing embeds it again).
+    Embedded,
+}
+
+/// Heights of `hf` as the f32 an embedded grid carries, and whether that is exact.
+pub fn embeddable(hf: &Heightfield) -> Option<(Vec<f32>, bool)> {
+    if hf.width() > MAX_EMBEDDED_SIDE || hf.height() > MAX_EMBEDDED_SIDE {
+        return None;
+    }
+    let z: Vec<f32> = hf.z().iter().map(|&v| v as f32).collect();
+    let exact = z.iter().zip(hf.z()).all(|(&a, &b)| f64::from(a) == b);
+    Some((z, exact))
+}
+
 /// Why a link was refused. The Display text is written for the person who opened the link.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ShareError {
@@ -652,25 +673,4 @@ fn inflate_grid(data: &str, width: usize, height: usize) -> Result<Vec<f32>, Sha
         return Err(ShareError::NonFiniteHeight { index });
     }
     Ok(z)
-}
-
-/// Where the shown surface came from: what a share link can say about it.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Origin {
-    /// A built-in surface.
-    Builtin(&'static str),
-    /// A user's file, known by its fingerprint.
-    File(FileFingerprint),
-    /// A grid that came embedded in a link (re-sharing embeds it again).
-    Embedded,
-}
-
-/// Heights of `hf` as the f32 an embedded grid carries, and whether that is exact.
-pub fn embeddable(hf: &Heightfield) -> Option<(Vec<f32>, bool)> {
-    if hf.width() > MAX_EMBEDDED_SIDE || hf.height() > MAX_EMBEDDED_SIDE {
-        return None;
-    }
-    let z: Vec<f32> = hf.z().iter().map(|&v| v as f32).collect();
-    let exact = z.iter().zip(hf.z()).all(|(&a, &b)| f64::from(a) == b);
-    Some((z, exact))
 }
