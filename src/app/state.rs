@@ -1,8 +1,9 @@
 //! The app state: the surface, the chosen algorithm and its parameters, the running optimizer,
 //! run/pause, and the selected solution. Pure Rust with no DOM, so it is tested directly.
 //!
-//! The optimizer advances in time-budgeted slices: [`App::tick`] calls [`Optimizer::step`] with
-//! small evaluation budgets until the frame's time budget is spent. Since slicing never changes
+//! The optimizer advances in time-budgeted slices: [`App::tick`] calls
+//! [`Optimizer::step`](crate::optimizer::Optimizer::step) with small evaluation budgets until
+//! the frame's time budget is spent. Since slicing never changes
 //! an optimizer's result (see [`crate::optimizer`]), the browser reaches exactly the front the
 //! CLI reaches with the same seed.
 
@@ -68,7 +69,7 @@ pub struct Status {
 /// What one [`App::tick`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TickReport {
-    /// [`Optimizer::step`] calls made.
+    /// [`Optimizer::step`](crate::optimizer::Optimizer::step) calls made.
     pub steps: u32,
     /// Evaluations spent in this tick.
     pub evaluations: u64,

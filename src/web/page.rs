@@ -1,4 +1,4 @@
-//! The page's state, [`Ui`]: the app plus what only the page has (3-D view, plot, pointers,
+//! The page's state, `Ui`: the app plus what only the page has (3-D view, plot, pointers,
 //! share-link origin, the teaching and compare panels), with the steps every view shares:
 //! reading the form, the view toggles, the surface and selection lines, and the 3-D layers.
 

@@ -1,7 +1,8 @@
-//! Parsing off the main thread: `www/worker.js` runs [`parse_surface`] in a Web Worker and
-//! posts the height field back as a plain object (z as a transferable `Float64Array`);
-//! [`surface_from_js`] rebuilds it on the main thread. So a file of tens of MB never blocks the
-//! page for more than the copy of its heights.
+//! Parsing off the main thread: `www/worker.js` runs
+//! [`parse_surface`](super::bindings::parse_surface) in a Web Worker and posts the height field
+//! back as a plain object (z as a transferable `Float64Array`); [`surface_from_js`] rebuilds it
+//! on the main thread. So a file of tens of MB never blocks the page for more than the copy of
+//! its heights.
 
 use crate::heightfield::{Heightfield, Placement};
 use js_sys::{Array, Float64Array, Object, Reflect};
