@@ -23,8 +23,6 @@ cargo test --doc
 echo "== wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web
-CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
-  cargo test --target wasm32-unknown-unknown --test web_compare
 
 echo "== browser app: build and end-to-end test (headless Chromium)"
 bash scripts/build-web.sh

@@ -122,15 +122,6 @@ impl RunFile {
             front: members,
         })
     }
-
-    /// The front's (E_sum, T) rows as CSV with a header line.
-    pub fn csv(&self) -> String {
-        let mut out = String::from("E_sum,T\n");
-        for s in &self.front {
-            out.push_str(&format!("{},{}\n", s.solution.e_sum, s.solution.t));
-        }
-        out
-    }
 }
 
 /// An order that visits every chromosome once, starting at the first, each next one the nearest

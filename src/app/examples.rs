@@ -1,4 +1,4 @@
-//! The curated demo links: the page's "Examples" and the README's list (a browser test checks
+//! The curated demo links: the page's "Examples" and the README's list (tests/app.rs checks
 //! the README carries exactly these links).
 //!
 //! Each is an ordinary share link ([`super::share`]) on a built-in surface, so opening one
@@ -7,7 +7,7 @@
 //! show a mesh of a few hundred triangles.
 
 use super::algorithms::{Algorithm, Params};
-use super::render::camera::OrbitCamera;
+use super::camera::OrbitCamera;
 use super::share::{ShareLink, SharedSurface, ViewToggles};
 
 /// A curated demo link.

@@ -24,8 +24,8 @@
 //! hostile link can neither panic nor hang the page.
 
 use super::algorithms::{Algorithm, Params};
+use super::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
 use super::loader;
-use super::render::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
 use crate::heightfield::{Heightfield, MAX_POINTS, MAX_SIDE};
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
@@ -208,6 +208,27 @@ impl EmbeddedGrid {
         }
         Ok(())
     }
+}
+
+/// Where the shown surface came from: what a share link can say about it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Origin {
+    /// A built-in surface.
+    Builtin(&'static str),
+    /// A user's file, known by its fingerprint.
+    File(FileFingerprint),
+    /// A grid that came embedded in a link (re-sharing embeds it again).
+    Embedded,
+}
+
+/// Heights of `hf` as the f32 an embedded grid carries, and whether that is exact.
+pub fn embeddable(hf: &Heightfield) -> Option<(Vec<f32>, bool)> {
+    if hf.width() > MAX_EMBEDDED_SIDE || hf.height() > MAX_EMBEDDED_SIDE {
+        return None;
+    }
+    let z: Vec<f32> = hf.z().iter().map(|&v| v as f32).collect();
+    let exact = z.iter().zip(hf.z()).all(|(&a, &b)| f64::from(a) == b);
+    Some((z, exact))
 }
 
 /// Why a link was refused. The Display text is written for the person who opened the link.

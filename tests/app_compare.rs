@@ -1,8 +1,10 @@
-//! Compare mode (`paretomesh::web::compare`) in a real headless browser (wasm-bindgen-test,
-//! Chromium): the four methods share the frame budget, each reaches the front it reaches when
-//! run alone, and the live table holds exactly the numbers the core metrics compute.
-#![cfg(target_arch = "wasm32")]
+//! Compare mode (`paretomesh::app::compare`): the four methods share the frame budget, each
+//! reaches the front it reaches when run alone, and the live table holds exactly the numbers
+//! the core metrics compute.
 
+use paretomesh::app::algorithms::{Params, build};
+use paretomesh::app::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS, algorithm_of};
+use paretomesh::app::state::Surface;
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::{Nsga2, WeightedSum, WeightedSumParams};
 use paretomesh::experiment::Method;
@@ -12,13 +14,7 @@ use paretomesh::metrics::{
     fewest_triangles_pick, hypervolume_ratio, trade_off_pick,
 };
 use paretomesh::optimizer::Optimizer;
-use paretomesh::web::algorithms::{Params, build};
-use paretomesh::web::app::Surface;
-use paretomesh::web::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS, algorithm_of};
 use std::sync::Arc;
-use wasm_bindgen_test::*;
-
-wasm_bindgen_test_configure!(run_in_browser);
 
 const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
 const SIDECAR: &[u8] = include_bytes!("data/volcano_33x33.json");
@@ -65,7 +61,7 @@ fn finished(surface: Surface, params: Params) -> CompareRun {
     run
 }
 
-#[wasm_bindgen_test]
+#[test]
 fn each_method_reaches_the_front_it_reaches_alone() {
     let run = finished(volcano(), params());
     assert!(run.is_done());
@@ -99,7 +95,7 @@ fn each_method_reaches_the_front_it_reaches_alone() {
     assert!(run.front(1).unwrap().len() <= 11);
 }
 
-#[wasm_bindgen_test]
+#[test]
 fn the_table_holds_the_numbers_the_core_metrics_compute() {
     let mut run = finished(volcano(), params());
     assert!(run.refresh_table(0.0));
@@ -160,7 +156,7 @@ fn the_table_holds_the_numbers_the_core_metrics_compute() {
     }
 }
 
-#[wasm_bindgen_test]
+#[test]
 fn the_methods_share_the_frame_budget_and_take_turns() {
     let mut run = CompareRun::new(volcano(), params()).unwrap();
     // Paused: no work.
@@ -198,7 +194,7 @@ fn the_methods_share_the_frame_budget_and_take_turns() {
     assert!(!run.is_running());
 }
 
-#[wasm_bindgen_test]
+#[test]
 fn the_live_table_is_throttled_but_final_when_the_run_ends() {
     let mut run = CompareRun::new(volcano(), params()).unwrap();
     // Before anything ran, NSGA-II has no front yet (its first unit is one evaluation): its row
@@ -251,7 +247,7 @@ fn the_live_table_is_throttled_but_final_when_the_run_ends() {
     );
 }
 
-#[wasm_bindgen_test]
+#[test]
 fn bad_parameters_and_a_flat_surface_are_messages_not_panics() {
     let mut bad = params();
     bad.crossover_probability = 2.0;

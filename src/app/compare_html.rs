@@ -1,11 +1,35 @@
 //! The compare panel's HTML: the rows of its three tables, the note that states the
 //! normalisation, and the legend. Numbers and fixed labels only, so nothing needs escaping.
 
-use super::{COLOURS, SHAPES, SHORT, method_index, named_picks};
-use crate::experiment::Method;
-use crate::web::compare::{CompareTable, METHODS};
-use crate::web::plot;
+use super::compare::{CompareTable, METHODS, Picks};
+use super::plot;
+use crate::experiment::{Method, Pick};
 use std::fmt::Write;
+
+/// Okabe–Ito colours (distinguishable with the common colour-vision deficiencies), one per
+/// method in [`METHODS`] order; each method also has its own marker shape.
+pub const COLOURS: [&str; 4] = ["#0072B2", "#E69F00", "#009E73", "#CC79A7"];
+
+/// Marker shapes, in [`METHODS`] order, as the legend names them.
+pub const SHAPES: [&str; 4] = ["●", "■", "▲", "◆"];
+
+/// Short method names for the tables (the legend gives the full ones), so that the tables fit
+/// the page's right column.
+pub const SHORT: [&str; 4] = ["NSGA-II", "Weighted", "Decimation", "Greedy"];
+
+/// Position of `m` in [`METHODS`] (the order of colours, shapes and fronts).
+pub fn method_index(m: Method) -> usize {
+    METHODS.iter().position(|&x| x == m).unwrap_or(0)
+}
+
+/// The three picks with their names, for marks and read-outs.
+pub fn named_picks(p: &Picks) -> [(&'static str, Pick); 3] {
+    [
+        ("best error", p.best_error),
+        ("fewest triangles", p.fewest_triangles),
+        ("trade-off", p.trade_off),
+    ]
+}
 
 /// A number for a cell: (shown with `digits` decimals, full precision for `data-value`); an
 /// empty cell ("—", "") when there is no number yet.
@@ -18,7 +42,7 @@ fn fmt_opt(v: Option<f64>, digits: usize) -> (String, String) {
 
 /// The rows of the three tables, as HTML (numbers and fixed labels only: nothing to escape).
 /// Each number cell carries its full-precision value in `data-value`.
-pub(super) fn table_html(table: &CompareTable) -> (String, String, String) {
+pub fn table_html(table: &CompareTable) -> (String, String, String) {
     let mut methods = String::new();
     let mut picks = String::new();
     let name = |m: Method| {
@@ -80,7 +104,7 @@ pub(super) fn table_html(table: &CompareTable) -> (String, String, String) {
 
 /// The note under the tables: the normalisation, reference point and front, the pick's seed,
 /// and whether the table is final.
-pub(super) fn note_text(table: &CompareTable) -> String {
+pub fn note_text(table: &CompareTable) -> String {
     let n = table.normalization;
     format!(
         "One normalisation for the four fronts: E ÷ {} (E of the corner-only mesh), T ÷ {} (the full \
@@ -103,7 +127,7 @@ pub(super) fn note_text(table: &CompareTable) -> String {
 }
 
 /// The legend under the compare plot.
-pub(super) fn legend_html() -> String {
+pub fn legend_html() -> String {
     let mut html = String::new();
     for (k, m) in METHODS.iter().enumerate() {
         let _ = write!(

@@ -1,8 +1,9 @@
 //! The app state: the surface, the chosen algorithm and its parameters, the running optimizer,
 //! run/pause, and the selected solution. Pure Rust with no DOM, so it is tested directly.
 //!
-//! The optimizer advances in time-budgeted slices: [`App::tick`] calls [`Optimizer::step`] with
-//! small evaluation budgets until the frame's time budget is spent. Since slicing never changes
+//! The optimizer advances in time-budgeted slices: [`App::tick`] calls
+//! [`Optimizer::step`](crate::optimizer::Optimizer::step) with small evaluation budgets until
+//! the frame's time budget is spent. Since slicing never changes
 //! an optimizer's result (see [`crate::optimizer`]), the browser reaches exactly the front the
 //! CLI reaches with the same seed.
 
@@ -68,7 +69,7 @@ pub struct Status {
 /// What one [`App::tick`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TickReport {
-    /// [`Optimizer::step`] calls made.
+    /// [`Optimizer::step`](crate::optimizer::Optimizer::step) calls made.
     pub steps: u32,
     /// Evaluations spent in this tick.
     pub evaluations: u64,
@@ -376,21 +377,18 @@ impl App {
         let Some(len) = self.front().map(|f| f.len()).filter(|&n| n > 0) else {
             return;
         };
-        let next = match self.selected_front_index() {
-            Some(i) => (i as isize + delta).clamp(0, len as isize - 1) as usize,
-            None => {
-                // The selection left the front: start from the member nearest in T.
-                match self.selected.as_ref() {
-                    Some(s) => {
-                        let front = self.front().expect("len > 0");
-                        let at = front.solutions().partition_point(|m| m.t < s.t);
-                        (at as isize + delta.min(0)).clamp(0, len as isize - 1) as usize
-                    }
-                    None if delta >= 0 => 0,
-                    None => len - 1,
-                }
+        let last = len as isize - 1;
+        let next = match (self.selected_front_index(), self.selected.as_ref()) {
+            (Some(i), _) => (i as isize + delta).clamp(0, last),
+            // The selection left the front: start from the member nearest in T.
+            (None, Some(s)) => {
+                let front = self.front().expect("len > 0");
+                let at = front.solutions().partition_point(|m| m.t < s.t);
+                (at as isize + delta.min(0)).clamp(0, last)
             }
-        };
+            (None, None) if delta >= 0 => 0,
+            (None, None) => last,
+        } as usize;
         self.select_front_index(Some(next));
     }
 

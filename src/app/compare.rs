@@ -17,7 +17,7 @@
 //! seed.
 
 use super::algorithms::{Algorithm, Params};
-use super::app::{App, RunConfig, Status, Surface};
+use super::state::{App, RunConfig, Status, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
     Analysis, Budget, DatasetResults, GridSummary, Method, MethodRuns, Pick, RESULTS_FORMAT,
@@ -294,27 +294,7 @@ impl CompareRun {
         let methods: Vec<MethodRuns> = self
             .lanes
             .iter()
-            .filter_map(|l| {
-                let front = l.app.front().filter(|f| !f.is_empty())?;
-                let params = super::algorithms::params_json(l.app.config().algorithm, &self.params);
-                Some(MethodRuns {
-                    method: l.method,
-                    params,
-                    runs: vec![RunRecord {
-                        run: 0,
-                        seed: l.method.is_stochastic().then_some(self.params.seed),
-                        evaluations: l.app.status().evaluations,
-                        front: front
-                            .solutions()
-                            .iter()
-                            .map(|s| Solution {
-                                kept: Vec::new(),
-                                ..s.clone()
-                            })
-                            .collect(),
-                    }],
-                })
-            })
+            .filter_map(|l| self.method_runs(l))
             .collect();
         Ok(Results {
             format: RESULTS_FORMAT.to_string(),
@@ -345,6 +325,29 @@ impl CompareRun {
             }],
             timings: None,
             command: None,
+        })
+    }
+
+    /// A lane's front as one run of its method, `None` while the front is empty.
+    fn method_runs(&self, lane: &Lane) -> Option<MethodRuns> {
+        let front = lane.app.front().filter(|f| !f.is_empty())?;
+        let front = front
+            .solutions()
+            .iter()
+            .map(|s| Solution {
+                kept: Vec::new(),
+                ..s.clone()
+            })
+            .collect();
+        Some(MethodRuns {
+            method: lane.method,
+            params: super::algorithms::params_json(lane.app.config().algorithm, &self.params),
+            runs: vec![RunRecord {
+                run: 0,
+                seed: lane.method.is_stochastic().then_some(self.params.seed),
+                evaluations: lane.app.status().evaluations,
+                front,
+            }],
         })
     }
 

@@ -2,8 +2,8 @@
 //! three pipelines: shaded fill (pushed back by a depth bias so the wireframe shows), lines, and
 //! translucent fill.
 
-use super::camera::OrbitCamera;
-use super::geometry::{Geometry, Vertex};
+use crate::app::camera::OrbitCamera;
+use crate::app::geometry::{Geometry, Vertex};
 use web_sys::HtmlCanvasElement;
 use wgpu::util::DeviceExt;
 
