@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Runs every test: formatting, clippy (native and wasm32), native tests, the
 # wasm-bindgen-test tests in headless Chromium, and the browser app's end-to-end test
-# (playwright-core driving /usr/bin/chromium). Needs the wasm32 target, wasm-bindgen-cli
-# matching Cargo.lock, chromium and chromedriver, and `npm ci` (`scripts/setup.sh` installs
-# them; `.ci/run` calls it).
+# (playwright-core driving /usr/bin/chromium). It first runs `scripts/setup.sh`, which installs
+# what is missing (the wasm32 target, wasm-bindgen-cli matching Cargo.lock, chromium and
+# chromedriver, the npm tools) and skips what is already there, so it works on a fresh machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+echo "== toolchain"
+bash scripts/setup.sh
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
