@@ -11,7 +11,9 @@ use paretomesh::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
 };
 use paretomesh::evaluator::Evaluator;
-use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
+use paretomesh::evolution::{
+    CrossoverKind, GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams,
+};
 use paretomesh::front::Front;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::{Optimizer, Progress};
@@ -24,6 +26,8 @@ use std::time::Instant;
 /// The algorithms `run` knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Algo {
+    /// Memetic NSGA-II: greedy seeding, error-guided operators and local search (default).
+    Memetic,
     /// NSGA-II with orthogonal-array crossover.
     Nsga2,
     /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
@@ -41,6 +45,8 @@ pub enum RuleArg {
     MaxError,
     /// Insert the point whose insertion reduces E_sum the most.
     SumReduction,
+    /// Insert the max-error point of the triangle with the largest error sum.
+    WorstTriangle,
 }
 
 impl Algo {
@@ -71,11 +77,11 @@ pub struct RunArgs {
     #[command(flatten)]
     input: InputArgs,
     /// The algorithm.
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, default_value = "memetic")]
     algo: Algo,
-    /// Population size.
-    #[arg(long, default_value_t = GaParams::default().population)]
-    pop: usize,
+    /// Population size [default: 100 for the GAs, 24 for memetic].
+    #[arg(long)]
+    pop: Option<usize>,
     /// Generations (per weight, for the weighted-sum GA).
     #[arg(long, default_value_t = GaParams::default().generations)]
     gens: usize,
@@ -126,7 +132,7 @@ struct Built {
 
 fn ga_params(args: &RunArgs) -> GaParams {
     GaParams {
-        population: args.pop,
+        population: args.pop.unwrap_or(GaParams::default().population),
         generations: args.gens,
         crossover_probability: args.pc,
         mutation_probability: args.pm,
@@ -146,13 +152,30 @@ fn to_json<T: serde::Serialize>(params: &T) -> serde_json::Value {
 }
 
 fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
-    if args.greedy_seed != 0.0 && matches!(args.algo, Algo::Greedy | Algo::Decimation) {
+    if args.greedy_seed != 0.0
+        && matches!(args.algo, Algo::Greedy | Algo::Decimation | Algo::Memetic)
+    {
         return Err(format!(
             "--greedy-seed applies to NSGA-II only, not to {}",
             args.algo.name()
         ));
     }
     Ok(match args.algo {
+        Algo::Memetic => {
+            let defaults = MemeticParams::default();
+            let p = MemeticParams {
+                population: args.pop.unwrap_or(defaults.population),
+                max_evaluations: args.evals,
+                ..defaults
+            };
+            let optimizer = Memetic::new(hf, p.clone(), args.seed).map_err(|e| e.to_string())?;
+            Built {
+                params: to_json(&p),
+                // Generations depend on the budget; progress is shown against it.
+                generations: optimizer.budget(),
+                optimizer: Box::new(optimizer),
+            }
+        }
         Algo::Nsga2 => {
             let p = ga_params(args);
             Built {
@@ -191,6 +214,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
                 rule: match args.rule {
                     RuleArg::MaxError => InsertionRule::MaxError,
                     RuleArg::SumReduction => InsertionRule::SumReduction,
+                    RuleArg::WorstTriangle => InsertionRule::WorstTriangle,
                 },
                 stop,
                 ..GreedyParams::default()

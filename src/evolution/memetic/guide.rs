@@ -1,0 +1,149 @@
+//! What the guided operators read off a scored mesh: each triangle's error sum and its worst
+//! point, and each kept vertex's estimated removal cost.
+
+use crate::evaluator::MeshState;
+use crate::evaluator::incremental::canonical;
+use crate::evaluator::predicates::{Lattice, orient};
+use crate::evaluator::raster::Grid;
+use crate::heightfield::Heightfield;
+
+/// [`Guide::worst`] of a triangle that owns no grid point with a nonzero error.
+pub const NO_POINT: u32 = u32::MAX;
+
+/// The error landscape of one mesh; see the module doc. Made from scratch (one pass over the
+/// grid), so it is made once per mesh an operator reads, never per candidate.
+#[derive(Clone, Debug, Default)]
+pub struct Guide {
+    /// The triangles (counter-clockwise grid-index triples).
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle, Σ |z − z̃| over the grid points it owns.
+    pub sums: Vec<f64>,
+    /// Per triangle, its owned point of largest error (the first in grid order on ties), or
+    /// [`NO_POINT`].
+    pub worst: Vec<u32>,
+    /// Running totals of `sums`, for choosing a triangle in proportion to its sum.
+    cumulative: Vec<f64>,
+    /// The kept points, increasing (corners included).
+    pub vertices: Vec<u32>,
+    /// Per kept point (same order), the estimated rise of E_sum if it were removed: the volume
+    /// of the cone between it and the mean height of its neighbours over its star,
+    /// |z − mean(z of neighbours)| · area(star) / 3. Corners get +∞ (they cannot leave).
+    pub removal_cost: Vec<f64>,
+}
+
+impl Guide {
+    /// The guide of `state`, the scored mesh of the kept set `kept` (increasing, corners
+    /// included) on `hf`.
+    pub fn of(hf: &Heightfield, state: &MeshState, kept: &[u32]) -> Self {
+        let lattice = Lattice::new(hf.width());
+        let grid = Grid {
+            width: hf.width() as i64,
+            height: hf.height() as i64,
+            z: hf.z(),
+        };
+        let z = hf.z();
+        let triangles = state.triangles();
+        let mut sums = Vec::with_capacity(triangles.len());
+        let mut worst = Vec::with_capacity(triangles.len());
+        let mut cumulative = Vec::with_capacity(triangles.len());
+        let mut area = vec![0i64; kept.len()];
+        let mut neighbour_z = vec![0.0f64; kept.len()];
+        let mut neighbours = vec![0u32; kept.len()];
+        let mut total = 0.0;
+        for &tri in &triangles {
+            let points = canonical(tri).map(|i| lattice.point(i));
+            let (mut sum, mut max, mut at) = (0.0, 0.0, NO_POINT);
+            grid.for_each_error(points, |i, d| {
+                sum += d;
+                if d > max {
+                    max = d;
+                    at = i as u32;
+                }
+            });
+            total += sum;
+            sums.push(sum);
+            worst.push(at);
+            cumulative.push(total);
+            let twice_area = orient(points[0], points[1], points[2]);
+            for k in 0..3 {
+                let Ok(v) = kept.binary_search(&tri[k]) else {
+                    continue;
+                };
+                area[v] += twice_area;
+                neighbour_z[v] += z[tri[(k + 1) % 3] as usize] + z[tri[(k + 2) % 3] as usize];
+                neighbours[v] += 2;
+            }
+        }
+        let corners = hf.corners();
+        let removal_cost = kept
+            .iter()
+            .enumerate()
+            .map(|(v, &i)| {
+                if corners.contains(&i) || neighbours[v] == 0 {
+                    return f64::INFINITY;
+                }
+                let mean = neighbour_z[v] / f64::from(neighbours[v]);
+                (z[i as usize] - mean).abs() * area[v] as f64 / 6.0
+            })
+            .collect();
+        Self {
+            triangles,
+            sums,
+            worst,
+            cumulative,
+            vertices: kept.to_vec(),
+            removal_cost,
+        }
+    }
+
+    /// E_sum as the sum of the triangles' sums (in f64, so up to rounding).
+    pub fn total(&self) -> f64 {
+        self.cumulative.last().copied().unwrap_or(0.0)
+    }
+
+    /// The triangle whose share of [`total`](Self::total) holds `u` ∈ [0, 1): a triangle is
+    /// chosen with probability proportional to its error sum. `None` when the error is 0.
+    pub fn triangle_at(&self, u: f64) -> Option<usize> {
+        let total = self.total();
+        if total <= 0.0 {
+            return None;
+        }
+        let target = u * total;
+        let t = self.cumulative.partition_point(|&c| c <= target);
+        Some(t.min(self.triangles.len() - 1))
+    }
+
+    /// Up to `k` triangles of largest error sum that own a point, largest first (ties to the
+    /// smaller slot).
+    pub fn largest_triangles(&self, k: usize) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.triangles.len())
+            .filter(|&t| self.worst[t] != NO_POINT)
+            .collect();
+        let by_sum = |a: &usize, b: &usize| self.sums[*b].total_cmp(&self.sums[*a]).then(a.cmp(b));
+        if order.len() > k {
+            order.select_nth_unstable_by(k, by_sum);
+            order.truncate(k);
+        }
+        order.sort_by(by_sum);
+        order
+    }
+
+    /// Up to `k` kept points, cheapest estimated removal first (ties to the smaller index),
+    /// among those `allowed` accepts; corners never.
+    pub fn cheapest_removals(&self, k: usize, allowed: impl Fn(u32) -> bool) -> Vec<u32> {
+        let mut order: Vec<usize> = (0..self.vertices.len())
+            .filter(|&v| self.removal_cost[v].is_finite() && allowed(self.vertices[v]))
+            .collect();
+        let by_cost = |a: &usize, b: &usize| {
+            self.removal_cost[*a]
+                .total_cmp(&self.removal_cost[*b])
+                .then(a.cmp(b))
+        };
+        if order.len() > k {
+            order.select_nth_unstable_by(k, by_cost);
+            order.truncate(k);
+        }
+        order.sort_by(by_cost);
+        order.into_iter().map(|v| self.vertices[v]).collect()
+    }
+}

@@ -1,0 +1,210 @@
+//! Local search at fixed T on archive members: swap moves (remove one kept point, insert a free
+//! one of the same border class, so the triangle count stays), accepted when E_sum drops.
+//!
+//! Candidate lists, rebuilt from the [`Guide`] of the mesh at each round:
+//! - removals: the [`REMOVALS`] kept points of smallest estimated removal cost;
+//! - insertions: the worst points of the [`INSERTIONS`] triangles of largest error sum;
+//! - moves: [`MOVES`] vertices of triangles drawn in proportion to their error sum, each to
+//!   each of its free grid neighbours.
+//!
+//! A round scores every removal × insertion pair and every move exactly
+//! ([`mutation::trial`]) and applies the best improving one; a visit runs rounds on one member
+//! until a round finds nothing or [`ROUNDS_PER_VISIT`] are done.
+//!
+//! Spreading the budget over the front: visits go to triangle counts on a geometric sweep
+//! from the sparsest useful mesh to half the full mesh, [`TARGETS`] per sweep, each sweep
+//! shifted by the next term of a van der Corput sequence so later sweeps fall between the
+//! earlier ones. A visit takes the archive member with the most triangles at or below its
+//! target and first pads it up to the target with the worst points of its largest-error
+//! triangles, so the front gains a member at every target and the improvements of a sparser
+//! member carry to denser ones.
+
+use super::guide::{Guide, NO_POINT};
+use super::member::{Edit, Member, offer, on_border};
+use super::mutation;
+use crate::evaluator::Evaluator;
+use crate::front::Front;
+use crate::heightfield::Heightfield;
+use rand::RngExt;
+use rand_pcg::Pcg64Mcg;
+
+/// Removal candidates per round.
+pub const REMOVALS: usize = 6;
+/// Insertion candidates per round.
+pub const INSERTIONS: usize = 6;
+/// Vertices tried at every free neighbour per round.
+pub const MOVES: usize = 2;
+/// Most rounds per visit.
+pub const ROUNDS_PER_VISIT: usize = 6;
+/// Target triangle counts per sweep.
+pub const TARGETS: usize = 32;
+
+/// The local search's state between units; see the module doc.
+#[derive(Debug)]
+pub struct LocalSearch {
+    /// Visits started so far.
+    visits: u64,
+    /// The member being improved, and its rounds left.
+    subject: Option<(Member, usize)>,
+    /// The sparsest and densest targets.
+    low: f64,
+    high: f64,
+}
+
+impl LocalSearch {
+    /// Targets from 8 triangles (or fewer on a tiny grid) to half of `hf`'s full mesh.
+    pub fn new(hf: &Heightfield) -> Self {
+        let full = hf.full_triangles() as f64;
+        let high = (full / 2.0).max(2.0);
+        Self {
+            visits: 0,
+            subject: None,
+            low: 8.0f64.min(high),
+            high,
+        }
+    }
+
+    /// The target of visit `k`: sweep `k / TARGETS`, position `k % TARGETS`, shifted by the
+    /// sweep's van der Corput term so that sweeps interleave.
+    pub fn target(&self, k: u64) -> usize {
+        let (sweep, at) = (k / TARGETS as u64, (k % TARGETS as u64) as f64);
+        let shift = van_der_corput(sweep);
+        let f = (at + shift) / TARGETS as f64;
+        (self.low * (self.high / self.low).powf(f)).round() as usize
+    }
+
+    /// One unit: starts a visit (picking, building and padding its member) or runs one round of
+    /// the visit in progress. Counts its evaluations in `evaluations`.
+    pub fn unit(
+        &mut self,
+        evaluator: &mut Evaluator,
+        archive: &mut Front,
+        rng: &mut Pcg64Mcg,
+        evaluations: &mut u64,
+    ) {
+        let hf = evaluator.heightfield().clone();
+        let Some((member, rounds)) = self.subject.as_mut() else {
+            let target = self.target(self.visits);
+            self.visits += 1;
+            let members = archive.solutions();
+            let at = members.partition_point(|s| s.t <= target).max(1);
+            let Some(start) = members.get(at - 1) else {
+                return;
+            };
+            let mut member = Member::fresh(evaluator, start.kept.clone());
+            *evaluations += 1;
+            let room = target.saturating_sub(member.score.t) / 2;
+            if room > 0 {
+                let edit = padding(&hf, &mut member, room);
+                if !edit.insert.is_empty() {
+                    member.apply(evaluator, &edit);
+                    *evaluations += 1;
+                    offer(archive, &member.kept, &member.score);
+                }
+            }
+            self.subject = Some((member, ROUNDS_PER_VISIT));
+            return;
+        };
+        let improved = round(evaluator, member, rng, evaluations);
+        if improved {
+            offer(archive, &member.kept, &member.score);
+        }
+        *rounds -= 1;
+        if !improved || *rounds == 0 {
+            self.subject = None;
+        }
+    }
+}
+
+/// The interior worst points of up to `count` largest-error triangles, to insert.
+fn padding(hf: &Heightfield, member: &mut Member, count: usize) -> Edit {
+    let guide = member.guide(hf);
+    let mut insert: Vec<u32> = guide
+        .largest_triangles(count * 2)
+        .into_iter()
+        .map(|t| guide.worst[t])
+        .filter(|&p| p != NO_POINT && !on_border(hf, p))
+        .collect();
+    insert.sort_unstable();
+    insert.dedup();
+    insert.truncate(count);
+    Edit {
+        remove: Vec::new(),
+        insert,
+    }
+}
+
+/// One round on `member`; true when it improved (and was changed).
+fn round(
+    evaluator: &mut Evaluator,
+    member: &mut Member,
+    rng: &mut Pcg64Mcg,
+    evaluations: &mut u64,
+) -> bool {
+    let hf = evaluator.heightfield().clone();
+    member.ready_for_trials();
+    let guide: &Guide = member.guide(&hf);
+    let removals = guide.cheapest_removals(REMOVALS, |i| !on_border(&hf, i));
+    let mut insertions: Vec<u32> = guide
+        .largest_triangles(INSERTIONS)
+        .into_iter()
+        .map(|t| guide.worst[t])
+        .filter(|&p| p != NO_POINT && !on_border(&hf, p))
+        .collect();
+    insertions.dedup();
+    let mut moved: Vec<u32> = Vec::with_capacity(MOVES);
+    let corners = hf.corners();
+    for _ in 0..MOVES {
+        if let Some(t) = guide.triangle_at(rng.random::<f64>()) {
+            let tri = guide.triangles[t];
+            let v = tri[rng.random_range(0..3)];
+            if !corners.contains(&v) && !moved.contains(&v) {
+                moved.push(v);
+            }
+        }
+    }
+    let mut candidates: Vec<Edit> = Vec::new();
+    for &r in &removals {
+        for &p in &insertions {
+            candidates.push(Edit {
+                remove: vec![r],
+                insert: vec![p],
+            });
+        }
+    }
+    for &v in &moved {
+        for n in mutation::free_neighbours(&hf, member, v) {
+            candidates.push(Edit {
+                remove: vec![v],
+                insert: vec![n],
+            });
+        }
+    }
+    let mut best: Option<(usize, f64)> = None;
+    for (k, edit) in candidates.iter().enumerate() {
+        let score = mutation::trial(evaluator, member, edit);
+        *evaluations += 1;
+        if score.e_sum < best.map_or(member.score.e_sum, |(_, e)| e) {
+            best = Some((k, score.e_sum));
+        }
+    }
+    let Some((k, _)) = best else {
+        return false;
+    };
+    member.apply(evaluator, &candidates[k]);
+    *evaluations += 1;
+    true
+}
+
+/// The `k`-th term of the base-2 van der Corput sequence, in [0, 1): 0, ½, ¼, ¾, ⅛, …
+pub fn van_der_corput(mut k: u64) -> f64 {
+    let (mut value, mut scale) = (0.0, 0.5);
+    while k > 0 {
+        if k & 1 == 1 {
+            value += scale;
+        }
+        k >>= 1;
+        scale /= 2.0;
+    }
+    value
+}
