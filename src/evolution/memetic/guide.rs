@@ -10,17 +10,16 @@ use crate::heightfield::Heightfield;
 /// [`Guide::worst`] of a triangle that owns no grid point with a nonzero error.
 pub const NO_POINT: u32 = u32::MAX;
 
-/// The error landscape of one mesh; see the module doc. Made from scratch (one pass over the
-/// grid), so it is made once per mesh an operator reads, never per candidate.
+/// The error landscape of one mesh; see the module doc. The sums come from the totals the mesh
+/// keeps ([`MeshState::triangle_error_sums`]), so a guide costs a pass over the triangles, and
+/// a triangle's worst point is found by rasterising it when asked for
+/// ([`worst_point`](Self::worst_point)).
 #[derive(Clone, Debug, Default)]
 pub struct Guide {
     /// The triangles (counter-clockwise grid-index triples).
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle, Σ |z − z̃| over the grid points it owns.
     pub sums: Vec<f64>,
-    /// Per triangle, its owned point of largest error (the first in grid order on ties), or
-    /// [`NO_POINT`].
-    pub worst: Vec<u32>,
     /// Running totals of `sums`, for choosing a triangle in proportion to its sum.
     cumulative: Vec<f64>,
     /// The kept points, increasing (corners included).
@@ -36,39 +35,29 @@ impl Guide {
     /// included) on `hf`.
     pub fn of(hf: &Heightfield, state: &MeshState, kept: &[u32]) -> Self {
         let lattice = Lattice::new(hf.width());
-        let grid = Grid {
-            width: hf.width() as i64,
-            height: hf.height() as i64,
-            z: hf.z(),
-        };
         let z = hf.z();
         let triangles = state.triangles();
-        let mut sums = Vec::with_capacity(triangles.len());
-        let mut worst = Vec::with_capacity(triangles.len());
+        let sums = state.triangle_error_sums();
         let mut cumulative = Vec::with_capacity(triangles.len());
         let mut area = vec![0i64; kept.len()];
         let mut neighbour_z = vec![0.0f64; kept.len()];
         let mut neighbours = vec![0u32; kept.len()];
+        // Grid index → position in `kept`, for the triangles' vertices.
+        let mut slot = vec![u32::MAX; hf.len()];
+        for (v, &i) in kept.iter().enumerate() {
+            slot[i as usize] = v as u32;
+        }
         let mut total = 0.0;
-        for &tri in &triangles {
-            let points = canonical(tri).map(|i| lattice.point(i));
-            let (mut sum, mut max, mut at) = (0.0, 0.0, NO_POINT);
-            grid.for_each_error(points, |i, d| {
-                sum += d;
-                if d > max {
-                    max = d;
-                    at = i as u32;
-                }
-            });
+        for (&tri, &sum) in triangles.iter().zip(&sums) {
             total += sum;
-            sums.push(sum);
-            worst.push(at);
             cumulative.push(total);
+            let points = tri.map(|i| lattice.point(i));
             let twice_area = orient(points[0], points[1], points[2]);
             for k in 0..3 {
-                let Ok(v) = kept.binary_search(&tri[k]) else {
+                let v = slot[tri[k] as usize] as usize;
+                if v >= kept.len() {
                     continue;
-                };
+                }
                 area[v] += twice_area;
                 neighbour_z[v] += z[tri[(k + 1) % 3] as usize] + z[tri[(k + 2) % 3] as usize];
                 neighbours[v] += 2;
@@ -89,7 +78,6 @@ impl Guide {
         Self {
             triangles,
             sums,
-            worst,
             cumulative,
             vertices: kept.to_vec(),
             removal_cost,
@@ -113,11 +101,33 @@ impl Guide {
         Some(t.min(self.triangles.len() - 1))
     }
 
-    /// Up to `k` triangles of largest error sum that own a point, largest first (ties to the
+    /// Triangle `t`'s owned point of largest error (the first in grid order on ties), or
+    /// [`NO_POINT`] when it owns no point with an error.
+    pub fn worst_point(&self, hf: &Heightfield, t: usize) -> u32 {
+        let lattice = Lattice::new(hf.width());
+        let grid = Grid {
+            width: hf.width() as i64,
+            height: hf.height() as i64,
+            z: hf.z(),
+        };
+        let (mut max, mut at) = (0.0, NO_POINT);
+        grid.for_each_error(
+            canonical(self.triangles[t]).map(|i| lattice.point(i)),
+            |i, d| {
+                if d > max {
+                    max = d;
+                    at = i as u32;
+                }
+            },
+        );
+        at
+    }
+
+    /// Up to `k` triangles of largest error sum with a nonzero sum, largest first (ties to the
     /// smaller slot).
     pub fn largest_triangles(&self, k: usize) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.triangles.len())
-            .filter(|&t| self.worst[t] != NO_POINT)
+            .filter(|&t| self.sums[t] > 0.0)
             .collect();
         let by_sum = |a: &usize, b: &usize| self.sums[*b].total_cmp(&self.sums[*a]).then(a.cmp(b));
         if order.len() > k {

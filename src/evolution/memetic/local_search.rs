@@ -2,8 +2,11 @@
 //! one of the same border class, so the triangle count stays), accepted when E_sum drops.
 //!
 //! Candidate lists, rebuilt from the [`Guide`] of the mesh at each round:
-//! - removals: the [`REMOVALS`] kept points of smallest estimated removal cost;
-//! - insertions: the worst points of the [`INSERTIONS`] triangles of largest error sum;
+//! - removals: the kept points of smallest estimated removal cost;
+//! - insertions: the worst points of the triangles of largest error sum;
+//!
+//! as many of each as the mesh has kept points over [`POINTS_PER_CANDIDATE`] (within
+//! [`MIN_CANDIDATES`] and [`MAX_CANDIDATES`]);
 //! - moves: [`MOVES`] vertices of triangles drawn in proportion to their error sum, each to
 //!   each of its free grid neighbours.
 //!
@@ -28,14 +31,18 @@ use crate::heightfield::Heightfield;
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 
-/// Removal candidates per round.
-pub const REMOVALS: usize = 6;
-/// Insertion candidates per round.
-pub const INSERTIONS: usize = 6;
+/// Removal (and insertion) candidates per round: one per [`POINTS_PER_CANDIDATE`] kept points,
+/// at least [`MIN_CANDIDATES`] and at most [`MAX_CANDIDATES`], so that a round on a dense mesh
+/// can make many swaps at once.
+pub const POINTS_PER_CANDIDATE: usize = 8;
+/// See [`POINTS_PER_CANDIDATE`].
+pub const MIN_CANDIDATES: usize = 16;
+/// See [`POINTS_PER_CANDIDATE`].
+pub const MAX_CANDIDATES: usize = 256;
 /// Vertices tried at every free neighbour per round.
 pub const MOVES: usize = 2;
 /// Most rounds per visit.
-pub const ROUNDS_PER_VISIT: usize = 6;
+pub const ROUNDS_PER_VISIT: usize = 20;
 /// Target triangle counts per sweep.
 pub const TARGETS: usize = 32;
 
@@ -122,7 +129,7 @@ fn padding(hf: &Heightfield, member: &mut Member, count: usize) -> Edit {
     let mut insert: Vec<u32> = guide
         .largest_triangles(count * 2)
         .into_iter()
-        .map(|t| guide.worst[t])
+        .map(|t| guide.worst_point(hf, t))
         .filter(|&p| p != NO_POINT && !on_border(hf, p))
         .collect();
     insert.sort_unstable();
@@ -135,6 +142,12 @@ fn padding(hf: &Heightfield, member: &mut Member, count: usize) -> Edit {
 }
 
 /// One round on `member`; true when it improved (and was changed).
+///
+/// Scoring every removal × insertion pair would cost their product; instead each removal's
+/// loss and each insertion's gain is scored alone, the best insertions are paired with the
+/// cheapest removals while the gain exceeds the loss, and the pairs are tried together (they
+/// are mostly far apart, so their effects nearly add up), then the first half of them, and so
+/// on down to the best pair alone. Only when no batch improves are the moves tried.
 fn round(
     evaluator: &mut Evaluator,
     member: &mut Member,
@@ -143,14 +156,17 @@ fn round(
 ) -> bool {
     let hf = evaluator.heightfield().clone();
     member.ready_for_trials();
+    let candidates =
+        (member.kept.len() / POINTS_PER_CANDIDATE).clamp(MIN_CANDIDATES, MAX_CANDIDATES);
     let guide: &Guide = member.guide(&hf);
-    let removals = guide.cheapest_removals(REMOVALS, |i| !on_border(&hf, i));
+    let removals = guide.cheapest_removals(candidates, |i| !on_border(&hf, i));
     let mut insertions: Vec<u32> = guide
-        .largest_triangles(INSERTIONS)
+        .largest_triangles(candidates)
         .into_iter()
-        .map(|t| guide.worst[t])
+        .map(|t| guide.worst_point(&hf, t))
         .filter(|&p| p != NO_POINT && !on_border(&hf, p))
         .collect();
+    insertions.sort_unstable();
     insertions.dedup();
     let mut moved: Vec<u32> = Vec::with_capacity(MOVES);
     let corners = hf.corners();
@@ -163,35 +179,70 @@ fn round(
             }
         }
     }
-    let mut candidates: Vec<Edit> = Vec::new();
-    for &r in &removals {
-        for &p in &insertions {
-            candidates.push(Edit {
-                remove: vec![r],
-                insert: vec![p],
-            });
-        }
-    }
-    for &v in &moved {
-        for n in mutation::free_neighbours(&hf, member, v) {
-            candidates.push(Edit {
-                remove: vec![v],
-                insert: vec![n],
-            });
-        }
-    }
-    let mut best: Option<(usize, f64)> = None;
-    for (k, edit) in candidates.iter().enumerate() {
-        let score = mutation::trial(evaluator, member, edit);
+    let e = member.score.e_sum;
+    let mut scored = |evaluator: &mut Evaluator, edit: &Edit| {
         *evaluations += 1;
-        if score.e_sum < best.map_or(member.score.e_sum, |(_, e)| e) {
-            best = Some((k, score.e_sum));
+        mutation::trial(evaluator, member, edit).e_sum
+    };
+    let mut losses: Vec<(f64, u32)> = removals
+        .iter()
+        .map(|&r| {
+            let edit = Edit {
+                remove: vec![r],
+                insert: Vec::new(),
+            };
+            (scored(evaluator, &edit) - e, r)
+        })
+        .collect();
+    let mut gains: Vec<(f64, u32)> = insertions
+        .iter()
+        .map(|&p| {
+            let edit = Edit {
+                remove: Vec::new(),
+                insert: vec![p],
+            };
+            (e - scored(evaluator, &edit), p)
+        })
+        .collect();
+    losses.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    gains.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let mut pairs = losses
+        .iter()
+        .zip(&gains)
+        .take_while(|(l, g)| g.0 > l.0)
+        .count();
+    let mut chosen: Option<Edit> = None;
+    while pairs > 0 {
+        let edit = Edit {
+            remove: losses[..pairs].iter().map(|l| l.1).collect(),
+            insert: gains[..pairs].iter().map(|g| g.1).collect(),
+        };
+        if scored(evaluator, &edit) < e {
+            chosen = Some(edit);
+            break;
+        }
+        pairs /= 2;
+    }
+    if chosen.is_none() {
+        let mut best = e;
+        for &v in &moved {
+            for n in mutation::free_neighbours(&hf, member, v) {
+                let edit = Edit {
+                    remove: vec![v],
+                    insert: vec![n],
+                };
+                let after = scored(evaluator, &edit);
+                if after < best {
+                    best = after;
+                    chosen = Some(edit);
+                }
+            }
         }
     }
-    let Some((k, _)) = best else {
+    let Some(edit) = chosen else {
         return false;
     };
-    member.apply(evaluator, &candidates[k]);
+    member.apply(evaluator, &edit);
     *evaluations += 1;
     true
 }

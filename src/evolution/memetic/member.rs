@@ -13,11 +13,8 @@ pub struct Member {
     pub kept: Vec<u32>,
     /// Its score, bit for bit [`Evaluator::score`]'s.
     pub score: Score,
-    /// Its mesh, ready to edit, with the lookups [`Evaluator::score_mutant`] needs filled when
-    /// `lookups` is true.
+    /// Its mesh, ready to edit.
     pub state: MeshState,
-    /// Whether `state`'s lookups are filled.
-    pub lookups: bool,
     /// Its guide, made when an operator first reads it.
     pub guide: Option<Guide>,
     /// Non-domination rank in the population (0 = non-dominated).
@@ -42,7 +39,6 @@ impl Member {
             kept,
             score,
             state,
-            lookups: false,
             guide: None,
             rank: 0,
             crowding: 0.0,
@@ -62,12 +58,10 @@ impl Member {
         self.guide.as_ref().expect("just made")
     }
 
-    /// Fills the lookups [`Evaluator::score_mutant`] reads, if stale.
+    /// Fills the lookups [`Evaluator::score_mutant`] reads, if stale (an edit or a copy leaves
+    /// them so).
     pub fn ready_for_trials(&mut self) {
-        if !self.lookups {
-            self.state.ensure_lookups();
-            self.lookups = true;
-        }
+        self.state.ensure_lookups();
     }
 
     /// Applies `edit` to the mesh ([`Evaluator::edit`], one evaluation) and the kept list.
@@ -76,7 +70,6 @@ impl Member {
             .edit(&mut self.state, &edit.remove, &edit.insert)
             .expect("operators remove kept non-corner points and insert free ones");
         edit.apply_to(&mut self.kept);
-        self.lookups = false;
         self.guide = None;
     }
 }

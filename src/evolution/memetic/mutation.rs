@@ -43,9 +43,9 @@ impl Operator {
 
 /// Inserts the worst point of a triangle drawn in proportion to its error sum; `None` when the
 /// mesh has no error left.
-pub fn insert(guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
+pub fn insert(hf: &Heightfield, guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
     let t = guide.triangle_at(rng.random::<f64>())?;
-    let p = guide.worst[t];
+    let p = guide.worst_point(hf, t);
     (p != NO_POINT).then(|| Edit {
         remove: Vec::new(),
         insert: vec![p],
@@ -108,15 +108,14 @@ pub fn free_neighbours(hf: &Heightfield, member: &Member, v: u32) -> Vec<u32> {
 }
 
 /// Scores `member` with `edit` made, without changing it: by [`Evaluator::score_mutant`] when
-/// the member's lookups allow, else from scratch (the same bits either way). One evaluation.
+/// the member is [ready for trials](Member::ready_for_trials) and no guard fails, else by editing a copy of its mesh (the same bits either way).
+/// One evaluation.
 pub fn trial(evaluator: &mut Evaluator, member: &Member, edit: &Edit) -> Score {
     let changes = Changes {
         removed: &edit.remove,
         inserted: &edit.insert,
     };
-    if member.lookups
-        && let Some(score) = evaluator.score_mutant(&member.state, changes)
-    {
+    if let Some(score) = evaluator.score_mutant(&member.state, changes) {
         return score;
     }
     let mut kept = member.kept.clone();

@@ -75,8 +75,6 @@ pub fn cross(evaluator: &mut Evaluator, a: &mut Member, b: &mut Member, cut: Cut
     }
     a.state.ensure_discs();
     b.state.ensure_discs();
-    a.lookups = true;
-    b.lookups = true;
     let mut state = MeshState::default();
     match evaluator.compose(&mut state, &a.state, &b.state, &from_b) {
         Some(score) => Member::scored(kept, score, state),

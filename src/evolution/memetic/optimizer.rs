@@ -206,7 +206,7 @@ impl Memetic {
         };
         child.guide(&hf);
         let edit = match Operator::draw(&mut self.rng) {
-            Operator::Insert => mutation::insert(child.guide(&hf), &mut self.rng),
+            Operator::Insert => mutation::insert(&hf, child.guide(&hf), &mut self.rng),
             Operator::Remove => mutation::remove(child.guide(&hf), &mut self.rng),
             Operator::Move => {
                 child.ready_for_trials();
