@@ -295,3 +295,51 @@ fn a_tiny_grid_runs_to_its_budget() {
     assert!(p.done && p.evaluations >= 50);
     assert_eq!(run.front().len(), 1);
 }
+
+#[test]
+fn run_without_algo_is_memetic_and_its_front_rescores() {
+    let grid = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/camera_33x33.f32");
+    let out = std::env::temp_dir().join(format!(
+        "paretomesh_memetic_cli_{}.json",
+        std::process::id()
+    ));
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .arg("run")
+        .arg(&grid)
+        .args(["--evals", "3000", "--pop", "6", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let file: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    assert_eq!(file["algorithm"], "memetic");
+    assert_eq!(file["params"]["population"], 6);
+    let hf = fixture("camera_33x33");
+    let mut ev = Evaluator::new(hf);
+    let front = file["front"].as_array().unwrap();
+    assert!(front.len() > 10);
+    for m in front {
+        let kept: Vec<u32> = serde_json::from_value(m["kept"].clone()).unwrap();
+        let fresh = ev.score(&kept).unwrap();
+        assert_eq!(
+            m["E_sum"].as_f64().unwrap().to_bits(),
+            fresh.e_sum.to_bits()
+        );
+        assert_eq!(m["T"].as_u64().unwrap() as usize, fresh.t);
+    }
+    // A GA option that memetic does not take is refused.
+    let refused = std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .arg("run")
+        .arg(&grid)
+        .args(["--greedy-seed", "0.5", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("memetic"));
+}

@@ -123,11 +123,13 @@ pub struct RunArgs {
     csv: Option<PathBuf>,
 }
 
-/// A ready-to-run optimizer, its parameters as JSON and how many generations it will run.
+/// A ready-to-run optimizer, its parameters as JSON, how many generations it will run (0 when
+/// that depends on the run) and the evaluations it stops at, when known.
 struct Built {
     optimizer: Box<dyn Optimizer>,
     params: serde_json::Value,
     generations: u64,
+    budget: Option<u64>,
 }
 
 fn ga_params(args: &RunArgs) -> GaParams {
@@ -172,7 +174,8 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 // Generations depend on the budget; progress is shown against it.
-                generations: optimizer.budget(),
+                generations: 0,
+                budget: Some(optimizer.budget()),
                 optimizer: Box::new(optimizer),
             }
         }
@@ -181,6 +184,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: p.generations as u64,
+                budget: args.evals,
                 optimizer: Box::new(Nsga2::new(hf, p, args.seed).map_err(|e| e.to_string())?),
             }
         }
@@ -192,6 +196,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: (p.ga.generations * p.weights.len()) as u64,
+                budget: args.evals,
                 optimizer: Box::new(WeightedSum::new(hf, p, args.seed).map_err(|e| e.to_string())?),
             }
         }
@@ -222,6 +227,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: p.records as u64,
+                budget: args.evals,
                 optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| e.to_string())?),
             }
         }
@@ -236,6 +242,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: p.reductions.len() as u64,
+                budget: None,
                 optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| e.to_string())?),
             }
         }
@@ -251,13 +258,12 @@ fn best_e_within(front: &Front, t: usize) -> Option<f64> {
 
 /// One status line: generation, evaluations, front size, best E at a few triangle counts.
 fn status(p: &Progress, generations: u64, front: &Front, full_triangles: usize) -> String {
-    let mut line = format!(
-        "gen {}/{}  evals {}  front {}",
-        p.generation,
-        generations,
-        p.evaluations,
-        front.len()
-    );
+    let mut line = if generations > 0 {
+        format!("gen {}/{}", p.generation, generations)
+    } else {
+        format!("gen {}", p.generation)
+    };
+    line.push_str(&format!("  evals {}  front {}", p.evaluations, front.len()));
     for percent in [1, 5, 25] {
         let t = (full_triangles * percent / 100).max(2);
         if let Some(e) = best_e_within(front, t) {
@@ -273,19 +279,21 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
         mut optimizer,
         params,
         generations,
+        budget,
     } = build(args, hf.clone())?;
     let terminal = std::io::stderr().is_terminal();
     let full = hf.full_triangles();
+    // Without a known number of generations, report every tenth of the budget instead.
     let report_every = (generations / 10).max(1);
+    let budget_step = budget.map_or(u64::MAX, |b| (b / 10).max(1));
+    let mut last_budget_report = 0;
     let mut last_reported = u64::MAX;
     let started = Instant::now();
     loop {
         let p = optimizer.step(250);
         if terminal {
             let by_generation = p.generation as f64 / generations.max(1) as f64;
-            let by_cap = args
-                .evals
-                .map_or(0.0, |cap| p.evaluations as f64 / cap.max(1) as f64);
+            let by_cap = budget.map_or(0.0, |cap| p.evaluations as f64 / cap.max(1) as f64);
             let fraction = if p.done {
                 1.0
             } else {
@@ -298,6 +306,11 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
                 ".".repeat(30 - filled),
                 status(&p, generations, optimizer.front(), full)
             );
+        } else if generations == 0 {
+            if p.evaluations / budget_step != last_budget_report || p.done {
+                eprintln!("{}", status(&p, generations, optimizer.front(), full));
+                last_budget_report = p.evaluations / budget_step;
+            }
         } else if p.generation != last_reported && (p.generation % report_every == 0 || p.done) {
             eprintln!("{}", status(&p, generations, optimizer.front(), full));
             last_reported = p.generation;

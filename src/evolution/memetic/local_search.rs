@@ -15,7 +15,8 @@
 //! until a round finds nothing or [`ROUNDS_PER_VISIT`] are done.
 //!
 //! Spreading the budget over the front: visits go to triangle counts on a geometric sweep
-//! from the sparsest useful mesh to half the full mesh, [`TARGETS`] per sweep, each sweep
+//! from the sparsest useful mesh to a quarter of the full mesh (denser meshes have errors near
+//! zero, so little to gain), [`TARGETS`] per sweep, each sweep
 //! shifted by the next term of a van der Corput sequence so later sweeps fall between the
 //! earlier ones. A visit takes the archive member with the most triangles at or below its
 //! target and first pads it up to the target with the worst points of its largest-error
@@ -59,10 +60,10 @@ pub struct LocalSearch {
 }
 
 impl LocalSearch {
-    /// Targets from 8 triangles (or fewer on a tiny grid) to half of `hf`'s full mesh.
+    /// Targets from 8 triangles (or fewer on a tiny grid) to a quarter of `hf`'s full mesh.
     pub fn new(hf: &Heightfield) -> Self {
         let full = hf.full_triangles() as f64;
-        let high = (full / 2.0).max(2.0);
+        let high = (full / 4.0).max(2.0);
         Self {
             visits: 0,
             subject: None,
