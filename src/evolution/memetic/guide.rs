@@ -123,6 +123,41 @@ impl Guide {
         at
     }
 
+    /// The owned point of triangle `t` nearest to the centre of its error mass (the
+    /// error-weighted mean position of the points it owns; ties to the first in grid order), or
+    /// [`NO_POINT`] when it owns no point with an error. For a sum-type error, a split there
+    /// often removes more error than one at the single worst point.
+    pub fn centre_point(&self, hf: &Heightfield, t: usize) -> u32 {
+        let lattice = Lattice::new(hf.width());
+        let grid = Grid {
+            width: hf.width() as i64,
+            height: hf.height() as i64,
+            z: hf.z(),
+        };
+        let tri = canonical(self.triangles[t]).map(|i| lattice.point(i));
+        let (mut mass, mut mx, mut my) = (0.0, 0.0, 0.0);
+        grid.for_each_error(tri, |i, d| {
+            let (x, y) = hf.coords(i as u32);
+            mass += d;
+            mx += d * x as f64;
+            my += d * y as f64;
+        });
+        if mass <= 0.0 {
+            return NO_POINT;
+        }
+        let (cx, cy) = (mx / mass, my / mass);
+        let (mut best, mut at) = (f64::INFINITY, NO_POINT);
+        grid.for_each_error(tri, |i, _| {
+            let (x, y) = hf.coords(i as u32);
+            let d = (x as f64 - cx).powi(2) + (y as f64 - cy).powi(2);
+            if d < best {
+                best = d;
+                at = i as u32;
+            }
+        });
+        at
+    }
+
     /// Up to `k` triangles of largest error sum with a nonzero sum, largest first (ties to the
     /// smaller slot).
     pub fn largest_triangles(&self, k: usize) -> Vec<usize> {

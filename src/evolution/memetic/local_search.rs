@@ -3,7 +3,8 @@
 //!
 //! Candidate lists, rebuilt from the [`Guide`] of the mesh at each round:
 //! - removals: the kept points of smallest estimated removal cost;
-//! - insertions: the worst points of the triangles of largest error sum;
+//! - insertions: in the triangles of largest error sum, the worst point and the point nearest
+//!   to the centre of the error mass ([`Guide::centre_point`]);
 //!
 //! as many of each as the mesh has kept points over [`POINTS_PER_CANDIDATE`] (within
 //! [`MIN_CANDIDATES`] and [`MAX_CANDIDATES`]);
@@ -161,10 +162,11 @@ fn round(
         (member.kept.len() / POINTS_PER_CANDIDATE).clamp(MIN_CANDIDATES, MAX_CANDIDATES);
     let guide: &Guide = member.guide(&hf);
     let removals = guide.cheapest_removals(candidates, |i| !on_border(&hf, i));
+    // Two insertion candidates per triangle: its worst point and its error's centre.
     let mut insertions: Vec<u32> = guide
-        .largest_triangles(candidates)
+        .largest_triangles(candidates.div_ceil(2))
         .into_iter()
-        .map(|t| guide.worst_point(&hf, t))
+        .flat_map(|t| [guide.worst_point(&hf, t), guide.centre_point(&hf, t)])
         .filter(|&p| p != NO_POINT && !on_border(&hf, p))
         .collect();
     insertions.sort_unstable();
