@@ -3,8 +3,9 @@
 //! The mix: two greedy-insertion runs from the corners to every grid point, one with the
 //! classic max-error rule ([`InsertionRule::MaxError`]) and one that inserts the worst point
 //! of the triangle with the largest error sum ([`InsertionRule::WorstTriangle`]), which suits a
-//! sum-type error such as E_sum. Each records its mesh at 64 geometrically spaced triangle
-//! counts. Every recorded mesh of both runs is offered to the archive (so the final front
+//! sum-type error such as E_sum. Each records its mesh at [`RECORDS`] geometrically spaced
+//! triangle counts (twice greedy insertion's default, so that the seed front has no wide gaps
+//! in T). Every recorded mesh of both runs is offered to the archive (so the final front
 //! weakly dominates both greedy fronts), and the population takes ⌈μ/2⌉ seeds from the first
 //! run's front and ⌊μ/2⌋ from the second's, at evenly spaced positions of each front (by
 //! increasing T, so evenly in log T, from the sparsest to the densest mesh).
@@ -16,6 +17,9 @@ use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
 use std::sync::Arc;
+
+/// Recordings per seeding run.
+pub const RECORDS: usize = 128;
 
 /// The rules of the two seeding runs, in order.
 pub const RULES: [InsertionRule; 2] = [InsertionRule::MaxError, InsertionRule::WorstTriangle];
@@ -66,6 +70,7 @@ impl Seeding {
         let (_, run) = self.current.get_or_insert_with(|| {
             let params = GreedyParams {
                 rule: RULES[next],
+                records: RECORDS,
                 ..GreedyParams::default()
             };
             (
