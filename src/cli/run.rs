@@ -11,7 +11,9 @@ use paretomesh::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
 };
 use paretomesh::evaluator::Evaluator;
-use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
+use paretomesh::evolution::{
+    CrossoverKind, GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams,
+};
 use paretomesh::export::csv::front_csv;
 use paretomesh::front::Front;
 use paretomesh::heightfield::Heightfield;
@@ -25,6 +27,8 @@ use std::time::Instant;
 /// The algorithms `run` knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Algo {
+    /// Memetic NSGA-II: greedy seeding, error-guided operators and local search (default).
+    Memetic,
     /// NSGA-II with orthogonal-array crossover.
     Nsga2,
     /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
@@ -42,6 +46,8 @@ pub enum RuleArg {
     MaxError,
     /// Insert the point whose insertion reduces E_sum the most.
     SumReduction,
+    /// Insert the max-error point of the triangle with the largest error sum.
+    WorstTriangle,
 }
 
 impl Algo {
@@ -72,11 +78,11 @@ pub struct RunArgs {
     #[command(flatten)]
     input: InputArgs,
     /// The algorithm.
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, default_value = "memetic")]
     algo: Algo,
-    /// Population size.
-    #[arg(long, default_value_t = GaParams::default().population)]
-    pop: usize,
+    /// Population size [default: 100 for the GAs, 24 for memetic].
+    #[arg(long)]
+    pop: Option<usize>,
     /// Generations (per weight, for the weighted-sum GA).
     #[arg(long, default_value_t = GaParams::default().generations)]
     gens: usize,
@@ -118,16 +124,18 @@ pub struct RunArgs {
     csv: Option<PathBuf>,
 }
 
-/// A ready-to-run optimizer, its parameters as JSON and how many generations it will run.
+/// A ready-to-run optimizer, its parameters as JSON, how many generations it will run (0 when
+/// that depends on the run) and the evaluations it stops at, when known.
 struct Built {
     optimizer: Box<dyn Optimizer>,
     params: serde_json::Value,
     generations: u64,
+    budget: Option<u64>,
 }
 
 fn ga_params(args: &RunArgs) -> GaParams {
     GaParams {
-        population: args.pop,
+        population: args.pop.unwrap_or(GaParams::default().population),
         generations: args.gens,
         crossover_probability: args.pc,
         mutation_probability: args.pm,
@@ -147,18 +155,37 @@ fn to_json<T: serde::Serialize>(params: &T) -> serde_json::Value {
 }
 
 fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
-    if args.greedy_seed != 0.0 && matches!(args.algo, Algo::Greedy | Algo::Decimation) {
+    if args.greedy_seed != 0.0
+        && matches!(args.algo, Algo::Greedy | Algo::Decimation | Algo::Memetic)
+    {
         return Err(format!(
             "--greedy-seed applies to NSGA-II only, not to {}",
             args.algo.name()
         ));
     }
     Ok(match args.algo {
+        Algo::Memetic => {
+            let defaults = MemeticParams::default();
+            let p = MemeticParams {
+                population: args.pop.unwrap_or(defaults.population),
+                max_evaluations: args.evals,
+                ..defaults
+            };
+            let optimizer = Memetic::new(hf, p.clone(), args.seed).map_err(|e| e.to_string())?;
+            Built {
+                params: to_json(&p),
+                // Generations depend on the budget; progress is shown against it.
+                generations: 0,
+                budget: Some(optimizer.budget()),
+                optimizer: Box::new(optimizer),
+            }
+        }
         Algo::Nsga2 => {
             let p = ga_params(args);
             Built {
                 params: to_json(&p),
                 generations: p.generations as u64,
+                budget: args.evals,
                 optimizer: Box::new(Nsga2::new(hf, p, args.seed).map_err(|e| e.to_string())?),
             }
         }
@@ -170,6 +197,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: (p.ga.generations * p.weights.len()) as u64,
+                budget: args.evals,
                 optimizer: Box::new(WeightedSum::new(hf, p, args.seed).map_err(|e| e.to_string())?),
             }
         }
@@ -192,6 +220,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
                 rule: match args.rule {
                     RuleArg::MaxError => InsertionRule::MaxError,
                     RuleArg::SumReduction => InsertionRule::SumReduction,
+                    RuleArg::WorstTriangle => InsertionRule::WorstTriangle,
                 },
                 stop,
                 ..GreedyParams::default()
@@ -199,6 +228,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: p.records as u64,
+                budget: args.evals,
                 optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| e.to_string())?),
             }
         }
@@ -213,6 +243,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             Built {
                 params: to_json(&p),
                 generations: p.reductions.len() as u64,
+                budget: None,
                 optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| e.to_string())?),
             }
         }
@@ -228,13 +259,12 @@ fn best_e_within(front: &Front, t: usize) -> Option<f64> {
 
 /// One status line: generation, evaluations, front size, best E at a few triangle counts.
 fn status(p: &Progress, generations: u64, front: &Front, full_triangles: usize) -> String {
-    let mut line = format!(
-        "gen {}/{}  evals {}  front {}",
-        p.generation,
-        generations,
-        p.evaluations,
-        front.len()
-    );
+    let mut line = if generations > 0 {
+        format!("gen {}/{}", p.generation, generations)
+    } else {
+        format!("gen {}", p.generation)
+    };
+    line.push_str(&format!("  evals {}  front {}", p.evaluations, front.len()));
     for percent in [1, 5, 25] {
         let t = (full_triangles * percent / 100).max(2);
         if let Some(e) = best_e_within(front, t) {
@@ -250,19 +280,21 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
         mut optimizer,
         params,
         generations,
+        budget,
     } = build(args, hf.clone())?;
     let terminal = std::io::stderr().is_terminal();
     let full = hf.full_triangles();
+    // Without a known number of generations, report every tenth of the budget instead.
     let report_every = (generations / 10).max(1);
+    let budget_step = budget.map_or(u64::MAX, |b| (b / 10).max(1));
+    let mut last_budget_report = 0;
     let mut last_reported = u64::MAX;
     let started = Instant::now();
     loop {
         let p = optimizer.step(250);
         if terminal {
             let by_generation = p.generation as f64 / generations.max(1) as f64;
-            let by_cap = args
-                .evals
-                .map_or(0.0, |cap| p.evaluations as f64 / cap.max(1) as f64);
+            let by_cap = budget.map_or(0.0, |cap| p.evaluations as f64 / cap.max(1) as f64);
             let fraction = if p.done {
                 1.0
             } else {
@@ -275,6 +307,11 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
                 ".".repeat(30 - filled),
                 status(&p, generations, optimizer.front(), full)
             );
+        } else if generations == 0 {
+            if p.evaluations / budget_step != last_budget_report || p.done {
+                eprintln!("{}", status(&p, generations, optimizer.front(), full));
+                last_budget_report = p.evaluations / budget_step;
+            }
         } else if p.generation != last_reported && (p.generation % report_every == 0 || p.done) {
             eprintln!("{}", status(&p, generations, optimizer.front(), full));
             last_reported = p.generation;

@@ -10,9 +10,11 @@
 //! - [`nsga2`]: NSGA-II (Deb et al. 2002).
 //! - [`trace`]: what one NSGA-II generation did, phase by phase (for the teaching view).
 //! - [`weighted_sum`]: the weighted-sum single-objective GA, one run per weight.
+//! - [`memetic`]: the memetic NSGA-II (greedy seeding, guided operators, local search).
 
 pub mod chromosome;
 mod mating;
+pub mod memetic;
 pub mod nsga2;
 pub mod oax;
 pub mod operators;
@@ -24,6 +26,7 @@ pub mod scorer;
 pub mod trace;
 pub mod weighted_sum;
 
+pub use memetic::{Memetic, MemeticParams};
 pub use nsga2::{Individual, Nsga2};
 pub use operators::CrossoverKind;
 pub use params::{GaParams, ParamsError};

@@ -12,6 +12,20 @@ use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
 impl MeshState {
+    /// Per triangle, in the order of [`triangles`](Self::triangles), Σ |z − z̃| over the grid
+    /// points it owns (its vertices excluded), from the totals the state keeps: no
+    /// rasterisation. Empty before the state is scored.
+    pub fn triangle_error_sums(&self) -> Vec<f64> {
+        let Some(hf) = &self.hf else {
+            return Vec::new();
+        };
+        let units = ErrorUnits::of(hf);
+        self.totals[..self.mesh.len()]
+            .iter()
+            .map(|t| units.value(t.sum))
+            .collect()
+    }
+
     /// The error |z − z̃| of every grid point (0 at kept points), row-major, rasterised from the
     /// mesh (the state keeps only each triangle's totals).
     pub fn errors(&self) -> Vec<f64> {

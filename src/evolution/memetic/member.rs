@@ -1,0 +1,123 @@
+//! A scored kept set with its mesh, the local edits the operators make to one, and how the
+//! archive receives them.
+
+use super::guide::Guide;
+use crate::evaluator::{Evaluator, MeshState, Score};
+use crate::front::{Front, Solution};
+use crate::heightfield::Heightfield;
+
+/// A population member (or the subject of local search): kept points, score and mesh.
+#[derive(Clone, Debug)]
+pub struct Member {
+    /// Kept grid points, increasing, corners included.
+    pub kept: Vec<u32>,
+    /// Its score, bit for bit [`Evaluator::score`]'s.
+    pub score: Score,
+    /// Its mesh, ready to edit.
+    pub state: MeshState,
+    /// Its guide, made when an operator first reads it.
+    pub guide: Option<Guide>,
+    /// Non-domination rank in the population (0 = non-dominated).
+    pub rank: usize,
+    /// Crowding distance within its rank.
+    pub crowding: f64,
+}
+
+impl Member {
+    /// Scores `kept` (increasing, corners included) from scratch: one evaluation.
+    pub fn fresh(evaluator: &mut Evaluator, kept: Vec<u32>) -> Self {
+        let mut state = MeshState::default();
+        let score = evaluator
+            .score_into(&kept, &mut state)
+            .expect("kept points are grid indices");
+        Self::scored(kept, score, state)
+    }
+
+    /// A member from a kept set already scored into `state`.
+    pub fn scored(kept: Vec<u32>, score: Score, state: MeshState) -> Self {
+        Self {
+            kept,
+            score,
+            state,
+            guide: None,
+            rank: 0,
+            crowding: 0.0,
+        }
+    }
+
+    /// (E_sum, T), both minimised.
+    pub fn pair(&self) -> [f64; 2] {
+        [self.score.e_sum, self.score.t as f64]
+    }
+
+    /// Its guide, made now if it was not.
+    pub fn guide(&mut self, hf: &Heightfield) -> &Guide {
+        if self.guide.is_none() {
+            self.guide = Some(Guide::of(hf, &self.state, &self.kept));
+        }
+        self.guide.as_ref().expect("just made")
+    }
+
+    /// Fills the lookups [`Evaluator::score_mutant`] reads, if stale (an edit or a copy leaves
+    /// them so).
+    pub fn ready_for_trials(&mut self) {
+        self.state.ensure_lookups();
+    }
+
+    /// Applies `edit` to the mesh ([`Evaluator::edit`], one evaluation) and the kept list.
+    pub fn apply(&mut self, evaluator: &mut Evaluator, edit: &Edit) {
+        self.score = evaluator
+            .edit(&mut self.state, &edit.remove, &edit.insert)
+            .expect("operators remove kept non-corner points and insert free ones");
+        edit.apply_to(&mut self.kept);
+        self.guide = None;
+    }
+}
+
+/// A local change of a kept set: points to remove (kept, not corners) and points to insert
+/// (not kept).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Edit {
+    /// Kept points that leave.
+    pub remove: Vec<u32>,
+    /// Free points that join.
+    pub insert: Vec<u32>,
+}
+
+impl Edit {
+    /// Makes the change on an increasing kept list, which stays increasing.
+    pub fn apply_to(&self, kept: &mut Vec<u32>) {
+        for r in &self.remove {
+            if let Ok(at) = kept.binary_search(r) {
+                kept.remove(at);
+            }
+        }
+        for &i in &self.insert {
+            if let Err(at) = kept.binary_search(&i) {
+                kept.insert(at, i);
+            }
+        }
+    }
+}
+
+/// Offers a scored kept set to the archive, copying the kept list only when it enters.
+pub fn offer(archive: &mut Front, kept: &[u32], score: &Score) -> bool {
+    let members = archive.solutions();
+    // The front is sorted by increasing T and so decreasing E: the member with the largest
+    // T ≤ t has the smallest E of those that could dominate (or equal) the new one.
+    let at = members.partition_point(|s| s.t <= score.t);
+    if at > 0 && members[at - 1].e_sum <= score.e_sum {
+        return false;
+    }
+    archive.offer(Solution {
+        score: *score,
+        kept: kept.to_vec(),
+    })
+}
+
+/// Is grid point `i` on the grid's border? Swapping a border point for an interior one (or
+/// back) changes the triangle count by one, so the fixed-T moves keep the two apart.
+pub fn on_border(hf: &Heightfield, i: u32) -> bool {
+    let (x, y) = hf.coords(i);
+    x == 0 || y == 0 || x + 1 == hf.width() || y + 1 == hf.height()
+}

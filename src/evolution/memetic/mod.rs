@@ -1,0 +1,38 @@
+//! The memetic NSGA-II, ParetoMesh's own method: NSGA-II's sorting, crowding, elitist survival
+//! and archive, with operators that know the geometry and a local search that polishes the
+//! front.
+//!
+//! - [`seeding`]: the initial population from two greedy-insertion sweeps (max-error rule and
+//!   worst point of the largest-error-sum triangle); the mix is documented there.
+//! - [`mutation`]: error-guided insertion, removal and vertex moves, each a local edit scored
+//!   incrementally ([`Evaluator::edit`](crate::evaluator::Evaluator::edit),
+//!   [`Evaluator::score_mutant`](crate::evaluator::Evaluator::score_mutant)).
+//! - [`neighbour_mating`]: crossover between parents of similar T.
+//! - [`local_search`]: swap moves at fixed T on archive members, spread over the front.
+//! - [`guide`]: the per-triangle errors and per-vertex removal costs the operators read.
+//! - [`member`]: a scored kept set with its mesh, and the edits made to it.
+//! - [`optimizer`]: the loop.
+//!
+//! A generation: μ children (each a copy of a tournament winner or, with the crossover
+//! probability, its crossover with a neighbour in T; then one guided mutation drawn among the
+//! three), (μ + λ) survival, then [`MemeticParams::local_search_rounds`] local-search units.
+//! Every evaluated kept set is offered to the archive ([`Optimizer::front`]), which starts as
+//! both greedy fronts.
+//!
+//! Every random draw comes from one generator seeded by the run's seed, in an order fixed by
+//! the units, and the state only changes a whole unit at a time, so a seed reproduces a run
+//! exactly however the work is sliced into steps.
+//!
+//! [`Optimizer::front`]: crate::optimizer::Optimizer::front
+
+pub mod guide;
+pub mod local_search;
+pub mod member;
+pub mod mutation;
+pub mod neighbour_mating;
+pub mod optimizer;
+pub mod params;
+pub mod seeding;
+
+pub use optimizer::Memetic;
+pub use params::{MemeticParams, MemeticParamsError, default_budget};

@@ -1,0 +1,83 @@
+//! Mating among neighbours in T: a parent's mate is one of the population members nearest to
+//! it in triangle count, since a child of a sparse and a dense mesh is too dense on one side and
+//! too sparse on the other. The crossover is a straight cut: the child keeps one parent's points
+//! on one side of a random grid line and the other's beyond it, which keeps each parent's
+//! spacing of points where it is taken from.
+
+use super::member::Member;
+use crate::evaluator::{Evaluator, MeshState};
+use crate::heightfield::Heightfield;
+use rand::RngExt;
+use rand_pcg::Pcg64Mcg;
+
+/// A mate is drawn among this many members nearest in T.
+pub const NEIGHBOURS: usize = 4;
+
+/// Draws the mate of `population[a]`: one of the [`NEIGHBOURS`] other members nearest to it in
+/// T (ties to the smaller index). `None` for a population of one.
+pub fn pick_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<usize> {
+    let t = population[a].score.t;
+    let mut others: Vec<usize> = (0..population.len()).filter(|&i| i != a).collect();
+    if others.is_empty() {
+        return None;
+    }
+    others.sort_by_key(|&i| (population[i].score.t.abs_diff(t), i));
+    let k = others.len().min(NEIGHBOURS);
+    Some(others[rng.random_range(0..k)])
+}
+
+/// A cut: grid points with coordinate ≥ `at` along the axis come from the second parent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cut {
+    /// Cut across x (columns) when true, across y (rows) otherwise.
+    pub vertical: bool,
+    /// The first column (or row) taken from the second parent, in 1..side.
+    pub at: usize,
+}
+
+impl Cut {
+    /// A random cut through the inside of the grid.
+    pub fn draw(hf: &Heightfield, rng: &mut Pcg64Mcg) -> Self {
+        let vertical = rng.random::<bool>();
+        let side = if vertical { hf.width() } else { hf.height() };
+        Self {
+            vertical,
+            at: rng.random_range(1..side.max(2)),
+        }
+    }
+
+    /// Is grid point `i` beyond the cut (taken from the second parent)?
+    pub fn from_second(&self, hf: &Heightfield, i: u32) -> bool {
+        let (x, y) = hf.coords(i);
+        (if self.vertical { x } else { y }) >= self.at
+    }
+}
+
+/// The child of `a` and `b` across `cut`, scored: its mesh is composed from both parents'
+/// ([`Evaluator::compose`]) when it can be, else built; one evaluation either way, the same
+/// bits. Fills the parents' disc boxes.
+pub fn cross(evaluator: &mut Evaluator, a: &mut Member, b: &mut Member, cut: Cut) -> Member {
+    let hf = evaluator.heightfield().clone();
+    let mut kept: Vec<u32> = a
+        .kept
+        .iter()
+        .copied()
+        .filter(|&i| !cut.from_second(&hf, i))
+        .chain(b.kept.iter().copied().filter(|&i| cut.from_second(&hf, i)))
+        .collect();
+    kept.sort_unstable();
+    kept.dedup();
+    let mut from_b = vec![0u64; hf.len().div_ceil(64)];
+    for i in 0..hf.len() as u32 {
+        if cut.from_second(&hf, i) {
+            from_b[i as usize / 64] |= 1 << (i % 64);
+        }
+    }
+    a.state.ensure_discs();
+    b.state.ensure_discs();
+    let mut state = MeshState::default();
+    match evaluator.compose(&mut state, &a.state, &b.state, &from_b) {
+        Some(score) => Member::scored(kept, score, state),
+        None => Member::fresh(evaluator, kept),
+    }
+}

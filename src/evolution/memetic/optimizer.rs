@@ -1,0 +1,307 @@
+//! The memetic optimizer: NSGA-II's loop with guided operators and local search.
+
+use super::local_search::LocalSearch;
+use super::member::{Member, offer};
+use super::mutation::{self, Operator};
+use super::neighbour_mating::{self, Cut};
+use super::params::{MemeticParams, MemeticParamsError};
+use super::seeding::Seeding;
+use crate::evaluator::Evaluator;
+use crate::evolution::ranking::{crowding_distances, non_dominated_fronts};
+use crate::front::Front;
+use crate::heightfield::Heightfield;
+use crate::optimizer::{Optimizer, Progress};
+use rand::{RngExt, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use std::sync::Arc;
+
+/// Where a generation stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    /// Making offspring (survival runs in the unit that completes them).
+    Offspring,
+    /// Local-search rounds, this many left.
+    LocalSearch(usize),
+}
+
+/// The memetic NSGA-II; see the module doc of [`super`].
+pub struct Memetic {
+    params: MemeticParams,
+    seed: u64,
+    budget: u64,
+    rng: Pcg64Mcg,
+    evaluator: Evaluator,
+    seeding: Seeding,
+    /// Both greedy runs' fronts merged: what the memetic front must weakly dominate.
+    seed_front: Front,
+    /// The seeds' kept sets, once seeding is done, in the order they join.
+    seeds: Vec<Vec<u32>>,
+    population: Vec<Member>,
+    offspring: Vec<Member>,
+    archive: Front,
+    local: LocalSearch,
+    stage: Stage,
+    generation: u64,
+    /// Evaluations after seeding.
+    evaluations: u64,
+    done: bool,
+}
+
+impl Memetic {
+    /// A run on `hf` with `params` and `seed`; nothing is evaluated until the first unit.
+    pub fn new(
+        hf: Arc<Heightfield>,
+        params: MemeticParams,
+        seed: u64,
+    ) -> Result<Self, MemeticParamsError> {
+        params.validate()?;
+        Ok(Self {
+            budget: params.budget(&hf),
+            rng: Pcg64Mcg::seed_from_u64(seed),
+            evaluator: Evaluator::new(hf.clone()),
+            seeding: Seeding::new(hf.clone()),
+            seed_front: Front::default(),
+            seeds: Vec::new(),
+            population: Vec::with_capacity(params.population),
+            offspring: Vec::with_capacity(params.population),
+            archive: Front::default(),
+            local: LocalSearch::new(&hf),
+            stage: Stage::Offspring,
+            generation: 0,
+            evaluations: 0,
+            done: false,
+            params,
+            seed,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &MemeticParams {
+        &self.params
+    }
+
+    /// The seed.
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The evaluation budget the run stops at.
+    pub fn budget(&self) -> u64 {
+        self.budget
+    }
+
+    /// The greedy seeding runs' fronts merged (empty until seeding is done).
+    pub fn seed_front(&self) -> &Front {
+        &self.seed_front
+    }
+
+    /// The current population.
+    pub fn population(&self) -> &[Member] {
+        &self.population
+    }
+
+    fn total_evaluations(&self) -> u64 {
+        self.seeding.evaluations() + self.evaluations
+    }
+
+    fn advance(&mut self) {
+        if self.total_evaluations() >= self.budget {
+            self.done = true;
+            return;
+        }
+        if !self.seeding.is_done() {
+            if let Some(front) = self.seeding.unit() {
+                for s in front.solutions() {
+                    self.archive.offer(s.clone());
+                    self.seed_front.offer(s.clone());
+                }
+            }
+            if self.seeding.is_done() {
+                self.seeds = self.seeding.seeds(self.params.population);
+                self.seeds.reverse();
+            }
+            return;
+        }
+        if let Some(kept) = self.seeds.pop() {
+            let member = Member::fresh(&mut self.evaluator, kept);
+            self.evaluations += 1;
+            offer(&mut self.archive, &member.kept, &member.score);
+            self.population.push(member);
+            if self.seeds.is_empty() {
+                rank_and_crowd(&mut self.population);
+            }
+            return;
+        }
+        match self.stage {
+            Stage::Offspring if self.population.len() >= 2 => {
+                self.child();
+                if self.offspring.len() >= self.params.population {
+                    self.survival();
+                    self.stage = Stage::LocalSearch(self.params.local_search_rounds);
+                }
+            }
+            Stage::Offspring => {
+                // Too few seeds to mate (a tiny grid): local search only.
+                self.stage = Stage::LocalSearch(self.params.local_search_rounds.max(1));
+            }
+            Stage::LocalSearch(left) => {
+                if left > 0 {
+                    self.local.unit(
+                        &mut self.evaluator,
+                        &mut self.archive,
+                        &mut self.rng,
+                        &mut self.evaluations,
+                    );
+                }
+                if left <= 1 {
+                    self.generation += 1;
+                    self.stage = Stage::Offspring;
+                } else {
+                    self.stage = Stage::LocalSearch(left - 1);
+                }
+            }
+        }
+    }
+
+    /// Binary tournament: the lower rank wins, then the larger crowding distance, then the
+    /// first drawn.
+    fn tournament(&mut self) -> usize {
+        let n = self.population.len();
+        let (i, j) = (self.rng.random_range(0..n), self.rng.random_range(0..n));
+        let (a, b) = (&self.population[i], &self.population[j]);
+        if b.rank < a.rank || (b.rank == a.rank && b.crowding > a.crowding) {
+            j
+        } else {
+            i
+        }
+    }
+
+    /// Makes one child: a crossover of a parent with a neighbour in T (with the crossover
+    /// probability) or a copy of the parent, then one guided mutation.
+    fn child(&mut self) {
+        let hf = self.evaluator.heightfield().clone();
+        let a = self.tournament();
+        let crossed = self.rng.random::<f64>() < self.params.crossover_probability;
+        let mate = if crossed {
+            neighbour_mating::pick_mate(&self.population, a, &mut self.rng)
+        } else {
+            None
+        };
+        let mut child = match mate {
+            Some(b) => {
+                let cut = Cut::draw(&hf, &mut self.rng);
+                let (pa, pb) = two_mut(&mut self.population, a, b);
+                let c = neighbour_mating::cross(&mut self.evaluator, pa, pb, cut);
+                self.evaluations += 1;
+                offer(&mut self.archive, &c.kept, &c.score);
+                c
+            }
+            None => {
+                // The parent keeps the guide and lookups its copy needs, for its next copies.
+                let parent = &mut self.population[a];
+                parent.guide(&hf);
+                parent.ready_for_trials();
+                parent.clone()
+            }
+        };
+        child.guide(&hf);
+        let edit = match Operator::draw(&mut self.rng) {
+            Operator::Insert => mutation::insert(&hf, child.guide(&hf), &mut self.rng),
+            Operator::Remove => mutation::remove(child.guide(&hf), &mut self.rng),
+            Operator::Move => {
+                child.ready_for_trials();
+                mutation::best_move(
+                    &mut self.evaluator,
+                    &child,
+                    &mut self.rng,
+                    &mut self.evaluations,
+                )
+                .map(|(edit, _)| edit)
+            }
+        };
+        if let Some(edit) = edit {
+            child.apply(&mut self.evaluator, &edit);
+            self.evaluations += 1;
+            offer(&mut self.archive, &child.kept, &child.score);
+        }
+        self.offspring.push(child);
+    }
+
+    /// (μ + λ) survival by rank, then crowding distance, as NSGA-II.
+    fn survival(&mut self) {
+        let mu = self.params.population;
+        let mut union: Vec<Option<Member>> = self
+            .population
+            .drain(..)
+            .chain(self.offspring.drain(..))
+            .map(Some)
+            .collect();
+        let points: Vec<[f64; 2]> = union
+            .iter()
+            .map(|m| m.as_ref().expect("all present").pair())
+            .collect();
+        for front in non_dominated_fronts(&points) {
+            let room = mu - self.population.len();
+            if room == 0 {
+                break;
+            }
+            let chosen: Vec<usize> = if front.len() <= room {
+                front
+            } else {
+                let d = crowding_distances(&points, &front);
+                let mut order: Vec<usize> = (0..front.len()).collect();
+                order.sort_by(|&a, &b| d[b].total_cmp(&d[a]).then(a.cmp(&b)));
+                order[..room].iter().map(|&k| front[k]).collect()
+            };
+            for k in chosen {
+                self.population
+                    .push(union[k].take().expect("each index is in one front"));
+            }
+        }
+        rank_and_crowd(&mut self.population);
+    }
+}
+
+/// Mutable references to two different members.
+fn two_mut(v: &mut [Member], a: usize, b: usize) -> (&mut Member, &mut Member) {
+    assert_ne!(a, b, "a mate is another member");
+    if a < b {
+        let (lo, hi) = v.split_at_mut(b);
+        (&mut lo[a], &mut hi[0])
+    } else {
+        let (lo, hi) = v.split_at_mut(a);
+        (&mut hi[0], &mut lo[b])
+    }
+}
+
+/// Sets every member's rank and crowding distance within `population`.
+fn rank_and_crowd(population: &mut [Member]) {
+    let points: Vec<[f64; 2]> = population.iter().map(Member::pair).collect();
+    for (rank, front) in non_dominated_fronts(&points).iter().enumerate() {
+        for (&i, d) in front.iter().zip(crowding_distances(&points, front)) {
+            population[i].rank = rank;
+            population[i].crowding = d;
+        }
+    }
+}
+
+impl Optimizer for Memetic {
+    /// Unit: one greedy insertion while seeding; then one seed's scoring, one child (a
+    /// crossover and a mutation, up to 10 evaluations with a move's trials), or one
+    /// local-search step (a visit's start or one round, up to about 60 evaluations).
+    fn unit(&mut self) {
+        self.advance();
+    }
+
+    fn front(&self) -> &Front {
+        &self.archive
+    }
+
+    fn progress(&self) -> Progress {
+        Progress {
+            evaluations: self.total_evaluations(),
+            generation: self.generation,
+            done: self.done,
+        }
+    }
+}

@@ -1,0 +1,118 @@
+//! The initial population, from two greedy-insertion sweeps.
+//!
+//! The mix: two greedy-insertion runs from the corners to every grid point, one with the
+//! classic max-error rule ([`InsertionRule::MaxError`]) and one that inserts the worst point
+//! of the triangle with the largest error sum ([`InsertionRule::WorstTriangle`]), which suits a
+//! sum-type error such as E_sum. Each records its mesh at [`RECORDS`] geometrically spaced
+//! triangle counts (twice greedy insertion's default, so that the seed front has no wide gaps
+//! in T). Every recorded mesh of both runs is offered to the archive (so the final front
+//! weakly dominates both greedy fronts), and the population takes ⌈μ/2⌉ seeds from the first
+//! run's front and ⌊μ/2⌋ from the second's, at evenly spaced positions of each front (by
+//! increasing T, so evenly in log T, from the sparsest to the densest mesh).
+//!
+//! Unit: one greedy insertion (one evaluation).
+
+use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
+use crate::front::Front;
+use crate::heightfield::Heightfield;
+use crate::optimizer::Optimizer;
+use std::sync::Arc;
+
+/// Recordings per seeding run.
+pub const RECORDS: usize = 128;
+
+/// The rules of the two seeding runs, in order.
+pub const RULES: [InsertionRule; 2] = [InsertionRule::MaxError, InsertionRule::WorstTriangle];
+
+/// The seeding runs in progress; see the module doc.
+pub struct Seeding {
+    hf: Arc<Heightfield>,
+    /// The run in progress (index into [`RULES`]) and the runs' fronts once done.
+    current: Option<(usize, Box<GreedyInsertion>)>,
+    fronts: Vec<Front>,
+    /// Insertions of the finished runs.
+    finished_evaluations: u64,
+}
+
+impl Seeding {
+    /// Seeding on `hf`; nothing runs until the first unit.
+    pub fn new(hf: Arc<Heightfield>) -> Self {
+        Self {
+            hf,
+            current: None,
+            fronts: Vec::new(),
+            finished_evaluations: 0,
+        }
+    }
+
+    /// Both runs finished?
+    pub fn is_done(&self) -> bool {
+        self.fronts.len() == RULES.len()
+    }
+
+    /// Insertions so far.
+    pub fn evaluations(&self) -> u64 {
+        self.finished_evaluations
+            + self
+                .current
+                .as_ref()
+                .map_or(0, |(_, run)| run.progress().evaluations)
+    }
+
+    /// One insertion (starting the next run when none is in progress). Returns a finished
+    /// run's front when this unit finished it.
+    pub fn unit(&mut self) -> Option<&Front> {
+        if self.is_done() {
+            return None;
+        }
+        let next = self.fronts.len();
+        let hf = self.hf.clone();
+        let (_, run) = self.current.get_or_insert_with(|| {
+            let params = GreedyParams {
+                rule: RULES[next],
+                records: RECORDS,
+                ..GreedyParams::default()
+            };
+            (
+                next,
+                Box::new(GreedyInsertion::new(hf, params).expect("default parameters are valid")),
+            )
+        });
+        run.unit();
+        if !run.progress().done {
+            return None;
+        }
+        self.finished_evaluations += run.progress().evaluations;
+        self.fronts.push(run.front().clone());
+        self.current = None;
+        self.fronts.last()
+    }
+
+    /// The kept sets of the seeds: `population` of them when the fronts have that many
+    /// members (fewer otherwise), ⌈μ/2⌉ from the first front, the rest from the second, each
+    /// at evenly spaced positions of its front.
+    pub fn seeds(&self, population: usize) -> Vec<Vec<u32>> {
+        let shares = [population.div_ceil(2), population / 2];
+        let mut seeds = Vec::with_capacity(population);
+        for (front, share) in self.fronts.iter().zip(shares) {
+            let members = front.solutions();
+            for index in spread(members.len(), share) {
+                seeds.push(members[index].kept.clone());
+            }
+        }
+        seeds
+    }
+}
+
+/// min(`s`, `n`) distinct indices of 0..`n` at evenly spaced positions, round(j·(n−1)/(s−1)),
+/// including both ends when at least two (the middle one for one).
+pub fn spread(n: usize, s: usize) -> Vec<usize> {
+    let s = s.min(n);
+    match s {
+        0 => Vec::new(),
+        1 => vec![(n - 1) / 2],
+        _ => (0..s)
+            .map(|j| (2 * j * (n - 1) + (s - 1)) / (2 * (s - 1)))
+            .collect(),
+    }
+}

@@ -1,0 +1,345 @@
+//! The memetic NSGA-II: every operator keeps the corners and gives the score a fresh
+//! evaluation gives; a seed reproduces a run however it is sliced; the front weakly dominates
+//! the greedy fronts it was seeded from.
+//!
+//! Grids are small (33×33) and budgets low because the tests run in a debug build.
+
+mod common;
+
+use common::{bits, fixture, random_kept, synthetic};
+use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
+use paretomesh::evaluator::Evaluator;
+use paretomesh::evolution::memetic::local_search::LocalSearch;
+use paretomesh::evolution::memetic::member::Member;
+use paretomesh::evolution::memetic::mutation;
+use paretomesh::evolution::memetic::neighbour_mating::{self, Cut};
+use paretomesh::evolution::{Memetic, MemeticParams};
+use paretomesh::front::{Front, dominates};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::optimizer::Optimizer;
+use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
+use std::sync::Arc;
+
+/// Members of a greedy run's front, as members with meshes.
+fn greedy_members(hf: &Arc<Heightfield>, ev: &mut Evaluator) -> Vec<Member> {
+    let mut run = GreedyInsertion::new(hf.clone(), GreedyParams::default()).unwrap();
+    run.run_to_end();
+    run.front()
+        .solutions()
+        .iter()
+        .filter(|s| s.t >= 8)
+        .map(|s| Member::fresh(ev, s.kept.clone()))
+        .collect()
+}
+
+/// `member`'s score is a fresh evaluation's, bit for bit, and it keeps the corners.
+fn check(ev: &mut Evaluator, hf: &Heightfield, member: &Member, what: &str) {
+    for c in hf.corners() {
+        assert!(
+            member.kept.binary_search(&c).is_ok(),
+            "{what}: corner {c} lost"
+        );
+    }
+    assert!(member.kept.is_sorted(), "{what}: kept list out of order");
+    let fresh = ev.score(&member.kept).unwrap();
+    assert_eq!(bits(member.score), bits(fresh), "{what}");
+}
+
+#[test]
+fn every_operator_keeps_the_corners_and_scores_as_a_fresh_evaluation() {
+    for hf in [fixture("camera_33x33"), synthetic(21, 17, 2)] {
+        let mut ev = Evaluator::new(hf.clone());
+        let mut rng = Pcg64Mcg::seed_from_u64(5);
+        let mut members = greedy_members(&hf, &mut ev);
+        // And an unstructured kept set, far from anything greedy makes.
+        let mut kept = random_kept(hf.len(), 0.2, &mut rng);
+        kept.extend(hf.corners());
+        kept.sort_unstable();
+        kept.dedup();
+        members.push(Member::fresh(&mut ev, kept));
+        assert!(members.len() >= 4);
+        let mut applied = [0usize; 4];
+        for round in 0..40 {
+            let k = round % members.len();
+            let mut child = members[k].clone();
+            child.guide(&hf);
+            let guide = child.guide.clone().unwrap();
+            if let Some(edit) = mutation::insert(&hf, &guide, &mut rng) {
+                assert_eq!(edit.insert.len(), 1);
+                let before = child.score.t;
+                child.apply(&mut ev, &edit);
+                check(&mut ev, &hf, &child, "guided insertion");
+                assert!(child.score.t > before);
+                applied[0] += 1;
+            }
+            let mut child = members[k].clone();
+            child.guide(&hf);
+            let guide = child.guide.clone().unwrap();
+            if let Some(edit) = mutation::remove(&guide, &mut rng) {
+                assert!(!hf.corners().contains(&edit.remove[0]));
+                child.apply(&mut ev, &edit);
+                check(&mut ev, &hf, &child, "guided removal");
+                applied[1] += 1;
+            }
+            let mut child = members[k].clone();
+            child.guide(&hf);
+            child.ready_for_trials();
+            let mut evaluations = 0;
+            if let Some((edit, score)) =
+                mutation::best_move(&mut ev, &child, &mut rng, &mut evaluations)
+            {
+                assert!(evaluations >= 1);
+                let t = child.score.t;
+                child.apply(&mut ev, &edit);
+                check(&mut ev, &hf, &child, "vertex move");
+                assert_eq!(
+                    bits(child.score),
+                    bits(score),
+                    "a move's trial is its score"
+                );
+                assert_eq!(child.score.t, t, "a move keeps T");
+                applied[2] += 1;
+            }
+            let mate = neighbour_mating::pick_mate(&members, k, &mut rng).unwrap();
+            let cut = Cut::draw(&hf, &mut rng);
+            let (lo, hi) = members.split_at_mut(k.max(mate));
+            let (a, b) = if k < mate {
+                (&mut lo[k], &mut hi[0])
+            } else {
+                (&mut hi[0], &mut lo[mate])
+            };
+            let child = neighbour_mating::cross(&mut ev, a, b, cut);
+            check(&mut ev, &hf, &child, "crossover");
+            for &i in &child.kept {
+                let from = if cut.from_second(&hf, i) {
+                    &b.kept
+                } else {
+                    &a.kept
+                };
+                assert!(
+                    from.binary_search(&i).is_ok() || hf.corners().contains(&i),
+                    "crossover: point {i} comes from neither side"
+                );
+            }
+            applied[3] += 1;
+        }
+        assert!(
+            applied.iter().all(|&n| n > 10),
+            "operators applied: {applied:?}"
+        );
+    }
+}
+
+#[test]
+fn local_search_keeps_the_corners_scores_honestly_and_improves_at_fixed_t() {
+    let hf = fixture("camera_33x33");
+    let mut ev = Evaluator::new(hf.clone());
+    let mut run = GreedyInsertion::new(hf.clone(), GreedyParams::default()).unwrap();
+    run.run_to_end();
+    let greedy = run.front().clone();
+    let mut archive = greedy.clone();
+    let mut local = LocalSearch::new(&hf);
+    let mut rng = Pcg64Mcg::seed_from_u64(3);
+    let mut evaluations = 0;
+    for _ in 0..300 {
+        local.unit(&mut ev, &mut archive, &mut rng, &mut evaluations);
+    }
+    assert!(evaluations > 300);
+    for s in archive.solutions() {
+        for c in hf.corners() {
+            assert!(s.kept.contains(&c));
+        }
+        let fresh = ev.score(&s.kept).unwrap();
+        assert_eq!((s.e_sum.to_bits(), s.t), (fresh.e_sum.to_bits(), fresh.t));
+    }
+    // Some greedy member was beaten at its own T or below.
+    let improved = greedy.solutions().iter().any(|g| {
+        archive
+            .solutions()
+            .iter()
+            .any(|m| m.t <= g.t && m.e_sum < g.e_sum)
+    });
+    assert!(improved, "local search improved no greedy member");
+}
+
+#[test]
+fn the_worst_triangle_rule_inserts_the_worst_point_of_the_largest_error_sum() {
+    let hf = fixture("camera_33x33");
+    let params = GreedyParams {
+        rule: InsertionRule::WorstTriangle,
+        ..GreedyParams::default()
+    };
+    let mut run = GreedyInsertion::new(hf.clone(), params).unwrap();
+    let mut ev = Evaluator::new(hf.clone());
+    for _ in 0..60 {
+        let kept = run.kept();
+        let mut m = Member::fresh(&mut ev, kept.clone());
+        let guide = m.guide(&hf).clone();
+        let t = guide.largest_triangles(1)[0];
+        let expected = guide.worst_point(&hf, t);
+        run.step(1);
+        let now = run.kept();
+        let added: Vec<u32> = now.iter().copied().filter(|i| !kept.contains(i)).collect();
+        assert_eq!(added, vec![expected]);
+    }
+}
+
+fn params(evals: u64) -> MemeticParams {
+    MemeticParams {
+        population: 8,
+        local_search_rounds: 6,
+        max_evaluations: Some(evals),
+        ..MemeticParams::default()
+    }
+}
+
+fn pairs(front: &Front) -> Vec<(u64, usize, Vec<u32>)> {
+    front
+        .solutions()
+        .iter()
+        .map(|s| (s.e_sum.to_bits(), s.t, s.kept.clone()))
+        .collect()
+}
+
+#[test]
+fn a_seed_reproduces_the_run_however_it_is_sliced() {
+    let hf = fixture("camera_33x33");
+    let budget = 2 * hf.len() as u64 + 2500;
+    let mut whole = Memetic::new(hf.clone(), params(budget), 9).unwrap();
+    let end = whole.run_to_end();
+    assert!(end.generation >= 2, "the run got past seeding: {end:?}");
+    let mut again = Memetic::new(hf.clone(), params(budget), 9).unwrap();
+    again.run_to_end();
+    assert_eq!(pairs(whole.front()), pairs(again.front()));
+    for slice in [1, 7, 250] {
+        let mut sliced = Memetic::new(hf.clone(), params(budget), 9).unwrap();
+        while !sliced.step(slice).done {}
+        assert_eq!(sliced.progress(), end, "slices of {slice}");
+        assert_eq!(
+            pairs(sliced.front()),
+            pairs(whole.front()),
+            "slices of {slice}"
+        );
+    }
+    let mut other = Memetic::new(hf, params(budget), 10).unwrap();
+    other.run_to_end();
+    assert_ne!(
+        pairs(other.front()),
+        pairs(whole.front()),
+        "another seed, another run"
+    );
+}
+
+#[test]
+fn the_front_weakly_dominates_its_greedy_seed_front_and_scores_honestly() {
+    let hf = fixture("jacksboro_33x33");
+    let mut run = Memetic::new(hf.clone(), params(2 * hf.len() as u64 + 3000), 1).unwrap();
+    run.run_to_end();
+    let seeds = run.seed_front();
+    assert!(seeds.len() > 20);
+    let front = run.front();
+    for g in seeds.solutions() {
+        assert!(
+            front
+                .solutions()
+                .iter()
+                .any(|m| m.objectives() == g.objectives()
+                    || dominates(m.objectives(), g.objectives())),
+            "greedy member (E {}, T {}) is not weakly dominated",
+            g.e_sum,
+            g.t
+        );
+    }
+    // And it is better somewhere.
+    assert!(front.solutions().iter().any(|m| {
+        seeds
+            .solutions()
+            .iter()
+            .any(|g| dominates(m.objectives(), g.objectives()))
+    }));
+    let mut ev = Evaluator::new(hf.clone());
+    for m in front.solutions() {
+        let fresh = ev.score(&m.kept).unwrap();
+        assert_eq!((m.e_sum.to_bits(), m.t), (fresh.e_sum.to_bits(), fresh.t));
+    }
+}
+
+#[test]
+fn bad_parameters_are_refused_with_a_reason() {
+    let hf = fixture("camera_33x33");
+    let small = MemeticParams {
+        population: 1,
+        ..MemeticParams::default()
+    };
+    let err = Memetic::new(hf.clone(), small, 1).err().unwrap();
+    assert!(err.to_string().contains("at least 2"));
+    let p = MemeticParams {
+        crossover_probability: 1.5,
+        ..MemeticParams::default()
+    };
+    assert!(
+        Memetic::new(hf, p, 1)
+            .err()
+            .unwrap()
+            .to_string()
+            .contains("[0, 1]")
+    );
+}
+
+#[test]
+fn a_tiny_grid_runs_to_its_budget() {
+    let hf = Arc::new(Heightfield::new(2, 2, vec![0.0, 1.0, 2.0, 3.0]).unwrap());
+    let mut run = Memetic::new(hf, params(50), 1).unwrap();
+    let p = run.run_to_end();
+    assert!(p.done && p.evaluations >= 50);
+    assert_eq!(run.front().len(), 1);
+}
+
+#[test]
+fn run_without_algo_is_memetic_and_its_front_rescores() {
+    let grid = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/camera_33x33.f32");
+    let out = std::env::temp_dir().join(format!(
+        "paretomesh_memetic_cli_{}.json",
+        std::process::id()
+    ));
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .arg("run")
+        .arg(&grid)
+        .args(["--evals", "3000", "--pop", "6", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let file: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    assert_eq!(file["algorithm"], "memetic");
+    assert_eq!(file["params"]["population"], 6);
+    let hf = fixture("camera_33x33");
+    let mut ev = Evaluator::new(hf);
+    let front = file["front"].as_array().unwrap();
+    assert!(front.len() > 10);
+    for m in front {
+        let kept: Vec<u32> = serde_json::from_value(m["kept"].clone()).unwrap();
+        let fresh = ev.score(&kept).unwrap();
+        assert_eq!(
+            m["E_sum"].as_f64().unwrap().to_bits(),
+            fresh.e_sum.to_bits()
+        );
+        assert_eq!(m["T"].as_u64().unwrap() as usize, fresh.t);
+    }
+    // A GA option that memetic does not take is refused.
+    let refused = std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .arg("run")
+        .arg(&grid)
+        .args(["--greedy-seed", "0.5", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("memetic"));
+}
