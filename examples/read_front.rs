@@ -29,8 +29,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let params = GreedyParams::default();
             let mut run = GreedyInsertion::new(hf.clone(), params.clone())?;
             let progress = run.run_to_end();
-            let file = RunFile::new(
-                &mut Evaluator::new(hf),
+            let mut ev = Evaluator::new(hf);
+            let mut file = RunFile::new(
+                &mut ev,
                 "greedy",
                 serde_json::to_value(params)?,
                 0,
@@ -38,6 +39,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 0,
                 run.front(),
             )?;
+            // As `paretomesh run --triangles` writes it.
+            file.add_triangles(&mut ev)?;
             (serde_json::to_string(&file)?, grid)
         }
         _ => return Err("usage: read_front [FRONT.json GRID]".into()),
@@ -64,7 +67,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for member in &file.front {
         let s = &member.solution;
         let from_kept = ev.score(&s.kept)?;
-        let from_triangles = ev.score_triangulation(&member.triangles)?;
+        let from_triangles = match &member.triangles {
+            Some(triangles) => ev.score_triangulation(triangles)?,
+            None => from_kept,
+        };
         if from_kept.e_sum != s.e_sum || from_kept.t != s.t || from_triangles != from_kept {
             return Err(format!(
                 "the member with T = {} does not re-score to its numbers",

@@ -17,7 +17,7 @@ for grid in tests/data/*.f32 tests/data/*.ply; do
   name=$(basename "$grid")
   for algo in nsga2 weighted greedy decimation; do
     out="$tmp/$name.$algo.json"
-    "$bin" run "$grid" --algo "$algo" --seed 7 --out "$out" 2>/dev/null
+    "$bin" run "$grid" --algo "$algo" --seed 7 --triangles --out "$out" 2>/dev/null
     sed -E 's/"millis":[0-9]+/"millis":0/' "$out" > "$out.norm"
     if [ "$mode" = write ]; then
       cp "$out.norm" "$dir/$name.$algo.json"

@@ -1,12 +1,17 @@
 //! front.json: the result of one optimizer run, self-contained so that any outside tool can
-//! re-score every solution (kept grid indices and triangles, y·W + x). The CLI writes it and the
+//! re-score every solution from its kept grid indices (y·W + x). The CLI writes it and the
 //! browser exports the same format.
 //!
 //! ```json
 //! {"grid":{"width":33,"height":33,"source":"…"},"algorithm":"nsga2","params":{…},"seed":1,
 //!  "evaluations":21000,"millis":812,
-//!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept":[…],"triangles":[[a,b,c],…]},…]}
+//!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept":[…]},…]}
 //! ```
+//!
+//! Triangles are listed only on request ([`RunFile::add_triangles`], `paretomesh run
+//! --triangles`), as `"triangles":[[a,b,c],…]` after `kept`: on large grids they are most of the
+//! file, and the kept set determines them (the canonical Delaunay triangulation, which
+//! `paretomesh eval --keep` reproduces).
 
 use crate::evaluator::{EvaluateError, Evaluator, MeshState, canonical_set, check_indices};
 use crate::evolution::chromosome::Chromosome;
@@ -25,15 +30,16 @@ pub struct GridInfo {
     pub source: String,
 }
 
-/// One front member with its triangles.
+/// One front member, with its triangles when the file lists them.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSolution {
     /// E_sum, E_max, T and the kept indices.
     #[serde(flatten)]
     pub solution: Solution,
     /// The Delaunay triangles of the kept set, grid-index triples, counter-clockwise, each
-    /// starting at its smallest index, sorted.
-    pub triangles: Vec<[u32; 3]>,
+    /// starting at its smallest index, sorted; `None` when the file leaves them out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub triangles: Option<Vec<[u32; 3]>>,
 }
 
 /// The whole file.
@@ -56,9 +62,9 @@ pub struct RunFile {
 }
 
 impl RunFile {
-    /// Builds the file of a run that produced `front` on `evaluator`'s height field. The
-    /// triangles are recomputed with `evaluator`; fails only when a kept index is out of range
-    /// ([`EvaluateError::IndexOutOfRange`]).
+    /// Builds the file of a run that produced `front` on `evaluator`'s height field, without
+    /// triangles ([`add_triangles`](Self::add_triangles) adds them). Fails only when a kept
+    /// index is out of range ([`EvaluateError::IndexOutOfRange`]).
     pub fn new(
         evaluator: &mut Evaluator,
         algorithm: &str,
@@ -74,42 +80,15 @@ impl RunFile {
             height: hf.height(),
             source: hf.source().to_string(),
         };
-        // Members close in T usually share most of their points, so each member is scored by
-        // editing the mesh of the one before it in a nearest-neighbour tour (by Hamming
-        // distance) of the front, or from scratch when that is nearer than half its kept
-        // points: the triangles are the same either way (the evaluator's contract), listed in
-        // canonical order so that the file does not depend on how they were made. The tour
-        // edits fewer points than the T order would.
-        let (n, corners) = (hf.len(), hf.corners());
-        let members = front.solutions();
-        for s in members {
-            check_indices(&s.kept, n)?;
+        for s in front.solutions() {
+            check_indices(&s.kept, hf.len())?;
         }
-        let genes: Vec<Chromosome> = members
+        let members = front
+            .solutions()
             .iter()
-            .map(|s| Chromosome::from_indices(n, &s.kept))
-            .collect();
-        let mut state = MeshState::default();
-        let mut previous: Option<usize> = None;
-        let (mut removed, mut inserted) = (Vec::new(), Vec::new());
-        let mut triangles = vec![Vec::new(); members.len()];
-        for m in edit_tour(&genes) {
-            let near = previous.is_some_and(|p| {
-                genes[p].write_edit(&genes[m], &corners, &mut removed, &mut inserted);
-                2 * (removed.len() + inserted.len()) < members[m].kept.len()
-            });
-            if !near || evaluator.edit(&mut state, &removed, &inserted).is_err() {
-                evaluator.score_into(&members[m].kept, &mut state)?;
-            }
-            triangles[m] = canonical_set(&state.triangles());
-            previous = Some(m);
-        }
-        let members = members
-            .iter()
-            .zip(triangles)
-            .map(|(s, triangles)| RunSolution {
+            .map(|s| RunSolution {
                 solution: s.clone(),
-                triangles,
+                triangles: None,
             })
             .collect();
         Ok(Self {
@@ -121,6 +100,41 @@ impl RunFile {
             millis,
             front: members,
         })
+    }
+
+    /// Lists every member's triangles, recomputed with `evaluator` (on the file's grid).
+    ///
+    /// Members close in T usually share most of their points, so each member is scored by
+    /// editing the mesh of the one before it in a nearest-neighbour tour (by Hamming distance)
+    /// of the front, or from scratch when that is nearer than half its kept points: the
+    /// triangles are the same either way (the evaluator's contract), listed in canonical order
+    /// so that the file does not depend on how they were made.
+    pub fn add_triangles(&mut self, evaluator: &mut Evaluator) -> Result<(), EvaluateError> {
+        let hf: &Heightfield = evaluator.heightfield();
+        let (n, corners) = (hf.len(), hf.corners());
+        for m in &self.front {
+            check_indices(&m.solution.kept, n)?;
+        }
+        let genes: Vec<Chromosome> = self
+            .front
+            .iter()
+            .map(|m| Chromosome::from_indices(n, &m.solution.kept))
+            .collect();
+        let mut state = MeshState::default();
+        let mut previous: Option<usize> = None;
+        let (mut removed, mut inserted) = (Vec::new(), Vec::new());
+        for m in edit_tour(&genes) {
+            let near = previous.is_some_and(|p| {
+                genes[p].write_edit(&genes[m], &corners, &mut removed, &mut inserted);
+                2 * (removed.len() + inserted.len()) < self.front[m].solution.kept.len()
+            });
+            if !near || evaluator.edit(&mut state, &removed, &inserted).is_err() {
+                evaluator.score_into(&self.front[m].solution.kept, &mut state)?;
+            }
+            self.front[m].triangles = Some(canonical_set(&state.triangles()));
+            previous = Some(m);
+        }
+        Ok(())
     }
 }
 
@@ -214,13 +228,42 @@ mod tests {
             assert!(front.offer(Solution::recorded(100.0 - step as f64, 0.0, step, kept)));
         }
         let mut ev = Evaluator::new(hf.clone());
-        let file = RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let mut file =
+            RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
         assert_eq!(file.front.len(), 40);
+        file.add_triangles(&mut ev).unwrap();
         let mut fresh = Evaluator::new(hf);
         for m in &file.front {
             let expected = canonical_set(&fresh.evaluate(&m.solution.kept).unwrap().triangles);
-            assert_eq!(m.triangles, expected, "T {}", m.solution.t);
+            assert_eq!(m.triangles.as_ref(), Some(&expected), "T {}", m.solution.t);
         }
+    }
+
+    #[test]
+    fn members_list_triangles_only_when_asked() {
+        // By default a member is its numbers and kept set; with triangles, they follow `kept`,
+        // and both forms read back to the same file.
+        let hf = Arc::new(
+            Heightfield::new(3, 3, vec![0.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 0.0]).unwrap(),
+        );
+        let mut front = Front::default();
+        front.offer(Solution::recorded(4.0, 4.0, 2, vec![0, 2, 6, 8]));
+        let mut ev = Evaluator::new(hf);
+        let mut file =
+            RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(
+            json.ends_with(r#""front":[{"E_sum":4.0,"E_max":4.0,"T":2,"kept":[0,2,6,8]}]}"#),
+            "{json}"
+        );
+        assert_eq!(serde_json::from_str::<RunFile>(&json).unwrap(), file);
+        file.add_triangles(&mut ev).unwrap();
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(
+            json.ends_with(r#""kept":[0,2,6,8],"triangles":[[0,2,6],[2,8,6]]}]}"#),
+            "{json}"
+        );
+        assert_eq!(serde_json::from_str::<RunFile>(&json).unwrap(), file);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! the same tables as the project's methods.
 //!
 //! Inputs (read from bytes here; the command line finds the files):
-//! - a front.json ([`RunFile`]): every member, its kept grid indices and triangles;
+//! - a front.json ([`RunFile`]): every member, its kept grid indices and, when listed, triangles;
 //! - a JSON list of meshes `[{"vertices": [grid indices], "triangles": [[a, b, c], …]}, …]`, the
 //!   triangles indexing `vertices` (0-based); without `triangles` the mesh is the project's
 //!   Delaunay triangulation of its vertices, which must include the four grid corners;
@@ -82,12 +82,9 @@ pub fn from_json(bytes: &[u8], width: usize, height: usize) -> Result<Vec<MeshIn
                     label: format!("member {k} (T = {})", m.solution.t),
                     mesh: Ok(GridMesh {
                         vertices: m.solution.kept.iter().map(|&i| i.into()).collect(),
-                        triangles: Some(
-                            m.triangles
-                                .iter()
-                                .map(|t| t.map(u64::from))
-                                .collect(),
-                        ),
+                        triangles: m
+                            .triangles
+                            .map(|tris| tris.iter().map(|t| t.map(u64::from)).collect()),
                     }),
                 })
                 .collect())
