@@ -1125,7 +1125,7 @@ mod curated_examples {
             .collect();
         assert_eq!(
             in_readme, expected,
-            "README links differ from src/web/examples.rs"
+            "README links differ from src/app/examples.rs"
         );
         for e in examples() {
             assert!(

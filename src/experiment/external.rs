@@ -18,8 +18,7 @@
 //! the reason and the rest are kept.
 
 use super::results::{ExternalFront, RejectedMesh};
-use crate::evaluator::Evaluator;
-use crate::evaluator::exact::predicates::{Lattice, in_circle_det, orient};
+use crate::evaluator::{Evaluator, is_delaunay};
 use crate::front::{Front, Solution};
 use crate::heightfield::{TriangleMesh, obj, ply};
 use crate::run_file::RunFile;
@@ -242,32 +241,6 @@ fn score(mesh: &GridMesh, evaluator: &mut Evaluator) -> Result<(Solution, bool),
 
 fn solution(s: crate::evaluator::Score, kept: Vec<u32>) -> Solution {
     Solution { score: s, kept }
-}
-
-/// Whether a valid triangulation of grid points (as [`Evaluator::score_triangulation`]
-/// accepts) is Delaunay: every interior edge is locally Delaunay (the far vertex of one
-/// triangle is not strictly inside the other's circumcircle), which for a triangulation makes
-/// it Delaunay everywhere. Co-circular ties count as Delaunay whichever diagonal they take.
-fn is_delaunay(tris: &[[u32; 3]], width: usize) -> bool {
-    let lattice = Lattice::new(width);
-    let p = |i: u32| lattice.point(i);
-    // Each directed edge of a counter-clockwise triangle, with the triangle's third vertex.
-    let mut edges: Vec<((u32, u32), u32)> = Vec::with_capacity(3 * tris.len());
-    for &[a, b, c] in tris {
-        let [a, b, c] = if orient(p(a), p(b), p(c)) > 0 {
-            [a, b, c]
-        } else {
-            [a, c, b]
-        };
-        edges.extend([((a, b), c), ((b, c), a), ((c, a), b)]);
-    }
-    edges.sort_unstable();
-    edges.iter().all(
-        |&((a, b), c)| match edges.binary_search_by_key(&(b, a), |e| e.0) {
-            Ok(k) => in_circle_det([p(a), p(b), p(c), p(edges[k].1)]) <= 0,
-            Err(_) => true,
-        },
-    )
 }
 
 /// Scores every mesh of one outside front on `evaluator`'s grid and keeps the valid ones:

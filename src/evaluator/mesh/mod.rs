@@ -4,6 +4,7 @@
 
 pub(crate) mod canonical_form;
 pub(crate) mod canonical_triangulation;
+pub(crate) mod delaunay_check;
 pub(crate) mod disc_box;
 pub(crate) mod hole_fill;
 pub(crate) mod region;

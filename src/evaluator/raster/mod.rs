@@ -299,8 +299,8 @@ impl Grid<'_> {
     /// it, whichever edge owns what. So a pointed bottom or top row holds nothing (only its
     /// vertex), a flat one the columns strictly between its two vertices (or nothing, when
     /// the triangle does not own that edge), and the middle row runs from the long edge to the
-    /// middle vertex's neighbour. At 2 % kept a triangle spans ≈ 7 rows: two of them no longer
-    /// go through the kernel, and no row tests the vertices.
+    /// middle vertex's neighbour. At 2 % kept a triangle spans ≈ 7 rows: two of them skip the
+    /// kernel, and no row tests the vertices.
     #[inline(always)]
     fn triangle_totals<K: Kernel>(&self, k: &K, tri: [GridPoint; 3]) -> ErrorTotals {
         k.totals(&self.add_triangle(k, tri, k.sums()))
@@ -460,7 +460,7 @@ impl Spans {
     /// row holds nothing (only its vertex), a flat one the columns strictly between its two
     /// vertices (or nothing, when the triangle does not own that edge), and the middle row runs
     /// from the long edge to the middle vertex's neighbour. At 2 % kept a triangle spans ≈ 7
-    /// rows: two of them no longer go through the kernel, and no row tests the vertices.
+    /// rows: two of them skip the kernel, and no row tests the vertices.
     #[inline(always)]
     fn rows(&self, sink: &mut impl RowSink) {
         let [y0, y1, y2] = self.ys;
