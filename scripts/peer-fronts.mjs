@@ -1,6 +1,6 @@
 // Fronts of two outside simplifiers on one grid, as the mesh lists `paretomesh experiment
 // --external` reads: [{"vertices": [grid indices], "triangles": [[a, b, c], ...]}, ...], the
-// triangles indexing `vertices`. Run by scripts/peer-fronts.sh from a scratch folder that has
+// triangles indexing `vertices` (without them, the experiment triangulates the points). Run by scripts/peer-fronts.sh from a scratch folder that has
 // the npm packages `delatin` and `meshoptimizer`.
 //   node peer-fronts.mjs GRID.f32 W H OUT_DIR
 import fs from 'fs';
@@ -13,51 +13,40 @@ const W = Number(ws), H = Number(hs);
 const bytes = fs.readFileSync(file);
 const z = new Float32Array(bytes.buffer, bytes.byteOffset, W * H);
 const fullT = 2 * (W - 1) * (H - 1);
-// Triangle budgets spaced geometrically from 2 to the full mesh, so every part of the front has
-// points.
+// meshoptimizer's triangle budgets, spaced geometrically from 2 to the full mesh, so every part
+// of the front has points.
 const targets = [];
 for (let k = 0; k < 40; k++) {
   const t = Math.round(2 * Math.pow(fullT / 2, k / 39));
   if (!targets.includes(t)) targets.push(t);
 }
 
-// delatin (greedy insertion by max error): the mesh after each refinement whose triangle count
-// first reaches a budget.
+// delatin (greedy insertion by max error): the mesh after every refinement, from the two corner
+// triangles to the full grid, so its front is as dense as the tool allows.
 function delatinFront() {
   const tin = new Delatin(Float64Array.from(z), W, H);
   const meshes = [];
-  let next = 0;
-  tin.run(Infinity);
-  // run() with an infinite bound does nothing beyond the first two triangles; refine one point
-  // at a time from there.
   for (;;) {
-    const t = tin.triangles.length / 3;
-    while (next < targets.length && t >= targets[next]) next++;
-    if (meshes.length === 0 || t >= targets[Math.max(0, next - 1)] && meshes[meshes.length - 1].triangles.length < t) {
-      const vertices = [];
-      for (let k = 0; k < tin.coords.length; k += 2) vertices.push(tin.coords[k + 1] * W + tin.coords[k]);
-      const triangles = [];
-      for (let k = 0; k < tin.triangles.length; k += 3) triangles.push([tin.triangles[k], tin.triangles[k + 1], tin.triangles[k + 2]]);
-      meshes.push({ vertices, triangles });
-    }
-    if (next >= targets.length || tin.getMaxError() <= 0) break;
+    const vertices = [];
+    for (let k = 0; k < tin.coords.length; k += 2) vertices.push(tin.coords[k + 1] * W + tin.coords[k]);
+    const triangles = [];
+    for (let k = 0; k < tin.triangles.length; k += 3) triangles.push([tin.triangles[k], tin.triangles[k + 1], tin.triangles[k + 2]]);
+    meshes.push({ vertices, triangles });
+    if (tin.getMaxError() <= 0) break;
     tin.refine();
   }
   return meshes;
 }
 
-// meshoptimizer: the full grid mesh simplified to each budget with its border locked; z scaled
-// to the grid's width so that x, y and z weigh alike. Each mesh is the tool's own triangles.
+// meshoptimizer: the full grid mesh simplified to each budget, with z scaled by 1, 0.2 and 0.05
+// of the grid's width and with or without its border locked (every variant goes in; the front
+// keeps the best). Its own triangles fold over or stand on edge in (x, y) on a height field, so
+// each mesh lists only its points (plus the four corners), which the experiment scores on their
+// Delaunay triangulation.
 async function meshoptFront() {
   await MeshoptSimplifier.ready;
   let zmin = Infinity, zmax = -Infinity;
   for (const v of z) { zmin = Math.min(zmin, v); zmax = Math.max(zmax, v); }
-  const pos = new Float32Array(W * H * 3);
-  for (let i = 0; i < W * H; i++) {
-    pos[3 * i] = i % W;
-    pos[3 * i + 1] = Math.floor(i / W);
-    pos[3 * i + 2] = zmax > zmin ? ((z[i] - zmin) / (zmax - zmin)) * W : 0;
-  }
   const idx = [];
   for (let y = 0; y + 1 < H; y++) {
     for (let x = 0; x + 1 < W; x++) {
@@ -66,14 +55,22 @@ async function meshoptFront() {
     }
   }
   const indices = Uint32Array.from(idx);
+  const corners = [0, W - 1, W * (H - 1), W * H - 1];
   const meshes = [];
-  for (const t of targets) {
-    const [res] = MeshoptSimplifier.simplify(indices, pos, 3, 3 * t, 1e9, ['LockBorder']);
-    const vertices = [...new Set(res)].sort((a, b) => a - b);
-    const at = new Map(vertices.map((v, k) => [v, k]));
-    const triangles = [];
-    for (let k = 0; k < res.length; k += 3) triangles.push([at.get(res[k]), at.get(res[k + 1]), at.get(res[k + 2])]);
-    meshes.push({ vertices, triangles });
+  for (const scale of [1, 0.2, 0.05]) {
+    const pos = new Float32Array(W * H * 3);
+    for (let i = 0; i < W * H; i++) {
+      pos[3 * i] = i % W;
+      pos[3 * i + 1] = Math.floor(i / W);
+      pos[3 * i + 2] = zmax > zmin ? ((z[i] - zmin) / (zmax - zmin)) * W * scale : 0;
+    }
+    for (const flags of [['LockBorder'], []]) {
+      for (const t of targets) {
+        const [res] = MeshoptSimplifier.simplify(indices, pos, 3, 3 * t, 1e9, flags);
+        const vertices = [...new Set([...res, ...corners])].sort((a, b) => a - b);
+        meshes.push({ vertices });
+      }
+    }
   }
   return meshes;
 }

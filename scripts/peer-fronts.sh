@@ -16,5 +16,6 @@ cp "$here/peer-fronts.mjs" "$peers/"
 for grid in "$@"; do
   sidecar="${grid%.f32}.json"
   read -r w h < <(python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['width'], d['height'])" "$sidecar")
-  (cd "$peers" && node peer-fronts.mjs "$(realpath "$grid")" "$w" "$h" "$out")
+  file=$(realpath "$grid")
+  (cd "$peers" && node peer-fronts.mjs "$file" "$w" "$h" "$out")
 done
