@@ -101,7 +101,7 @@ fn member_mesh(
     let triangles = canonical_set(&evaluation.triangles);
     let score = evaluation.score;
     // Scores from incremental edits may differ from a fresh one in the last bits only.
-    let tolerance = 1e-9 * (recorded.e_sum.abs() + score.e_sum.abs()) + 1e-12;
+    let tolerance = 1e-8 * (recorded.e_sum.abs() + score.e_sum.abs()) + 1e-12;
     if score.t != recorded.t || (score.e_sum - recorded.e_sum).abs() > tolerance {
         return Err(format!(
             "member {index} of {} records T = {} and E_sum = {}, but on {} its kept points give T = {} and E_sum = {}: that is not the grid the front was made on, or it was imported with other options",
@@ -168,15 +168,8 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         })?,
     };
     let file = FrontFile::read(&args.front)?;
-    let index = select(
-        &file
-            .front
-            .iter()
-            .map(|m| m.solution.clone())
-            .collect::<Vec<_>>(),
-        args.selector(),
-        file.seed,
-    )?;
+    let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
+    let index = select(&scores, args.selector(), file.seed)?;
     let grid_path = match &args.grid {
         Some(path) => path.clone(),
         None => find_grid(&args.front, &file.grid.source)?,

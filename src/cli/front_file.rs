@@ -1,6 +1,7 @@
 //! A front.json as `export` reads it: the members with or without their triangles, the grid it
 //! was made on, and the member a selector picks.
 
+use paretomesh::evaluator::Score;
 use paretomesh::front::Solution;
 use paretomesh::metrics::trade_off_pick;
 use paretomesh::run_file::GridInfo;
@@ -57,10 +58,10 @@ pub enum Selector {
     MaxError(f64),
 }
 
-/// The index of the member `selector` picks from `members` (in the file's order); `seed` draws
-/// the trade-off pick's weights. Ties go to the earlier member after the secondary objective,
+/// The index of the member `selector` picks from the members' scores `members` (in the file's
+/// order); `seed` draws the trade-off pick's weights. Ties go to the earlier member after the secondary objective,
 /// so the pick depends on the file alone.
-pub fn select(members: &[Solution], selector: Selector, seed: u64) -> Result<usize, String> {
+pub fn select(members: &[Score], selector: Selector, seed: u64) -> Result<usize, String> {
     let count = members.len();
     match selector {
         Selector::Index(k) if k < count => Ok(k),
@@ -69,7 +70,7 @@ pub fn select(members: &[Solution], selector: Selector, seed: u64) -> Result<usi
             count - 1
         )),
         Selector::TradeOff => {
-            let points: Vec<[f64; 2]> = members.iter().map(Solution::objectives).collect();
+            let points: Vec<[f64; 2]> = members.iter().map(Score::objectives).collect();
             trade_off_pick(&points, seed)
                 .map(|pick| pick.index)
                 .map_err(|e| format!("no trade-off pick: {e}"))
@@ -183,8 +184,8 @@ pub fn find_grid(front_path: &Path, note: &str) -> Result<PathBuf, String> {
 mod tests {
     use super::*;
 
-    fn member(e: f64, t: usize) -> Solution {
-        Solution::recorded(e, e, t, vec![])
+    fn member(e: f64, t: usize) -> Score {
+        Solution::recorded(e, e, t, vec![]).score
     }
 
     #[test]
@@ -233,7 +234,7 @@ mod tests {
             member(5.0, 40),
             member(1.0, 200),
         ];
-        let points: Vec<[f64; 2]> = members.iter().map(Solution::objectives).collect();
+        let points: Vec<[f64; 2]> = members.iter().map(Score::objectives).collect();
         for seed in [1, 7] {
             let expected = trade_off_pick(&points, seed).unwrap().index;
             assert_eq!(select(&members, Selector::TradeOff, seed), Ok(expected));
