@@ -421,6 +421,33 @@ fn a_front_without_triangles_exports_the_same_mesh() {
 }
 
 #[test]
+fn a_kept_list_without_the_corners_still_exports_them() {
+    // The triangulation always has the four corners, listed or not, and so does the mesh.
+    let dir = scratch("no-corners");
+    let mut json = read_json(front());
+    let corners = [0u32, 32, 1056, 1088];
+    let member = &mut json["front"][6];
+    let kept: Vec<u32> = serde_json::from_value(member["kept"].clone()).unwrap();
+    let inner: Vec<u32> = kept
+        .iter()
+        .copied()
+        .filter(|i| !corners.contains(i))
+        .collect();
+    assert_eq!(inner.len(), kept.len() - 4);
+    member["kept"] = serde_json::to_value(&inner).unwrap();
+    member.as_object_mut().unwrap().remove("triangles");
+    let edited = dir.join("front.json");
+    std::fs::write(&edited, json.to_string()).unwrap();
+    let out = dir.join("m.ply");
+    export(&edited, &["--member", "6"], &out, &["--grid", GRID]);
+    let hf = heightfield::load(&data("volcano_33x33.f32")).unwrap();
+    let (mut vertices, triangles) = to_grid(&hf, read_ply(&std::fs::read_to_string(&out).unwrap()));
+    vertices.sort_unstable();
+    assert_eq!(vertices, kept);
+    assert_eq!(canonical_set(&triangles), eval(&kept).2);
+}
+
+#[test]
 fn the_grid_is_found_beside_front_json_from_any_folder() {
     let dir = scratch("beside");
     let front = dir.join("front.json");
