@@ -320,10 +320,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
     for path in std::iter::once(&args.input.grid).chain(&args.more) {
         let input = InputArgs {
             grid: path.clone(),
-            projection: args.input.projection,
-            grid_size: args.input.grid_size,
-            surface: args.input.surface,
-            terrain_rgb: args.input.terrain_rgb,
+            import: args.input.import.clone(),
         };
         let hf = input
             .load()

@@ -32,6 +32,15 @@ pub enum SurfaceArg {
 pub struct InputArgs {
     /// Input: .f32 (with its .json sidecar), PNG, GeoTIFF (.tif), PLY, OBJ or STL.
     pub grid: PathBuf,
+    /// How to import it.
+    #[command(flatten)]
+    pub import: ImportArgs,
+}
+
+/// How a grid file is imported; apart from the file so that a command whose grid is optional
+/// (`export`) takes the same options.
+#[derive(Args, Clone, Debug)]
+pub struct ImportArgs {
     /// How a mesh becomes a height field.
     #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
     pub projection: ProjectionArg,
@@ -58,7 +67,7 @@ fn parse_grid_size(text: &str) -> Result<(usize, usize), String> {
     ))
 }
 
-impl InputArgs {
+impl ImportArgs {
     /// The import options these arguments ask for.
     pub fn options(&self) -> ImportOptions {
         ImportOptions {
@@ -75,9 +84,11 @@ impl InputArgs {
             terrain_rgb: self.terrain_rgb,
         }
     }
+}
 
+impl InputArgs {
     /// Loads the grid; the error is a message for the user.
     pub fn load(&self) -> Result<Heightfield, String> {
-        heightfield::load_with(&self.grid, &self.options()).map_err(|e| e.to_string())
+        heightfield::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())
     }
 }

@@ -2,6 +2,8 @@
 
 mod eval;
 mod experiment;
+mod export;
+mod front_file;
 mod info;
 mod input;
 mod run;
@@ -33,6 +35,9 @@ enum Command {
     },
     /// Run an optimizer and write its front as front.json (and CSV).
     Run(run::RunArgs),
+    /// Write one member of a front.json as a mesh (PLY, OBJ, STL or binary glTF) in the input's
+    /// own coordinates.
+    Export(export::ExportArgs),
     /// Run the paper's experiment on one or more grids: every method, the indicators and the
     /// Wilcoxon tests; writes report.md, fronts-<name>.svg and results.json.
     Experiment(experiment::ExperimentArgs),
@@ -46,6 +51,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Info { input } => info::run(&input),
         Command::Eval { input, keep } => eval::run(&input, &keep),
         Command::Run(args) => run::run(&args),
+        Command::Export(args) => export::run(&args),
         Command::Experiment(args) => experiment::run(&args),
         Command::Report(args) => experiment::report(&args),
     }
