@@ -47,8 +47,8 @@ fn s(path: &Path) -> &str {
 /// The grid every round trip uses, named relative to the crate as `run` records it.
 const GRID: &str = "tests/data/volcano_33x33.f32";
 
-/// A front.json of greedy insertion on [`GRID`] (one run for the whole test binary): run from
-/// the crate's folder, so front.json names the grid by its relative path.
+/// A front.json of greedy insertion on [`GRID`], with triangles (one run for the whole test
+/// binary): run from the crate's folder, so front.json names the grid by its relative path.
 fn front() -> &'static Path {
     static FRONT: OnceLock<PathBuf> = OnceLock::new();
     FRONT.get_or_init(|| {
@@ -60,6 +60,7 @@ fn front() -> &'static Path {
             "greedy",
             "--seed",
             "7",
+            "--triangles",
             "--out",
             s(&out),
         ]);

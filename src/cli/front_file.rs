@@ -2,47 +2,20 @@
 //! was made on, and the member a selector picks.
 
 use paretomesh::evaluator::Score;
-use paretomesh::front::Solution;
 use paretomesh::metrics::trade_off_pick;
-use paretomesh::run_file::GridInfo;
-use serde::Deserialize;
+use paretomesh::run_file::RunFile;
 use std::path::{Path, PathBuf};
 
-/// The parts of a front.json that `export` needs. Triangles are optional: a front written
-/// without them lists the kept indices only, and the evaluator rebuilds the mesh.
-#[derive(Debug, Deserialize)]
-pub struct FrontFile {
-    /// The grid the front was made on.
-    pub grid: GridInfo,
-    /// The run's seed; it also seeds the weights of the trade-off pick.
-    pub seed: u64,
-    /// The members, in the file's order.
-    pub front: Vec<FrontMember>,
-}
-
-/// One member: its recorded score and kept indices, and its triangles when the file has them.
-#[derive(Debug, Deserialize)]
-pub struct FrontMember {
-    /// E_sum, E_max, T and the kept indices.
-    #[serde(flatten)]
-    pub solution: Solution,
-    /// Grid-index triangles, when written.
-    #[serde(default)]
-    pub triangles: Option<Vec<[u32; 3]>>,
-}
-
-impl FrontFile {
-    /// Reads and parses `path`; the error names the file.
-    pub fn read(path: &Path) -> Result<Self, String> {
-        let bytes =
-            std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let file: Self = serde_json::from_slice(&bytes)
-            .map_err(|e| format!("{} is not a front.json: {e}", path.display()))?;
-        if file.front.is_empty() {
-            return Err(format!("{} has no members in its front", path.display()));
-        }
-        Ok(file)
+/// Reads and parses the front.json at `path` (members with or without triangles); the error
+/// names the file.
+pub fn read(path: &Path) -> Result<RunFile, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let file: RunFile = serde_json::from_slice(&bytes)
+        .map_err(|e| format!("{} is not a front.json: {e}", path.display()))?;
+    if file.front.is_empty() {
+        return Err(format!("{} has no members in its front", path.display()));
     }
+    Ok(file)
 }
 
 /// How the member to export is chosen.
@@ -185,7 +158,7 @@ mod tests {
     use super::*;
 
     fn member(e: f64, t: usize) -> Score {
-        Solution::recorded(e, e, t, vec![]).score
+        paretomesh::front::Solution::recorded(e, e, t, vec![]).score
     }
 
     #[test]
