@@ -191,10 +191,17 @@ fn check_grid(hf: &Heightfield) {
     );
     assert!(w * h <= MAX_POINTS, "grid {w}×{h} over the point limit");
     assert_eq!(hf.len(), w * h);
-    assert!(hf.z().iter().all(|z| z.is_finite()), "a height is not finite");
+    assert!(
+        hf.z().iter().all(|z| z.is_finite()),
+        "a height is not finite"
+    );
     let [dx, dy] = hf.spacing();
     assert!(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite());
-    assert!(hf.origin().iter().all(|o| o.is_finite()), "{:?}", hf.origin());
+    assert!(
+        hf.origin().iter().all(|o| o.is_finite()),
+        "{:?}",
+        hf.origin()
+    );
     for corner in hf.corners() {
         let z = hf.z()[corner as usize];
         let p = hf.to_world(corner, z);
