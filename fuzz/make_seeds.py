@@ -6,6 +6,7 @@ GeoTIFFs through GDAL's gdal_translate (Debian's gdal-bin, a fuzzing-time tool o
 Run from the repository root: python3 fuzz/make_seeds.py. The output is deterministic.
 """
 
+import base64
 import json
 import os
 import shutil
@@ -197,5 +198,34 @@ def tiffs():
             with open(out, "rb") as f:
                 write("import_tiff", name, f.read())
 
+
+# Share links (the app's URL fragment): v1.<base64url JSON>[.<base64url zlib f32 grid>].
+def b64(data):
+    return base64.urlsafe_b64encode(data).rstrip(b"=").decode()
+
+
+def link(surface, algorithm="nsga2", grid=None, prefix=""):
+    settings = {
+        "surface": surface, "algorithm": algorithm,
+        "params": {"population": 40, "generations": 20, "crossover": "oax",
+                   "crossover_probability": 0.8, "mutation_probability": None, "seed": 7},
+        "generations_run": 20, "selected": 3,
+        "camera": {"yaw": -1.9, "pitch": 0.9, "distance": 1.9, "target": [0.0, 0.0, 0.0]},
+        "toggles": {"original": True, "error": False, "kept": False},
+    }
+    text = prefix + "v1." + b64(json.dumps(settings, separators=(",", ":")).encode())
+    if grid is not None:
+        text += "." + b64(zlib.compress(b"".join(struct.pack("<f", v) for v in grid), 9))
+    return text.encode()
+
+
+write("share_link", "builtin", link({"kind": "builtin", "name": "volcano_87x61"}))
+write("share_link", "builtin_greedy_hash", link({"kind": "builtin", "name": "bunny_65x65"},
+                                                "greedy", prefix="#"))
+write("share_link", "file_with_import", link({
+    "kind": "file", "name": "scan.ply", "size": 45547, "fnv1a64": "0123456789abcdef",
+    "import": {"projection": "cylindrical", "width": 65, "height": 33}}))
+write("share_link", "embedded_4x3", link({"kind": "embedded", "name": "bump", "width": 4,
+                                          "height": 3}, grid=bump(4, 3)))
 
 tiffs()
