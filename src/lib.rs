@@ -16,8 +16,11 @@
 //! - [`run_file`]: front.json, the self-contained result of a run.
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
-//! - `web` (wasm32 only): the browser app over this core.
+//! - [`export`]: mesh writers (PLY, OBJ, STL) and the front as CSV, for the CLI and the app.
+//! - [`app`]: the browser app's logic without the DOM (state, share links, plot layout, ...).
+//! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU.
 
+pub mod app;
 pub mod baselines;
 pub mod evaluator;
 pub mod evolution;

@@ -8,8 +8,7 @@
 //!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept":[…],"triangles":[[a,b,c],…]},…]}
 //! ```
 
-use crate::evaluator::incremental::canonical_set;
-use crate::evaluator::{EvaluateError, Evaluator, MeshState, check_indices};
+use crate::evaluator::{EvaluateError, Evaluator, MeshState, canonical_set, check_indices};
 use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
@@ -122,15 +121,6 @@ impl RunFile {
             millis,
             front: members,
         })
-    }
-
-    /// The front's (E_sum, T) rows as CSV with a header line.
-    pub fn csv(&self) -> String {
-        let mut out = String::from("E_sum,T\n");
-        for s in &self.front {
-            out.push_str(&format!("{},{}\n", s.solution.e_sum, s.solution.t));
-        }
-        out
     }
 }
 

@@ -5,7 +5,7 @@ use paretomesh::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
 };
 use paretomesh::evaluator::Evaluator;
-use paretomesh::evaluator::incremental::canonical_set as canonical;
+use paretomesh::evaluator::canonical_set as canonical;
 use paretomesh::front::{Front, Solution, dominates};
 use paretomesh::heightfield::{self, Heightfield};
 use paretomesh::optimizer::Optimizer;

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
-use paretomesh::evaluator::incremental::canonical_set as triangle_set;
+use paretomesh::evaluator::canonical_set as triangle_set;
 use paretomesh::evaluator::{Changes, Evaluator, MeshState, PartClasses, PartScores};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};

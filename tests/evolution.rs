@@ -6,7 +6,7 @@
 
 use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Score;
-use paretomesh::evaluator::{Evaluator, incremental::canonical_set};
+use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::evolution::{
     CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,
 };
@@ -560,14 +560,16 @@ fn cli_run_writes_a_front_json_that_rescores_identically() {
             .lines()
             .map(String::from)
             .collect();
-        assert_eq!(rows[0], "E_sum,T");
+        assert_eq!(rows[0], "T,E_sum,E_max,kept");
         assert_eq!(rows.len(), file.front.len() + 1);
         let first: Vec<f64> = rows[1].split(',').map(|v| v.parse().unwrap()).collect();
         assert_eq!(
             first,
             [
+                file.front[0].solution.t as f64,
                 file.front[0].solution.e_sum,
-                file.front[0].solution.t as f64
+                file.front[0].solution.e_max,
+                file.front[0].solution.kept.len() as f64
             ]
         );
     }

@@ -1,10 +1,12 @@
-//! `paretomesh experiment` end to end on a small grid with tiny budgets: every output file, the
+//! `paretomesh experiment` end to end on small grids with tiny budgets: every output file, the
 //! report's numbers against an independent recomputation from results.json with the metrics
 //! module, the figure's structure, `paretomesh report` reproducing both from results.json,
-//! determinism across thread counts, and bad input.
+//! determinism across thread counts, equal and per-weight budgets, outside tools' fronts
+//! (front.json, PLY/OBJ directories, JSON mesh lists) re-scored beside the methods, and bad
+//! input.
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::experiment::{Dataset, Method, Results, Settings, run_all};
+use paretomesh::experiment::{Budget, Dataset, Method, Results, Settings, run_all};
 use paretomesh::heightfield;
 use paretomesh::metrics::{self, Normalization, Point};
 use std::path::{Path, PathBuf};
@@ -58,11 +60,13 @@ fn volcano_17x17(dir: &Path) -> PathBuf {
     path
 }
 
-/// Runs the tiny experiment into `out` with `threads` workers.
+/// Runs the tiny experiment (the paper's per-weight budgets) into `out` with `threads` workers.
 fn tiny_experiment(grid: &Path, out: &Path, threads: &str) -> Output {
     paretomesh(&[
         "experiment",
         grid.to_str().unwrap(),
+        "--budget",
+        "per-weight",
         "--runs",
         "3",
         "--weighted-runs",
@@ -357,10 +361,11 @@ fn same_seed_gives_identical_results_on_one_or_two_threads() {
     let (a, b) = (read(&one, "results.json"), read(&two, "results.json"));
     assert_eq!(without_timings(&a), without_timings(&b));
     assert!(a.contains("\"threads\":1") && b.contains("\"threads\":2"));
-    // The report differs only in its wall-time line; the figure not at all.
+    // The report differs only in its command line (--threads, --out) and wall-time line; the
+    // figure not at all.
     let strip = |r: String| {
         r.lines()
-            .filter(|l| !l.starts_with("- Wall time:"))
+            .filter(|l| !l.starts_with("- Wall time:") && !l.starts_with("paretomesh experiment"))
             .collect::<Vec<_>>()
             .join("\n")
     };
@@ -380,12 +385,14 @@ fn same_seed_gives_identical_results_on_one_or_two_threads() {
         seed: 5,
         population: 8,
         generations: 3,
+        budget: Budget::PerWeight,
         ..Settings::default()
     };
     let dataset = Dataset::new("volcano_17x17", heightfield::load(&grid).unwrap(), "m").unwrap();
     let sequential = run_all(&[dataset], &settings).unwrap();
     let mut parallel = Results::from_json(&a).unwrap();
     parallel.timings = None;
+    parallel.command = None;
     assert_eq!(sequential, parallel);
 }
 
@@ -396,7 +403,7 @@ fn bad_options_are_refused_with_a_message() {
     let g = grid.to_str().unwrap();
     let out = dir.join("out");
     let o = out.to_str().unwrap();
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 11] = [
         (
             &["--methods", "nsga2,simplex"],
             "unknown method \"simplex\"",
@@ -406,6 +413,17 @@ fn bad_options_are_refused_with_a_message() {
         (&["--methods", "greedy,greedy"], "listed twice"),
         (&["--reference", "1.1"], "reference point must look like"),
         (&["--pop", "1"], "population"),
+        (&["--gens", "3"], "--gens sets the per-weight budget"),
+        (
+            &["--budget", "per-weight", "--evals", "99"],
+            "--evals sets the equal budget",
+        ),
+        (&["--evals", "5"], "at least 11 are needed"),
+        (
+            &["--external", "a=x.json,b=y.json", "--external", "a=z.json"],
+            "once per grid",
+        ),
+        (&["--external", "greedy=x.json"], "has a method's name"),
     ];
     for (extra, message) in cases {
         let mut args = vec!["experiment", g, "--out", o];
@@ -419,4 +437,340 @@ fn bad_options_are_refused_with_a_message() {
     let r = paretomesh(&["experiment", g, g, "--out", o]);
     assert!(String::from_utf8_lossy(&r.stderr).contains("two inputs are named"));
     assert!(!out.join("report.md").exists());
+}
+
+/// Reads an output file of an experiment.
+fn read(dir: &Path, file: &str) -> String {
+    std::fs::read_to_string(dir.join(file)).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+/// An upper bound on what one run may spend past its budget: it stops at the first mating
+/// boundary at or after it, and one mating scores at most the 8 rows of the orthogonal array
+/// (L8 for the default 7 factors), the best-levels child and the two mutated offspring.
+const MATING_OVERSHOOT: u64 = 11;
+
+#[test]
+fn equal_budgets_give_every_ga_run_the_same_evaluations() {
+    let dir = scratch("equal");
+    let out = dir.join("out");
+    let grid = data("jacksboro_33x33.f32");
+    // 341 = 11 × 31: each weight of the weighted-sum GA gets 31 evaluations, none left over.
+    let o = paretomesh(&[
+        "experiment",
+        grid.to_str().unwrap(),
+        "--methods",
+        "nsga2,weighted,greedy",
+        "--runs",
+        "2",
+        "--pop",
+        "10",
+        "--evals",
+        "341",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let results = Results::from_json(&read(&out, "results.json")).unwrap();
+    assert_eq!(results.settings.budget, Budget::Equal { evaluations: 341 });
+    let d = &results.datasets[0];
+    for m in &d.methods {
+        for r in &m.runs {
+            let range = match m.method {
+                Method::Nsga2 => 341..341 + MATING_OVERSHOOT,
+                Method::Weighted => 341..341 + 11 * MATING_OVERSHOOT,
+                _ => continue,
+            };
+            assert!(
+                range.contains(&r.evaluations),
+                "{} run {} spent {}",
+                m.method,
+                r.run,
+                r.evaluations
+            );
+        }
+        if m.method.is_ga() {
+            assert_eq!(m.params["max_evaluations"], 341);
+            assert_eq!(m.params["population"], 10);
+        }
+    }
+    let report = read(&out, "report.md");
+    assert!(report.contains("## Protocol"), "{report}");
+    assert!(report.contains(
+        "each weight's GA run gets ⌊341 / 11⌋ = 31 evaluations, and the remaining 0 are not spent"
+    ));
+    let runs = rows(&report, "## Runs", &["Data set"]);
+    let budgets: Vec<(&str, &str)> = runs
+        .iter()
+        .map(|r| (r[1].as_str(), r[3].as_str()))
+        .collect();
+    assert_eq!(
+        budgets,
+        vec![
+            ("NSGA-II", "341"),
+            ("Weighted-sum GA", "341 = 11 weights × 31 (+ 0 unspent)"),
+            ("Greedy insertion", "own stopping rule"),
+        ]
+    );
+    // The command that made the report heads it.
+    assert!(
+        report.contains("\n```sh\nparetomesh experiment "),
+        "{report}"
+    );
+}
+
+/// Writes a PLY with x, y, z vertices and triangles.
+fn write_ply(path: &Path, vertices: &[[f64; 3]], triangles: &[[usize; 3]]) {
+    let mut s = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        vertices.len(),
+        triangles.len()
+    );
+    for v in vertices {
+        s.push_str(&format!("{} {} {}\n", v[0], v[1], v[2]));
+    }
+    for t in triangles {
+        s.push_str(&format!("3 {} {} {}\n", t[0], t[1], t[2]));
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+/// Writes an OBJ with vertices and 1-based faces.
+fn write_obj(path: &Path, vertices: &[[f64; 3]], triangles: &[[usize; 3]]) {
+    let mut s = String::from("# hand-written\n");
+    for v in vertices {
+        s.push_str(&format!("v {} {} {}\n", v[0], v[1], v[2]));
+    }
+    for t in triangles {
+        s.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+#[test]
+fn outside_fronts_are_rescored_and_reported_beside_the_methods() {
+    let dir = scratch("external");
+    let grid = data("volcano_33x33.f32");
+    let g = grid.to_str().unwrap();
+    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let mut evaluator = Evaluator::new(hf.clone());
+
+    // A real front.json: a short NSGA-II run.
+    let front_json = dir.join("front.json");
+    let r = paretomesh(&[
+        "run",
+        g,
+        "--algo",
+        "nsga2",
+        "--pop",
+        "8",
+        "--gens",
+        "3",
+        "--seed",
+        "3",
+        "--out",
+        front_json.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&front_json).unwrap()).unwrap();
+    let members = run["front"].as_array().unwrap();
+
+    // A directory of hand-written meshes over the 33×33 grid (x = column, y = row): the two
+    // triangles of the corners, the four of the corners and the centre, one with an off-grid
+    // vertex and one with a hole; other files are ignored.
+    let meshes = dir.join("meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    let corners = [
+        [0.0, 0.0, 1.0],
+        [32.0, 0.0, 2.0],
+        [0.0, 32.0, 3.0],
+        [32.0, 32.0, 4.0],
+    ];
+    write_ply(
+        &meshes.join("a-corners.ply"),
+        &corners,
+        &[[0, 1, 3], [0, 3, 2]],
+    );
+    let mut centre = corners.to_vec();
+    centre.push([16.0, 16.0, 0.0]);
+    let fan = [[0, 1, 4], [1, 3, 4], [3, 2, 4], [2, 0, 4]];
+    write_obj(&meshes.join("b-centre.obj"), &centre, &fan);
+    centre[4] = [16.5, 16.0, 0.0];
+    write_ply(&meshes.join("c-offgrid.ply"), &centre, &fan);
+    write_obj(&meshes.join("d-hole.obj"), &corners, &[[0, 1, 3]]);
+    std::fs::write(meshes.join("notes.txt"), "not a mesh").unwrap();
+
+    // A JSON list over grid indices (y·33 + x): the corners with their two triangles, the
+    // corners and the centre left to the project's triangulation, and one out of range.
+    let list = dir.join("list.json");
+    std::fs::write(
+        &list,
+        r#"[{"vertices":[0,32,1056,1088],"triangles":[[0,1,3],[0,3,2]]},
+            {"vertices":[0,32,1056,1088,544]},
+            {"vertices":[0,32,1056,5000]}]"#,
+    )
+    .unwrap();
+
+    let out = dir.join("out");
+    let external = format!(
+        "run={},hand={},list={}",
+        front_json.display(),
+        meshes.display(),
+        list.display()
+    );
+    let o = paretomesh(&[
+        "experiment",
+        g,
+        "--methods",
+        "greedy",
+        "--external",
+        &external,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let results = Results::from_json(&read(&out, "results.json")).unwrap();
+    let x = &results.datasets[0].external;
+    let names: Vec<&str> = x.iter().map(|x| x.name.as_str()).collect();
+    assert_eq!(names, vec!["run", "hand", "list"]);
+
+    // The run's front.json comes back with the run's own numbers: Delaunay meshes, re-scored.
+    assert_eq!(
+        (x[0].meshes, x[0].rejected.len(), x[0].not_delaunay),
+        (members.len(), 0, 0)
+    );
+    assert_eq!(x[0].front.len(), members.len());
+    for (s, m) in x[0].front.iter().zip(members) {
+        assert_eq!(s.t as u64, m["T"].as_u64().unwrap());
+        let e = m["E_sum"].as_f64().unwrap();
+        assert!(
+            (s.e_sum - e).abs() <= 1e-9 * e.max(1.0),
+            "{} vs {e}",
+            s.e_sum
+        );
+    }
+
+    // The hand-written meshes: two valid, scored on their own triangles; two refused.
+    let corner_mesh = evaluator
+        .score_triangulation(&[[0, 32, 1088], [0, 1088, 1056]])
+        .unwrap();
+    let centre_mesh = evaluator.score(&[0, 32, 544, 1056, 1088]).unwrap();
+    let hand = &x[1];
+    assert_eq!((hand.meshes, hand.valid()), (4, 2));
+    let refused: Vec<(&str, &str)> = hand
+        .rejected
+        .iter()
+        .map(|r| (r.mesh.as_str(), r.reason.as_str()))
+        .collect();
+    assert_eq!(refused[0].0, "c-offgrid.ply");
+    assert!(
+        refused[0]
+            .1
+            .contains("vertex 4 at (16.5, 16) is not on a grid point"),
+        "{refused:?}"
+    );
+    assert_eq!(refused[1].0, "d-hole.obj");
+    assert!(refused[1].1.contains("hole"), "{refused:?}");
+    let points: Vec<(f64, usize)> = hand.front.iter().map(|s| (s.e_sum, s.t)).collect();
+    let mut want = vec![(corner_mesh.e_sum, 2)];
+    if centre_mesh.e_sum < corner_mesh.e_sum {
+        want.push((centre_mesh.e_sum, 4));
+    }
+    assert_eq!(points, want);
+
+    // The list: the same two meshes, the third refused.
+    let listed = &x[2];
+    assert_eq!((listed.meshes, listed.valid()), (3, 2));
+    assert!(
+        listed.rejected[0].reason.contains("out of range"),
+        "{listed:?}"
+    );
+    assert_eq!(
+        listed
+            .front
+            .iter()
+            .map(|s| (s.e_sum, s.t))
+            .collect::<Vec<_>>(),
+        want
+    );
+
+    // Every table has a column or rows for them; an outside front is one sample: no tests.
+    let report = read(&out, "report.md");
+    let header = "| Data set | Greedy insertion | run | hand | list |";
+    assert_eq!(report.matches(header).count(), 2, "{report}");
+    assert_eq!(rows(&report, "## Table III.", &["A"]).len(), 12);
+    let t4 = rows(&report, "## Table IV.", &["Data set"]);
+    assert_eq!(
+        t4.iter().map(|r| r[1].as_str()).collect::<Vec<_>>(),
+        vec!["Greedy insertion", "run", "hand", "list"]
+    );
+    let t5 = rows(&report, "## Table V.", &["P(row ≺ column)"]);
+    for row in &t5 {
+        for c in &row[1..] {
+            assert!(c == "—" || c.ends_with(" n/a"), "{row:?}");
+        }
+    }
+    let outside = rows(&report, "## Outside fronts", &["Data set"]);
+    assert_eq!(
+        outside[1][3..8],
+        ["4", "2", "2", "0", &hand.front.len().to_string()]
+    );
+    assert!(report.contains("- c-offgrid.ply: vertex 4 at (16.5, 16) is not on a grid point"));
+    assert!(report.contains("counts as a single run"));
+
+    // The figure: one group per front, the outside ones marked.
+    let svg = read(&out, "fronts-volcano_33x33.svg");
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let groups: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("front"))
+        .map(|n| {
+            (
+                n.attribute("data-method").unwrap(),
+                n.attribute("data-external").is_some(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        groups,
+        vec![
+            ("greedy", false),
+            ("run", true),
+            ("hand", true),
+            ("list", true)
+        ]
+    );
+
+    // `paretomesh report` rebuilds the same report from results.json alone.
+    let again = dir.join("again");
+    let r = paretomesh(&[
+        "report",
+        out.join("results.json").to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(read(&again, "report.md"), report);
+
+    // An outside front with no valid mesh stops the experiment before any run, with reasons.
+    let bad = dir.join("bad");
+    std::fs::create_dir_all(&bad).unwrap();
+    std::fs::copy(meshes.join("c-offgrid.ply"), bad.join("c-offgrid.ply")).unwrap();
+    let spec = format!("bad={}", bad.display());
+    let o = paretomesh(&[
+        "experiment",
+        g,
+        "--methods",
+        "greedy",
+        "--external",
+        &spec,
+        "--out",
+        dir.join("none").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("no valid mesh") && err.contains("not on a grid point"),
+        "{err}"
+    );
 }

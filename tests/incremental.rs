@@ -5,7 +5,7 @@
 mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
-use paretomesh::evaluator::incremental::canonical_set as triangle_set;
+use paretomesh::evaluator::canonical_set as triangle_set;
 use paretomesh::evaluator::{Changes, EvaluateError, Evaluator, MeshState};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};

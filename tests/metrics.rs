@@ -23,8 +23,8 @@ fn assert_close(found: f64, expected: f64, tol: f64, what: &str) {
     );
 }
 
-/// The issue's example front, in no particular order.
-const ISSUE_FRONT: [Point; 4] = [[5.0, 5.0], [4.0, 6.0], [2.0, 7.0], [7.0, 4.0]];
+/// A small front (hypervolume 38 with reference point (10, 10)), in no particular order.
+const EXAMPLE_FRONT: [Point; 4] = [[5.0, 5.0], [4.0, 6.0], [2.0, 7.0], [7.0, 4.0]];
 const R10: Point = [10.0, 10.0];
 
 // ---------------------------------------------------------------- non-dominated filtering
@@ -92,12 +92,12 @@ fn non_dominated_agrees_with_front_merged_on_random_solutions() {
 // ---------------------------------------------------------------- hypervolume
 
 #[test]
-fn hypervolume_of_the_issue_example_is_38() {
+fn hypervolume_of_the_example_front_is_38() {
     // Sorted by E: (2,7), (4,6), (5,5), (7,4). Slabs between consecutive E values, each as tall
     // as r_T minus that point's T:
     //   (4−2)·(10−7) = 6, (5−4)·(10−6) = 4, (7−5)·(10−5) = 10, (10−7)·(10−4) = 18; sum 38.
-    assert_eq!(hypervolume(&ISSUE_FRONT, R10).unwrap(), 38.0);
-    let mut reversed = ISSUE_FRONT;
+    assert_eq!(hypervolume(&EXAMPLE_FRONT, R10).unwrap(), 38.0);
+    let mut reversed = EXAMPLE_FRONT;
     reversed.reverse();
     assert_eq!(hypervolume(&reversed, R10).unwrap(), 38.0);
 }
@@ -111,7 +111,7 @@ fn hypervolume_of_empty_and_single_point_sets() {
 
 #[test]
 fn hypervolume_ignores_dominated_duplicate_and_outside_points() {
-    let mut points = ISSUE_FRONT.to_vec();
+    let mut points = EXAMPLE_FRONT.to_vec();
     // (6, 6) and (9, 9) are dominated by (5, 5): their boxes are inside its box.
     points.extend([[6.0, 6.0], [9.0, 9.0]]);
     // Duplicates add no area.
@@ -170,7 +170,7 @@ fn hypervolume_rejects_nan() {
 
 #[test]
 fn hypervolume_ratio_against_the_merge_of_two_methods() {
-    // Method A found (5,5), (2,7); method B found (4,6), (7,4). Their merge is the issue's front
+    // Method A found (5,5), (2,7); method B found (4,6), (7,4). Their merge is EXAMPLE_FRONT
     // (HV 38).
     // HV(A): by T, (5,5) owns T 5..7 with width 10−5 → 10; (2,7) owns T 7..10 with width 8 → 24;
     // total 34.
@@ -331,7 +331,7 @@ fn coverage_of_a_set_by_itself() {
     // Zitzler's C uses weak dominance: every point covers itself, so C(A, A) = 1.
     let a = [[1.0, 5.0], [2.0, 3.0], [4.0, 1.0]];
     assert_eq!(coverage(&a, &a).unwrap(), 1.0);
-    // The strict variant (the issue's "C(A, A) = 0"): no point of a mutually non-dominated set
+    // The strict variant (where C(A, A) = 0): no point of a mutually non-dominated set
     // strictly dominates another.
     assert_eq!(strict_coverage(&a, &a).unwrap(), 0.0);
     // With a dominated member, strict C(A, A) is no longer 0: (3, 4) is dominated by (2, 3),

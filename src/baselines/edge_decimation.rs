@@ -23,13 +23,13 @@
 //! reductions reached.
 
 use super::ParamsError;
-use super::hole;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
-use crate::evaluator::incremental::canonical;
-use crate::evaluator::predicates::{GridPoint, Lattice};
+use crate::evaluator::exact::predicates::{GridPoint, Lattice};
+use crate::evaluator::mesh::canonical_form::canonical;
+use crate::evaluator::mesh::canonical_triangulation::Triangulation;
+use crate::evaluator::mesh::hole_fill as hole;
 use crate::evaluator::raster::Grid;
-use crate::evaluator::triangulation::Triangulation;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};

@@ -3,7 +3,7 @@
 //! Starts from the four corners and repeatedly inserts the grid point chosen by the
 //! [`InsertionRule`], keeping the mesh the canonical Delaunay triangulation of the kept points
 //! (the evaluator's, tie rule included). Every triangle caches its candidate (computed over the
-//! grid points it owns, see [`raster`](crate::evaluator::raster)) in a priority queue; after an
+//! grid points it owns, see the evaluator's `raster`) in a priority queue; after an
 //! insertion only the triangles that were split or flipped are re-rasterised.
 //!
 //! One run gives a whole front: a solution is recorded each time the triangle count first
@@ -18,10 +18,10 @@
 use super::ParamsError;
 use super::queue::Entry;
 use crate::evaluator::Evaluator;
-use crate::evaluator::incremental::canonical;
-use crate::evaluator::predicates::{self, GridPoint};
+use crate::evaluator::exact::predicates::{self, GridPoint};
+use crate::evaluator::mesh::canonical_form::canonical;
+use crate::evaluator::mesh::canonical_triangulation::Triangulation;
 use crate::evaluator::raster::Grid;
-use crate::evaluator::triangulation::Triangulation;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -394,7 +394,7 @@ impl GreedyInsertion {
     /// The exact reduction of E_sum if grid point `p`, owned by triangle `t`, were inserted:
     /// Σ over its Delaunay cavity of the cached sums minus Σ over the fan of new triangles.
     pub(crate) fn exact_gain(&mut self, t: u32, p: u32) -> f64 {
-        use crate::evaluator::triangulation::{NONE, next};
+        use crate::evaluator::mesh::canonical_triangulation::{NONE, next};
         let q = self.point(p);
         let mut cavity = std::mem::take(&mut self.changed);
         cavity.clear();

@@ -8,7 +8,6 @@
 
 pub mod edge_decimation;
 pub mod greedy_insertion;
-pub(crate) mod hole;
 mod queue;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};

@@ -1,6 +1,6 @@
 //! `paretomesh run GRID --algo ALGO [...] --out front.json [--csv front.csv] [import options]`:
-//! runs one optimizer to the end, shows progress on stderr, writes front.json (and the
-//! (E_sum, T) CSV).
+//! runs one optimizer to the end, shows progress on stderr, writes front.json (and the front as
+//! CSV, see [`paretomesh::export::csv`]).
 //!
 //! Adding an algorithm = one variant of [`Algo`] and one arm in [`build`] (the variant's
 //! command-line name is the `algorithm` field of front.json).
@@ -12,6 +12,7 @@ use paretomesh::baselines::{
 };
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
+use paretomesh::export::csv::front_csv;
 use paretomesh::front::Front;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::{Optimizer, Progress};
@@ -112,7 +113,7 @@ pub struct RunArgs {
     /// Where to write front.json.
     #[arg(long)]
     out: PathBuf,
-    /// Also write the front's (E_sum, T) rows as CSV here.
+    /// Also write the front as CSV here (T, E_sum, E_max, kept points per member).
     #[arg(long)]
     csv: Option<PathBuf>,
 }
@@ -311,7 +312,8 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
         serde_json::to_writer(w, &file).map_err(std::io::Error::other)
     })?;
     if let Some(csv) = &args.csv {
-        write(csv, |w| w.write_all(file.csv().as_bytes()))?;
+        let rows = front_csv(file.front.iter().map(|m| &m.solution));
+        write(csv, |w| w.write_all(rows.as_bytes()))?;
     }
     let bytes = std::fs::metadata(&args.out).map_or(0, |m| m.len());
     eprintln!(

@@ -5,19 +5,31 @@
 //! - The four grid corners are always kept, whether or not the caller lists them; duplicates are
 //!   ignored.
 //! - The triangulation is the canonical Delaunay triangulation of the kept points (one per point
-//!   set; ties settled by the rule in [`predicates`]).
+//!   set; ties settled by the tie rule in `exact/predicates.rs`).
 //! - Every grid point is counted exactly once: kept points contribute 0; every other point is
-//!   interpolated linearly on the one triangle that owns it (see [`raster`]).
+//!   interpolated linearly on the one triangle that owns it (see `raster/`).
 //! - `rms = sqrt(Σ (z − z̃)² / N)` over all N grid points.
 //! - The sums are exact integers in fixed point: each error counts as a whole number of units of
 //!   one power of two, chosen per height field (under 10⁻¹⁴ of the z range on a 65×65 grid; see
-//!   [`errors`]), so they are the same in any order; and each triangle is rasterised in one
-//!   fixed rotation. So the numbers of a kept set are the same bits however its mesh was made.
+//!   `exact/fixed_point.rs`), so they are the same in any order; and each triangle is rasterised
+//!   in one fixed rotation. So the numbers of a kept set are the same bits however its mesh was
+//!   made.
 //!
 //! Besides scoring a kept set from scratch, the evaluator can keep the scored mesh in a
 //! [`MeshState`] and score a nearby kept set by editing it ([`Evaluator::edit`]: local removals
-//! and insertions, only the changed triangles rasterised again), with bit-identical results; see
-//! [`incremental`].
+//! and insertions, only the changed triangles rasterised again), with bit-identical results.
+//!
+//! Layers, each using only those below it:
+//! - `score.rs` and `error.rs`: the numbers of a mesh and why a request fails, which every layer
+//!   speaks;
+//! - `exact/`: integer predicates and the tie rule, fixed-point error sums, and the paper's E by
+//!   brute force (`paper_e.rs`, the reference the tests hold every path to);
+//! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation.rs`), canonical
+//!   forms, [`MeshState`], hole fill and region wrapping;
+//! - `raster/`: which triangle owns which grid point, span sums, the fresh build of a mesh;
+//! - `edit/` (remove and insert points) and `compose/` (the OAX composition of two parents);
+//! - `part_scores/`: a crossover's children and mutants scored without their meshes;
+//! - this facade, [`Evaluator`].
 //!
 //! ```
 //! use paretomesh::{evaluator::Evaluator, heightfield::Heightfield};
@@ -32,129 +44,32 @@
 //! assert_eq!((with_bump.score.e_sum, with_bump.score.t), (0.0, 4));
 //! ```
 
-pub mod compose;
-pub mod errors;
-pub mod incremental;
-pub mod part_scores;
-pub mod predicates;
-pub mod raster;
-pub mod reference;
-pub mod region;
-pub mod span_sum;
-pub mod triangle_memo;
-pub mod triangulation;
+pub(crate) mod compose;
+pub(crate) mod edit;
+pub(crate) mod error;
+pub(crate) mod exact;
+pub(crate) mod mesh;
+pub(crate) mod part_scores;
+pub(crate) mod raster;
+pub(crate) mod score;
+#[cfg(test)]
+mod test_grids;
+#[cfg(test)]
+mod tests;
+
+pub use compose::PartClasses;
+pub use error::{EvaluateError, check_indices};
+pub use mesh::canonical_form::canonical_set;
+pub use mesh::canonical_triangulation::Triangulation;
+pub use mesh::state::MeshState;
+pub use part_scores::{Changes, PartScores};
+pub use score::{Evaluation, Score};
 
 use crate::heightfield::Heightfield;
-pub use compose::PartClasses;
-use incremental::EditScratch;
-pub use incremental::MeshState;
-pub use part_scores::{Changes, PartScores};
+use edit::EditScratch;
+use exact::predicates;
 use raster::Grid;
-use serde::{Deserialize, Serialize};
-use std::fmt;
 use std::sync::Arc;
-
-/// The error numbers of one mesh.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Score {
-    /// E = Σ |z − z̃| over all grid points.
-    #[serde(rename = "E_sum")]
-    pub e_sum: f64,
-    /// max |z − z̃|.
-    #[serde(rename = "E_max")]
-    pub e_max: f64,
-    /// sqrt(Σ (z − z̃)² / N).
-    pub rms: f64,
-    /// Number of triangles.
-    #[serde(rename = "T")]
-    pub t: usize,
-}
-
-/// A score and the triangles it was measured on (grid-index triples, counter-clockwise).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Evaluation {
-    /// The numbers.
-    #[serde(flatten)]
-    pub score: Score,
-    /// The triangles as grid indices (y·W + x).
-    pub triangles: Vec<[u32; 3]>,
-}
-
-/// Why a kept set or a triangulation could not be scored.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum EvaluateError {
-    /// A grid index is not below N.
-    IndexOutOfRange { index: u64, len: usize },
-    /// A triangle has two equal or three collinear vertices.
-    DegenerateTriangle { triangle: [u32; 3] },
-    /// An edge is used twice in the same direction: triangles overlap or are duplicated.
-    OverlappingEdge { from: u32, to: u32 },
-    /// An edge is used by one triangle only but does not lie on the grid border: a hole or a
-    /// T-junction.
-    OpenEdge { from: u32, to: u32 },
-    /// The triangles do not cover the grid rectangle exactly once.
-    WrongArea { found: i64, expected: i64 },
-    /// An edit of a [`MeshState`] removes a point that is not kept (or a corner), or inserts a
-    /// point that is kept already.
-    InvalidEdit { index: u32, why: &'static str },
-    /// A [`MeshState`] was edited that this evaluator's height field did not score (or that
-    /// holds a triangulation given from outside).
-    ForeignState,
-}
-
-impl fmt::Display for EvaluateError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::IndexOutOfRange { index, len } => {
-                write!(
-                    f,
-                    "grid index {index} is out of range: the grid has {len} points"
-                )
-            }
-            Self::DegenerateTriangle { triangle } => {
-                write!(
-                    f,
-                    "triangle {triangle:?} is degenerate (repeated or collinear vertices)"
-                )
-            }
-            Self::OverlappingEdge { from, to } => write!(
-                f,
-                "edge {from}→{to} is used twice in the same direction: triangles overlap"
-            ),
-            Self::OpenEdge { from, to } => write!(
-                f,
-                "edge {from}–{to} belongs to one triangle only but is not on the grid border (a hole or a T-junction)"
-            ),
-            Self::WrongArea { found, expected } => write!(
-                f,
-                "the triangles cover an area of {} cells, the grid has {} (they must cover it exactly once)",
-                *found as f64 / 2.0,
-                *expected as f64 / 2.0
-            ),
-            Self::InvalidEdit { index, why } => {
-                write!(f, "cannot edit grid point {index}: {why}")
-            }
-            Self::ForeignState => write!(
-                f,
-                "the mesh state was not scored from a kept set on this evaluator's height field"
-            ),
-        }
-    }
-}
-
-impl std::error::Error for EvaluateError {}
-
-/// `Err(`[`EvaluateError::IndexOutOfRange`]`)` for the first of `indices` that is not below
-/// `len` (the number of grid points), else `Ok`.
-pub fn check_indices(indices: &[u32], len: usize) -> Result<(), EvaluateError> {
-    match indices.iter().find(|&&i| i as usize >= len) {
-        Some(&bad) => Err(EvaluateError::IndexOutOfRange {
-            index: bad.into(),
-            len,
-        }),
-        None => Ok(()),
-    }
-}
 
 /// Scores kept sets (or whole triangulations) on one height field. Reuses its buffers between
 /// calls, so keep one per thread.
@@ -253,7 +168,7 @@ impl Evaluator {
     }
 
     /// Scores the kept set of `state` with the kept points `remove` taken out and the grid
-    /// points `insert` added, by editing `state` in place (see [`incremental`]). The result is
+    /// points `insert` added, by editing `state` in place (see `edit/`). The result is
     /// bit for bit what [`score`](Self::score) gives for the new kept set, and `state` becomes
     /// that set's mesh. `state` must come from [`score_into`](Self::score_into) on this
     /// evaluator (or earlier edits). Each index of `remove` must be kept and not a corner, each
@@ -269,7 +184,7 @@ impl Evaluator {
 
     /// Scores, into `state`, the child that keeps `a`'s kept points where the bitset `from_b`
     /// (bit `i` of word `i / 64` for grid point `i`) is clear and `b`'s where it is set, by
-    /// reusing the triangles and errors of both parents' meshes (see [`compose`]). The result
+    /// reusing the triangles and errors of both parents' meshes (see `compose/`). The result
     /// is bit for bit what [`score`](Self::score) gives for the child's kept set, and `state`
     /// becomes its mesh, ready to edit. `a` and `b` must come from this evaluator and have their
     /// disc boxes filled ([`MeshState::ensure_discs`]); otherwise, or when a guard fails, returns
@@ -333,7 +248,7 @@ impl Evaluator {
     /// The score [`compose_parts`](Self::compose_parts) gives for `levels`, bit for bit, without
     /// building the child's mesh: from what the children of `classes` share, which `scores`
     /// holds once [prepared](PartScores::prepare) for the same parents (see
-    /// [`part_scores`]). `None` when `scores` or `classes` were made for other meshes, or when a
+    /// `part_scores/`). `None` when `scores` or `classes` were made for other meshes, or when a
     /// guard fails.
     ///
     /// ```

@@ -1,14 +1,15 @@
 //! Every number of the report, computed from [`Results`] alone (so anyone holding results.json
 //! can recompute the tables).
 //!
-//! Per dataset, with objectives normalised by the dataset's [`Scales`](super::Scales):
+//! Per dataset, with objectives normalised by the dataset's [`Scales`](super::Scales), for each
+//! *contender* — a method run here, then each outside front (one run; its std and rank-sum
+//! tests are `n/a` like a deterministic method's):
 //! - each method's **merged front**: the non-dominated merge of all its runs' fronts, duplicates
 //!   (equal (E, T)) kept once;
 //! - the **reference front**: the non-dominated merge of every method's merged front;
 //! - **HVR** (Table II): for each run, HV(run front) / HV(reference front) with the settings'
 //!   reference point; mean ± sample std over the method's runs; also the HVR of the merged
-//!   front (all runs together, which for NSGA-II is the same budget as one weighted-sum sweep
-//!   of 11 GA runs, roughly);
+//!   front (all runs together);
 //! - **epsilon and coverage** (Table III), for every ordered pair (A, B): the additive epsilon
 //!   I_ε+(A_i, B_j) (normalised units) and Zitzler's coverage C(A_i, B_j) (weak dominance) over
 //!   every pair of a run i of A and a run j of B; mean ± sample std over those n_A·n_B pairs;
@@ -23,7 +24,7 @@
 //!   n ≤ 10, so the test could never reject and an `=` would falsely read as "no difference".
 
 use super::ExperimentError;
-use super::method::Method;
+use super::contender::Contender;
 use super::results::{DatasetResults, Results};
 use super::stats::Summary;
 use crate::front::{Front, Solution};
@@ -72,11 +73,11 @@ pub struct Pick {
     pub t: usize,
 }
 
-/// Everything about one method on one dataset.
+/// Everything about one method (or outside front) on one dataset.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MethodAnalysis {
-    /// The method.
-    pub method: Method,
+    /// The method or outside front.
+    pub method: Contender,
     /// The non-dominated merge of its runs' fronts, by increasing T, in the dataset's units.
     pub merged: Vec<Solution>,
     /// HVR of each run, by run number.
@@ -97,9 +98,9 @@ pub struct MethodAnalysis {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PairAnalysis {
     /// A.
-    pub a: Method,
+    pub a: Contender,
     /// B.
-    pub b: Method,
+    pub b: Contender,
     /// I_ε+(A_i, B_j) over every pair of runs, normalised units.
     pub epsilon: Summary,
     /// C(A_i, B_j) over every pair of runs.
@@ -117,7 +118,7 @@ pub struct PairAnalysis {
 pub struct DatasetAnalysis {
     /// The dataset's name.
     pub name: String,
-    /// Per method, in settings order.
+    /// Per method, in settings order, then per outside front.
     pub methods: Vec<MethodAnalysis>,
     /// The non-dominated merge of all methods' merged fronts, normalised.
     pub reference_front: Vec<Point>,
@@ -139,6 +140,19 @@ impl Analysis {
     /// front; [`ExperimentError::Metrics`] if an indicator is undefined (e.g. the reference
     /// front has no point better than the reference point, or a non-finite objective).
     pub fn of(results: &Results) -> Result<Analysis, ExperimentError> {
+        let names = |d: &DatasetResults| d.external.iter().map(|x| x.name.clone()).collect();
+        if let Some(first) = results.datasets.first() {
+            let want: Vec<String> = names(first);
+            if let Some(d) = results.datasets.iter().find(|d| names(d) != want) {
+                return Err(ExperimentError::Settings(format!(
+                    "every data set needs the same outside fronts in the same order: {} has {:?}, {} has {:?}",
+                    first.name,
+                    want,
+                    d.name,
+                    names(d)
+                )));
+            }
+        }
         let datasets = results
             .datasets
             .iter()
@@ -149,11 +163,19 @@ impl Analysis {
                             dataset: d.name.clone(),
                             source,
                         },
-                        Failure::Empty(method, run) => ExperimentError::EmptyFront {
-                            dataset: d.name.clone(),
-                            method,
-                            run,
-                        },
+                        Failure::Empty(Contender::Method(method), run) => {
+                            ExperimentError::EmptyFront {
+                                dataset: d.name.clone(),
+                                method,
+                                run,
+                            }
+                        }
+                        Failure::Empty(Contender::External(name), _) => {
+                            ExperimentError::EmptyExternal {
+                                dataset: d.name.clone(),
+                                name,
+                            }
+                        }
                     },
                 )
             })
@@ -162,9 +184,12 @@ impl Analysis {
     }
 }
 
+/// A run's number and its front.
+type RunFront<'a> = (usize, &'a [Solution]);
+
 enum Failure {
     Metrics(MetricsError),
-    Empty(Method, usize),
+    Empty(Contender, usize),
 }
 
 impl From<MetricsError> for Failure {
@@ -179,25 +204,41 @@ fn analyse_dataset(
     seed: u64,
 ) -> Result<DatasetAnalysis, Failure> {
     let n = Normalization::new(d.normalization.e_scale, d.normalization.t_scale)?;
-    // Normalised run fronts per method.
+    // Every contender's run fronts with their run numbers: the methods' runs, then each outside
+    // front as a single run.
+    let contenders: Vec<(Contender, Vec<RunFront>)> = d
+        .methods
+        .iter()
+        .map(|m| {
+            let runs = m.runs.iter().map(|r| (r.run, r.front.as_slice())).collect();
+            (Contender::Method(m.method), runs)
+        })
+        .chain(d.external.iter().map(|x| {
+            (
+                Contender::External(x.name.clone()),
+                vec![(0, x.front.as_slice())],
+            )
+        }))
+        .collect();
+    // Normalised run fronts per contender.
     let mut run_points: Vec<Vec<Vec<Point>>> = Vec::new();
     let mut merged: Vec<Vec<Solution>> = Vec::new();
-    for m in &d.methods {
-        if m.runs.is_empty() {
-            return Err(Failure::Empty(m.method, 0));
+    for (c, runs) in &contenders {
+        if runs.is_empty() {
+            return Err(Failure::Empty(c.clone(), 0));
         }
-        if let Some(r) = m.runs.iter().find(|r| r.front.is_empty()) {
-            return Err(Failure::Empty(m.method, r.run));
+        if let Some((run, _)) = runs.iter().find(|(_, f)| f.is_empty()) {
+            return Err(Failure::Empty(c.clone(), *run));
         }
-        run_points.push(m.runs.iter().map(|r| n.solutions(&r.front)).collect());
-        let front = Front::merged(m.runs.iter().flat_map(|r| &r.front));
+        run_points.push(runs.iter().map(|(_, f)| n.solutions(f)).collect());
+        let front = Front::merged(runs.iter().flat_map(|(_, f)| f.iter()));
         merged.push(front.solutions().to_vec());
     }
     let merged_points: Vec<Vec<Point>> = merged.iter().map(|s| n.solutions(s)).collect();
     let reference_front = metrics::merge(merged_points.iter().map(Vec::as_slice))?;
 
     let mut methods = Vec::new();
-    for (k, m) in d.methods.iter().enumerate() {
+    for (k, (contender, _)) in contenders.iter().enumerate() {
         let hvr_runs = run_points[k]
             .iter()
             .map(|p| hypervolume_ratio(p, &reference_front, reference_point))
@@ -210,7 +251,7 @@ fn analyse_dataset(
             t: merged[k][i].t,
         };
         methods.push(MethodAnalysis {
-            method: m.method,
+            method: contender.clone(),
             best_error: pick(best_error_pick(points)?),
             fewest_triangles: pick(fewest_triangles_pick(points)?),
             trade_off: pick(trade_off_pick(points, seed)?.index),
@@ -248,8 +289,8 @@ fn analyse_dataset(
             };
             let summary = |v: &[f64]| Summary::of(v).expect("both methods have runs");
             pairs.push(PairAnalysis {
-                a: a.method,
-                b: b.method,
+                a: a.method.clone(),
+                b: b.method.clone(),
                 epsilon: summary(&eps),
                 coverage: summary(&cov),
                 dominance: summary(&dom),
@@ -269,7 +310,8 @@ fn analyse_dataset(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::experiment::protocol::Settings;
+    use crate::experiment::method::Method;
+    use crate::experiment::protocol::{Budget, Settings};
     use crate::experiment::results::{GridSummary, MethodRuns, RESULTS_FORMAT, RunRecord, Scales};
 
     fn run(run: usize, points: &[(f64, usize)]) -> RunRecord {
@@ -294,6 +336,7 @@ pub(crate) mod tests {
                 methods: vec![Method::Nsga2, Method::Greedy],
                 runs: 2,
                 weighted_runs: 1,
+                budget: Budget::PerWeight,
                 ..Settings::default()
             },
             datasets: vec![DatasetResults {
@@ -323,8 +366,10 @@ pub(crate) mod tests {
                         runs: vec![run(0, &[(10.0, 2), (2.0, 8)])],
                     },
                 ],
+                external: Vec::new(),
             }],
             timings: None,
+            command: None,
         }
     }
 
@@ -353,7 +398,10 @@ pub(crate) mod tests {
         assert_eq!(d.methods[0].merged.len(), 3);
 
         let ab = &d.pairs[0];
-        assert_eq!((ab.a, ab.b), (Method::Nsga2, Method::Greedy));
+        assert_eq!(
+            (&ab.a, &ab.b),
+            (&Method::Nsga2.into(), &Method::Greedy.into())
+        );
         // (2, 8) is missed by 0.3 (from (5, 4)) and by 0.2 (from (4, 6)) in normalised E.
         assert!(close(ab.epsilon.mean, 0.25));
         // Each NSGA-II run weakly dominates the shared (10, 2) but not (2, 8).
@@ -363,7 +411,7 @@ pub(crate) mod tests {
         // One greedy run: no test.
         assert_eq!((ab.test, ab.mark), (None, Mark::NotApplicable));
         let ba = &d.pairs[1];
-        assert_eq!((ba.a, ba.b), (Method::Greedy, Method::Nsga2));
+        assert!(ba.a == Method::Greedy && ba.b == Method::Nsga2);
         assert_eq!(ba.coverage.std, Some(0.0));
 
         let g = &d.methods[1];

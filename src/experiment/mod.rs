@@ -1,11 +1,14 @@
 //! The paper's experiment, reproducible: run every method on every dataset with the paper's
 //! protocol, compare the fronts with the [`metrics`](crate::metrics), and write the report.
 //!
-//! - [`method`]: the four methods by name; [`registry`]: a method + settings + seed → a boxed
-//!   [`Optimizer`](crate::optimizer::Optimizer).
+//! - [`method`]: the methods by name and their fixed facts; [`registry`]: a method + settings +
+//!   seed → a boxed [`Optimizer`](crate::optimizer::Optimizer), with its GA budget.
 //! - [`protocol`]: the runs of an experiment ([`plan`], [`run_job`], [`assemble`],
-//!   [`run_all`]) — seeds, run counts, and why the weighted-sum GA is counted the way it is.
-//! - [`results`]: results.json, every run's front.
+//!   [`run_all`]) — seeds, run counts, the [`Budget`], and why the weighted-sum GA is counted
+//!   the way it is.
+//! - [`external`]: fronts made by other tools, read and re-scored with the project's evaluator;
+//!   [`contender`]: a table column, a method or an outside front.
+//! - [`results`]: results.json, every run's front and every outside front.
 //! - [`analysis`]: every table's numbers, from results.json alone.
 //! - [`report`]: report.md (the paper's Tables II–V); [`svg`]: the fronts figure.
 //!
@@ -15,6 +18,8 @@
 //! records are put back in plan order.
 
 pub mod analysis;
+pub mod contender;
+pub mod external;
 pub mod method;
 pub mod protocol;
 pub mod registry;
@@ -26,14 +31,17 @@ pub mod svg;
 pub use analysis::{
     Analysis, DatasetAnalysis, Mark, MethodAnalysis, PairAnalysis, Pick, SIGNIFICANCE_LEVEL,
 };
+pub use contender::Contender;
+pub use external::{MeshInput, rescore};
 pub use method::Method;
 pub use protocol::{
-    Dataset, Job, Settings, assemble, check_methods, plan, run_all, run_job, run_seed,
+    Budget, DEFAULT_EQUAL_EVALUATIONS, Dataset, Job, Settings, assemble, check_methods, plan,
+    run_all, run_job, run_seed,
 };
 pub use report::{format_significant, format_summary, report_markdown};
 pub use results::{
-    DatasetResults, GridSummary, MethodRuns, RESULTS_FORMAT, Results, RunRecord, RunTiming, Scales,
-    Timings,
+    DatasetResults, ExternalFront, GridSummary, MethodRuns, RESULTS_FORMAT, RejectedMesh, Results,
+    RunRecord, RunTiming, Scales, Timings,
 };
 pub use stats::Summary;
 pub use svg::fronts_svg;
@@ -60,6 +68,13 @@ pub enum ExperimentError {
         /// The reason.
         source: MetricsError,
     },
+    /// An outside front has no valid mesh, so nothing of it can be compared.
+    EmptyExternal {
+        /// The dataset's name.
+        dataset: String,
+        /// The outside front's name.
+        name: String,
+    },
     /// A run produced no solution (or a method has no run), so nothing can be compared.
     EmptyFront {
         /// The dataset's name.
@@ -79,6 +94,10 @@ impl fmt::Display for ExperimentError {
                 write!(f, "{}: {message}", method.label())
             }
             Self::Metrics { dataset, source } => write!(f, "data set {dataset}: {source}"),
+            Self::EmptyExternal { dataset, name } => write!(
+                f,
+                "data set {dataset}: the outside front {name} has no valid mesh"
+            ),
             Self::EmptyFront {
                 dataset,
                 method,

@@ -1,19 +1,22 @@
-//! The paper's protocol: which runs make an experiment, with which seeds, and how their fronts
-//! are gathered into [`Results`].
+//! The protocol: which runs make an experiment, with which seeds and budgets, and how their
+//! fronts are gathered into [`Results`].
 //!
 //! - NSGA-II is run [`Settings::runs`] times (paper: 10), run k with seed `seed + k`
-//!   ([`run_seed`]): run k is exactly `paretomesh run GRID --algo nsga2 --seed <seed + k>` with
-//!   the same population and generations.
+//!   ([`run_seed`]).
 //! - The weighted-sum GA: one *run* is one sweep over all 11 weights w = 0, 0.1, …, 1 — 11 GA
 //!   runs inside one [`WeightedSum`](crate::evolution::WeightedSum) optimizer, whose 11 best
-//!   solutions make that run's front. The paper's protocol is one sweep ("once per weight"),
-//!   which is the default ([`Settings::weighted_runs`] = 1). It costs about 11 NSGA-II runs, so
-//!   repeating it as often as NSGA-II would make the experiment about 6 times longer; with
-//!   one sweep its HVR has no spread and the rank-sum test against it is not applicable (marked
-//!   `n/a`). [`Settings::weighted_runs`] = k > 1 runs k sweeps with seeds `seed`…`seed + k − 1`,
-//!   each one sample for the HVR mean ± std and the test, like NSGA-II's runs.
+//!   solutions make that run's front. [`Settings::weighted_runs`] sweeps are run: as many as
+//!   NSGA-II's runs at equal budgets, one (the paper's "once per weight") at per-weight budgets,
+//!   where a sweep costs about 11 NSGA-II runs. With one sweep its HVR has no spread and the
+//!   rank-sum test against it is not applicable (marked `n/a`).
+//! - The GA budget ([`Budget`]): by default every GA run, whatever the method, stops after the
+//!   same number of evaluations, so that the methods are compared at equal cost; the weighted-sum
+//!   GA shares them between its weights. [`Budget::PerWeight`] is the paper's budget instead:
+//!   population × generations for every GA run, so a weighted-sum sweep costs about 11 NSGA-II
+//!   runs. Under it, NSGA-II's run k is exactly `paretomesh run GRID --algo nsga2 --seed
+//!   <seed + k>` with the same population and generations.
 //! - Deterministic methods (decimation at 5 %…50 %, greedy insertion) are run once: more runs
-//!   would repeat the same front.
+//!   would repeat the same front. They stop by their own rule, not by the GA budget.
 //!
 //! Every run is independent of every other, so [`plan`] lists them as [`Job`]s that any driver
 //! may run in any order or in parallel ([`run_job`] is a pure function of its job), then
@@ -32,6 +35,35 @@ use crate::metrics::{DEFAULT_REFERENCE_POINT, Normalization};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
+/// The evaluations of one GA run under [`Budget::Equal`] by default: about what NSGA-II spends
+/// in the paper's 50 generations of 100 individuals (17 401 on jacksboro_65x65).
+pub const DEFAULT_EQUAL_EVALUATIONS: u64 = 17_400;
+
+/// How much work each GA run may do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Budget {
+    /// Every GA run gets `evaluations` evaluations, whatever the method: it runs with no
+    /// generation limit and stops at the first mating boundary at or after them (so it may
+    /// overshoot by less than one mating). The weighted-sum GA gives each of its W weights
+    /// ⌊evaluations / W⌋ evaluations in the same way; the remainder (evaluations mod W) is not
+    /// spent.
+    Equal {
+        /// The evaluations of one GA run.
+        evaluations: u64,
+    },
+    /// The paper's budget: every GA run has [`Settings::population`] individuals for
+    /// [`Settings::generations`] generations, and so does each weight of the weighted-sum GA.
+    PerWeight,
+}
+
+impl Budget {
+    /// What a results.json that names no budget was run with: the paper's per-weight budget.
+    fn per_weight() -> Budget {
+        Budget::PerWeight
+    }
+}
+
 /// What to run: the methods, the number of runs, the seed, the GA budget, the reference point.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Settings {
@@ -39,29 +71,38 @@ pub struct Settings {
     pub methods: Vec<Method>,
     /// Runs of NSGA-II. Paper: 10.
     pub runs: usize,
-    /// Runs of the weighted-sum GA, each a sweep over its 11 weights. Paper: 1.
+    /// Runs of the weighted-sum GA, each a sweep over its 11 weights. Paper: 1 (with
+    /// per-weight budgets a sweep costs about 11 NSGA-II runs); at equal budgets a sweep costs
+    /// one NSGA-II run, so it gets as many runs as NSGA-II by default.
     pub weighted_runs: usize,
     /// Run k of a stochastic method uses seed `seed + k`; also seeds the trade-off picks.
     pub seed: u64,
     /// GA population (NSGA-II and each weighted-sum run). Paper: 100.
     pub population: usize,
-    /// GA generations. Paper: 50.
+    /// GA generations under [`Budget::PerWeight`]. Paper: 50.
     pub generations: usize,
+    /// How many evaluations each GA run may spend.
+    #[serde(default = "Budget::per_weight")]
+    pub budget: Budget,
     /// The hypervolume reference point in normalised (E, T). Default (1.1, 1.1).
     pub reference_point: [f64; 2],
 }
 
 impl Default for Settings {
-    /// The paper's settings: every method, 10 NSGA-II runs, one weighted-sum sweep, seed 1,
-    /// population 100, 50 generations, reference point (1.1, 1.1).
+    /// The paper's settings at equal budgets: every method, 10 runs of each GA, seed 1,
+    /// population 100, [`DEFAULT_EQUAL_EVALUATIONS`] per GA run (50 generations under
+    /// [`Budget::PerWeight`]), reference point (1.1, 1.1).
     fn default() -> Self {
         Settings {
             methods: Method::ALL.to_vec(),
             runs: 10,
-            weighted_runs: 1,
+            weighted_runs: 10,
             seed: 1,
             population: 100,
             generations: 50,
+            budget: Budget::Equal {
+                evaluations: DEFAULT_EQUAL_EVALUATIONS,
+            },
             reference_point: DEFAULT_REFERENCE_POINT,
         }
     }
@@ -82,6 +123,19 @@ impl Settings {
         if self.runs == 0 || self.weighted_runs == 0 {
             return bad("the number of runs must be at least 1");
         }
+        if let Budget::Equal { evaluations } = self.budget {
+            let least = self
+                .methods
+                .iter()
+                .map(|&m| registry::ga_runs_per_run(m))
+                .max()
+                .unwrap_or(1) as u64;
+            if evaluations < least {
+                return bad(&format!(
+                    "an equal budget of {evaluations} evaluations is too small: the weighted-sum GA shares it between its {least} weights, so at least {least} are needed"
+                ));
+            }
+        }
         if !self
             .reference_point
             .iter()
@@ -98,10 +152,12 @@ impl Settings {
     /// How many runs `method` gets: [`Settings::runs`] for NSGA-II,
     /// [`Settings::weighted_runs`] for the weighted-sum GA, 1 for a deterministic method.
     pub fn runs_of(&self, method: Method) -> usize {
-        match method {
-            Method::Nsga2 => self.runs,
-            Method::Weighted => self.weighted_runs,
-            Method::Decimation | Method::Greedy => 1,
+        if !method.is_stochastic() {
+            1
+        } else if method == Method::Weighted {
+            self.weighted_runs
+        } else {
+            self.runs
         }
     }
 }
@@ -245,6 +301,7 @@ pub fn assemble(
         .map(|d| {
             let hf = &d.heightfield;
             Ok(DatasetResults {
+                external: Vec::new(),
                 name: d.name.clone(),
                 grid: GridSummary {
                     width: hf.width(),
@@ -283,6 +340,7 @@ pub fn assemble(
         settings: settings.clone(),
         datasets: out,
         timings,
+        command: None,
     })
 }
 
@@ -330,8 +388,20 @@ mod tests {
             ]
         );
         assert!(jobs[7..].iter().all(|j| j.dataset == 1));
-        // The paper's protocol: 10 NSGA-II runs, one weighted-sum sweep.
-        assert_eq!(plan(1, &Settings::default()).len(), 13);
+        // Equal budgets: 10 runs of each GA, then the two deterministic methods.
+        assert_eq!(plan(1, &Settings::default()).len(), 22);
+    }
+
+    #[test]
+    fn settings_without_a_budget_read_as_the_papers_per_weight_budget() {
+        let mut json = serde_json::to_value(Settings::default()).unwrap();
+        assert_eq!(
+            json["budget"],
+            serde_json::json!({"kind": "equal", "evaluations": DEFAULT_EQUAL_EVALUATIONS})
+        );
+        json.as_object_mut().unwrap().remove("budget");
+        let read: Settings = serde_json::from_value(json).unwrap();
+        assert_eq!(read.budget, Budget::PerWeight);
     }
 
     #[test]
@@ -355,6 +425,10 @@ mod tests {
             },
             Settings {
                 reference_point: [f64::NAN, 1.1],
+                ..Settings::default()
+            },
+            Settings {
+                budget: Budget::Equal { evaluations: 10 },
                 ..Settings::default()
             },
         ];

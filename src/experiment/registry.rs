@@ -1,23 +1,41 @@
 //! The method registry: a method name, the experiment's settings and a seed → a ready
-//! [`Optimizer`], and the parameters it runs with (written to results.json).
+//! [`Optimizer`], the parameters it runs with (written to results.json), and its budget in
+//! words for the report.
 //!
 //! Each method runs with its own crate defaults (the paper's settings) except the GA budget,
-//! which comes from [`Settings::population`] and [`Settings::generations`].
+//! which every GA takes from [`ga_params`]: [`Settings::population`], and either
+//! [`Settings::generations`] ([`Budget::PerWeight`]) or an evaluation cap with no generation
+//! limit ([`Budget::Equal`]). A GA added here must take its budget from [`ga_params`] too, so
+//! that it runs at the same cost as the others.
 
 use super::ExperimentError;
-use super::method::Method;
-use super::protocol::Settings;
+use super::method::{BudgetKind, Method};
+use super::protocol::{Budget, Settings};
 use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
 use crate::evolution::{GaParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
 use std::sync::Arc;
 
-fn ga_params(settings: &Settings) -> GaParams {
-    GaParams {
+/// The generation limit of a GA under [`Budget::Equal`]: never reached (each generation costs
+/// at least one evaluation), and small enough for a 32-bit `usize` in results.json.
+pub const UNLIMITED_GENERATIONS: usize = u32::MAX as usize;
+
+/// The GA parameters every GA method starts from: the crate defaults with the experiment's
+/// population and budget.
+pub fn ga_params(settings: &Settings) -> GaParams {
+    let paper = GaParams {
         population: settings.population,
         generations: settings.generations,
         ..GaParams::default()
+    };
+    match settings.budget {
+        Budget::PerWeight => paper,
+        Budget::Equal { evaluations } => GaParams {
+            generations: UNLIMITED_GENERATIONS,
+            max_evaluations: Some(evaluations),
+            ..paper
+        },
     }
 }
 
@@ -25,6 +43,42 @@ fn weighted_params(settings: &Settings) -> WeightedSumParams {
     WeightedSumParams {
         ga: ga_params(settings),
         ..WeightedSumParams::default()
+    }
+}
+
+/// How many GA runs one run of `method` is made of (the weighted-sum GA: one per weight), and
+/// so how many shares an equal budget is split into. 1 for every other method.
+pub fn ga_runs_per_run(method: Method) -> usize {
+    match method {
+        Method::Weighted => WeightedSumParams::default().weights.len(),
+        _ => 1,
+    }
+}
+
+/// The budget of one run of `method` under `settings`, in words and evaluations, for the
+/// report's Runs table.
+pub fn budget_text(method: Method, settings: &Settings) -> String {
+    if method.spec().budget == BudgetKind::OwnRule {
+        return "own stopping rule".to_string();
+    }
+    let parts = ga_runs_per_run(method);
+    match settings.budget {
+        Budget::Equal { evaluations } if parts > 1 => {
+            let share = evaluations / parts as u64;
+            format!(
+                "{evaluations} = {parts} weights × {share} (+ {} unspent)",
+                evaluations - share * parts as u64
+            )
+        }
+        Budget::Equal { evaluations } => format!("{evaluations}"),
+        Budget::PerWeight if parts > 1 => format!(
+            "{parts} weights × (population {} × {} generations)",
+            settings.population, settings.generations
+        ),
+        Budget::PerWeight => format!(
+            "population {} × {} generations",
+            settings.population, settings.generations
+        ),
     }
 }
 
@@ -73,4 +127,37 @@ pub fn build(
                 .map_err(|e| refused(e.to_string()))?,
         ),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_budgets_cap_every_ga_and_lift_the_generation_limit() {
+        let equal = Settings::default();
+        let p = params(Method::Nsga2, &equal).unwrap();
+        assert_eq!(p["max_evaluations"], 17_400);
+        assert_eq!(p["generations"], UNLIMITED_GENERATIONS as u64);
+        let w = params(Method::Weighted, &equal).unwrap();
+        assert_eq!(w["max_evaluations"], 17_400);
+        assert_eq!(w["weights"].as_array().unwrap().len(), 11);
+        assert_eq!(
+            budget_text(Method::Weighted, &equal),
+            "17400 = 11 weights × 1581 (+ 9 unspent)"
+        );
+        assert_eq!(budget_text(Method::Greedy, &equal), "own stopping rule");
+
+        let paper = Settings {
+            budget: Budget::PerWeight,
+            ..Settings::default()
+        };
+        let p = params(Method::Nsga2, &paper).unwrap();
+        assert_eq!(p["max_evaluations"], serde_json::Value::Null);
+        assert_eq!(p["generations"], 50);
+        assert_eq!(
+            budget_text(Method::Weighted, &paper),
+            "11 weights × (population 100 × 50 generations)"
+        );
+    }
 }

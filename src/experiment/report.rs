@@ -1,11 +1,15 @@
-//! report.md: the paper's Tables II–V, with a header that says what was run.
+//! report.md: the paper's Tables II–V, with a header that says what was run, the protocol in
+//! one paragraph, every method's budget, and the outside fronts with the meshes they lost.
 //!
 //! Number formats (also what a reader or a test may parse): normalised quantities (HVR, I_ε+,
 //! C, P) with 4 decimals as `mean ± std`, `± n/a` when there is one value; E with 6 significant
 //! digits in the dataset's units; p-values in scientific notation with 2 decimals.
 
 use super::analysis::{Analysis, DatasetAnalysis, MethodAnalysis, SIGNIFICANCE_LEVEL};
+use super::contender::Contender;
 use super::method::Method;
+use super::protocol::{Budget, Settings};
+use super::registry;
 use super::results::{DatasetResults, Results};
 use super::stats::Summary;
 use std::fmt::Write;
@@ -34,8 +38,52 @@ pub fn format_significant(x: f64) -> String {
     format!("{x:.digits$}")
 }
 
-fn label(m: Method) -> &'static str {
-    m.label()
+/// The protocol in one paragraph: who gets which budget, and how the runs are counted.
+fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
+    let ga: Vec<&str> = s
+        .methods
+        .iter()
+        .filter(|m| m.is_ga())
+        .map(|m| m.label())
+        .collect();
+    let mut p = match s.budget {
+        Budget::Equal { evaluations } => {
+            let parts = registry::ga_runs_per_run(Method::Weighted);
+            let share = evaluations / parts as u64;
+            format!(
+                "Equal budgets: every run of a genetic algorithm ({}) stops after {evaluations} evaluations, with no generation limit. The weighted-sum GA splits its run over its {parts} weights: each weight's GA run gets ⌊{evaluations} / {parts}⌋ = {share} evaluations, and the remaining {} are not spent. Each GA run (for the weighted-sum GA, each weight's) stops at the first mating boundary at or after its budget, so it may overshoot by less than one mating (at most 11 evaluations with the default crossover). Population {} for every GA.",
+                ga.join(", "),
+                evaluations - share * parts as u64,
+                s.population
+            )
+        }
+        Budget::PerWeight => format!(
+            "Per-weight budgets (the paper's): every GA run ({}) has population {} for {} generations with no evaluation cap, and the weighted-sum GA runs that for each of its {} weights, so one weighted-sum run costs about {} NSGA-II runs.",
+            ga.join(", "),
+            s.population,
+            s.generations,
+            registry::ga_runs_per_run(Method::Weighted),
+            registry::ga_runs_per_run(Method::Weighted)
+        ),
+    };
+    let times = |n: usize| {
+        if n == 1 {
+            "once".to_string()
+        } else {
+            format!("{n} times")
+        }
+    };
+    p.push_str(&format!(
+        " NSGA-II runs {} and the weighted-sum GA {} (run k with seed {} + k); decimation and greedy insertion are deterministic, stop by their own rule and run once.",
+        times(s.runs),
+        times(s.weighted_runs),
+        s.seed
+    ));
+    if has_external {
+        p.push_str(" Outside fronts were made by other tools at budgets this experiment does not control; each is re-scored here and counts as a single run, so its std and rank-sum tests are n/a.");
+    }
+    p.push_str(" Every number below is computed from the runs' final fronts (see Statistics).");
+    p
 }
 
 /// The whole report.md text for `results` and its `analysis` (which must be
@@ -45,10 +93,16 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
     let s = &results.settings;
     let w = &mut out;
     let _ = writeln!(w, "# ParetoMesh experiment\n");
+    if let Some(command) = &results.command {
+        let _ = writeln!(w, "```sh\n{command}\n```\n");
+    }
     let _ = writeln!(
         w,
-        "The protocol of the source paper, run by `paretomesh experiment`. Every run's front is in `results.json`; every number below can be recomputed from it.\n"
+        "The source paper's protocol at the budget below, run by `paretomesh experiment`. Every run's front is in `results.json`; every number below can be recomputed from it.\n"
     );
+    let has_external = results.datasets.iter().any(|d| !d.external.is_empty());
+    let _ = writeln!(w, "## Protocol\n");
+    let _ = writeln!(w, "{}\n", protocol_paragraph(s, has_external));
 
     let _ = writeln!(w, "## Settings\n");
     let _ = writeln!(
@@ -83,11 +137,22 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
         w,
         "- Deterministic methods (decimation, greedy insertion) run once."
     );
-    let _ = writeln!(
-        w,
-        "- GA budget: population {}, {} generations (NSGA-II and each weighted-sum GA run).",
-        s.population, s.generations
-    );
+    match s.budget {
+        Budget::Equal { evaluations } => {
+            let _ = writeln!(
+                w,
+                "- GA budget: {evaluations} evaluations per run of every GA, population {} (`--budget equal --evals {evaluations}`).",
+                s.population
+            );
+        }
+        Budget::PerWeight => {
+            let _ = writeln!(
+                w,
+                "- GA budget: population {}, {} generations (NSGA-II and each weighted-sum GA run; `--budget per-weight`).",
+                s.population, s.generations
+            );
+        }
+    }
     if let Some(d) = results.datasets.first() {
         let _ = writeln!(w, "- Parameters as run:");
         for m in &d.methods {
@@ -142,23 +207,43 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
     let _ = writeln!(w, "\n## Runs\n");
     let _ = writeln!(
         w,
-        "| Data set | Method | Runs | Evaluations per run (mean) | Merged front size |"
+        "Budget: what one run may spend, in evaluations (one evaluation = one mesh triangulated and scored). Spent: the evaluations the runs actually made, mean and range over runs.\n"
     );
-    let _ = writeln!(w, "|---|---|---|---|---|");
+    let _ = writeln!(
+        w,
+        "| Data set | Method | Runs | Budget per run | Evaluations spent per run: mean (min–max) | Merged front size |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|---|");
     for (d, a) in results.datasets.iter().zip(&analysis.datasets) {
         for (m, ma) in d.methods.iter().zip(&a.methods) {
-            let evals = m.runs.iter().map(|r| r.evaluations as f64).sum::<f64>()
-                / m.runs.len().max(1) as f64;
+            let spent: Vec<u64> = m.runs.iter().map(|r| r.evaluations).collect();
+            let mean = spent.iter().sum::<u64>() as f64 / spent.len().max(1) as f64;
+            let (lo, hi) = (
+                spent.iter().min().copied().unwrap_or(0),
+                spent.iter().max().copied().unwrap_or(0),
+            );
             let _ = writeln!(
                 w,
-                "| {} | {} | {} | {:.0} | {} |",
+                "| {} | {} | {} | {} | {mean:.0} ({lo}–{hi}) | {} |",
                 d.name,
-                label(m.method),
+                m.method.label(),
                 m.runs.len(),
-                evals,
+                registry::budget_text(m.method, s),
                 ma.merged.len()
             );
         }
+        for x in &d.external {
+            let _ = writeln!(
+                w,
+                "| {} | {} | 1 (outside) | not controlled here | unknown | {} |",
+                d.name,
+                cell(&x.name),
+                x.front.len()
+            );
+        }
+    }
+    if has_external {
+        outside_fronts(w, results);
     }
 
     table_ii(w, results, analysis);
@@ -173,30 +258,83 @@ fn cell(text: &str) -> String {
     text.replace('|', "\\|").replace('\n', " ")
 }
 
+/// Refused meshes listed per outside front; a tool run on the wrong grid would otherwise list
+/// every mesh of its front.
+const LISTED_REFUSALS: usize = 20;
+
+/// The outside fronts: where each came from, how many meshes were read, kept and refused, and
+/// why.
+fn outside_fronts(w: &mut String, results: &Results) {
+    let _ = writeln!(w, "\n## Outside fronts\n");
+    let _ = writeln!(
+        w,
+        "Meshes made by other tools, re-scored with this project's evaluator on their own triangles (which must cover the grid rectangle exactly once, over grid points only). Refused meshes are left out of every table. \"Not Delaunay\": valid meshes that are not a Delaunay triangulation of their points (the project's methods are always scored on one).\n"
+    );
+    let _ = writeln!(
+        w,
+        "| Data set | Front | Source | Meshes | Valid | Refused | Not Delaunay | On the front |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|---|---|---|");
+    for d in &results.datasets {
+        for x in &d.external {
+            let _ = writeln!(
+                w,
+                "| {} | {} | `{}` | {} | {} | {} | {} | {} |",
+                d.name,
+                cell(&x.name),
+                cell(&x.source),
+                x.meshes,
+                x.valid(),
+                x.rejected.len(),
+                x.not_delaunay,
+                x.front.len()
+            );
+        }
+    }
+    for d in &results.datasets {
+        for x in d.external.iter().filter(|x| !x.rejected.is_empty()) {
+            let _ = writeln!(w, "\nRefused from {} on {}:\n", cell(&x.name), d.name);
+            for r in x.rejected.iter().take(LISTED_REFUSALS) {
+                let _ = writeln!(w, "- {}: {}", cell(&r.mesh), cell(&r.reason));
+            }
+            if x.rejected.len() > LISTED_REFUSALS {
+                let _ = writeln!(
+                    w,
+                    "- and {} more (every one with its reason in results.json)",
+                    x.rejected.len() - LISTED_REFUSALS
+                );
+            }
+        }
+    }
+}
+
 fn table_ii(w: &mut String, results: &Results, analysis: &Analysis) {
-    let methods = &results.settings.methods;
     let _ = writeln!(
         w,
         "\n## Table II. Hypervolume ratio HVR (mean ± std over runs)\n"
     );
-    method_table(w, methods, analysis, |m| format_summary(&m.hvr));
-    let _ = writeln!(
-        w,
-        "\nHVR of each method's merged front (all its runs together; a weighted-sum sweep is 11 GA runs, about the evaluations of 10 NSGA-II runs):\n"
-    );
-    method_table(w, methods, analysis, |m| format!("{:.4}", m.merged_hvr));
+    method_table(w, analysis, |m| format_summary(&m.hvr));
+    let merged_note = match results.settings.budget {
+        Budget::PerWeight => {
+            "all its runs together; a weighted-sum sweep is 11 GA runs, about the evaluations of 10 NSGA-II runs"
+        }
+        Budget::Equal { .. } => "all its runs together: its runs × the budget per run",
+    };
+    let _ = writeln!(w, "\nHVR of each method's merged front ({merged_note}):\n");
+    method_table(w, analysis, |m| format!("{:.4}", m.merged_hvr));
 }
 
-/// A table with one row per data set and one column per method, cells from `cell`.
-fn method_table(
-    w: &mut String,
-    methods: &[Method],
-    analysis: &Analysis,
-    cell: impl Fn(&MethodAnalysis) -> String,
-) {
-    let labels: Vec<_> = methods.iter().map(|m| m.label()).collect();
+/// A table with one row per data set and one column per method (then outside front), cells
+/// from `cell`.
+fn method_table(w: &mut String, analysis: &Analysis, cell: impl Fn(&MethodAnalysis) -> String) {
+    let columns: Vec<&Contender> = analysis
+        .datasets
+        .first()
+        .map(|d| d.methods.iter().map(|m| &m.method).collect())
+        .unwrap_or_default();
+    let labels: Vec<_> = columns.iter().map(|m| m.label()).collect();
     let _ = writeln!(w, "| Data set | {} |", labels.join(" | "));
-    let _ = writeln!(w, "|---|{}", "---|".repeat(methods.len()));
+    let _ = writeln!(w, "|---|{}", "---|".repeat(columns.len()));
     for a in &analysis.datasets {
         let cells: Vec<_> = a.methods.iter().map(&cell).collect();
         let _ = writeln!(w, "| {} | {} |", a.name, cells.join(" | "));
@@ -279,7 +417,7 @@ fn table_v(w: &mut String, analysis: &Analysis) {
 }
 
 fn table_v_dataset(w: &mut String, a: &DatasetAnalysis) {
-    let methods: Vec<Method> = a.methods.iter().map(|m| m.method).collect();
+    let methods: Vec<&Contender> = a.methods.iter().map(|m| &m.method).collect();
     let _ = writeln!(w, "### {}\n", a.name);
     let _ = writeln!(
         w,
@@ -301,7 +439,7 @@ fn table_v_dataset(w: &mut String, a: &DatasetAnalysis) {
                 let p = a
                     .pairs
                     .iter()
-                    .find(|p| p.a == row && p.b == col)
+                    .find(|p| &p.a == row && &p.b == col)
                     .expect("every ordered pair is analysed");
                 match p.test {
                     Some(t) => format!(

@@ -23,6 +23,9 @@ pub struct Results {
     pub datasets: Vec<DatasetResults>,
     /// Wall-clock times; `None` when not measured. Never part of a determinism comparison.
     pub timings: Option<Timings>,
+    /// The command line that ran the experiment, `None` when not run from the command line.
+    #[serde(default)]
+    pub command: Option<String>,
 }
 
 /// The grid a dataset was run on.
@@ -58,6 +61,43 @@ pub struct DatasetResults {
     pub normalization: Scales,
     /// One entry per method, in the order of [`Settings::methods`].
     pub methods: Vec<MethodRuns>,
+    /// Fronts made by other tools on this grid and re-scored here, in command-line order.
+    #[serde(default)]
+    pub external: Vec<ExternalFront>,
+}
+
+/// A front made by another tool on one grid, re-scored with the project's evaluator.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExternalFront {
+    /// The name the tables show.
+    pub name: String,
+    /// The file or directory it was read from, as given.
+    pub source: String,
+    /// Meshes read.
+    pub meshes: usize,
+    /// The meshes refused, each with its reason.
+    pub rejected: Vec<RejectedMesh>,
+    /// Valid meshes that are not a Delaunay triangulation of their points; every mesh is
+    /// scored on its own triangles.
+    pub not_delaunay: usize,
+    /// The non-dominated valid meshes, re-scored, by increasing T.
+    pub front: Vec<Solution>,
+}
+
+/// A mesh of an outside front that could not be used.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RejectedMesh {
+    /// Which mesh (a file name or a position in the file).
+    pub mesh: String,
+    /// Why.
+    pub reason: String,
+}
+
+impl ExternalFront {
+    /// The meshes that passed every check (on the front or dominated).
+    pub fn valid(&self) -> usize {
+        self.meshes - self.rejected.len()
+    }
 }
 
 /// Every run of one method on one dataset.

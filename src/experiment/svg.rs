@@ -1,12 +1,13 @@
 //! `fronts-<dataset>.svg`: every method's merged front in one plot, E against T, hand-written SVG.
 //!
 //! Structure (stable, so tools and tests can read it): one `<g class="front"
-//! data-method="NAME">` per method holding a `<polyline>` through its points by increasing T
+//! data-method="NAME">` per method, then per outside front (dashed, with `data-external="true"`),
+//! holding a `<polyline>` through its points by increasing T
 //! and one `<circle>` per point; a `<g class="legend">` with one `<g class="legend-entry"
 //! data-method="NAME">` each; `<text class="axis-label">` for both axes, with units.
 
 use super::analysis::DatasetAnalysis;
-use super::method::Method;
+use super::contender::Contender;
 use super::results::DatasetResults;
 use std::fmt::Write;
 
@@ -17,13 +18,18 @@ const RIGHT: f64 = 240.0;
 const TOP: f64 = 40.0;
 const BOTTOM: f64 = 60.0;
 
-/// The colour of a method's front (colour-blind-safe Okabe–Ito hues).
-pub fn method_colour(m: Method) -> &'static str {
-    match m {
-        Method::Nsga2 => "#D55E00",
-        Method::Weighted => "#0072B2",
-        Method::Decimation => "#009E73",
-        Method::Greedy => "#CC79A7",
+/// Colours of outside fronts, in order (the Okabe–Ito hues the methods do not use, then grey).
+const EXTERNAL_COLOURS: [&str; 4] = ["#E69F00", "#56B4E9", "#000000", "#999999"];
+
+/// The colour of a front and, for outside fronts, the dash pattern that sets them apart.
+/// `external` counts the outside fronts before this one.
+fn style(c: &Contender, external: usize) -> (&'static str, Option<&'static str>) {
+    match c {
+        Contender::Method(m) => (m.spec().colour, None),
+        Contender::External(_) => (
+            EXTERNAL_COLOURS[external % EXTERNAL_COLOURS.len()],
+            Some("6 3"),
+        ),
     }
 }
 
@@ -161,14 +167,28 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         TOP + plot_h / 2.0,
         xml_escape(&dataset.e_units)
     );
-    // One group per method.
-    for m in &analysis.methods {
-        let colour = method_colour(m.method);
+    // One group per method, then per outside front.
+    let styles: Vec<_> = analysis
+        .methods
+        .iter()
+        .scan(0, |external, m| {
+            let st = style(&m.method, *external);
+            *external += usize::from(m.method.method().is_none());
+            Some(st)
+        })
+        .collect();
+    for (m, &(colour, dash)) in analysis.methods.iter().zip(&styles) {
         let _ = writeln!(
             s,
-            r#"<g class="front" data-method="{}" stroke="{colour}" fill="{colour}">"#,
-            m.method.name()
+            r#"<g class="front" data-method="{}"{} stroke="{colour}" fill="{colour}">"#,
+            xml_escape(m.method.key()),
+            if dash.is_some() {
+                r#" data-external="true""#
+            } else {
+                ""
+            }
         );
+        let dash_attr = dash.map_or(String::new(), |d| format!(r#" stroke-dasharray="{d}""#));
         let points: Vec<String> = m
             .merged
             .iter()
@@ -176,7 +196,7 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
             .collect();
         let _ = writeln!(
             s,
-            r#"<polyline fill="none" stroke-width="1.5" points="{}"/>"#,
+            r#"<polyline fill="none" stroke-width="1.5"{dash_attr} points="{}"/>"#,
             points.join(" ")
         );
         for p in &m.merged {
@@ -192,13 +212,13 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
     // Legend.
     let lx = WIDTH - RIGHT + 20.0;
     let _ = writeln!(s, r#"<g class="legend">"#);
-    for (i, m) in analysis.methods.iter().enumerate() {
+    for (i, (m, &(colour, dash))) in analysis.methods.iter().zip(&styles).enumerate() {
         let ly = TOP + 10.0 + i as f64 * 22.0;
-        let colour = method_colour(m.method);
+        let dash_attr = dash.map_or(String::new(), |d| format!(r#" stroke-dasharray="{d}""#));
         let _ = writeln!(
             s,
-            r#"<g class="legend-entry" data-method="{}"><line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"/><circle cx="{}" cy="{ly}" r="3" fill="{colour}"/><text x="{}" y="{}">{} ({} points)</text></g>"#,
-            m.method.name(),
+            r#"<g class="legend-entry" data-method="{}"><line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"{dash_attr}/><circle cx="{}" cy="{ly}" r="3" fill="{colour}"/><text x="{}" y="{}">{} ({} points)</text></g>"#,
+            xml_escape(m.method.key()),
             lx + 24.0,
             lx + 12.0,
             lx + 32.0,

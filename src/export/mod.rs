@@ -1,3 +1,10 @@
-//! Writing simplified meshes to the file formats other 3-D tools read.
+//! File writers shared by the command line and the browser app: the simplified mesh in the
+//! input's own coordinates ([`mesh::WorldMesh`]) as PLY, OBJ, STL or binary glTF, and the front
+//! as CSV.
 
+pub mod csv;
 pub mod glb;
+pub mod mesh;
+pub mod obj;
+pub mod ply;
+pub mod stl;

@@ -1,8 +1,8 @@
 //! The page's controls, found by id in `index.html`: reading the parameter form, writing the
-//! status line and messages, and small helpers for listeners and downloads.
+//! status line and messages, and small functions for listeners and downloads.
 
-use super::algorithms::{Algorithm, Params, crossover_from_key, crossover_key};
-use super::app::{RunConfig, Status};
+use crate::app::algorithms::{Algorithm, Params, crossover_from_key, crossover_key};
+use crate::app::state::{RunConfig, Status};
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 use web_sys::{Document, Element, HtmlElement, HtmlInputElement, HtmlSelectElement};

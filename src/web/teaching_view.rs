@@ -1,14 +1,15 @@
 //! The page side of the teaching view: its toggle, the phase and generation buttons, slow-motion
 //! play, the phase list with its one-line caption, the plot of the shown phase with hover
 //! read-outs, and the orthogonal-array crossover panel. The logic lives in
-//! [`super::teaching`]; this file only moves it to and from the page.
+//! [`crate::app::teaching`]; this file only moves it to and from the page.
 
-use super::algorithms::Algorithm;
 use super::dom::{self, by_id, listen};
-use super::oax_panel;
-use super::plot::{self, Layout, PlotPoint, Scene};
-use super::teaching::{Step, Stepper, TeachingScene, scene};
-use super::ui::{Ui, on_event};
+use super::page::{Ui, on_event};
+use super::{oax_panel, plot_canvas};
+use crate::app::algorithms::Algorithm;
+use crate::app::oax_panel::meshes;
+use crate::app::plot::{self, Layout, PlotPoint, Scene};
+use crate::app::teaching::{Step, TeachingScene, scene};
 use crate::evolution::trace::Phase;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -17,22 +18,6 @@ use web_sys::{CanvasRenderingContext2d, HtmlButtonElement, HtmlInputElement, Mou
 
 /// Hover radius over the teaching marks, CSS pixels.
 const HIT_RADIUS: f64 = 8.0;
-
-/// The teaching view's page state.
-#[derive(Default)]
-pub struct TeachingUi {
-    stepper: Stepper,
-    /// The shown phase's marks, legend and caption, built once per (generation, phase).
-    scene: Option<TeachingScene>,
-    hovered: Option<usize>,
-    playing: bool,
-    /// When play last advanced a phase (ms, performance clock).
-    last_auto_ms: f64,
-    /// The crossover generation the OAX panel was drawn for.
-    oax_drawn: Option<u64>,
-    /// The (generation, phase) `scene` was built for.
-    built: Option<(u64, Phase)>,
-}
 
 fn is_on() -> bool {
     dom::checked("teach")
@@ -46,218 +31,227 @@ fn seconds_per_phase() -> f64 {
         .map_or(1.5, |s| s.clamp(0.2, 10.0))
 }
 
-impl Ui {
-    /// The phase the teaching view shows, if any.
-    pub(super) fn teaching_phase(&self) -> Option<Phase> {
-        self.teaching.stepper.shown
-    }
+/// The phase the teaching view shows, if any.
+pub(super) fn teaching_phase(ui: &Ui) -> Option<Phase> {
+    ui.teaching.stepper.shown
+}
 
-    fn teaching_applies(&self) -> bool {
-        self.app.config().algorithm == Algorithm::Nsga2
-    }
+fn teaching_applies(ui: &Ui) -> bool {
+    ui.app.config().algorithm == Algorithm::Nsga2
+}
 
-    /// Performs a teaching click's [`Step`].
-    fn teaching_step(&mut self, step: Step) {
-        if let Step::Run { generation, .. } = step
-            && let Err(e) = self.app.advance_to(generation)
-        {
-            dom::set_text("run-message", &e);
-            self.teaching.stepper.waiting = None;
-        }
-        self.teaching.hovered = None;
+/// Performs a teaching click's [`Step`].
+fn teaching_step(ui: &mut Ui, step: Step) {
+    if let Step::Run { generation, .. } = step
+        && let Err(e) = ui.app.advance_to(generation)
+    {
+        dom::set_text("run-message", &e);
+        ui.teaching.stepper.waiting = None;
     }
+    ui.teaching.hovered = None;
+}
 
-    fn teach_next_phase(&mut self) {
-        if !self.teaching_applies() || !self.apply_form() {
-            return;
-        }
-        let generation = self.app.status().generation;
-        let traced = self
-            .app
-            .optimizer()
-            .and_then(|o| o.generation_trace())
-            .map(|t| t.generation);
-        let step = self.teaching.stepper.next_phase(generation, traced);
-        self.teaching_step(step);
+fn teach_next_phase(ui: &mut Ui) {
+    if !teaching_applies(ui) || !ui.apply_form() {
+        return;
     }
+    let generation = ui.app.status().generation;
+    let traced = ui
+        .app
+        .optimizer()
+        .and_then(|o| o.generation_trace())
+        .map(|t| t.generation);
+    let step = ui.teaching.stepper.next_phase(generation, traced);
+    teaching_step(ui, step);
+}
 
-    fn teach_next_generation(&mut self) {
-        if !self.teaching_applies() || !self.apply_form() {
-            return;
-        }
-        let generation = self.app.status().generation;
-        let step = self.teaching.stepper.next_generation(generation);
-        self.teaching_step(step);
+fn teach_next_generation(ui: &mut Ui) {
+    if !teaching_applies(ui) || !ui.apply_form() {
+        return;
     }
+    let generation = ui.app.status().generation;
+    let step = ui.teaching.stepper.next_generation(generation);
+    teaching_step(ui, step);
+}
 
-    /// The teaching view's part of a frame: arrivals, slow-motion play, caption, phase list and
-    /// the OAX panel.
-    pub(super) fn teaching_frame(&mut self, now: f64) {
-        let on = is_on();
-        dom::set_visible("teaching", on);
-        if !on {
-            return;
+/// The teaching view's part of a frame: arrivals, slow-motion play, caption, phase list and
+/// the OAX panel.
+pub(super) fn teaching_frame(ui: &mut Ui, now: f64) {
+    let on = is_on();
+    dom::set_visible("teaching", on);
+    if !on {
+        return;
+    }
+    for id in ["teach-phase", "teach-generation", "teach-play"] {
+        if let Ok(b) = by_id::<HtmlButtonElement>(id) {
+            b.set_disabled(!teaching_applies(ui));
         }
-        for id in ["teach-phase", "teach-generation", "teach-play"] {
-            if let Ok(b) = by_id::<HtmlButtonElement>(id) {
-                b.set_disabled(!self.teaching_applies());
-            }
-        }
-        if !self.teaching_applies() {
-            dom::set_text(
-                "teach-caption",
-                "The teaching view follows NSGA-II: choose NSGA-II as the method.",
-            );
-            return;
-        }
-        let status = self.app.status();
-        if self.app.reproduction().is_none() {
-            if self.teaching.stepper.waiting.is_some() && status.done {
-                // The run ended before the generation asked for.
-                self.teaching.stepper.waiting = None;
-                self.teaching.playing = false;
-            }
-            self.teaching.stepper.arrived(status.generation);
-        }
-        if self.teaching.playing
-            && self.teaching.stepper.waiting.is_none()
-            && now - self.teaching.last_auto_ms >= seconds_per_phase() * 1000.0
-        {
-            self.teaching.last_auto_ms = now;
-            if status.done && self.teaching.stepper.shown == Some(Phase::Survival) {
-                self.teaching.playing = false;
-            } else {
-                self.teach_next_phase();
-            }
-        }
+    }
+    if !teaching_applies(ui) {
         dom::set_text(
-            "teach-play",
-            if self.teaching.playing {
-                "Pause"
-            } else {
-                "Play"
-            },
+            "teach-caption",
+            "The teaching view follows NSGA-II: choose NSGA-II as the method.",
         );
-        let shown = self.teaching.stepper.shown;
-        let waiting = self.teaching.stepper.waiting;
-        if let Ok(list) = by_id::<web_sys::Element>("teach-phases")
-            && let Ok(items) = list.query_selector_all("li")
+        return;
+    }
+    let status = ui.app.status();
+    if ui.app.reproduction().is_none() {
+        follow_run(ui, status.generation, status.done);
+    }
+    if ui.teaching.playing
+        && ui.teaching.stepper.waiting.is_none()
+        && now - ui.teaching.last_auto_ms >= seconds_per_phase() * 1000.0
+    {
+        ui.teaching.last_auto_ms = now;
+        if status.done && ui.teaching.stepper.shown == Some(Phase::Survival) {
+            ui.teaching.playing = false;
+        } else {
+            teach_next_phase(ui);
+        }
+    }
+    dom::set_text(
+        "teach-play",
+        if ui.teaching.playing { "Pause" } else { "Play" },
+    );
+    mark_current_phase(ui.teaching.stepper.shown);
+    let caption = caption(ui);
+    dom::set_text("teach-caption", &caption);
+    // The OAX panel, redrawn when a new generation's crossover is there.
+    let generation = status.generation;
+    if ui.teaching.oax_drawn != Some(generation) && ui.app.reproduction().is_none() {
+        ui.teaching.oax_drawn = Some(generation);
+        let hf = ui.app.surface().heightfield.clone();
+        oax_panel::show(ui.app.optimizer().and_then(|o| o.last_crossover()), &hf);
+    }
+}
+
+/// Tells the stepper the run reached `generation`; a run that ended (`done`) before the
+/// generation asked for stops the wait and the play.
+fn follow_run(ui: &mut Ui, generation: u64, done: bool) {
+    if ui.teaching.stepper.waiting.is_some() && done {
+        ui.teaching.stepper.waiting = None;
+        ui.teaching.playing = false;
+    }
+    ui.teaching.stepper.arrived(generation);
+}
+
+/// Highlights phase `shown` in the phase list.
+fn mark_current_phase(shown: Option<Phase>) {
+    let Ok(items) = by_id::<web_sys::Element>("teach-phases").and_then(|list| {
+        list.query_selector_all("li")
+            .map_err(|_| "no phase list".to_string())
+    }) else {
+        return;
+    };
+    for (i, phase) in Phase::ALL.iter().enumerate() {
+        if let Some(li) = items
+            .item(i as u32)
+            .and_then(|n| n.dyn_into::<web_sys::Element>().ok())
         {
-            for (i, phase) in Phase::ALL.iter().enumerate() {
-                if let Some(li) = items
-                    .item(i as u32)
-                    .and_then(|n| n.dyn_into::<web_sys::Element>().ok())
-                {
-                    let _ = li
-                        .class_list()
-                        .toggle_with_force("current", shown == Some(*phase));
-                }
-            }
-        }
-        let traced = self
-            .app
-            .optimizer()
-            .is_some_and(|o| o.generation_trace().is_some());
-        let caption = match (waiting, traced, shown) {
-            (Some((g, _)), _, _) => format!("Computing generation {g}…"),
-            (None, true, Some(_)) => self
-                .teaching_scene()
-                .map_or(String::new(), |s| s.caption.clone()),
-            (None, true, None) => {
-                "Press “Next phase” to see the last generation's selection.".into()
-            }
-            (None, false, _) => "Press “Next phase” to make the first generation and see it \
-                                 phase by phase (the initial population is made first)."
-                .into(),
-        };
-        dom::set_text("teach-caption", &caption);
-        // The OAX panel, redrawn when a new generation's crossover is there.
-        let generation = status.generation;
-        if self.teaching.oax_drawn != Some(generation) && self.app.reproduction().is_none() {
-            self.teaching.oax_drawn = Some(generation);
-            let hf = self.app.surface().heightfield.clone();
-            oax_panel::show(self.app.optimizer().and_then(|o| o.last_crossover()), &hf);
+            let _ = li
+                .class_list()
+                .toggle_with_force("current", shown == Some(*phase));
         }
     }
+}
 
-    /// The scene of the shown phase of the last traced generation, built when either changed.
-    fn teaching_scene(&mut self) -> Option<&TeachingScene> {
-        let phase = self.teaching.stepper.shown?;
-        let trace = self.app.optimizer()?.generation_trace()?;
-        let key = (trace.generation, phase);
-        if self.teaching.built != Some(key) {
-            let p = &self.app.config().params;
-            self.teaching.scene = Some(scene(trace, phase, p.crossover, p.crossover_probability));
-            self.teaching.built = Some(key);
-        }
-        self.teaching.scene.as_ref()
+/// The caption under the teaching plot: the shown phase's, or what to press or wait for.
+fn caption(ui: &mut Ui) -> String {
+    let traced = ui
+        .app
+        .optimizer()
+        .is_some_and(|o| o.generation_trace().is_some());
+    match (
+        ui.teaching.stepper.waiting,
+        traced,
+        ui.teaching.stepper.shown,
+    ) {
+        (Some((g, _)), _, _) => format!("Computing generation {g}…"),
+        (None, true, Some(_)) => teaching_scene(ui).map_or(String::new(), |s| s.caption.clone()),
+        (None, true, None) => "Press “Next phase” to see the last generation's selection.".into(),
+        (None, false, _) => "Press “Next phase” to make the first generation and see it \
+                             phase by phase (the initial population is made first)."
+            .into(),
     }
+}
 
-    /// Draws the teaching plot when the view is on and has a phase to show, and returns its
-    /// layout; `None` otherwise (the ordinary plot is drawn).
-    pub(super) fn draw_teaching_plot(
-        &mut self,
-        ctx: &CanvasRenderingContext2d,
-        width: f64,
-        height: f64,
-        z_unit: &str,
-    ) -> Option<Layout> {
-        if !is_on() || !self.teaching_applies() {
-            return None;
-        }
-        let hovered = self.teaching.hovered;
-        let scene = self.teaching_scene()?;
-        let layout = Layout::fit_scaled(
-            width,
-            height,
-            scene.marks.iter().map(|m| &m.point),
-            dom::checked("plot-log-e"),
-        );
-        let empty: [PlotPoint; 0] = [];
-        plot::draw(
-            ctx,
-            &layout,
-            &Scene {
-                population: &[],
-                front: &empty,
-                selected: None,
-                hovered: None,
-                z_unit,
-            },
-        );
-        plot::draw_marks(ctx, &layout, &scene.marks, &scene.legend, hovered);
-        Some(layout)
+/// The scene of the shown phase of the last traced generation, built when either changed.
+fn teaching_scene(ui: &mut Ui) -> Option<&TeachingScene> {
+    let phase = ui.teaching.stepper.shown?;
+    let trace = ui.app.optimizer()?.generation_trace()?;
+    let key = (trace.generation, phase);
+    if ui.teaching.built != Some(key) {
+        let p = &ui.app.config().params;
+        ui.teaching.scene = Some(scene(trace, phase, p.crossover, p.crossover_probability));
+        ui.teaching.built = Some(key);
     }
+    ui.teaching.scene.as_ref()
+}
 
-    /// Hover over the teaching plot: the read-out under the plot. True when the teaching plot
-    /// is shown (the ordinary hover then does nothing).
-    pub(super) fn teaching_hover(&mut self, layout: &Layout, x: f64, y: f64) -> bool {
-        if !is_on() || self.teaching.built.is_none() || self.teaching.stepper.shown.is_none() {
-            return false;
-        }
-        let marks = self
-            .teaching
-            .scene
-            .as_ref()
-            .map_or(&[][..], |s| s.marks.as_slice());
-        let hovered = plot::hit_test_marks(layout, marks, x, y, HIT_RADIUS);
-        let text = hovered
-            .and_then(|i| marks.get(i))
-            .map_or(String::new(), |m| m.label.clone());
-        self.teaching.hovered = hovered;
-        dom::set_text("teach-hover", &text);
-        true
+/// Draws the teaching plot when the view is on and has a phase to show, and returns its
+/// layout; `None` otherwise (the ordinary plot is drawn).
+pub(super) fn draw_teaching_plot(
+    ui: &mut Ui,
+    ctx: &CanvasRenderingContext2d,
+    width: f64,
+    height: f64,
+    z_unit: &str,
+) -> Option<Layout> {
+    if !is_on() || !teaching_applies(ui) {
+        return None;
     }
+    let hovered = ui.teaching.hovered;
+    let scene = teaching_scene(ui)?;
+    let layout = Layout::fit_scaled(
+        width,
+        height,
+        scene.marks.iter().map(|m| &m.point),
+        dom::checked("plot-log-e"),
+    );
+    let empty: [PlotPoint; 0] = [];
+    plot_canvas::draw(
+        ctx,
+        &layout,
+        &Scene {
+            population: &[],
+            front: &empty,
+            selected: None,
+            hovered: None,
+            z_unit,
+        },
+    );
+    plot_canvas::draw_marks(ctx, &layout, &scene.marks, &scene.legend, hovered);
+    Some(layout)
+}
 
-    /// Shows mesh `k` of the OAX panel (see [`oax_panel::meshes`]) in the 3-D view.
-    fn show_oax_mesh(&mut self, k: usize) {
-        let Some(record) = self.app.optimizer().and_then(|o| o.last_crossover()) else {
-            return;
-        };
-        if let Some(m) = oax_panel::meshes(record).into_iter().nth(k) {
-            self.app.show_solution(m);
-            self.update_layers();
-        }
+/// Hover over the teaching plot: the read-out under the plot. True when the teaching plot
+/// is shown (the ordinary hover then does nothing).
+pub(super) fn teaching_hover(ui: &mut Ui, layout: &Layout, x: f64, y: f64) -> bool {
+    if !is_on() || ui.teaching.built.is_none() || ui.teaching.stepper.shown.is_none() {
+        return false;
+    }
+    let marks = ui
+        .teaching
+        .scene
+        .as_ref()
+        .map_or(&[][..], |s| s.marks.as_slice());
+    let hovered = plot::hit_test_marks(layout, marks, x, y, HIT_RADIUS);
+    let text = hovered
+        .and_then(|i| marks.get(i))
+        .map_or(String::new(), |m| m.label.clone());
+    ui.teaching.hovered = hovered;
+    dom::set_text("teach-hover", &text);
+    true
+}
+
+/// Shows mesh `k` of the OAX panel (see [`oax_panel::meshes`]) in the 3-D view.
+fn show_oax_mesh(ui: &mut Ui, k: usize) {
+    let Some(record) = ui.app.optimizer().and_then(|o| o.last_crossover()) else {
+        return;
+    };
+    if let Some(m) = meshes(record).into_iter().nth(k) {
+        ui.app.show_solution(m);
+        ui.update_layers();
     }
 }
 
@@ -289,11 +283,11 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
     })?;
     on("teach-phase", "click", |ui| {
         ui.teaching.playing = false;
-        ui.teach_next_phase();
+        teach_next_phase(ui);
     })?;
     on("teach-generation", "click", |ui| {
         ui.teaching.playing = false;
-        ui.teach_next_generation();
+        teach_next_generation(ui);
     })?;
     on("teach-play", "click", |ui| {
         ui.teaching.playing = !ui.teaching.playing;
@@ -315,7 +309,7 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             .and_then(|el| el.get_attribute("data-mesh"))
             .and_then(|v| v.parse::<usize>().ok());
         if let Some(k) = k {
-            u.borrow_mut().show_oax_mesh(k);
+            show_oax_mesh(&mut u.borrow_mut(), k);
         }
     });
     Ok(())

@@ -1,9 +1,9 @@
-//! Parsing off the main thread: `www/worker.js` runs [`parse_surface`] in a Web Worker and
-//! posts the height field back as a plain object (z as a transferable `Float64Array`);
-//! [`surface_from_js`] rebuilds it on the main thread. So a file of tens of MB never blocks the
-//! page for more than the copy of its heights.
+//! Parsing off the main thread: `www/worker.js` runs
+//! [`parse_surface`](super::bindings::parse_surface) in a Web Worker and posts the height field
+//! back as a plain object (z as a transferable `Float64Array`); [`surface_from_js`] rebuilds it
+//! on the main thread. So a file of tens of MB never blocks the page for more than the copy of
+//! its heights.
 
-use super::loader;
 use crate::heightfield::{Heightfield, Placement};
 use js_sys::{Array, Float64Array, Object, Reflect};
 use wasm_bindgen::prelude::*;
@@ -127,27 +127,4 @@ pub fn surface_from_js(o: &JsValue) -> Result<Heightfield, String> {
     // A share link of a resampled mesh records how it was gridded (see `share::ImportChoice`).
     let resampled = get(o, "resampled")?.as_bool().unwrap_or(false);
     Ok(if resampled { hf.with_resampled() } else { hf })
-}
-
-/// Parses a file (in the Worker) with the dialog's options (see [`loader::options`]) and returns
-/// the plain-object height field with `resampled: true` when a mesh was projected and resampled
-/// (the page then offers the projection dialog), or throws the message for the user.
-#[wasm_bindgen(js_name = parseSurface)]
-pub fn parse_surface(
-    name: &str,
-    bytes: &[u8],
-    sidecar: Option<Vec<u8>>,
-    projection: &str,
-    grid_width: u32,
-    grid_height: u32,
-) -> Result<JsValue, JsError> {
-    let options =
-        loader::options(projection, grid_width, grid_height).map_err(|e| JsError::new(&e))?;
-    let hf =
-        loader::parse(name, bytes, sidecar.as_deref(), &options).map_err(|e| JsError::new(&e))?;
-    let o = surface_to_js(&hf)
-        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
-    Reflect::set(&o, &"resampled".into(), &hf.resampled().into())
-        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
-    Ok(o)
 }

@@ -1,4 +1,4 @@
-//! Helpers shared by the evaluator's integration tests (`tests/incremental.rs`,
+//! Code shared by the evaluator's integration tests (`tests/incremental.rs`,
 //! `tests/compose.rs`): fixtures, synthetic grids, random kept sets, and scores as bits.
 
 use paretomesh::evaluator::Score;

@@ -1,56 +1,38 @@
 //! A crossover child's mutant scored without a mesh: the child's region R, changed by the
 //! mutation's few points.
 //!
-//! Why it is exact: as for the child itself ([`compose`](super::super::compose)), a reused
+//! Why it is exact: as for the child itself ([`compose`](crate::evaluator::compose)), a reused
 //! triangle stays in the mutant's canonical triangulation exactly when its vertices are all
 //! kept and no kept point is inside its circle, so it goes exactly when it has a removed
 //! vertex or an inserted point inside its circle (under the tie rule). Those are found in each
 //! parent's mesh: a removed point's star, and an inserted point's *cavity* (the triangles
 //! whose circles hold it, which form a connected set around the triangle holding it in any
 //! Delaunay triangulation). Whatever the remaining reused triangles leave uncovered, R grown
-//! by the dropped triangles, is tiled as before ([`Region::wrap`](super::Region::wrap)).
+//! by the dropped triangles, is tiled as before ([`Region::wrap`](crate::evaluator::mesh::region::Region::wrap)).
 //!
 //! Why bother: a mutant usually differs from its crossed child in a gene or two, and most
-//! mutants die at the next survival; building the crossed child's mesh only to edit it cost
-//! about as much as scoring a whole crossover's rows (paper run, session 14).
+//! mutants die at the next survival; building the crossed child's mesh only to edit it would
+//! cost about as much as scoring all of a crossover's children.
 
-use super::{PartScores, RowScratch, class_of, on_grid_border, score_from_scratch, score_of};
-use crate::evaluator::Score;
+use super::shared::{
+    ChangeScratch, Changes, PartScores, RowScratch, class_of, on_grid_border, score_from_scratch,
+    score_of,
+};
 use crate::evaluator::compose::PartClasses;
-use crate::evaluator::errors::{ErrorTotals, ErrorUnits};
-use crate::evaluator::incremental::{MeshState, canonical};
-use crate::evaluator::predicates::{Lattice, in_circle};
-use crate::evaluator::triangulation::{NONE, next};
+use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
+use crate::evaluator::exact::predicates::{Lattice, in_circle};
+use crate::evaluator::mesh::canonical_form::canonical;
+use crate::evaluator::mesh::canonical_triangulation::{NONE, next};
+use crate::evaluator::mesh::state::MeshState;
+use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
-
-/// Changes to a crossover child's kept points: `removed` ones it keeps (not grid corners) and
-/// `inserted` ones it does not keep, each listed once.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Changes<'a> {
-    /// Points the child keeps that the mutant does not.
-    pub removed: &'a [u32],
-    /// Points the mutant keeps that the child does not.
-    pub inserted: &'a [u32],
-}
-
-/// Scratch of [`PartScores::change`], kept between calls.
-#[derive(Clone, Debug, Default)]
-pub(super) struct ChangeScratch {
-    /// The reused triangles the changes drop: (parent, slot).
-    dropped: Vec<(usize, u32)>,
-    /// The triangles of a cavity search, seen so far, and those still to visit.
-    seen: Vec<u32>,
-    queue: Vec<u32>,
-    /// Per dropped class: whether a dropped triangle may hold its largest error.
-    classes: Vec<u32>,
-}
 
 impl PartScores {
     /// Turns R (`scratch.points`, `scratch.open`) and the reused triangles' `totals` and count
     /// of the child with the classes `scratch.taken` into the mutant's (see the module docs).
     /// `None` when a parent's mesh is not as its classification says.
     #[allow(clippy::too_many_arguments)] // the parents, their classification, the child, scratch
-    pub(super) fn change(
+    pub(crate) fn change(
         &self,
         hf: &Heightfield,
         parents: [&MeshState; 2],
@@ -72,74 +54,8 @@ impl PartScores {
         let reused = |side: usize, t: u32| {
             taken[class_of(classes, &self.special, side, t as usize) as usize]
         };
-        work.dropped.clear();
-        // A removed point's star, in each parent that keeps it.
-        for &p in changes.removed {
-            for (side, parent) in parents.into_iter().enumerate() {
-                if !parent.kept[p as usize] {
-                    continue;
-                }
-                let m = &parent.mesh;
-                let first = m.leaving(parent.hint[p as usize], p)?;
-                for e in m.fan(first) {
-                    let t = e / 3;
-                    if reused(side, t) && !work.dropped.contains(&(side, t)) {
-                        work.dropped.push((side, t));
-                    }
-                }
-            }
-        }
-        // An inserted point's cavity, in each parent that does not keep it (in one that does,
-        // no circle holds it).
-        for &q in changes.inserted {
-            for (side, parent) in parents.into_iter().enumerate() {
-                if parent.kept[q as usize] {
-                    continue;
-                }
-                let dropped = &mut work.dropped;
-                let (seen, queue) = (&mut work.seen, &mut work.queue);
-                cavity(parent, lattice, q, [seen, queue], |t| {
-                    if reused(side, t) && !dropped.contains(&(side, t)) {
-                        dropped.push((side, t));
-                    }
-                });
-            }
-        }
-        // The dropped triangles leave the totals. A sum subtracts; a maximum is made again from
-        // the classes, each recomputed without its dropped triangles where one of them may
-        // have held it.
-        work.classes.clear();
-        for &(side, t) in &work.dropped {
-            let own = &parents[side].totals[t as usize];
-            totals.sum -= own.sum;
-            totals.sum_sq -= own.sum_sq;
-            *taken_count -= 1;
-            let c = class_of(classes, &self.special, side, t as usize);
-            if own.max >= self.classes[c as usize].totals.max && !work.classes.contains(&c) {
-                work.classes.push(c);
-            }
-        }
-        let mut max = 0.0f64;
-        for (c, class) in self.classes.iter().enumerate() {
-            if !taken[c] {
-                continue;
-            }
-            let class_max = if work.classes.contains(&(c as u32)) {
-                let side = usize::from(class.side);
-                let parent = parents[side];
-                (0..parent.mesh.len() as u32)
-                    .filter(|&t| {
-                        class_of(classes, &self.special, side, t as usize) == c as u32
-                            && !work.dropped.contains(&(side, t))
-                    })
-                    .map(|t| parent.totals[t as usize].max)
-                    .fold(0.0, f64::max)
-            } else {
-                class.totals.max
-            };
-            max = if class_max > max { class_max } else { max };
-        }
-        totals.max = max;
+        find_dropped(parents, lattice, changes, work, reused)?;
+        self.drop_totals(parents, classes, taken, work, totals, taken_count);
         // R's boundary: a dropped triangle's edge with R across is inside R now; one with a
         // remaining reused triangle across is on R's boundary, seen from that triangle; one
         // with another dropped triangle across is inside; one on the grid border stays there.
@@ -179,6 +95,96 @@ impl PartScores {
         points.retain(|p| !changes.removed.contains(p));
         Some(())
     }
+
+    /// Takes the dropped triangles (`work.dropped`) out of the reused triangles' `totals` and
+    /// count. A sum subtracts; a maximum is made again from the classes, each recomputed
+    /// without its dropped triangles where one of them may have held it.
+    fn drop_totals(
+        &self,
+        parents: [&MeshState; 2],
+        classes: &PartClasses,
+        taken: &[bool],
+        work: &mut ChangeScratch,
+        totals: &mut ErrorTotals,
+        taken_count: &mut u32,
+    ) {
+        work.classes.clear();
+        for &(side, t) in &work.dropped {
+            let own = &parents[side].totals[t as usize];
+            totals.sum -= own.sum;
+            totals.sum_sq -= own.sum_sq;
+            *taken_count -= 1;
+            let c = class_of(classes, &self.special, side, t as usize);
+            if own.max >= self.classes[c as usize].totals.max && !work.classes.contains(&c) {
+                work.classes.push(c);
+            }
+        }
+        let mut max = 0.0f64;
+        for (c, class) in self.classes.iter().enumerate() {
+            if !taken[c] {
+                continue;
+            }
+            let class_max = if work.classes.contains(&(c as u32)) {
+                let side = usize::from(class.side);
+                let parent = parents[side];
+                (0..parent.mesh.len() as u32)
+                    .filter(|&t| {
+                        class_of(classes, &self.special, side, t as usize) == c as u32
+                            && !work.dropped.contains(&(side, t))
+                    })
+                    .map(|t| parent.totals[t as usize].max)
+                    .fold(0.0, f64::max)
+            } else {
+                class.totals.max
+            };
+            max = if class_max > max { class_max } else { max };
+        }
+        totals.max = max;
+    }
+}
+
+/// Lists in `work.dropped` the reused triangles (`reused`) that `changes` drop: a removed
+/// point's star, in each parent that keeps it, and an inserted point's cavity, in each parent
+/// that does not (in one that does, no circle holds it). `None` when a parent's mesh is not
+/// as its hints say.
+fn find_dropped(
+    parents: [&MeshState; 2],
+    lattice: Lattice,
+    changes: Changes<'_>,
+    work: &mut ChangeScratch,
+    reused: impl Fn(usize, u32) -> bool,
+) -> Option<()> {
+    work.dropped.clear();
+    for &p in changes.removed {
+        for (side, parent) in parents.into_iter().enumerate() {
+            if !parent.kept[p as usize] {
+                continue;
+            }
+            let m = &parent.mesh;
+            let first = m.leaving(parent.hint[p as usize], p)?;
+            for e in m.fan(first) {
+                let t = e / 3;
+                if reused(side, t) && !work.dropped.contains(&(side, t)) {
+                    work.dropped.push((side, t));
+                }
+            }
+        }
+    }
+    for &q in changes.inserted {
+        for (side, parent) in parents.into_iter().enumerate() {
+            if parent.kept[q as usize] {
+                continue;
+            }
+            let dropped = &mut work.dropped;
+            let (seen, queue) = (&mut work.seen, &mut work.queue);
+            cavity(parent, lattice, q, [seen, queue], |t| {
+                if reused(side, t) && !dropped.contains(&(side, t)) {
+                    dropped.push((side, t));
+                }
+            });
+        }
+    }
+    Some(())
 }
 
 /// Adds grid point `p` to R's `points` unless `listed` says it is there already.
@@ -245,7 +251,7 @@ fn start_near(parent: &MeshState, q: u32) -> u32 {
 /// see the module docs); they are R, which is tiled and rasterised. `None` when `base`'s
 /// lookups are stale ([`MeshState::ensure_discs`]), when a removed point is a corner or not
 /// kept, an inserted one is kept or out of range, or a guard fails (score it another way).
-pub(in crate::evaluator) fn score_mutant(
+pub(crate) fn score_mutant(
     hf: &std::sync::Arc<Heightfield>,
     base: &MeshState,
     changes: Changes<'_>,
@@ -260,22 +266,7 @@ pub(in crate::evaluator) fn score_mutant(
     if !same_field || !base.lookup_valid || base.kept.len() < n {
         return None;
     }
-    let corners = hf.corners();
-    let on_border = |p: u32| i64::from(on_grid_border(hf, p));
-    // Euler's count of the mutant's triangles, from the base's: 2V − B − 2.
-    let mut expected = base_score.t as i64;
-    for &p in changes.removed {
-        if (p as usize) >= n || !base.kept[p as usize] || corners.contains(&p) {
-            return None;
-        }
-        expected -= 2 - on_border(p);
-    }
-    for &q in changes.inserted {
-        if (q as usize) >= n || base.kept[q as usize] {
-            return None;
-        }
-        expected += 2 - on_border(q);
-    }
+    let expected = mutant_triangle_count(hf, base, base_score, changes)?;
     let lattice = Lattice::new(w);
     let m = &base.mesh;
     let RowScratch {
@@ -289,52 +280,15 @@ pub(in crate::evaluator) fn score_mutant(
         sub,
         ..
     } = scratch;
-    // The dropped triangles: removed points' stars and inserted points' cavities.
-    work.dropped.clear();
-    for &p in changes.removed {
-        let first = m.leaving(base.hint[p as usize], p)?;
-        for e in m.fan(first) {
-            if !work.dropped.contains(&(0, e / 3)) {
-                work.dropped.push((0, e / 3));
-            }
-        }
-    }
-    for &q in changes.inserted {
-        let dropped = &mut work.dropped;
-        cavity(base, lattice, q, [&mut work.seen, &mut work.queue], |t| {
-            if !dropped.contains(&(0, t)) {
-                dropped.push((0, t));
-            }
-        });
-    }
+    drop_from_base(base, lattice, changes, work)?;
     if work.dropped.is_empty() {
         return (changes.removed.is_empty() && changes.inserted.is_empty()).then_some(base_score);
     }
-    // The reused triangles' totals: all of the base's but the dropped ones (a sum over the
-    // base's triangles is cheaper than the copy an edit needs). Sums subtract; the maximum is
-    // made again without the dropped triangles only when one of them may have held it.
-    let is_dropped = |t: usize| work.dropped.iter().any(|&(_, d)| d as usize == t);
-    let all = &base.totals[..m.len()];
-    let mut totals = ErrorTotals::default();
-    for own in all {
-        totals.add(own);
-    }
-    let mut max_dropped = false;
-    for &(_, t) in &work.dropped {
-        let own = &all[t as usize];
-        totals.sum -= own.sum;
-        totals.sum_sq -= own.sum_sq;
-        max_dropped |= own.max >= totals.max;
-    }
-    if max_dropped {
-        totals.max = (all.iter().enumerate())
-            .filter(|&(t, _)| !is_dropped(t))
-            .map(|(_, own)| own.max)
-            .fold(0.0, f64::max);
-    }
+    let mut totals = reused_base_totals(base, work);
     let reused = m.len() as i64 - work.dropped.len() as i64;
     // R's boundary: the dropped triangles' edges with a reused triangle across, seen from it
     // (R lies left of v → u); those on the grid border stay there.
+    let is_dropped = |t: usize| work.dropped.iter().any(|&(_, d)| d as usize == t);
     listed.resize(n, false);
     points.clear();
     open.clear();
@@ -377,4 +331,86 @@ pub(in crate::evaluator) fn score_mutant(
     let tris = region.triangles.iter().map(|&t| ((), canonical(t)));
     memo.sum_triangles(hf, tris, unknown, |_, t| totals.add(&t));
     Some(score_of(units, &totals, expected as u32, n))
+}
+
+/// Euler's count of the mutant's triangles, from the base's: 2V − B − 2. `None` when a removed
+/// point is a corner, not kept or out of range, or an inserted one is kept or out of range.
+fn mutant_triangle_count(
+    hf: &Heightfield,
+    base: &MeshState,
+    base_score: Score,
+    changes: Changes<'_>,
+) -> Option<i64> {
+    let n = hf.len();
+    let corners = hf.corners();
+    let on_border = |p: u32| i64::from(on_grid_border(hf, p));
+    let mut expected = base_score.t as i64;
+    for &p in changes.removed {
+        if (p as usize) >= n || !base.kept[p as usize] || corners.contains(&p) {
+            return None;
+        }
+        expected -= 2 - on_border(p);
+    }
+    for &q in changes.inserted {
+        if (q as usize) >= n || base.kept[q as usize] {
+            return None;
+        }
+        expected += 2 - on_border(q);
+    }
+    Some(expected)
+}
+
+/// Lists in `work.dropped` the triangles of `base` that `changes` drop: removed points' stars
+/// and inserted points' cavities. `None` when a hint does not lead to a removed point.
+fn drop_from_base(
+    base: &MeshState,
+    lattice: Lattice,
+    changes: Changes<'_>,
+    work: &mut ChangeScratch,
+) -> Option<()> {
+    let m = &base.mesh;
+    work.dropped.clear();
+    for &p in changes.removed {
+        let first = m.leaving(base.hint[p as usize], p)?;
+        for e in m.fan(first) {
+            if !work.dropped.contains(&(0, e / 3)) {
+                work.dropped.push((0, e / 3));
+            }
+        }
+    }
+    for &q in changes.inserted {
+        let dropped = &mut work.dropped;
+        cavity(base, lattice, q, [&mut work.seen, &mut work.queue], |t| {
+            if !dropped.contains(&(0, t)) {
+                dropped.push((0, t));
+            }
+        });
+    }
+    Some(())
+}
+
+/// The reused triangles' totals: all of the base's but the dropped ones (a sum over the base's
+/// triangles is cheaper than the copy an edit needs). Sums subtract; the maximum is made again
+/// without the dropped triangles only when one of them may have held it.
+fn reused_base_totals(base: &MeshState, work: &ChangeScratch) -> ErrorTotals {
+    let is_dropped = |t: usize| work.dropped.iter().any(|&(_, d)| d as usize == t);
+    let all = &base.totals[..base.mesh.len()];
+    let mut totals = ErrorTotals::default();
+    for own in all {
+        totals.add(own);
+    }
+    let mut max_dropped = false;
+    for &(_, t) in &work.dropped {
+        let own = &all[t as usize];
+        totals.sum -= own.sum;
+        totals.sum_sq -= own.sum_sq;
+        max_dropped |= own.max >= totals.max;
+    }
+    if max_dropped {
+        totals.max = (all.iter().enumerate())
+            .filter(|&(t, _)| !is_dropped(t))
+            .map(|(_, own)| own.max)
+            .fold(0.0, f64::max);
+    }
+    totals
 }

@@ -1,0 +1,26 @@
+//! The browser app's logic, free of the DOM so that it builds and is tested natively; the
+//! browser layer (`web`, wasm32 only) puts it on the page.
+//!
+//! - [`state`]: the app state and time-budgeted stepping of the chosen algorithm.
+//! - [`algorithms`]: the algorithm menu, parameters with the paper's defaults, the builder.
+//! - [`compare`]: compare mode: the four methods side by side and their indicator table;
+//!   [`compare_html`] renders that table.
+//! - [`share`]: the share-link codec and its validation; [`examples`] are curated links.
+//! - [`teaching`]: the teaching view's phases and scenes; [`oax_panel`] its crossover panel.
+//! - [`plot`]: the E–T plot's layout and hit-testing.
+//! - [`camera`] and [`geometry`]: the 3-D view's orbit camera and vertex data.
+//! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image.
+
+pub mod algorithms;
+pub mod camera;
+pub mod compare;
+pub mod compare_html;
+pub mod examples;
+pub mod geometry;
+pub mod loader;
+pub mod oax_panel;
+pub mod plot;
+pub mod preview;
+pub mod share;
+pub mod state;
+pub mod teaching;

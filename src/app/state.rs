@@ -1,0 +1,441 @@
+//! The app state: the surface, the chosen algorithm and its parameters, the running optimizer,
+//! run/pause, and the selected solution. Pure Rust with no DOM, so it is tested directly.
+//!
+//! The optimizer advances in time-budgeted slices: [`App::tick`] calls
+//! [`Optimizer::step`](crate::optimizer::Optimizer::step) with small evaluation budgets until
+//! the frame's time budget is spent. Since slicing never changes
+//! an optimizer's result (see [`crate::optimizer`]), the browser reaches exactly the front the
+//! CLI reaches with the same seed.
+
+use super::algorithms::{self, Algorithm, Params, Running};
+use crate::evaluator::Evaluator;
+use crate::evaluator::exact::predicates::Lattice;
+use crate::front::{Front, Solution};
+use crate::heightfield::Heightfield;
+use crate::optimizer::Progress;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Default time budget of one frame's optimisation slice, in milliseconds.
+pub const DEFAULT_BUDGET_MS: f64 = 8.0;
+
+/// What the user chose: serialisable, so a share link can carry it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunConfig {
+    /// Which algorithm runs.
+    pub algorithm: Algorithm,
+    /// Its parameters.
+    pub params: Params,
+    /// Milliseconds of optimisation per animation frame.
+    pub budget_ms: f64,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        Self {
+            algorithm: Algorithm::Nsga2,
+            params: Params::default(),
+            budget_ms: DEFAULT_BUDGET_MS,
+        }
+    }
+}
+
+/// The loaded surface and what is known about it.
+#[derive(Clone, Debug)]
+pub struct Surface {
+    /// Name shown to the user (file name or built-in name).
+    pub name: String,
+    /// The height field.
+    pub heightfield: Arc<Heightfield>,
+}
+
+/// The numbers of the status line.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Status {
+    /// Generations (or sweeps) completed.
+    pub generation: u64,
+    /// Evaluations done.
+    pub evaluations: u64,
+    /// Evaluations per second of optimisation time.
+    pub evaluations_per_second: f64,
+    /// Members of the archive front.
+    pub front_size: usize,
+    /// Milliseconds spent optimising (pauses excluded).
+    pub elapsed_ms: f64,
+    /// True once the algorithm finished.
+    pub done: bool,
+}
+
+/// What one [`App::tick`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TickReport {
+    /// [`Optimizer::step`](crate::optimizer::Optimizer::step) calls made.
+    pub steps: u32,
+    /// Evaluations spent in this tick.
+    pub evaluations: u64,
+}
+
+/// The app: one surface, one run.
+pub struct App {
+    surface: Surface,
+    config: RunConfig,
+    optimizer: Option<Box<dyn Running>>,
+    running: bool,
+    elapsed_ms: f64,
+    /// Evaluations per step call, adapted so a call takes about a tenth of the budget.
+    chunk: u64,
+    selected: Option<Solution>,
+    revision: u64,
+    /// While re-running a shared run: the generation to stop at, and the front index to select
+    /// there.
+    reproduction: Option<Reproduction>,
+}
+
+/// Where a re-run of a shared run stops and what it selects there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reproduction {
+    /// Generations (or sweeps) to complete.
+    pub generations: u64,
+    /// Front index (by increasing T) to select when they are (`None`: the selection stays).
+    pub selected: Option<usize>,
+}
+
+impl App {
+    /// An app on `surface` with `config`, not running, nothing selected.
+    pub fn new(surface: Surface, config: RunConfig) -> Self {
+        Self {
+            surface,
+            config,
+            optimizer: None,
+            running: false,
+            elapsed_ms: 0.0,
+            chunk: 1,
+            selected: None,
+            revision: 0,
+            reproduction: None,
+        }
+    }
+
+    /// The surface.
+    pub fn surface(&self) -> &Surface {
+        &self.surface
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &RunConfig {
+        &self.config
+    }
+
+    /// Replaces the configuration; the current run is discarded (its results belong to the old
+    /// parameters).
+    pub fn set_config(&mut self, config: RunConfig) {
+        if config.algorithm != self.config.algorithm || config.params != self.config.params {
+            self.reset();
+        }
+        self.config = config;
+    }
+
+    /// Replaces the surface and discards the run and the selection.
+    pub fn set_surface(&mut self, surface: Surface) {
+        self.surface = surface;
+        self.reset();
+    }
+
+    /// Discards the run and the selection; the next run starts from scratch.
+    pub fn reset(&mut self) {
+        self.optimizer = None;
+        self.running = false;
+        self.elapsed_ms = 0.0;
+        self.chunk = 1;
+        self.selected = None;
+        self.reproduction = None;
+        self.revision += 1;
+    }
+
+    /// Re-runs the current configuration from scratch to the end of generation
+    /// `target.generations`, then pauses and selects `target.selected` (ignored when the front
+    /// is shorter). With 0 generations nothing runs. Pausing and resuming keep the target;
+    /// [`App::step_once`] and [`App::reset`] drop it.
+    pub fn reproduce(&mut self, target: Reproduction) -> Result<(), String> {
+        self.reset();
+        if target.generations == 0 {
+            return Ok(());
+        }
+        self.ensure_optimizer()?;
+        self.reproduction = Some(target);
+        self.running = true;
+        Ok(())
+    }
+
+    /// Runs on (from where the run stands) to the end of generation `generations`, then
+    /// pauses; the selection stays. Does nothing when that generation is already complete.
+    pub fn advance_to(&mut self, generations: u64) -> Result<(), String> {
+        let optimizer = self.ensure_optimizer()?;
+        let p = optimizer.progress();
+        if p.done || p.generation >= generations {
+            return Ok(());
+        }
+        self.reproduction = Some(Reproduction {
+            generations,
+            selected: None,
+        });
+        self.running = true;
+        Ok(())
+    }
+
+    /// Shows `solution` (from anywhere: a crossover child, say) as the selection.
+    pub fn show_solution(&mut self, solution: Solution) {
+        self.selected = Some(solution);
+        self.revision += 1;
+    }
+
+    /// The re-run in progress, if any.
+    pub fn reproduction(&self) -> Option<Reproduction> {
+        self.reproduction
+    }
+
+    /// Builds the optimizer when there is none yet. Fails with a message for the user when the
+    /// parameters are invalid for this surface.
+    fn ensure_optimizer(&mut self) -> Result<&mut Box<dyn Running>, String> {
+        if self.optimizer.is_none() {
+            self.optimizer = Some(algorithms::build(
+                self.config.algorithm,
+                &self.config.params,
+                self.surface.heightfield.clone(),
+            )?);
+        }
+        Ok(self.optimizer.as_mut().expect("just built"))
+    }
+
+    /// Starts or resumes running.
+    pub fn run(&mut self) -> Result<(), String> {
+        self.ensure_optimizer()?;
+        self.running = true;
+        Ok(())
+    }
+
+    /// Pauses; [`App::run`] resumes.
+    pub fn pause(&mut self) {
+        self.running = false;
+    }
+
+    /// True while running.
+    pub fn is_running(&self) -> bool {
+        self.running
+    }
+
+    /// Does one generation's worth of evaluations (the population size, at least one unit),
+    /// paused or not, and reports.
+    pub fn step_once(&mut self) -> Result<Progress, String> {
+        self.reproduction = None;
+        let evaluations = self.config.params.population.max(1) as u64;
+        let optimizer = self.ensure_optimizer()?;
+        let p = optimizer.step(evaluations);
+        self.revision += 1;
+        Ok(p)
+    }
+
+    /// Runs the optimizer for one frame: repeated small `step` calls until `clock()` (in ms) says
+    /// `budget_ms` has passed, the next call would likely end past it, or the algorithm is done.
+    /// Does nothing when paused; otherwise makes at least one call. The chunk size adapts so one
+    /// call takes about a tenth of the budget, and a call never spends more than one unit beyond
+    /// its chunk (for the genetic algorithms a unit is one evaluation). A call is not started
+    /// when the slowest evaluation seen in this frame, times the chunk, would not fit in what is
+    /// left of the budget: evaluations of dense meshes cost several times those of sparse ones,
+    /// so stopping only once the budget is gone would let the last call run well past it.
+    pub fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> TickReport {
+        let mut report = TickReport::default();
+        if !self.running {
+            return report;
+        }
+        let Some(optimizer) = self.optimizer.as_mut() else {
+            self.running = false;
+            return report;
+        };
+        let start = clock();
+        let before = optimizer.progress().evaluations;
+        let mut now = start;
+        // The slowest evaluation of this frame so far, in ms.
+        let mut slowest_eval: f64 = 0.0;
+        loop {
+            let call_start = now;
+            let evals_before = optimizer.progress().evaluations;
+            let p = match self.reproduction {
+                Some(r) => optimizer.step_until(self.chunk, r.generations),
+                None => optimizer.step(self.chunk),
+            };
+            now = clock();
+            report.steps += 1;
+            let spent = p.evaluations - evals_before;
+            let took = now - call_start;
+            // Aim for a tenth of the budget per call so the last call overshoots little. The
+            // chunk at most doubles per call: a call faster than the timer's resolution
+            // (performance.now() is coarsened) must not make the next call run away.
+            if spent > 0 {
+                let per_eval = (took / spent as f64).max(1e-6);
+                slowest_eval = slowest_eval.max(per_eval);
+                let target = (budget_ms / 10.0 / per_eval).floor();
+                self.chunk = target.clamp(1.0, 2.0 * self.chunk as f64) as u64;
+            }
+            if p.done {
+                self.running = false;
+            }
+            if let Some(r) = self.reproduction
+                && (p.done || p.generation >= r.generations)
+            {
+                self.running = false;
+                self.reproduction = None;
+                if let Some(i) = r.selected {
+                    self.selected = optimizer.front().solutions().get(i).cloned();
+                }
+                self.revision += 1;
+            }
+            if !self.running {
+                break;
+            }
+            let expected_next = slowest_eval * self.chunk as f64;
+            if now - start + expected_next > budget_ms {
+                break;
+            }
+        }
+        report.evaluations = optimizer.progress().evaluations - before;
+        self.elapsed_ms += now - start;
+        if report.evaluations > 0 {
+            self.revision += 1;
+        }
+        report
+    }
+
+    /// The status line's numbers.
+    pub fn status(&self) -> Status {
+        let Some(optimizer) = self.optimizer.as_ref() else {
+            return Status::default();
+        };
+        let p = optimizer.progress();
+        Status {
+            generation: p.generation,
+            evaluations: p.evaluations,
+            evaluations_per_second: if self.elapsed_ms > 0.0 {
+                p.evaluations as f64 / (self.elapsed_ms / 1000.0)
+            } else {
+                0.0
+            },
+            front_size: optimizer.front().len(),
+            elapsed_ms: self.elapsed_ms,
+            done: p.done,
+        }
+    }
+
+    /// The archive front (empty before the first run).
+    pub fn front(&self) -> Option<&Front> {
+        self.optimizer.as_ref().map(|o| o.front())
+    }
+
+    /// The running algorithm, for views that show more than the front (the population and its
+    /// ranks).
+    pub fn optimizer(&self) -> Option<&dyn Running> {
+        self.optimizer.as_deref()
+    }
+
+    /// A counter that changes whenever what the views show may have changed.
+    pub fn revision(&self) -> u64 {
+        self.revision
+    }
+
+    /// The selected solution, if any (it stays selected when it later leaves the front).
+    pub fn selected(&self) -> Option<&Solution> {
+        self.selected.as_ref()
+    }
+
+    /// Selects the front member at `index` (by increasing T). Out of range clears the selection.
+    pub fn select_front_index(&mut self, index: Option<usize>) {
+        let chosen = index.and_then(|i| self.front().and_then(|f| f.solutions().get(i).cloned()));
+        self.selected = chosen;
+        self.revision += 1;
+    }
+
+    /// Selects `solution`, which need not be on this app's front (compare mode selects members
+    /// of the other methods' fronts); `None` clears the selection.
+    pub fn select_solution(&mut self, solution: Option<Solution>) {
+        self.selected = solution;
+        self.revision += 1;
+    }
+
+    /// Index in the current front of the selected solution (matched by its objectives).
+    pub fn selected_front_index(&self) -> Option<usize> {
+        let s = self.selected.as_ref()?;
+        self.front()?
+            .solutions()
+            .iter()
+            .position(|m| m.objectives() == s.objectives())
+    }
+
+    /// Moves the selection `delta` members along the front (clamped to its ends). With nothing
+    /// selected, selects the first member (fewest triangles) for a step right and the last one
+    /// for a step left.
+    pub fn move_selection(&mut self, delta: isize) {
+        let Some(len) = self.front().map(|f| f.len()).filter(|&n| n > 0) else {
+            return;
+        };
+        let last = len as isize - 1;
+        let next = match (self.selected_front_index(), self.selected.as_ref()) {
+            (Some(i), _) => (i as isize + delta).clamp(0, last),
+            // The selection left the front: start from the member nearest in T.
+            (None, Some(s)) => {
+                let front = self.front().expect("len > 0");
+                let at = front.solutions().partition_point(|m| m.t < s.t);
+                (at as isize + delta.min(0)).clamp(0, last)
+            }
+            (None, None) if delta >= 0 => 0,
+            (None, None) => last,
+        } as usize;
+        self.select_front_index(Some(next));
+    }
+
+    /// The kept set to show: the selection's, or every grid point (the full-resolution mesh)
+    /// when nothing is selected.
+    pub fn shown_kept(&self) -> Vec<u32> {
+        match &self.selected {
+            Some(s) => s.kept.clone(),
+            None => (0..self.surface.heightfield.len() as u32).collect(),
+        }
+    }
+}
+
+/// Triangles and per-grid-point error of one kept set, for the 3-D view and the exports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShownMesh {
+    /// Kept grid indices, increasing, corners included.
+    pub kept: Vec<u32>,
+    /// Triangles as grid-index triples, counter-clockwise.
+    pub triangles: Vec<[u32; 3]>,
+    /// |z − z̃| at every grid point.
+    pub point_error: Vec<f64>,
+    /// Σ|z − z̃|.
+    pub e_sum: f64,
+}
+
+/// Triangulates `kept` on `hf` like the evaluator and measures the error at every grid point.
+pub fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, String> {
+    let mut evaluator = Evaluator::new(hf.clone());
+    let evaluation = evaluator.evaluate(kept).map_err(|e| e.to_string())?;
+    let grid = crate::evaluator::raster::Grid {
+        width: hf.width() as i64,
+        height: hf.height() as i64,
+        z: hf.z(),
+    };
+    let lattice = Lattice::new(hf.width());
+    let mut point_error = vec![0.0; hf.len()];
+    for tri in &evaluation.triangles {
+        let p = tri.map(|i| lattice.point(i));
+        grid.for_each_point(p, |index, interpolated| {
+            point_error[index] = (hf.z()[index] - interpolated).abs();
+        });
+    }
+    Ok(ShownMesh {
+        kept: evaluator.kept().to_vec(),
+        triangles: evaluation.triangles,
+        point_error,
+        e_sum: evaluation.score.e_sum,
+    })
+}

@@ -1,0 +1,285 @@
+//! Everything the page's JavaScript calls (`index.html`, `www/main.js`, `www/worker.js`): the
+//! [`WebApp`] handle with its start-up and frame, file loading and read-only accessors for the
+//! end-to-end tests, and the free functions the Worker and the import dialog use.
+
+use super::page::Ui;
+use super::{dom, preview, share_view, teaching_view, transfer, ui};
+use crate::app::compare::METHODS;
+use crate::app::loader;
+use crate::app::share::{FileFingerprint, fnv1a64};
+use crate::evaluator::Evaluator;
+use crate::heightfield::{ImportOptions, raw};
+use js_sys::Reflect;
+use std::cell::RefCell;
+use std::rc::Rc;
+use wasm_bindgen::prelude::*;
+
+/// The app as the page's JS sees it.
+#[wasm_bindgen]
+pub struct WebApp {
+    ui: Rc<RefCell<Ui>>,
+}
+
+/// Starts the app: panic hook, built-in surface, wgpu on the `#view` canvas (WebGL2 only when
+/// `force_webgl`), listeners. The surface is drawn on the first [`WebApp::frame`].
+#[wasm_bindgen]
+pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
+    Ok(WebApp {
+        ui: ui::start(force_webgl).await?,
+    })
+}
+
+#[wasm_bindgen]
+impl WebApp {
+    /// One animation frame: optimise within the budget, update the status, plot and view.
+    pub fn frame(&self, _now: f64) {
+        ui::frame(&mut self.ui.borrow_mut());
+    }
+
+    /// Loads a dropped or picked file (`sidecar` for a .f32 grid). On failure the message shows
+    /// next to the drop zone and the current surface stays. Returns whether it loaded.
+    #[wasm_bindgen(js_name = loadFile)]
+    pub fn load_file(&self, name: &str, bytes: &[u8], sidecar: Option<Vec<u8>>) -> bool {
+        let parsed = loader::parse(name, bytes, sidecar.as_deref(), &ImportOptions::default());
+        let fingerprint = FileFingerprint {
+            import: ui::import_choice(&parsed, None),
+            ..FileFingerprint::of(name, bytes)
+        };
+        ui::load(&mut self.ui.borrow_mut(), fingerprint, parsed)
+    }
+
+    /// Shows a surface the Worker parsed (see [`super::transfer`]) from a file of `size` bytes
+    /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], which the Worker runs
+    /// on the file's bytes); like [`WebApp::load_file`] otherwise. `projection` is the import
+    /// dialog's projection for a mesh that had to be resampled ("auto" when absent): with the
+    /// grid's size it goes into share links of this surface.
+    #[wasm_bindgen(js_name = loadParsed)]
+    pub fn load_parsed(
+        &self,
+        name: &str,
+        parsed: JsValue,
+        size: f64,
+        hash: &str,
+        projection: Option<String>,
+    ) -> bool {
+        let parsed = transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
+        let fingerprint = FileFingerprint {
+            name: name.to_string(),
+            size: size as u64,
+            fnv1a64: u64::from_str_radix(hash, 16).unwrap_or(0),
+            import: ui::import_choice(&parsed, projection),
+        };
+        ui::load(&mut self.ui.borrow_mut(), fingerprint, parsed)
+    }
+
+    /// The import choice (`{projection, width, height}`) of the file a share link waits for,
+    /// or null: the page then re-parses a dropped mesh that way instead of asking.
+    #[wasm_bindgen(js_name = pendingImport)]
+    pub fn pending_import(&self) -> JsValue {
+        share_view::awaited_import(&self.ui.borrow())
+            .and_then(|choice| serde_wasm_bindgen::to_value(&choice).ok())
+            .unwrap_or(JsValue::NULL)
+    }
+
+    /// Opens a share link (the URL hash, with or without `#`); see [`super::share_view`].
+    #[wasm_bindgen(js_name = openLink)]
+    pub fn open_link(&self, hash: &str) {
+        share_view::open_link(&mut self.ui.borrow_mut(), hash);
+    }
+
+    /// The archive front as flat `[T0, E0, T1, E1, …]` (increasing T), for tests and the
+    /// console.
+    #[wasm_bindgen(js_name = frontObjectives)]
+    pub fn front_objectives(&self) -> Vec<f64> {
+        let ui = self.ui.borrow();
+        ui.app.front().map_or_else(Vec::new, |f| {
+            f.solutions()
+                .iter()
+                .flat_map(|s| [s.t as f64, s.e_sum])
+                .collect()
+        })
+    }
+
+    /// The selected solution as `[front index or −1, T, E_sum]`, if any.
+    #[wasm_bindgen(js_name = selectedObjectives)]
+    pub fn selected_objectives(&self) -> Option<Vec<f64>> {
+        let ui = self.ui.borrow();
+        let s = ui.app.selected()?;
+        let index = ui.app.selected_front_index().map_or(-1.0, |i| i as f64);
+        Some(vec![index, s.t as f64, s.e_sum])
+    }
+
+    /// True while a share link's run is being re-done.
+    #[wasm_bindgen(js_name = isReproducing)]
+    pub fn is_reproducing(&self) -> bool {
+        self.ui.borrow().app.reproduction().is_some()
+    }
+
+    /// Generations completed by the current run.
+    pub fn generation(&self) -> f64 {
+        self.ui.borrow().app.status().generation as f64
+    }
+
+    /// The teaching view's shown phase (its label) and the generation of its trace, if any.
+    #[wasm_bindgen(js_name = teachingState)]
+    pub fn teaching_state(&self) -> Option<Vec<String>> {
+        let ui = self.ui.borrow();
+        let phase = teaching_view::teaching_phase(&ui)?;
+        let generation = ui
+            .app
+            .optimizer()
+            .and_then(|o| o.generation_trace())
+            .map_or(0, |t| t.generation);
+        Some(vec![phase.label().to_string(), generation.to_string()])
+    }
+}
+
+/// FNV-1a hash of `bytes` as 16 hex digits: the fingerprint a share link gives a user's file.
+#[wasm_bindgen(js_name = fnv1a64Hex)]
+pub fn fnv1a64_hex(bytes: &[u8]) -> String {
+    format!("{:016x}", fnv1a64(bytes))
+}
+
+#[wasm_bindgen]
+impl WebApp {
+    /// Shows a loading message (`error` styles it as an error), for the JS file reader.
+    #[wasm_bindgen(js_name = showLoadMessage)]
+    pub fn show_load_message(&self, text: &str, error: bool) {
+        dom::show_load_message(text, error);
+    }
+
+    /// Number of members of the archive front.
+    #[wasm_bindgen(js_name = frontLength)]
+    pub fn front_length(&self) -> usize {
+        self.ui.borrow().app.front().map_or(0, |f| f.len())
+    }
+
+    /// CSS-pixel position in the `#plot` canvas of front member `index` as of the last frame.
+    #[wasm_bindgen(js_name = frontPointPosition)]
+    pub fn front_point_position(&self, index: usize) -> Option<Vec<f64>> {
+        let ui = self.ui.borrow();
+        let p = ui.front_points.get(index)?;
+        let (x, y) = ui.plot_layout.to_pixel(*p);
+        Some(vec![x, y])
+    }
+
+    /// Vertices of the selected mesh (kept points, corners included), if one is selected.
+    #[wasm_bindgen(js_name = selectedVertexCount)]
+    pub fn selected_vertex_count(&self) -> Option<usize> {
+        self.ui.borrow().shown.as_ref().map(|m| m.kept.len())
+    }
+
+    /// Name of the loaded surface.
+    #[wasm_bindgen(js_name = surfaceName)]
+    pub fn surface_name(&self) -> String {
+        self.ui.borrow().app.surface().name.clone()
+    }
+}
+
+/// Read-only views of compare mode for the console and the end-to-end test.
+#[wasm_bindgen]
+impl WebApp {
+    /// Members of each method's front in compare mode, in the table's order (NSGA-II,
+    /// weighted-sum GA, decimation, greedy insertion); empty before a comparison starts.
+    #[wasm_bindgen(js_name = compareFrontLengths)]
+    pub fn compare_front_lengths(&self) -> Vec<u32> {
+        let ui = self.ui.borrow();
+        ui.compare.run.as_ref().map_or(Vec::new(), |r| {
+            (0..METHODS.len())
+                .map(|k| r.front(k).map_or(0, |f| f.len() as u32))
+                .collect()
+        })
+    }
+
+    /// True once all four methods of the comparison have finished.
+    #[wasm_bindgen(js_name = compareDone)]
+    pub fn compare_done(&self) -> bool {
+        self.ui
+            .borrow()
+            .compare
+            .run
+            .as_ref()
+            .is_some_and(|r| r.is_done())
+    }
+
+    /// The last computed table as JSON (`{"error": …}` if it could not be computed); `None`
+    /// before the first.
+    #[wasm_bindgen(js_name = compareTable)]
+    pub fn compare_table(&self) -> Option<String> {
+        let ui = self.ui.borrow();
+        let table = ui.compare.run.as_ref()?.table()?;
+        Some(match table {
+            Ok(t) => serde_json::to_string(t).unwrap_or_default(),
+            Err(e) => serde_json::json!({ "error": e }).to_string(),
+        })
+    }
+
+    /// Evaluations and optimisation milliseconds of the comparison, summed over the methods.
+    #[wasm_bindgen(js_name = compareTotals)]
+    pub fn compare_totals(&self) -> Vec<f64> {
+        let ui = self.ui.borrow();
+        ui.compare.run.as_ref().map_or(vec![0.0, 0.0], |r| {
+            let (e, ms) = r.totals();
+            vec![e as f64, ms]
+        })
+    }
+
+    /// CSS-pixel position in `#compare-plot` of member `index` of method `method`'s front (in
+    /// the table's order), as of the last frame.
+    #[wasm_bindgen(js_name = comparePointPosition)]
+    pub fn compare_point_position(&self, method: usize, index: usize) -> Option<Vec<f64>> {
+        let ui = self.ui.borrow();
+        let layout = ui.compare.layout.as_ref()?;
+        let (_, _, p) = ui
+            .compare
+            .points
+            .iter()
+            .find(|(k, i, _)| *k == method && *i == index)?;
+        let (x, y) = layout.to_pixel(*p);
+        Some(vec![x, y])
+    }
+}
+
+/// Loads a raw f32 grid with its JSON sidecar, scores the kept indices, and returns the
+/// evaluation as a JS object `{E_sum, E_max, rms, T, triangles}`.
+#[wasm_bindgen(js_name = evaluateRaw)]
+pub fn evaluate_raw(grid: &[u8], sidecar: &[u8], kept: &[u32]) -> Result<JsValue, JsError> {
+    let hf = raw::parse(grid, sidecar, "upload").map_err(|e| JsError::new(&e.to_string()))?;
+    let evaluation = Evaluator::new(std::sync::Arc::new(hf))
+        .evaluate(kept)
+        .map_err(|e| JsError::new(&e.to_string()))?;
+    // JSON-compatible: plain objects (not `Map`s) for the flattened score.
+    let serializer = serde_wasm_bindgen::Serializer::json_compatible();
+    serde::Serialize::serialize(&evaluation, &serializer).map_err(|e| JsError::new(&e.to_string()))
+}
+
+/// Parses a file (in the Worker) with the dialog's options (see [`loader::options`]) and returns
+/// the plain-object height field with `resampled: true` when a mesh was projected and resampled
+/// (the page then offers the projection dialog), or throws the message for the user.
+#[wasm_bindgen(js_name = parseSurface)]
+pub fn parse_surface(
+    name: &str,
+    bytes: &[u8],
+    sidecar: Option<Vec<u8>>,
+    projection: &str,
+    grid_width: u32,
+    grid_height: u32,
+) -> Result<JsValue, JsError> {
+    let options =
+        loader::options(projection, grid_width, grid_height).map_err(|e| JsError::new(&e))?;
+    let hf =
+        loader::parse(name, bytes, sidecar.as_deref(), &options).map_err(|e| JsError::new(&e))?;
+    let o = transfer::surface_to_js(&hf)
+        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
+    Reflect::set(&o, &"resampled".into(), &hf.resampled().into())
+        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
+    Ok(o)
+}
+
+/// Draws a parsed surface (the Worker's plain-object form) on canvas `canvas_id`, one pixel per
+/// grid point, scaled to the canvas by CSS.
+#[wasm_bindgen(js_name = drawPreview)]
+pub fn draw_preview(canvas_id: &str, surface: JsValue) -> Result<(), JsError> {
+    let hf = transfer::surface_from_js(&surface).map_err(|e| JsError::new(&e))?;
+    preview::draw(canvas_id, &hf).map_err(|e| JsError::new(&e))
+}

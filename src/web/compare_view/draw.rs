@@ -1,0 +1,172 @@
+//! The compare plot: the axes of the single-run plot, then the four fronts as staircases with
+//! one colour and marker shape per method, the picks ringed, the selection and the hovered
+//! member marked, and a hover read-out.
+
+use crate::app::compare::{METHODS, Picks};
+use crate::app::compare_html::{COLOURS, named_picks};
+use crate::app::plot::{self, Layout, PlotPoint, Scene};
+use crate::web::dom;
+use crate::web::page::{Ui, z_unit};
+use crate::web::plot_canvas;
+use std::fmt::Write;
+use web_sys::CanvasRenderingContext2d;
+
+/// Draws the four fronts of the comparison on `#compare-plot` and keeps the layout and the
+/// plotted members for hit-testing.
+pub(super) fn compare_plot(ui: &mut Ui) {
+    let Some((ctx, cw, ch)) = dom::canvas_2d("compare-plot") else {
+        return;
+    };
+    ui.compare.points.clear();
+    if let Some(run) = &ui.compare.run {
+        for k in 0..METHODS.len() {
+            for (i, s) in run
+                .front(k)
+                .map_or(&[][..], |f| f.solutions())
+                .iter()
+                .enumerate()
+            {
+                let p = PlotPoint {
+                    t: s.t as f64,
+                    e: s.e_sum,
+                };
+                ui.compare.points.push((k, i, p));
+            }
+        }
+    }
+    let layout = Layout::fit_scaled(
+        cw,
+        ch,
+        ui.compare.points.iter().map(|(_, _, p)| p),
+        dom::checked("compare-log-e"),
+    );
+    let unit = z_unit(&ui.app.surface().heightfield);
+    // The axes, grid and titles of the single-run plot, with no data.
+    plot_canvas::draw(
+        &ctx,
+        &layout,
+        &Scene {
+            population: &[],
+            front: &[],
+            selected: None,
+            hovered: None,
+            z_unit: &unit,
+        },
+    );
+    let picks: Vec<Option<Picks>> = match ui.compare.run.as_ref().and_then(|r| r.table()) {
+        Some(Ok(t)) => t.methods.iter().map(|m| m.picks).collect(),
+        _ => vec![None; METHODS.len()],
+    };
+    let (l, t, r, b) = layout.area();
+    ctx.save();
+    ctx.begin_path();
+    ctx.rect(l, t, r - l, b - t);
+    ctx.clip();
+    for k in 0..METHODS.len() {
+        let front: Vec<PlotPoint> = ui
+            .compare
+            .points
+            .iter()
+            .filter(|(m, _, _)| *m == k)
+            .map(|(_, _, p)| *p)
+            .collect();
+        // The staircase: the region the front dominates.
+        ctx.set_stroke_style_str(COLOURS[k]);
+        ctx.set_fill_style_str(COLOURS[k]);
+        ctx.set_line_width(1.5);
+        ctx.begin_path();
+        for (i, p) in front.iter().enumerate() {
+            let (x, y) = layout.to_pixel(*p);
+            if i == 0 {
+                ctx.move_to(x, y);
+            } else {
+                let (_, prev_y) = layout.to_pixel(front[i - 1]);
+                ctx.line_to(x, prev_y);
+                ctx.line_to(x, y);
+            }
+        }
+        ctx.stroke();
+        for p in &front {
+            let (x, y) = layout.to_pixel(*p);
+            marker(&ctx, k, x, y, 3.5);
+            ctx.fill();
+        }
+        // The picks: a ring in the method's colour.
+        if let Some(p) = &picks[k] {
+            ctx.set_line_width(2.0);
+            for (_, pick) in named_picks(p) {
+                let (x, y) = layout.to_pixel(PlotPoint {
+                    t: pick.t as f64,
+                    e: pick.e,
+                });
+                ctx.begin_path();
+                let _ = ctx.arc(x, y, 8.0, 0.0, std::f64::consts::TAU);
+                ctx.stroke();
+            }
+        }
+    }
+    // The selection (on every front that has it) and the hovered member.
+    if let Some(sel) = ui.app.selected() {
+        ctx.set_stroke_style_str("#000000");
+        ctx.set_line_width(2.0);
+        for (_, _, p) in &ui.compare.points {
+            if p.t == sel.t as f64 && p.e == sel.e_sum {
+                let (x, y) = layout.to_pixel(*p);
+                ctx.begin_path();
+                let _ = ctx.arc(x, y, 11.0, 0.0, std::f64::consts::TAU);
+                ctx.stroke();
+            }
+        }
+    }
+    let hovered = ui.compare.hovered.and_then(|h| ui.compare.points.get(h));
+    if let Some((_, _, p)) = hovered {
+        let (x, y) = layout.to_pixel(*p);
+        ctx.set_stroke_style_str("#ff0000");
+        ctx.set_line_width(2.0);
+        ctx.begin_path();
+        let _ = ctx.arc(x, y, 6.0, 0.0, std::f64::consts::TAU);
+        ctx.stroke();
+    }
+    ctx.restore();
+    if let Some(&(k, _, p)) = hovered {
+        let mut text = format!(
+            "{} · T = {}, E = {}",
+            METHODS[k].label(),
+            p.t,
+            plot::format_value(p.e)
+        );
+        if let Some(picks) = &picks[k] {
+            for (name, pick) in named_picks(picks) {
+                if super::is_pick(&pick, p.t, p.e) {
+                    let _ = write!(text, " · {name}");
+                }
+            }
+        }
+        plot_canvas::readout(&ctx, &layout, p, &text);
+    }
+    ui.compare.layout = Some(layout);
+}
+
+/// Traces method `k`'s marker shape at (`x`, `y`) with half-size `r` (call fill or stroke).
+fn marker(ctx: &CanvasRenderingContext2d, k: usize, x: f64, y: f64, r: f64) {
+    ctx.begin_path();
+    match k {
+        0 => {
+            let _ = ctx.arc(x, y, r, 0.0, std::f64::consts::TAU);
+        }
+        1 => ctx.rect(x - r * 0.9, y - r * 0.9, 1.8 * r, 1.8 * r),
+        2 => {
+            ctx.move_to(x, y - 1.2 * r);
+            ctx.line_to(x + 1.1 * r, y + 0.8 * r);
+            ctx.line_to(x - 1.1 * r, y + 0.8 * r);
+            ctx.close_path();
+        }
+        _ => {
+            ctx.move_to(x, y - 1.3 * r);
+            ctx.line_to(x + 1.1 * r, y);
+            ctx.line_to(x, y + 1.3 * r);
+            ctx.line_to(x - 1.1 * r, y);
+            ctx.close_path();
+        }
+    }
+}

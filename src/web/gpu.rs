@@ -1,0 +1,333 @@
+//! The wgpu renderer on a canvas. It draws named layers of [`Geometry`] each frame with one of
+//! three pipelines: shaded fill (pushed back by a depth bias so the wireframe shows), lines, and
+//! translucent fill.
+
+use crate::app::camera::OrbitCamera;
+use crate::app::geometry::{Geometry, Vertex};
+use web_sys::HtmlCanvasElement;
+use wgpu::util::DeviceExt;
+
+/// How a layer is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Style {
+    /// Opaque shaded triangles.
+    Fill,
+    /// Lines (index pairs).
+    Lines,
+    /// Translucent triangles drawn after the opaque ones.
+    Translucent,
+}
+
+struct Layer {
+    style: Style,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    count: u32,
+}
+
+/// The GPU state for one canvas.
+pub struct Renderer {
+    surface: wgpu::Surface<'static>,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    config: wgpu::SurfaceConfiguration,
+    depth: wgpu::TextureView,
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    fill: wgpu::RenderPipeline,
+    lines: wgpu::RenderPipeline,
+    translucent: wgpu::RenderPipeline,
+    layers: Vec<Layer>,
+    /// "WebGPU" or "WebGL2".
+    pub backend: &'static str,
+}
+
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
+
+fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+        .create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+impl Renderer {
+    /// Sets up wgpu on `canvas`. With `force_webgl`, WebGPU is not tried (headless screenshots
+    /// need the WebGL2 path: a WebGPU canvas stays blank there).
+    pub async fn new(canvas: HtmlCanvasElement, force_webgl: bool) -> Result<Self, String> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = if force_webgl {
+            wgpu::Backends::GL
+        } else {
+            wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL
+        };
+        let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
+        let (width, height) = (canvas.width().max(1), canvas.height().max(1));
+        let surface = instance
+            .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+            .map_err(|e| format!("cannot draw on the canvas: {e}"))?;
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::default(),
+                force_fallback_adapter: false,
+                compatible_surface: Some(&surface),
+                apply_limit_buckets: false,
+            })
+            .await
+            .map_err(|e| format!("no WebGPU or WebGL2 adapter: {e}"))?;
+        let backend = match adapter.get_info().backend {
+            wgpu::Backend::BrowserWebGpu => "WebGPU",
+            _ => "WebGL2",
+        };
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("paretomesh"),
+                required_features: wgpu::Features::empty(),
+                required_limits: wgpu::Limits::downlevel_webgl2_defaults()
+                    .using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| format!("cannot open the GPU device: {e}"))?;
+        let mut config = surface
+            .get_default_config(&adapter, width, height)
+            .ok_or("the canvas surface is not supported by the adapter")?;
+        config.present_mode = wgpu::PresentMode::Fifo;
+        surface.configure(&device, &config);
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("shader"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
+        });
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("uniforms"),
+            size: 80,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("uniforms"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("uniforms"),
+            layout: &bind_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("layout"),
+            bind_group_layouts: &[Some(&bind_layout)],
+            immediate_size: 0,
+        });
+        let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4];
+        let make = |topology, depth_write, bias, blend| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("pipeline"),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attributes,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: Default::default(),
+                    bias,
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: config.format,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pushed_back = wgpu::DepthBiasState {
+            constant: 2,
+            slope_scale: 1.0,
+            clamp: 0.0,
+        };
+        let fill = make(
+            wgpu::PrimitiveTopology::TriangleList,
+            true,
+            pushed_back,
+            None,
+        );
+        let lines = make(
+            wgpu::PrimitiveTopology::LineList,
+            true,
+            Default::default(),
+            None,
+        );
+        let translucent = make(
+            wgpu::PrimitiveTopology::TriangleList,
+            false,
+            pushed_back,
+            Some(wgpu::BlendState::ALPHA_BLENDING),
+        );
+        let depth = depth_view(&device, config.width, config.height);
+        Ok(Self {
+            surface,
+            device,
+            queue,
+            config,
+            depth,
+            uniforms,
+            bind_group,
+            fill,
+            lines,
+            translucent,
+            layers: Vec::new(),
+            backend,
+        })
+    }
+
+    /// Resizes the drawing buffer to `width` × `height` device pixels when it changed.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        let (width, height) = (width.max(1), height.max(1));
+        if (width, height) != (self.config.width, self.config.height) {
+            self.config.width = width;
+            self.config.height = height;
+            self.surface.configure(&self.device, &self.config);
+            self.depth = depth_view(&self.device, width, height);
+        }
+    }
+
+    /// Replaces every layer.
+    pub fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
+        self.layers = layers
+            .into_iter()
+            .filter(|(_, g)| !g.indices.is_empty())
+            .map(|(style, g)| Layer {
+                style,
+                vertices: self
+                    .device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("vertices"),
+                        contents: bytemuck::cast_slice(&g.vertices),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    }),
+                indices: self
+                    .device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("indices"),
+                        contents: bytemuck::cast_slice(&g.indices),
+                        usage: wgpu::BufferUsages::INDEX,
+                    }),
+                count: g.indices.len() as u32,
+            })
+            .collect();
+    }
+
+    /// Draws the layers from `camera`.
+    pub fn draw(&mut self, camera: &OrbitCamera) {
+        let frame = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(&self.device, &self.config);
+                return;
+            }
+            _ => return,
+        };
+        let aspect = self.config.width as f32 / self.config.height as f32;
+        let vp = camera.view_projection(aspect);
+        let mut data = [0f32; 20];
+        data[..16].copy_from_slice(&vp.to_cols_array());
+        data[16..19].copy_from_slice(&[0.3, -0.5, 0.8]);
+        self.queue
+            .write_buffer(&self.uniforms, 0, bytemuck::cast_slice(&data));
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("scene"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 0.93,
+                            g: 0.94,
+                            b: 0.96,
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &self.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_bind_group(0, &self.bind_group, &[]);
+            for style in [Style::Fill, Style::Lines, Style::Translucent] {
+                pass.set_pipeline(match style {
+                    Style::Fill => &self.fill,
+                    Style::Lines => &self.lines,
+                    Style::Translucent => &self.translucent,
+                });
+                for layer in self.layers.iter().filter(|l| l.style == style) {
+                    pass.set_vertex_buffer(0, layer.vertices.slice(..));
+                    pass.set_index_buffer(layer.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..layer.count, 0, 0..1);
+                }
+            }
+        }
+        self.queue.submit([encoder.finish()]);
+        self.queue.present(frame);
+    }
+}

@@ -1,0 +1,401 @@
+//! The page's state, `Ui`: the app plus what only the page has (3-D view, plot, pointers,
+//! share-link origin, the teaching and compare panels), with the steps every view shares:
+//! reading the form, the view toggles, the surface and selection lines, and the 3-D layers.
+
+use super::dom::{self, by_id, listen};
+use super::gpu::{Renderer, Style};
+use crate::app::camera::OrbitCamera;
+use crate::app::compare::CompareRun;
+use crate::app::geometry::{self, Geometry, ViewMapping};
+use crate::app::plot::{self, Layout, PlotPoint};
+use crate::app::share::{Origin, ShareLink, ViewToggles};
+use crate::app::state::{App, ShownMesh, shown_mesh};
+use crate::app::teaching::{Stepper, TeachingScene};
+use crate::evolution::trace::Phase;
+use crate::heightfield::Heightfield;
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::sync::Arc;
+use wasm_bindgen::JsCast;
+use web_sys::HtmlCanvasElement;
+
+/// Largest grid drawn with the full wireframe when nothing is selected (denser grids turn grey).
+const MAX_WIREFRAME_POINTS: usize = 128 * 128;
+/// Hover and click radius in the plot, CSS pixels.
+pub(super) const HIT_RADIUS: f64 = 8.0;
+
+/// What the current layers were built from; a change rebuilds them.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct ViewKey {
+    surface: usize,
+    selected: Option<(usize, u64)>,
+    toggles: ViewToggles,
+}
+
+/// The page's state: the app plus what only the page has (view, plot, pointers, links).
+pub(super) struct Ui {
+    /// The surface, the run and the selection.
+    pub(super) app: App,
+    /// The 3-D view, when the browser gave one.
+    pub(super) renderer: Option<Renderer>,
+    pub(super) camera: OrbitCamera,
+    /// What the 3-D layers were last built from.
+    pub(super) view_key: Option<ViewKey>,
+    /// The selected mesh with its per-point errors, as the 3-D view shows it.
+    pub(super) shown: Option<ShownMesh>,
+    /// The 3-D view must be drawn again on the next frame.
+    pub(super) redraw: bool,
+    /// The plot's layout and front points as of the last frame, for hit-testing.
+    pub(super) plot_layout: Layout,
+    pub(super) front_points: Vec<PlotPoint>,
+    /// Index of the front member under the mouse.
+    pub(super) hovered: Option<usize>,
+    /// Pointers down on the 3-D view: (id, x, y) as last seen.
+    pub(super) pointers: Vec<(i32, f64, f64)>,
+    /// The first paint was marked.
+    pub(super) painted: bool,
+    /// Where the surface came from, for share links.
+    pub(super) origin: Origin,
+    /// A share link waiting for the user to drop the file it names.
+    pub(super) waiting_for: Option<ShareLink>,
+    /// The teaching view's state.
+    pub(super) teaching: TeachingUi,
+    /// Compare mode's state.
+    pub(super) compare: CompareView,
+}
+
+/// Milliseconds on the page's performance clock (0 without one).
+pub(super) fn performance_now() -> f64 {
+    web_sys::window()
+        .and_then(|w| w.performance())
+        .map_or(0.0, |p| p.now())
+}
+
+/// The unit of z named in the surface's source note ("" when it names none).
+pub(super) fn z_unit(hf: &Heightfield) -> String {
+    hf.source()
+        .split("; ")
+        .find_map(|part| part.strip_prefix("units: "))
+        .unwrap_or("")
+        .to_string()
+}
+
+/// The teaching view's page state.
+#[derive(Default)]
+pub(super) struct TeachingUi {
+    /// Which phase is shown and which generation is awaited.
+    pub(super) stepper: Stepper,
+    /// The shown phase's marks, legend and caption, built once per (generation, phase).
+    pub(super) scene: Option<TeachingScene>,
+    /// Index of the mark under the mouse.
+    pub(super) hovered: Option<usize>,
+    /// Slow-motion play is on.
+    pub(super) playing: bool,
+    /// When play last advanced a phase (ms, performance clock).
+    pub(super) last_auto_ms: f64,
+    /// The crossover generation the OAX panel was drawn for.
+    pub(super) oax_drawn: Option<u64>,
+    /// The (generation, phase) `scene` was built for.
+    pub(super) built: Option<(u64, Phase)>,
+}
+
+/// The compare panel's state.
+#[derive(Default)]
+pub(super) struct CompareView {
+    /// The comparison, once started.
+    pub(super) run: Option<CompareRun>,
+    /// The compare plot's layout as of the last frame, for hit-testing.
+    pub(super) layout: Option<Layout>,
+    /// Every plotted member: (method index, index in its front, position).
+    pub(super) points: Vec<(usize, usize, PlotPoint)>,
+    /// Index into `points` under the mouse.
+    pub(super) hovered: Option<usize>,
+}
+
+impl Ui {
+    /// The page state of `app` on a surface from `origin`, before the 3-D view exists.
+    pub(super) fn new(app: App, origin: Origin) -> Self {
+        Self {
+            app,
+            renderer: None,
+            camera: OrbitCamera::default(),
+            view_key: None,
+            shown: None,
+            redraw: true,
+            plot_layout: Layout::fit(1.0, 1.0, []),
+            front_points: Vec::new(),
+            hovered: None,
+            pointers: Vec::new(),
+            painted: false,
+            origin,
+            waiting_for: None,
+            teaching: TeachingUi::default(),
+            compare: CompareView::default(),
+        }
+    }
+
+    /// The view toggles as the checkboxes say.
+    pub(super) fn toggles(&self) -> ViewToggles {
+        ViewToggles {
+            original: dom::checked("show-original"),
+            error: dom::checked("show-error"),
+            kept: dom::checked("show-kept"),
+        }
+    }
+
+    /// Ticks the checkboxes as `toggles` says.
+    pub(super) fn set_toggles(&mut self, toggles: ViewToggles) {
+        for (id, on) in [
+            ("show-original", toggles.original),
+            ("show-error", toggles.error),
+            ("show-kept", toggles.kept),
+        ] {
+            if let Ok(input) = by_id::<web_sys::HtmlInputElement>(id) {
+                input.set_checked(on);
+            }
+        }
+    }
+
+    pub(super) fn surface_info(&self) {
+        let s = self.app.surface();
+        let hf = &s.heightfield;
+        dom::set_text(
+            "surface-info",
+            &format!(
+                "{} · {}×{} grid · {} points · full mesh {} triangles",
+                s.name,
+                hf.width(),
+                hf.height(),
+                hf.len(),
+                hf.full_triangles()
+            ),
+        );
+        dom::set_text("surface-source", hf.source());
+    }
+
+    /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed.
+    pub(super) fn update_layers(&mut self) {
+        let toggles = self.toggles();
+        let hf = self.app.surface().heightfield.clone();
+        let key = ViewKey {
+            surface: Arc::as_ptr(&hf) as usize,
+            selected: self.app.selected().map(|s| (s.t, s.e_sum.to_bits())),
+            toggles,
+        };
+        if self.view_key.as_ref() == Some(&key) {
+            return;
+        }
+        let selection_changed = self
+            .view_key
+            .as_ref()
+            .is_none_or(|k| k.surface != key.surface || k.selected != key.selected);
+        if selection_changed {
+            self.refresh_shown(&hf);
+        }
+        self.view_key = Some(key);
+        let map = ViewMapping::new(&hf);
+        let layers = match &self.shown {
+            Some(mesh) => {
+                let max_error = mesh.point_error.iter().cloned().fold(0.0, f64::max);
+                dom::set_text("legend-max", &plot::format_value(max_error));
+                dom::set_visible("legend", toggles.error);
+                mesh_layers(&hf, &map, mesh, max_error, toggles)
+            }
+            None => {
+                dom::set_visible("legend", false);
+                full_surface_layers(&hf, &map)
+            }
+        };
+        if let Some(r) = self.renderer.as_mut() {
+            r.set_layers(layers);
+        }
+        self.redraw = true;
+    }
+
+    /// Re-triangulates the selected solution for the view (or shows none).
+    fn refresh_shown(&mut self, hf: &Arc<Heightfield>) {
+        self.shown = self
+            .app
+            .selected()
+            .and_then(|s| match shown_mesh(hf, &s.kept) {
+                Ok(m) => Some(m),
+                Err(e) => {
+                    dom::show_load_message(&format!("cannot show this mesh: {e}"), true);
+                    None
+                }
+            });
+        self.selection_info();
+    }
+
+    pub(super) fn selection_info(&self) {
+        let text = match (self.app.selected(), &self.shown) {
+            (Some(s), Some(m)) => format!(
+                "selected: T = {} triangles · {} vertices · E = {} · E_max = {}",
+                s.t,
+                m.kept.len(),
+                plot::format_value(s.e_sum),
+                plot::format_value(s.e_max)
+            ),
+            _ => "selected: none (showing the full-resolution surface); click a point of the front"
+                .to_string(),
+        };
+        dom::set_text("selection-info", &text);
+        if let Ok(e) = by_id::<web_sys::Element>("selection-info") {
+            let _ = e.set_attribute(
+                "data-vertices",
+                &self
+                    .shown
+                    .as_ref()
+                    .map_or(String::new(), |m| m.kept.len().to_string()),
+            );
+        }
+    }
+
+    pub(super) fn resize_view(&mut self) {
+        let Ok(canvas) = by_id::<HtmlCanvasElement>("view") else {
+            return;
+        };
+        let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
+        let w = ((canvas.client_width() as f64) * dpr).round().max(1.0) as u32;
+        let h = ((canvas.client_height() as f64) * dpr).round().max(1.0) as u32;
+        if canvas.width() != w || canvas.height() != h {
+            canvas.set_width(w);
+            canvas.set_height(h);
+            if let Some(r) = self.renderer.as_mut() {
+                r.resize(w, h);
+            }
+            self.redraw = true;
+        }
+    }
+
+    /// Reads the parameter form into the app's configuration, or shows why it cannot.
+    pub(super) fn apply_form(&mut self) -> bool {
+        match dom::read_config() {
+            Ok(config) => {
+                show_genetic_parameters(config.algorithm.is_genetic());
+                self.app.set_config(config);
+                dom::set_text("run-message", "");
+                true
+            }
+            Err(e) => {
+                dom::set_text("run-message", &e);
+                false
+            }
+        }
+    }
+}
+
+/// Shows the GA parameters' fields only for a genetic algorithm: they mean nothing to the
+/// classical methods.
+fn show_genetic_parameters(genetic: bool) {
+    for id in [
+        "population",
+        "generations",
+        "crossover",
+        "crossover-probability",
+        "mutation-probability",
+        "seed",
+    ] {
+        if let Some(label) = dom::document()
+            .get_element_by_id(id)
+            .and_then(|e| e.parent_element())
+            .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+        {
+            label.set_hidden(!genetic);
+        }
+    }
+}
+
+const SURFACE_COLOUR: [f32; 4] = [0.80, 0.72, 0.58, 1.0];
+
+/// The layers of a selected mesh: its faces (flat, or coloured by each grid point's error when
+/// the error toggle is on), its wireframe, and the original surface and kept points on request.
+fn mesh_layers(
+    hf: &Heightfield,
+    map: &ViewMapping,
+    mesh: &ShownMesh,
+    max_error: f64,
+    toggles: ViewToggles,
+) -> Vec<(Style, Geometry)> {
+    let mut layers = Vec::new();
+    if toggles.error {
+        let err = &mesh.point_error;
+        let scale = if max_error > 0.0 {
+            1.0 / max_error
+        } else {
+            0.0
+        };
+        layers.push((
+            Style::Fill,
+            geometry::grid_surface(hf, map, &|i| geometry::error_colour(err[i] * scale)),
+        ));
+    } else {
+        layers.push((
+            Style::Fill,
+            geometry::flat_mesh(hf, map, &mesh.triangles, SURFACE_COLOUR),
+        ));
+    }
+    layers.push((
+        Style::Lines,
+        geometry::wireframe(hf, map, &mesh.triangles, [0.12, 0.12, 0.16, 1.0]),
+    ));
+    if toggles.original {
+        layers.push((
+            Style::Translucent,
+            geometry::grid_surface(hf, map, &|_| [0.25, 0.45, 0.85, 0.35]),
+        ));
+    }
+    if toggles.kept {
+        layers.push((
+            Style::Fill,
+            geometry::markers(hf, map, &mesh.kept, map.step() * 1.2, [0.85, 0.1, 0.1, 1.0]),
+        ));
+    }
+    layers
+}
+
+/// The layers shown when nothing is selected: the full-resolution surface, with its grid
+/// wireframe when the grid is small enough to read.
+fn full_surface_layers(hf: &Heightfield, map: &ViewMapping) -> Vec<(Style, Geometry)> {
+    let mut layers = vec![(
+        Style::Fill,
+        geometry::grid_surface(hf, map, &|_| SURFACE_COLOUR),
+    )];
+    if hf.len() <= MAX_WIREFRAME_POINTS {
+        layers.push((
+            Style::Lines,
+            geometry::wireframe(hf, map, &full_grid_triangles(hf), [0.35, 0.30, 0.25, 1.0]),
+        ));
+    }
+    layers
+}
+
+/// The full grid's two triangles per cell, as grid indices.
+fn full_grid_triangles(hf: &Heightfield) -> Vec<[u32; 3]> {
+    let w = hf.width() as u32;
+    let mut tris = Vec::with_capacity(hf.full_triangles());
+    for y in 0..hf.height() as u32 - 1 {
+        for x in 0..w - 1 {
+            let a = y * w + x;
+            tris.push([a, a + 1, a + w]);
+            tris.push([a + 1, a + w + 1, a + w]);
+        }
+    }
+    tris
+}
+
+/// Calls `f` on the page state whenever element `id` fires `event`. Fails when the page lacks
+/// the element.
+pub(super) fn on_event(
+    ui: &Rc<RefCell<Ui>>,
+    id: &str,
+    event: &str,
+    f: impl Fn(&mut Ui) + 'static,
+) -> Result<(), String> {
+    let ui = ui.clone();
+    let target: web_sys::EventTarget = by_id(id)?;
+    listen(&target, event, move |_: web_sys::Event| {
+        f(&mut ui.borrow_mut())
+    });
+    Ok(())
+}

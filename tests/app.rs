@@ -1,0 +1,1266 @@
+//! The browser app's logic, natively: plot layout and hit-testing, the 3-D view's geometry and
+//! camera, loading, time-budgeted stepping, share links, the curated examples and the teaching
+//! view.
+
+const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
+const SIDECAR: &[u8] = include_bytes!("data/volcano_33x33.json");
+
+mod plot_hit_testing {
+    use paretomesh::app::plot::{Layout, PlotPoint, hit_test, ticks};
+
+    fn pt(t: f64, e: f64) -> PlotPoint {
+        PlotPoint { t, e }
+    }
+
+    #[test]
+    fn every_fitted_point_lies_inside_the_plotting_area() {
+        // A front from few triangles and large error to many triangles and small error.
+        let points = [pt(2.0, 900.0), pt(40.0, 120.0), pt(300.0, 3.5)];
+        let layout = Layout::fit(400.0, 300.0, &points);
+        let (l, t, r, b) = layout.area();
+        for p in points {
+            let (x, y) = layout.to_pixel(p);
+            assert!(x >= l && x <= r && y >= t && y <= b, "{p:?} at ({x}, {y})");
+        }
+        // More triangles is further right; more error is higher up (smaller y).
+        assert!(layout.to_pixel(points[0]).0 < layout.to_pixel(points[2]).0);
+        assert!(layout.to_pixel(points[0]).1 < layout.to_pixel(points[2]).1);
+    }
+
+    #[test]
+    fn a_click_selects_the_nearest_point_within_the_radius_only() {
+        let points = [pt(2.0, 900.0), pt(40.0, 120.0), pt(300.0, 3.5)];
+        let layout = Layout::fit(400.0, 300.0, &points);
+        let (x, y) = layout.to_pixel(points[1]);
+        assert_eq!(hit_test(&layout, &points, x + 3.0, y - 2.0, 8.0), Some(1));
+        // 20 px away from every point: no hit.
+        assert_eq!(hit_test(&layout, &points, x + 20.0, y + 20.0, 8.0), None);
+        assert_eq!(hit_test(&layout, &[], x, y, 8.0), None);
+    }
+
+    #[test]
+    fn coincident_points_resolve_to_the_lower_index() {
+        // Two members drawn on the same pixel: the answer must not depend on float noise.
+        let points = [pt(10.0, 5.0), pt(10.0, 5.0)];
+        let layout = Layout::fit(200.0, 200.0, &points);
+        let (x, y) = layout.to_pixel(points[0]);
+        assert_eq!(hit_test(&layout, &points, x, y, 4.0), Some(0));
+    }
+
+    #[test]
+    fn a_single_point_or_no_point_still_maps_to_finite_pixels() {
+        for points in [vec![pt(2.0, 0.0)], vec![]] {
+            let layout = Layout::fit(300.0, 200.0, &points);
+            let (x, y) = layout.to_pixel(pt(2.0, 0.0));
+            assert!(x.is_finite() && y.is_finite());
+        }
+    }
+
+    #[test]
+    fn a_log_axis_keeps_decades_apart_and_draws_zero_error_at_the_bottom() {
+        // Errors over four decades plus the full mesh (E = 0).
+        let points = [
+            pt(2.0, 10000.0),
+            pt(20.0, 100.0),
+            pt(200.0, 1.0),
+            pt(400.0, 0.0),
+        ];
+        let layout = Layout::fit_scaled(400.0, 300.0, &points, true);
+        let y: Vec<f64> = points.iter().map(|p| layout.to_pixel(*p).1).collect();
+        // Equal ratios are equal distances.
+        assert!(((y[1] - y[0]) - (y[2] - y[1])).abs() < 1e-9, "{y:?}");
+        assert!(y[3] > y[2] && y[3].is_finite());
+        let (_, top, _, bottom) = layout.area();
+        assert!(y.iter().all(|&v| v >= top && v <= bottom));
+        assert_eq!(layout.e_ticks(), vec![1.0, 10.0, 100.0, 1000.0, 10000.0]);
+        // Hit-testing works on the log axis too.
+        let (x, yy) = layout.to_pixel(points[1]);
+        assert_eq!(hit_test(&layout, &points, x, yy, 4.0), Some(1));
+    }
+
+    #[test]
+    fn ticks_are_round_numbers_inside_the_range() {
+        assert_eq!(ticks(0.0, 10.0, 5), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        let t = ticks(13.0, 987.0, 6);
+        assert!(
+            t.iter()
+                .all(|v| (13.0..=987.0).contains(v) && v % 100.0 == 0.0),
+            "{t:?}"
+        );
+    }
+}
+
+mod views {
+    use paretomesh::app::geometry::{ViewMapping, flat_mesh, wireframe};
+    use paretomesh::app::state::shown_mesh;
+    use paretomesh::evaluator::Evaluator;
+    use paretomesh::heightfield::{Heightfield, raw};
+    use std::sync::Arc;
+
+    fn volcano() -> Arc<Heightfield> {
+        Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap())
+    }
+
+    // Kept points spread over the 33×33 grid (interior points of a few rows and columns).
+    const KEPT: [u32; 6] = [34, 200, 530, 545, 800, 1000];
+
+    #[test]
+    fn per_point_errors_add_up_to_the_evaluators_error() {
+        let hf = volcano();
+        let mesh = shown_mesh(&hf, &KEPT).unwrap();
+        let sum: f64 = mesh.point_error.iter().sum();
+        let e = Evaluator::new(hf.clone()).score(&KEPT).unwrap().e_sum;
+        assert!((sum - e).abs() <= 1e-9 * e, "{sum} vs {e}");
+        assert_eq!(mesh.e_sum, e);
+        // Kept points (corners included) have no error.
+        for &k in mesh.kept.iter() {
+            assert_eq!(mesh.point_error[k as usize], 0.0);
+        }
+        assert_eq!(mesh.kept.len(), KEPT.len() + 4);
+    }
+
+    #[test]
+    fn the_wireframe_draws_each_edge_once() {
+        // A triangulation of a convex region with V points and T triangles has V + T − 1 edges.
+        let hf = volcano();
+        let mesh = shown_mesh(&hf, &KEPT).unwrap();
+        let map = ViewMapping::new(&hf);
+        let lines = wireframe(&hf, &map, &mesh.triangles, [0.0; 4]);
+        assert_eq!(
+            lines.indices.len() / 2,
+            mesh.kept.len() + mesh.triangles.len() - 1
+        );
+        let fill = flat_mesh(&hf, &map, &mesh.triangles, [1.0; 4]);
+        assert_eq!(fill.vertices.len(), 3 * mesh.triangles.len());
+    }
+}
+
+mod camera_and_loading {
+    use paretomesh::app::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
+    use paretomesh::app::loader;
+    use paretomesh::heightfield::{ImportOptions, Projection};
+
+    #[test]
+    fn orbiting_and_zooming_stay_within_limits() {
+        let mut c = OrbitCamera::default();
+        c.orbit(0.0, 1e6);
+        assert_eq!(c.pitch, MAX_PITCH);
+        c.zoom(1e-9);
+        assert_eq!(c.distance, MIN_DISTANCE);
+        c.zoom(f32::NAN);
+        assert_eq!(c.distance, MIN_DISTANCE);
+        let m = c.view_projection(1.5);
+        assert!(m.to_cols_array().iter().all(|v| v.is_finite()));
+    }
+
+    #[test]
+    fn panning_moves_the_target_and_keeps_the_distance() {
+        let mut c = OrbitCamera::default();
+        let d = c.distance;
+        c.pan(50.0, 0.0, 500.0);
+        assert_ne!(c.target, [0.0; 3]);
+        assert_eq!(c.distance, d);
+    }
+
+    #[test]
+    fn the_builtin_surface_is_a_real_grid_with_its_source_note() {
+        let hf = loader::builtin();
+        assert_eq!((hf.width(), hf.height()), (65, 65));
+        assert!(hf.source().contains("jacksboro"));
+        let (lo, hi) = hf.z_range();
+        assert!(hi > lo);
+    }
+
+    #[test]
+    fn bad_files_get_messages_a_user_understands() {
+        let default = ImportOptions::default();
+        let no_sidecar = loader::parse("dem.f32", super::GRID, None, &default).unwrap_err();
+        assert!(no_sidecar.contains("sidecar"), "{no_sidecar}");
+        let truncated = loader::parse(
+            "dem.f32",
+            &super::GRID[..10],
+            Some(super::SIDECAR),
+            &default,
+        )
+        .unwrap_err();
+        assert!(
+            truncated.contains("dem.f32") && truncated.contains("truncated"),
+            "{truncated}"
+        );
+        let unknown = loader::parse("notes.txt", b"hello", None, &default).unwrap_err();
+        assert!(unknown.contains("unknown file type"), "{unknown}");
+        let corrupt = loader::parse(
+            "broken.ply",
+            b"ply\nformat ascii 1.0\nelement vertex 99\nend_header\n1 2\n",
+            None,
+            &default,
+        )
+        .unwrap_err();
+        assert!(corrupt.contains("broken.ply"), "{corrupt}");
+    }
+
+    #[test]
+    fn the_import_dialogs_options_are_checked() {
+        assert_eq!(
+            loader::options("auto", 0, 0).unwrap(),
+            ImportOptions::default()
+        );
+        let o = loader::options("cylindrical", 64, 32).unwrap();
+        assert_eq!(
+            (o.projection, o.grid_size),
+            (Projection::Cylindrical, Some((64, 32)))
+        );
+        assert!(loader::options("spherical", 0, 0).is_err());
+        assert!(loader::options("planar", 64, 0).is_err());
+    }
+
+    #[test]
+    fn an_oversized_grid_size_is_refused_with_the_limit_in_the_message() {
+        let ply = include_bytes!("data/bunny_33x33.ply");
+        let o = loader::options("planar", 4096, 4096).unwrap();
+        let e = loader::parse("bunny.ply", ply, None, &o).unwrap_err();
+        assert!(e.contains("16.8 M points") && e.contains("limit"), "{e}");
+    }
+
+    #[test]
+    fn a_grid_ply_loads_as_is_and_needs_no_dialog() {
+        let ply = include_bytes!("data/volcano_87x61.ply");
+        let hf = loader::parse("volcano_87x61.ply", ply, None, &ImportOptions::default()).unwrap();
+        assert_eq!((hf.width(), hf.height()), (87, 61));
+        assert!(!hf.resampled());
+    }
+}
+
+mod app_stepping {
+    use paretomesh::app::algorithms::{Algorithm, Params, build};
+    use paretomesh::app::state::{App, Reproduction, RunConfig, Surface};
+    use paretomesh::heightfield::raw;
+    use std::sync::Arc;
+
+    // A small, quick NSGA-II run on the 33×33 volcano.
+    fn config() -> RunConfig {
+        RunConfig {
+            algorithm: Algorithm::Nsga2,
+            params: Params {
+                population: 12,
+                generations: 6,
+                seed: 7,
+                ..Params::default()
+            },
+            budget_ms: 8.0,
+        }
+    }
+
+    fn app() -> App {
+        let hf = raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap();
+        App::new(
+            Surface {
+                name: "volcano_33x33".into(),
+                heightfield: Arc::new(hf),
+            },
+            config(),
+        )
+    }
+
+    /// A clock that advances 1 ms per reading, so what a tick does is exact and repeatable.
+    fn ticking_clock() -> impl FnMut() -> f64 {
+        let mut now = 0.0;
+        move || {
+            now += 1.0;
+            now
+        }
+    }
+
+    /// Ticks `app` with `budget_ms` per frame on `clock` until it stops running; returns the
+    /// number of frames (at most 100 000: a run that would take more fails).
+    fn tick_until_idle(app: &mut App, budget_ms: f64, clock: &mut impl FnMut() -> f64) -> usize {
+        let mut frames = 0;
+        while app.is_running() {
+            app.tick(budget_ms, clock);
+            frames += 1;
+            assert!(frames < 100_000, "the run must stop");
+        }
+        frames
+    }
+
+    #[test]
+    fn a_tick_steps_until_its_budget_is_spent() {
+        let mut app = app();
+        app.run().unwrap();
+        let mut clock = ticking_clock();
+        let report = app.tick(8.0, &mut clock);
+        // One reading at the start and one after each step: after the 8th step, 8 ms are gone
+        // (a 9th step of the 1 ms each step took so far would not fit).
+        assert_eq!(report.steps, 8);
+        assert!(report.evaluations >= 8, "{report:?}");
+        assert_eq!(app.status().evaluations, report.evaluations);
+        // A smaller budget does fewer steps.
+        let report = app.tick(3.0, &mut clock);
+        assert_eq!(report.steps, 3);
+    }
+
+    #[test]
+    fn a_tick_does_not_start_a_step_that_would_not_fit_in_its_budget() {
+        // Every step takes 5 ms on this clock: after the first, 5 of the 8 ms are gone and a
+        // second 5 ms step would end at 10 ms, so the frame stops at one step. A 12 ms budget
+        // fits two.
+        let mut app = app();
+        app.run().unwrap();
+        let mut now = 0.0;
+        let mut slow_clock = || {
+            now += 5.0;
+            now
+        };
+        assert_eq!(app.tick(8.0, &mut slow_clock).steps, 1);
+        assert_eq!(app.tick(12.0, &mut slow_clock).steps, 2);
+    }
+
+    #[test]
+    fn a_clock_too_coarse_to_see_a_step_does_not_let_a_tick_run_away() {
+        // performance.now() is coarsened: steps can look instantaneous. The chunk then grows
+        // by doubling only, so after k zero-time calls the next call spends at most 2^k
+        // evaluations plus one unit, instead of the whole run.
+        let mut app = app();
+        app.run().unwrap();
+        // The first six readings show no time passing, the seventh shows the budget gone.
+        let mut readings = 0;
+        let mut clock_then_jump = || {
+            readings += 1;
+            if readings > 6 { 100.0 } else { 0.0 }
+        };
+        let report = app.tick(8.0, &mut clock_then_jump);
+        assert_eq!(report.steps, 6);
+        // Chunks 1, 2, 4, 8, 16, 32 at most; NSGA-II's unit is one evaluation, so a call spends
+        // exactly its chunk.
+        assert!(report.evaluations <= 63, "{report:?}");
+        assert!(!app.status().done);
+    }
+
+    #[test]
+    fn a_paused_app_does_no_work() {
+        let mut app = app();
+        app.run().unwrap();
+        app.pause();
+        let report = app.tick(8.0, &mut ticking_clock());
+        assert_eq!((report.steps, report.evaluations), (0, 0));
+        assert_eq!(app.status().evaluations, 0);
+    }
+
+    #[test]
+    fn slicing_into_frames_reaches_the_front_of_one_uninterrupted_run() {
+        let mut app = app();
+        app.run().unwrap();
+        let frames = tick_until_idle(&mut app, 8.0, &mut ticking_clock());
+        assert!(frames > 1, "the run took several frames");
+        assert!(app.status().done);
+        let c = config();
+        let mut whole = build(c.algorithm, &c.params, app.surface().heightfield.clone()).unwrap();
+        whole.run_to_end();
+        assert_eq!(app.front().unwrap(), whole.front());
+        assert_eq!(app.status().evaluations, whole.progress().evaluations);
+    }
+
+    #[test]
+    fn arrow_keys_move_the_selection_along_the_front_and_stop_at_its_ends() {
+        let mut app = app();
+        app.run().unwrap();
+        tick_until_idle(&mut app, 50.0, &mut ticking_clock());
+        let n = app.front().unwrap().len();
+        assert!(n >= 3, "front of {n}");
+        app.move_selection(1);
+        assert_eq!(app.selected_front_index(), Some(0));
+        app.move_selection(1);
+        assert_eq!(app.selected_front_index(), Some(1));
+        app.move_selection(-5);
+        assert_eq!(app.selected_front_index(), Some(0));
+        app.select_front_index(Some(n - 1));
+        app.move_selection(1);
+        assert_eq!(app.selected_front_index(), Some(n - 1));
+        let selected = app.selected().unwrap().clone();
+        assert_eq!(&selected, &app.front().unwrap().solutions()[n - 1]);
+    }
+
+    #[test]
+    fn bad_parameters_are_refused_with_a_message() {
+        let mut app = app();
+        let mut c = config();
+        c.params.crossover_probability = 1.5;
+        app.set_config(c);
+        let e = app.run().unwrap_err();
+        assert!(e.contains("crossover probability"), "{e}");
+        assert!(!app.is_running());
+    }
+
+    #[test]
+    fn reproducing_stops_at_the_generation_and_selects_the_index() {
+        // Re-running to generation 3 of a 6-generation run must stop there, paused, with the
+        // front of a run that only has 3 generations (later ones do not change earlier ones).
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: 3,
+            selected: Some(2),
+        })
+        .unwrap();
+        let mut clock = ticking_clock();
+        tick_until_idle(&mut app, 8.0, &mut clock);
+        assert_eq!(app.reproduction(), None);
+        assert_eq!(app.status().generation, 3);
+        assert!(!app.status().done, "stopped before the run's own end");
+        let c = config();
+        let short = Params {
+            generations: 3,
+            ..c.params.clone()
+        };
+        let mut whole = build(c.algorithm, &short, app.surface().heightfield.clone()).unwrap();
+        whole.run_to_end();
+        assert_eq!(app.front().unwrap(), whole.front());
+        assert_eq!(app.selected_front_index(), Some(2));
+        assert_eq!(app.selected().unwrap(), &whole.front().solutions()[2]);
+        // Run resumes to the end like any paused run.
+        app.run().unwrap();
+        tick_until_idle(&mut app, 8.0, &mut clock);
+        assert!(app.status().done);
+    }
+
+    #[test]
+    fn a_selection_past_the_front_or_zero_generations_selects_nothing() {
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: 0,
+            selected: Some(0),
+        })
+        .unwrap();
+        assert!(!app.is_running(), "0 generations: nothing runs");
+        app.reproduce(Reproduction {
+            generations: 1,
+            selected: Some(1_000_000),
+        })
+        .unwrap();
+        tick_until_idle(&mut app, 8.0, &mut ticking_clock());
+        assert_eq!(app.status().generation, 1);
+        assert_eq!(app.selected(), None);
+    }
+
+    #[test]
+    fn every_algorithm_in_the_menu_runs() {
+        for algorithm in Algorithm::ALL {
+            let mut app = app();
+            app.set_config(RunConfig {
+                algorithm,
+                ..config()
+            });
+            app.run().unwrap();
+            app.tick(5.0, &mut ticking_clock());
+            assert!(app.status().evaluations > 0, "{algorithm:?}");
+        }
+    }
+}
+
+mod share_links {
+    use base64::Engine;
+    use base64::engine::general_purpose::URL_SAFE_NO_PAD;
+    use paretomesh::app::algorithms::{Algorithm, Params};
+    use paretomesh::app::camera::OrbitCamera;
+    use paretomesh::app::loader::BUILTIN_NAME;
+    use paretomesh::app::share::{
+        EmbeddedGrid, FileFingerprint, ImportChoice, MAX_LINK_LEN, ShareError, ShareLink,
+        SharedSurface, ViewToggles, decode, encode, fnv1a64,
+    };
+    use paretomesh::evolution::CrossoverKind;
+    use rand::{RngExt, SeedableRng};
+    use serde_json::{Value, json};
+
+    const VOLCANO: &[u8] = include_bytes!("data/volcano_33x33.f32");
+    const JACKSBORO_65: &[u8] = include_bytes!("data/jacksboro_65x65.f32");
+
+    fn grid(name: &str, side: usize, bytes: &[u8]) -> EmbeddedGrid {
+        EmbeddedGrid {
+            name: name.to_string(),
+            width: side,
+            height: side,
+            z: bytes
+                .chunks_exact(4)
+                .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        }
+    }
+
+    /// A link with every field away from its default, so a dropped field shows.
+    fn link(surface: SharedSurface, algorithm: Algorithm) -> ShareLink {
+        ShareLink {
+            surface,
+            algorithm,
+            params: Params {
+                population: 40,
+                generations: 30,
+                crossover: CrossoverKind::Uniform,
+                crossover_probability: 0.7,
+                mutation_probability: Some(0.013),
+                seed: 987_654_321,
+            },
+            generations_run: 17,
+            selected: Some(5),
+            camera: OrbitCamera {
+                yaw: -2.5,
+                pitch: 0.3,
+                distance: 2.25,
+                target: [0.1, -0.2, 0.05],
+            },
+            toggles: ViewToggles {
+                original: true,
+                error: false,
+                kept: true,
+            },
+        }
+    }
+
+    fn builtin_link() -> ShareLink {
+        link(
+            SharedSurface::Builtin(BUILTIN_NAME.to_string()),
+            Algorithm::Nsga2,
+        )
+    }
+
+    /// The settings JSON of a valid link, to tamper with.
+    fn settings_of(link: &ShareLink) -> Value {
+        let encoded = encode(link);
+        let part = encoded.split('.').nth(1).unwrap();
+        serde_json::from_slice(&URL_SAFE_NO_PAD.decode(part).unwrap()).unwrap()
+    }
+
+    fn with_settings(settings: &Value) -> String {
+        format!(
+            "v1.{}",
+            URL_SAFE_NO_PAD.encode(serde_json::to_vec(settings).unwrap())
+        )
+    }
+
+    /// Decodes the built-in link after `edit` changed its settings JSON.
+    fn tampered(edit: impl FnOnce(&mut Value)) -> Result<ShareLink, ShareError> {
+        let mut settings = settings_of(&builtin_link());
+        edit(&mut settings);
+        decode(&with_settings(&settings))
+    }
+
+    /// An embedded-grid link whose settings claim `width`×`height` and whose grid part is
+    /// `raw` deflated.
+    fn grid_link(width: usize, height: usize, raw: &[u8]) -> String {
+        let mut settings = settings_of(&builtin_link());
+        settings["surface"] =
+            json!({"kind": "embedded", "name": "g.f32", "width": width, "height": height});
+        format!(
+            "{}.{}",
+            with_settings(&settings),
+            URL_SAFE_NO_PAD.encode(miniz_oxide::deflate::compress_to_vec_zlib(raw, 6))
+        )
+    }
+
+    #[test]
+    fn every_algorithm_round_trips_on_the_built_in_surface() {
+        for algorithm in Algorithm::ALL {
+            let original = link(SharedSurface::Builtin(BUILTIN_NAME.to_string()), algorithm);
+            let encoded = encode(&original);
+            assert!(encoded.starts_with("v1."), "{encoded}");
+            // URL-safe: nothing a hash fragment would need escaped.
+            assert!(
+                encoded
+                    .bytes()
+                    .all(|b| b.is_ascii_alphanumeric() || b"-_.".contains(&b))
+            );
+            assert_eq!(decode(&encoded).unwrap(), original, "{algorithm:?}");
+            // The browser's location.hash keeps the '#'.
+            assert_eq!(decode(&format!("#{encoded}")).unwrap(), original);
+        }
+        // No selection and the default mutation rate travel too.
+        let mut plain = builtin_link();
+        plain.selected = None;
+        plain.params.mutation_probability = None;
+        assert_eq!(decode(&encode(&plain)).unwrap(), plain);
+    }
+
+    #[test]
+    fn a_file_fingerprint_round_trips_and_recognises_its_file() {
+        let fingerprint = FileFingerprint::of("volcano.f32", VOLCANO);
+        let original = link(
+            SharedSurface::File(fingerprint.clone()),
+            Algorithm::Decimation,
+        );
+        assert_eq!(decode(&encode(&original)).unwrap(), original);
+        assert!(fingerprint.matches(VOLCANO));
+        // One flipped byte, or one byte missing, is another file.
+        let mut altered = VOLCANO.to_vec();
+        altered[100] ^= 1;
+        assert!(!fingerprint.matches(&altered));
+        assert!(!fingerprint.matches(&VOLCANO[1..]));
+        // FNV-1a 64 reference values (empty input is the offset basis; "a" from the spec).
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+    }
+
+    #[test]
+    fn a_mesh_files_import_choice_travels_and_is_checked() {
+        // A mesh that had to be resampled carries how: projection and the grid size it gave.
+        let mut fingerprint = FileFingerprint::of("face.stl", VOLCANO);
+        fingerprint.import = Some(ImportChoice {
+            projection: "cylindrical".into(),
+            width: 48,
+            height: 40,
+        });
+        let original = link(SharedSurface::File(fingerprint.clone()), Algorithm::Nsga2);
+        let encoded = encode(&original);
+        assert_eq!(decode(&encoded).unwrap(), original);
+        // A grid file's link has no `import` field at all (links written before it existed
+        // read the same way).
+        let plain = encode(&link(
+            SharedSurface::File(FileFingerprint::of("v.f32", VOLCANO)),
+            Algorithm::Nsga2,
+        ));
+        let json = |e: &str| {
+            String::from_utf8(
+                URL_SAFE_NO_PAD
+                    .decode(e.split('.').nth(1).unwrap())
+                    .unwrap(),
+            )
+            .unwrap()
+        };
+        assert!(!json(&plain).contains("import"), "{}", json(&plain));
+        assert!(json(&encoded).contains("\"import\":{\"projection\":\"cylindrical\""));
+        // Bad choices are refused with a message that says what is wrong.
+        for (projection, width, height, expect) in [
+            ("spherical", 48, 40, "unknown projection"),
+            ("planar", 1, 40, "sides must be 2"),
+            ("planar", 0, 0, "sides must be 2"),
+            ("auto", 16_385, 2, "sides must be 2"),
+            ("auto", 16_384, 16_384, "at most"),
+        ] {
+            fingerprint.import = Some(ImportChoice {
+                projection: projection.into(),
+                width,
+                height,
+            });
+            let bad = encode(&link(
+                SharedSurface::File(fingerprint.clone()),
+                Algorithm::Nsga2,
+            ));
+            let e = decode(&bad).unwrap_err();
+            assert!(matches!(e, ShareError::BadImport(_)), "{e:?}");
+            assert!(
+                e.to_string().contains(expect),
+                "{projection} {width}×{height}: {e}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_embedded_grid_round_trips_bit_for_bit() {
+        let volcano = grid("volcano_33x33.f32", 33, VOLCANO);
+        let original = link(
+            SharedSurface::Embedded(volcano.clone()),
+            Algorithm::WeightedSum,
+        );
+        let encoded = encode(&original);
+        let decoded = decode(&encoded).unwrap();
+        assert_eq!(decoded, original);
+        let SharedSurface::Embedded(g) = &decoded.surface else {
+            panic!("not embedded");
+        };
+        let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&g.z), bits(&volcano.z));
+        let hf = g.to_heightfield().unwrap();
+        assert_eq!((hf.width(), hf.height()), (33, 33));
+        // The largest embeddable grid, a 65×65 terrain, fits under the link cap.
+        let big = link(
+            SharedSurface::Embedded(grid("j.f32", 65, JACKSBORO_65)),
+            Algorithm::Nsga2,
+        );
+        let encoded = encode(&big);
+        assert!(encoded.len() <= MAX_LINK_LEN, "{}", encoded.len());
+        assert_eq!(decode(&encoded).unwrap(), big);
+    }
+
+    #[test]
+    fn framing_errors_are_named() {
+        let good = encode(&builtin_link());
+        assert!(matches!(
+            decode(&"A".repeat(MAX_LINK_LEN + 1)),
+            Err(ShareError::TooLong { .. })
+        ));
+        assert!(matches!(decode(""), Err(ShareError::UnsupportedVersion(_))));
+        assert!(matches!(
+            decode(&good.replacen("v1", "v2", 1)),
+            Err(ShareError::UnsupportedVersion(_))
+        ));
+        assert!(matches!(decode("v1"), Err(ShareError::Malformed(_))));
+        assert!(matches!(decode("v1.a.b.c"), Err(ShareError::Malformed(_))));
+        // '+' and '=' are standard base64, not URL-safe; '!' is no base64 at all.
+        assert!(matches!(
+            decode("v1.ab+c"),
+            Err(ShareError::BadBase64("settings"))
+        ));
+        assert!(matches!(
+            decode("v1.e30="),
+            Err(ShareError::BadBase64("settings"))
+        ));
+        assert!(matches!(
+            decode(&format!("{good}!")),
+            Err(ShareError::BadBase64("settings"))
+        ));
+        // Valid base64 of bytes that are not JSON.
+        assert!(matches!(
+            decode(&format!(
+                "v1.{}",
+                URL_SAFE_NO_PAD.encode([0xff, 0x00, 0x7b])
+            )),
+            Err(ShareError::Malformed(_))
+        ));
+        // A grid part on a link whose surface is built in.
+        assert!(matches!(
+            decode(&format!("{good}.AAAA")),
+            Err(ShareError::UnexpectedGrid)
+        ));
+    }
+
+    #[test]
+    fn wrong_types_and_unknown_names_are_refused() {
+        let err = |edit: fn(&mut Value)| tampered(edit).unwrap_err();
+        assert!(matches!(
+            err(|s| s["generations_run"] = json!("17")),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["population"] = json!(-3)),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["camera"] = json!([1, 2])),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["toggles"]["kept"] = json!(1)),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["extra"] = json!(1)),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s
+                .as_object_mut()
+                .unwrap()
+                .remove("camera")
+                .map(drop)
+                .unwrap()),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["crossover"] = json!("three-point")),
+            ShareError::Malformed(_)
+        ));
+        assert!(matches!(
+            err(|s| s["surface"] = json!({"kind": "remote", "name": "x"})),
+            ShareError::Malformed(_)
+        ));
+        // Beyond u64, and a float where an integer belongs.
+        assert!(matches!(
+            err(|s| s["params"]["seed"] = serde_json::from_str("1e30").unwrap()),
+            ShareError::Malformed(_)
+        ));
+        assert_eq!(
+            err(|s| s["algorithm"] = json!("simulated-annealing")),
+            ShareError::UnknownAlgorithm("simulated-annealing".into())
+        );
+        assert_eq!(
+            err(|s| s["surface"]["name"] = json!("everest")),
+            ShareError::UnknownBuiltin("everest".into())
+        );
+        let file = |s: &mut Value| {
+            s["surface"] =
+                json!({"kind": "file", "name": "a.ply", "size": 10, "fnv1a64": "00112233445566ff"})
+        };
+        assert!(tampered(file).is_ok());
+        assert!(matches!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a.ply", "size": 10, "fnv1a64": "0011223344556677ff"})
+            ),
+            ShareError::BadFingerprint(_)
+        ));
+        assert!(matches!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a.ply", "size": 10, "fnv1a64": "+011223344556677"})
+            ),
+            ShareError::BadFingerprint(_)
+        ));
+        assert!(matches!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a.ply", "size": 0, "fnv1a64": "0011223344556677"})
+            ),
+            ShareError::BadFingerprint(_)
+        ));
+        assert_eq!(
+            err(|s| s["surface"] =
+                json!({"kind": "file", "name": "", "size": 10, "fnv1a64": "0011223344556677"})),
+            ShareError::BadName
+        );
+        assert_eq!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "a\u{7}b", "size": 10, "fnv1a64": "0011223344556677"})
+            ),
+            ShareError::BadName
+        );
+        assert_eq!(
+            err(
+                |s| s["surface"] = json!({"kind": "file", "name": "n".repeat(300), "size": 10, "fnv1a64": "0011223344556677"})
+            ),
+            ShareError::BadName
+        );
+    }
+
+    #[test]
+    fn huge_and_non_finite_numbers_are_refused() {
+        let err = |edit: fn(&mut Value)| tampered(edit).unwrap_err();
+        let range = |e: ShareError| match e {
+            ShareError::OutOfRange { field, .. } => field,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            range(err(|s| s["params"]["seed"] = json!(u64::MAX))),
+            "seed"
+        );
+        assert_eq!(
+            range(err(|s| s["generations_run"] = json!(u64::MAX))),
+            "generation count"
+        );
+        assert_eq!(
+            range(err(|s| s["selected"] = json!(u64::MAX))),
+            "selected solution"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["yaw"] = json!(1e30))),
+            "camera yaw"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["pitch"] = json!(2.0))),
+            "camera pitch"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["distance"] = json!(0.0))),
+            "camera distance"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["distance"] = json!(1e6))),
+            "camera distance"
+        );
+        assert_eq!(
+            range(err(|s| s["camera"]["target"][1] = json!(-1e9))),
+            "camera target"
+        );
+        assert!(matches!(
+            err(|s| s["params"]["population"] = json!(10_000_000)),
+            ShareError::InvalidParams(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["generations"] = json!(0)),
+            ShareError::InvalidParams(_)
+        ));
+        assert!(matches!(
+            err(|s| s["params"]["crossover_probability"] = json!(3.5)),
+            ShareError::InvalidParams(_)
+        ));
+        // JSON has no NaN or infinity: serde_json writes NaN as null and 1e400 overflows; both
+        // fail to parse as a number.
+        assert!(matches!(
+            err(|s| s["camera"]["yaw"] = Value::Null),
+            ShareError::Malformed(_)
+        ));
+        let json = serde_json::to_string(&settings_of(&builtin_link()))
+            .unwrap()
+            .replacen("\"pitch\":0.3", "\"pitch\":1e400", 1);
+        assert!(json.contains("1e400"));
+        assert!(matches!(
+            decode(&format!("v1.{}", URL_SAFE_NO_PAD.encode(json))),
+            Err(ShareError::Malformed(_))
+        ));
+        // A NaN built in Rust is written, then refused on reading.
+        let mut nan = builtin_link();
+        nan.camera.pitch = f32::NAN;
+        assert!(decode(&encode(&nan)).is_err());
+        // And the same check is reachable without a round trip.
+        let mut inf = builtin_link();
+        inf.camera.target[0] = f32::INFINITY;
+        assert!(matches!(
+            inf.validate(),
+            Err(ShareError::OutOfRange {
+                field: "camera target",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn hostile_grids_are_refused_before_they_cost_anything() {
+        let heights =
+            |n: usize, v: f32| -> Vec<u8> { (0..n).flat_map(|_| v.to_le_bytes()).collect() };
+        // Sanity: a well-formed hand-made 3×2 grid is accepted.
+        assert!(decode(&grid_link(3, 2, &heights(6, 1.5))).is_ok());
+        // Sides outside 2..=65, including absurd ones that would overflow w·h·4.
+        assert_eq!(
+            decode(&grid_link(66, 2, &[])).unwrap_err(),
+            ShareError::BadGridSize {
+                width: 66,
+                height: 2
+            }
+        );
+        assert!(matches!(
+            decode(&grid_link(1, 5, &[])),
+            Err(ShareError::BadGridSize { .. })
+        ));
+        let mut s = settings_of(&builtin_link());
+        s["surface"] =
+            json!({"kind": "embedded", "name": "g", "width": u64::MAX, "height": u64::MAX});
+        assert!(matches!(
+            decode(&with_settings(&s)),
+            Err(ShareError::BadGridSize { .. })
+        ));
+        // Embedded, but no grid part.
+        s["surface"] = json!({"kind": "embedded", "name": "g", "width": 3, "height": 3});
+        assert_eq!(
+            decode(&with_settings(&s)).unwrap_err(),
+            ShareError::MissingGrid
+        );
+        // A deflate bomb: 4 MiB of zeros is a few KiB deflated; inflation stops at 3·3·4 bytes.
+        assert_eq!(
+            decode(&grid_link(3, 3, &vec![0u8; 4 << 20])).unwrap_err(),
+            ShareError::GridTooLarge
+        );
+        // Too few bytes for the dimensions, and a count that is not whole f32s.
+        assert_eq!(
+            decode(&grid_link(3, 3, &heights(8, 1.0))).unwrap_err(),
+            ShareError::GridLengthMismatch {
+                expected: 36,
+                found: 32
+            }
+        );
+        assert!(matches!(
+            decode(&grid_link(3, 3, &[0u8; 35])),
+            Err(ShareError::GridLengthMismatch { .. })
+        ));
+        // Not deflate data at all, and deflate data cut short.
+        let good = grid_link(3, 3, &heights(9, 2.0));
+        let (head, _) = good.rsplit_once('.').unwrap();
+        assert_eq!(
+            decode(&format!(
+                "{head}.{}",
+                URL_SAFE_NO_PAD.encode(b"not deflate")
+            ))
+            .unwrap_err(),
+            ShareError::CorruptGrid
+        );
+        let deflated = miniz_oxide::deflate::compress_to_vec_zlib(&heights(9, 2.0), 6);
+        assert_eq!(
+            decode(&format!(
+                "{head}.{}",
+                URL_SAFE_NO_PAD.encode(&deflated[..deflated.len() / 2])
+            ))
+            .unwrap_err(),
+            ShareError::CorruptGrid
+        );
+        assert_eq!(
+            decode(&format!("{head}.%%")).unwrap_err(),
+            ShareError::BadBase64("grid")
+        );
+        // NaN and infinity among the heights, at a known index.
+        let mut raw = heights(9, 2.0);
+        raw[4 * 7..4 * 8].copy_from_slice(&f32::NAN.to_le_bytes());
+        assert_eq!(
+            decode(&grid_link(3, 3, &raw)).unwrap_err(),
+            ShareError::NonFiniteHeight { index: 7 }
+        );
+        raw[4 * 7..4 * 8].copy_from_slice(&f32::NEG_INFINITY.to_le_bytes());
+        assert_eq!(
+            decode(&grid_link(3, 3, &raw)).unwrap_err(),
+            ShareError::NonFiniteHeight { index: 7 }
+        );
+    }
+
+    #[test]
+    fn every_error_has_a_message_for_people() {
+        let errors = [
+            decode(&"A".repeat(MAX_LINK_LEN + 1)).unwrap_err(),
+            decode("v9.x").unwrap_err(),
+            decode("v1.!!").unwrap_err(),
+            tampered(|s| s["algorithm"] = json!("x")).unwrap_err(),
+            tampered(|s| s["camera"]["pitch"] = json!(9)).unwrap_err(),
+        ];
+        for e in errors {
+            let text = e.to_string();
+            assert!(
+                text.starts_with("This share link cannot be opened: "),
+                "{text}"
+            );
+            assert!(text.len() < 300, "{text}");
+        }
+        // Hostile text is echoed clipped, not whole.
+        let long = "z".repeat(5000);
+        let e = tampered(|s| s["algorithm"] = json!("z".repeat(5000))).unwrap_err();
+        assert!(!e.to_string().contains(&long));
+    }
+
+    #[test]
+    fn random_and_corrupted_links_give_an_error_or_a_valid_link() {
+        // Fixed seed: a failure reproduces.
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(6);
+        let valid = [
+            encode(&builtin_link()),
+            encode(&link(
+                SharedSurface::File(FileFingerprint::of("v.f32", VOLCANO)),
+                Algorithm::GreedyInsertion,
+            )),
+            encode(&link(
+                SharedSurface::Embedded(grid("v.f32", 33, VOLCANO)),
+                Algorithm::Nsga2,
+            )),
+        ];
+        let alphabet = b"v1.-_#ABCxyz0189+/=%{}\":,[] \x00";
+        let (mut accepted, mut refused) = (0, 0);
+        for i in 0..2_000 {
+            let input: Vec<u8> = match i % 4 {
+                // Random strings over an alphabet near the link's own.
+                0 => {
+                    let len = rng.random_range(0..200);
+                    (0..len)
+                        .map(|_| alphabet[rng.random_range(0..alphabet.len())])
+                        .collect()
+                }
+                // "v1." and random base64 of random bytes.
+                1 => {
+                    let len = rng.random_range(0..300);
+                    let bytes: Vec<u8> = (0..len).map(|_| rng.random::<u8>()).collect();
+                    format!("v1.{}", URL_SAFE_NO_PAD.encode(bytes)).into_bytes()
+                }
+                // A valid link with 1–4 bytes flipped.
+                2 => {
+                    let mut bytes = valid[rng.random_range(0..valid.len())].clone().into_bytes();
+                    for _ in 0..rng.random_range(1..5) {
+                        let at = rng.random_range(0..bytes.len());
+                        bytes[at] ^= 1 << rng.random_range(0..7);
+                    }
+                    bytes
+                }
+                // A valid link truncated.
+                _ => {
+                    let bytes = valid[rng.random_range(0..valid.len())].clone().into_bytes();
+                    let at = rng.random_range(0..bytes.len());
+                    bytes[..at].to_vec()
+                }
+            };
+            // Bytes flipped within ASCII stay ASCII, so the input is a string.
+            let text = String::from_utf8_lossy(&input);
+            match decode(&text) {
+                Ok(link) => {
+                    // Whatever is accepted satisfies every limit and re-encodes to itself.
+                    link.validate().unwrap();
+                    assert_eq!(decode(&encode(&link)).unwrap(), link);
+                    accepted += 1;
+                }
+                Err(e) => {
+                    assert!(!e.to_string().is_empty());
+                    refused += 1;
+                }
+            }
+        }
+        assert_eq!(accepted + refused, 2_000);
+        // The corruptions mostly break the link; nearly all inputs are refused.
+        assert!(refused > 1_500, "{refused}");
+    }
+}
+
+mod curated_examples {
+    use paretomesh::app::examples::examples;
+    use paretomesh::app::loader::{BUILTINS, Builtin};
+    use paretomesh::app::share::{SharedSurface, decode, encode};
+
+    const README: &str = include_str!("../README.md");
+
+    #[test]
+    fn every_builtin_surface_loads_with_its_name_and_source() {
+        for b in BUILTINS {
+            let hf = b.heightfield();
+            assert!(hf.len() >= 33 * 33, "{}", b.name);
+            assert!(hf.source().contains(b.name), "{}: {}", b.name, hf.source());
+            assert_eq!(Builtin::named(b.name).unwrap().name, b.name);
+        }
+        assert!(Builtin::named("jacksboro").is_none(), "names match exactly");
+    }
+
+    #[test]
+    fn the_examples_are_valid_links_on_builtin_surfaces_covering_three_kinds() {
+        let examples = examples();
+        assert!(examples.len() >= 3);
+        let mut surfaces = Vec::new();
+        for e in &examples {
+            let fragment = encode(&e.link);
+            assert_eq!(decode(&fragment).unwrap(), e.link, "{}", e.title);
+            let SharedSurface::Builtin(name) = &e.link.surface else {
+                panic!("{}: examples use built-in surfaces", e.title);
+            };
+            surfaces.push(name.clone());
+        }
+        // A terrain, a face-like relief and a range scan: three kinds of surface.
+        for wanted in ["jacksboro_65x65", "camera_65x65", "bunny_65x65"] {
+            assert!(surfaces.iter().any(|s| s == wanted), "{wanted}");
+        }
+    }
+
+    #[test]
+    fn the_readme_lists_exactly_the_pages_examples() {
+        // The README's links are copies; a changed example (or codec) must be re-copied.
+        let in_readme: Vec<&str> = README
+            .split("#v1.")
+            .skip(1)
+            .map(|rest| rest.split([')', ' ', '>', '\n']).next().unwrap())
+            .collect();
+        let expected: Vec<String> = examples()
+            .iter()
+            .map(|e| encode(&e.link)["v1.".len()..].to_string())
+            .collect();
+        assert_eq!(
+            in_readme, expected,
+            "README links differ from src/web/examples.rs"
+        );
+        for e in examples() {
+            assert!(
+                README.contains(e.title),
+                "README names the example {}",
+                e.title
+            );
+        }
+    }
+}
+
+mod teaching_view {
+    use paretomesh::app::oax_panel;
+    use paretomesh::app::plot::Shape;
+    use paretomesh::app::teaching::{Step, Stepper, scene};
+    use paretomesh::evolution::trace::Phase;
+    use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2};
+    use paretomesh::heightfield::raw;
+    use paretomesh::optimizer::Optimizer;
+    use std::sync::Arc;
+
+    fn run_to(generation: u64) -> Nsga2 {
+        let hf = Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap());
+        let params = GaParams {
+            population: 12,
+            generations: 5,
+            ..GaParams::default()
+        };
+        let mut run = Nsga2::new(hf, params, 2).unwrap();
+        run.step_until(u64::MAX, generation);
+        run
+    }
+
+    #[test]
+    fn next_phase_walks_every_phase_then_asks_for_the_next_generation() {
+        let mut s = Stepper::default();
+        // Nothing traced yet: the first generation must be made first.
+        assert_eq!(
+            s.next_phase(0, None),
+            Step::Run {
+                generation: 1,
+                then: Phase::Selection
+            }
+        );
+        assert_eq!(s.arrived(0), None, "not there yet");
+        assert_eq!(s.arrived(1), Some(Phase::Selection));
+        let mut seen = vec![Phase::Selection];
+        for _ in 1..Phase::ALL.len() {
+            match s.next_phase(1, Some(1)) {
+                Step::Show(p) => seen.push(p),
+                other => panic!("expected a phase, got {other:?}"),
+            }
+        }
+        assert_eq!(seen, Phase::ALL.to_vec());
+        assert_eq!(
+            s.next_phase(1, Some(1)),
+            Step::Run {
+                generation: 2,
+                then: Phase::Selection
+            },
+            "after survival comes the next generation"
+        );
+        assert_eq!(
+            s.next_generation(1),
+            Step::Run {
+                generation: 2,
+                then: Phase::Survival
+            }
+        );
+        assert_eq!(s.arrived(2), Some(Phase::Survival));
+        // A trace of another generation than the run's (the user ran on): start over from it.
+        assert!(matches!(
+            s.next_phase(3, Some(2)),
+            Step::Run { generation: 4, .. }
+        ));
+    }
+
+    #[test]
+    fn every_phase_has_marks_for_its_individuals_and_a_caption() {
+        let run = run_to(2);
+        let trace = run.last_generation().unwrap();
+        let mu = trace.parents.len();
+        for phase in Phase::ALL {
+            let s = scene(trace, phase, CrossoverKind::Oax, 0.8);
+            assert!(s.caption.contains(phase.explanation()), "{phase:?}");
+            assert!(s.caption.starts_with("Generation 2"), "{}", s.caption);
+            assert!(!s.legend.is_empty(), "{phase:?}");
+            assert!(s.marks.iter().all(|m| !m.label.is_empty()));
+            let expected = match phase {
+                Phase::Selection => mu,
+                Phase::Crossover | Phase::Mutation => {
+                    mu + trace
+                        .matings
+                        .iter()
+                        .filter(|m| m.crossed)
+                        .map(|m| m.before_mutation.iter().flatten().count())
+                        .sum::<usize>()
+                }
+                Phase::Evaluation => mu + trace.offspring.len(),
+                Phase::Sorting | Phase::Crowding | Phase::Survival => 2 * mu,
+            };
+            assert_eq!(s.marks.len(), expected, "{phase:?}");
+        }
+        // Survival: exactly the dropped half is crossed out.
+        let s = scene(trace, Phase::Survival, CrossoverKind::Oax, 0.8);
+        let crosses = s.marks.iter().filter(|m| m.shape == Shape::Cross).count();
+        assert_eq!(crosses, 2 * mu - trace.survivors.len());
+        // Selection: the rings count the picks.
+        let s = scene(trace, Phase::Selection, CrossoverKind::Oax, 0.8);
+        let rings: f64 = s.marks.iter().map(|m| m.ring).sum();
+        assert_eq!(rings as usize, 2 * trace.matings.len());
+    }
+
+    #[test]
+    fn the_oax_panel_lists_the_array_the_effects_and_every_mesh() {
+        let run = run_to(1);
+        let record = run.last_crossover().expect("OAX ran in generation 1");
+        let html = oax_panel::html(record);
+        let rows = record.rows.len();
+        // Two parents, the M rows and the best-levels child, each with a thumbnail.
+        assert_eq!(html.matches("data-mesh=").count(), rows + 3);
+        assert_eq!(oax_panel::meshes(record).len(), rows + 3);
+        assert_eq!(
+            html.matches(" ★</th>").count(),
+            2 - usize::from(record.chosen[0] == record.chosen[1])
+        );
+        assert!(html.contains("Σ F at A") && html.contains("Σ F at B"));
+        // Each factor has exactly one best level marked.
+        assert_eq!(
+            html.matches("class=\"chosen\"").count(),
+            record.blocks.len()
+        );
+        // A thumbnail's mesh is the row's chromosome with its objectives.
+        let third = &oax_panel::meshes(record)[2];
+        assert_eq!(third.t, record.rows[0].objectives.t);
+        assert_eq!(third.kept, record.rows[0].genes.indices());
+    }
+}
