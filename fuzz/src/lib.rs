@@ -4,8 +4,11 @@
 //!
 //! Properties, beyond "no panic" (libFuzzer's memory and time limits are the other two):
 //! - an error names the format of the importer that refused the input and says something;
-//! - an imported grid is within the size limits, finite, and maps back to finite 3-D points.
+//! - an imported grid is within the size limits, finite, and maps back to finite 3-D points;
+//! - a share link that decodes is valid, re-encodes to a link that decodes to the same thing,
+//!   and its embedded grid, if any, is a height field.
 
+use paretomesh::app::share;
 use paretomesh::heightfield::{
     self, Heightfield, ImportError, ImportOptions, MAX_POINTS, MAX_SIDE, MIN_SIDE, Projection,
     Surface,
@@ -26,17 +29,20 @@ pub enum Target {
     Obj,
     /// STL mesh, ASCII and binary.
     Stl,
+    /// The app's share-link decoder (the URL fragment, read as UTF-8 with bad bytes replaced).
+    Share,
 }
 
 impl Target {
     /// Every target, in the order the replay test reports them.
-    pub const ALL: [Target; 6] = [
+    pub const ALL: [Target; 7] = [
         Target::Raw,
         Target::Png,
         Target::Tiff,
         Target::Ply,
         Target::Obj,
         Target::Stl,
+        Target::Share,
     ];
 
     /// The fuzz target's name: its binary in `fuzz/fuzz_targets/` and its folder under
@@ -49,6 +55,7 @@ impl Target {
             Target::Ply => "import_ply",
             Target::Obj => "import_obj",
             Target::Stl => "import_stl",
+            Target::Share => "share_link",
         }
     }
 
@@ -61,6 +68,7 @@ impl Target {
             Target::Ply => "fuzz.ply",
             Target::Obj => "fuzz.obj",
             Target::Stl => "fuzz.stl",
+            Target::Share => "",
         }
     }
 
@@ -73,6 +81,7 @@ impl Target {
             Target::Ply => "PLY",
             Target::Obj => "OBJ",
             Target::Stl => "STL",
+            Target::Share => "share link",
         }
     }
 
@@ -96,6 +105,7 @@ impl Target {
                     ..Default::default()
                 },
             ],
+            Target::Share => Vec::new(),
             Target::Ply | Target::Obj | Target::Stl => vec![
                 defaults,
                 ImportOptions {
@@ -123,9 +133,13 @@ pub fn split_raw(data: &[u8]) -> (&[u8], &[u8]) {
     data[2..].split_at(n.min(data.len() - 2))
 }
 
-/// Imports `data` as `target` with each of its option sets and checks the properties in the
-/// module doc; panics (a libFuzzer crash) when one fails. Returns one line per option set.
+/// Imports `data` as `target` with each of its option sets (or decodes it as a share link) and
+/// checks the properties in the module doc; panics (a libFuzzer crash) when one fails. Returns
+/// one line per option set, starting "ok" for an import or a decoded link.
 pub fn run(target: Target, data: &[u8]) -> Vec<String> {
+    if target == Target::Share {
+        return vec![decode_share_link(data)];
+    }
     let (bytes, sidecar) = match target {
         Target::Raw => {
             let (json, grid) = split_raw(data);
@@ -210,5 +224,46 @@ fn check_grid(hf: &Heightfield) {
             "grid point {corner} maps to {p:?} ({:?})",
             hf.placement()
         );
+    }
+}
+
+/// Decodes `data` as a share link and checks what a decoded link promises.
+fn decode_share_link(data: &[u8]) -> String {
+    let text = String::from_utf8_lossy(data);
+    match share::decode(&text) {
+        Ok(link) => {
+            link.validate()
+                .unwrap_or_else(|e| panic!("a decoded link is invalid: {e}"));
+            let again = share::encode(&link);
+            // A fuzzed grid may deflate better than the encoder does; a re-encoded link over the
+            // length limit is refused as such, anything else must read back the same.
+            match share::decode(&again) {
+                Ok(back) => assert_eq!(
+                    back, link,
+                    "the re-encoded link {again} reads back differently"
+                ),
+                Err(share::ShareError::TooLong { .. }) => {}
+                Err(e) => panic!("the re-encoded link {again} does not decode: {e}"),
+            }
+            if let share::SharedSurface::Embedded(grid) = &link.surface {
+                let hf = grid.to_heightfield().unwrap_or_else(|e| {
+                    panic!("a decoded embedded grid is not a height field: {e}")
+                });
+                check_grid(&hf);
+            }
+            "ok link".to_string()
+        }
+        Err(e) => {
+            let message = e.to_string();
+            let prefix = "This share link cannot be opened: ";
+            let reason = message.strip_prefix(prefix).unwrap_or_else(|| {
+                panic!("a share-link error does not say it is one: {message:?}")
+            });
+            assert!(
+                reason.split_whitespace().count() >= 4,
+                "a share-link error does not say what is wrong: {message:?}"
+            );
+            format!("error: {message}")
+        }
     }
 }
