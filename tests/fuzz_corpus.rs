@@ -282,3 +282,31 @@ fn absurd_declared_sizes_are_refused_before_allocating() {
         );
     }
 }
+
+#[test]
+fn long_crossing_triangles_are_refused_instead_of_rasterised_for_minutes() {
+    // 40 000 triangles between points on a circle's rim, each spanning much of the disc: their
+    // bounding boxes cover the automatic grid about a thousand times over (in a 10 MB file,
+    // minutes of rasterisation). The import stops at the test budget with an error saying why.
+    let rim = 4096;
+    let point = |k: usize| {
+        let a = std::f64::consts::TAU * (k % rim) as f64 / rim as f64;
+        [a.cos() as f32, a.sin() as f32, (k % 7) as f32 * 1e-3]
+    };
+    let count: u32 = 40_000;
+    let mut stl = vec![0u8; 80];
+    stl.extend_from_slice(&count.to_le_bytes());
+    for i in 0..count as usize {
+        stl.extend_from_slice(&[0u8; 12]);
+        for k in [i, i * 7919 + rim / 3, i * 104_729 + 2 * rim / 3] {
+            for c in point(k) {
+                stl.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        stl.extend_from_slice(&[0, 0]);
+    }
+    let err = heightfield::from_bytes("slivers.stl", &stl, None, &ImportOptions::default())
+        .expect_err("crossing slivers are not a surface");
+    assert!(matches!(err, ImportError::RasterLimit { .. }), "{err:?}");
+    assert!(err.to_string().contains("remesh it"), "{err}");
+}
