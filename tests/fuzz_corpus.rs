@@ -213,7 +213,9 @@ fn absurd_declared_sizes_are_refused_before_allocating() {
         .into_bytes()
     };
     let raw = |w: u64, h: u64| format!("{{\"width\": {w}, \"height\": {h}}}").into_bytes();
-    let cases: Vec<(&str, Vec<u8>, Option<Vec<u8>>, &str)> = vec![
+    // (file name, bytes, sidecar, words the error must contain)
+    type Case = (&'static str, Vec<u8>, Option<Vec<u8>>, &'static str);
+    let cases: Vec<Case> = vec![
         (
             "a.ply",
             ply("ascii", "1000000000000"),
