@@ -23,11 +23,29 @@ fn decoding(e: png::DecodingError) -> ImportError {
                 message: "the image data ends early".into(),
             }
         }
+        png::DecodingError::LimitsExceeded => ImportError::Unsupported {
+            format: FORMAT,
+            message: "decoding it needs more than the PNG decoder's 64 MB memory limit (a huge image or metadata chunk)".into(),
+        },
         other => ImportError::Malformed {
             format: FORMAT,
             message: other.to_string(),
         },
     }
+}
+
+/// The size the IHDR chunk claims, when the file starts with the signature and an IHDR chunk
+/// (as the format requires), read before the decoder sees it: the decoder refuses a huge image
+/// with a bare "limits are exceeded", where the grid limits name the size and the limit.
+fn claimed_size(bytes: &[u8]) -> Option<(usize, usize)> {
+    if bytes.get(12..16)? != b"IHDR" {
+        return None;
+    }
+    let be = |at: usize| -> Option<usize> {
+        let b: [u8; 4] = bytes.get(at..at + 4)?.try_into().ok()?;
+        Some(u32::from_be_bytes(b) as usize)
+    };
+    Some((be(16)?, be(20)?))
 }
 
 /// Mapbox terrain-RGB decoding of one pixel, in metres.
@@ -39,6 +57,9 @@ pub fn terrain_rgb_height(r: u8, g: u8, b: u8) -> f64 {
 /// the source note. The image size is checked against the grid limits before its pixels are
 /// decoded. Never panics: every bad input is an [`ImportError`].
 pub fn parse(bytes: &[u8], name: &str, terrain_rgb: bool) -> Result<Heightfield, ImportError> {
+    if let Some((width, height)) = claimed_size(bytes) {
+        super::check_size(width, height)?;
+    }
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
     decoder.set_transformations(Transformations::EXPAND);
     let mut reader = decoder.read_info().map_err(decoding)?;

@@ -126,6 +126,13 @@ pub enum ImportError {
         /// `None` when the projection has no area at all.
         tried: Vec<(Projection, Option<f64>)>,
     },
+    /// Resampling the mesh would test more grid points than
+    /// [`super::resample::MIN_RASTER_TESTS`] allows: many long triangles lie across each other.
+    RasterLimit {
+        width: usize,
+        height: usize,
+        limit: u64,
+    },
     /// The option does not apply to this input.
     BadOption { message: String },
     /// The resulting grid is not a valid height field.
@@ -199,6 +206,15 @@ impl fmt::Display for ImportError {
                     super::resample::MAX_OVERLAP * 100.0
                 )
             }
+            Self::RasterLimit {
+                width,
+                height,
+                limit,
+            } => write!(
+                f,
+                "the mesh's triangles lie across each other so often that resampling it onto a {width}×{height} grid would test more than {limit} grid points (their bounding boxes cover the grid over {} times); a surface's triangles tile it a few times at most: remesh it into smaller triangles",
+                limit / (*width as u64 * *height as u64).max(1)
+            ),
             Self::BadOption { message } => write!(f, "{message}"),
             Self::Grid(e) => write!(f, "{e}"),
         }

@@ -443,7 +443,7 @@ fn resample_projected(
         extent[0] / (width - 1) as f64,
         extent[1] / (height - 1) as f64,
     ];
-    let raster = rasterise(mesh, &projected, lo, spacing, width, height);
+    let raster = rasterise(mesh, &projected, lo, spacing, width, height)?;
     let covered = raster.inside_once;
     if covered == 0 && raster.z.iter().all(|z| z.is_nan()) {
         return Ok(Outcome::Folded { overlap: None });
@@ -485,6 +485,14 @@ struct Raster {
 /// Barycentric tolerance: a point this close outside an edge still counts as on it.
 const ON_EDGE: f64 = 1e-9;
 
+/// Most grid points one rasterisation may test, summed over the triangles' bounding boxes: the
+/// larger of this and [`MAX_BOX_COVER`] times the grid. A surface's triangles tile the grid a
+/// few times over at most; many long triangles lying across each other (a few MB of them can
+/// ask for billions of tests) are refused instead of taking minutes.
+pub const MIN_RASTER_TESTS: u64 = 1 << 26;
+/// See [`MIN_RASTER_TESTS`].
+pub const MAX_BOX_COVER: u64 = 64;
+
 fn rasterise(
     mesh: &TriangleMesh,
     projected: &Projected,
@@ -492,7 +500,9 @@ fn rasterise(
     spacing: [f64; 2],
     width: usize,
     height: usize,
-) -> Raster {
+) -> Result<Raster, ImportError> {
+    let limit = MIN_RASTER_TESTS.max(MAX_BOX_COVER * (width * height) as u64);
+    let mut tests: u64 = 0;
     let mut z = vec![f64::NAN; width * height];
     let mut inside = vec![0u8; width * height];
     // In grid units: x = column, y = row (fractional).
@@ -525,26 +535,39 @@ fn rasterise(
         }
         for shift in shifts {
             let c = corners.map(|c| [c[0] + shift, c[1], c[2]]);
-            draw_triangle(&c, width, height, &mut z, &mut inside);
+            tests += draw_triangle(&c, width, height, &mut z, &mut inside);
+            if tests > limit {
+                return Err(ImportError::RasterLimit {
+                    width,
+                    height,
+                    limit,
+                });
+            }
         }
     }
     let inside_once = inside.iter().filter(|&&k| k >= 1).count();
     let inside_twice = inside.iter().filter(|&&k| k >= 2).count();
-    Raster {
+    Ok(Raster {
         z,
         inside_once,
         inside_twice,
-    }
+    })
 }
 
 /// Draws one triangle given in grid units (x, y, height): keeps the highest height per point and
-/// counts strict insides.
-fn draw_triangle(c: &[[f64; 3]; 3], width: usize, height: usize, z: &mut [f64], inside: &mut [u8]) {
+/// counts strict insides. Returns how many grid points it tested (its bounding box on the grid).
+fn draw_triangle(
+    c: &[[f64; 3]; 3],
+    width: usize,
+    height: usize,
+    z: &mut [f64],
+    inside: &mut [u8],
+) -> u64 {
     let [a, b, d] = c;
     let area2 = (b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]);
     if area2.is_nan() || area2.abs() <= 1e-12 {
         // Edge-on in this projection (or NaN): it covers no area.
-        return;
+        return 0;
     }
     let min_x = a[0].min(b[0]).min(d[0]);
     let max_x = a[0].max(b[0]).max(d[0]);
@@ -552,7 +575,7 @@ fn draw_triangle(c: &[[f64; 3]; 3], width: usize, height: usize, z: &mut [f64], 
     let max_y = a[1].max(b[1]).max(d[1]);
     let slack = 1e-7;
     if max_x < -slack || max_y < -slack {
-        return;
+        return 0;
     }
     let x0 = (min_x - slack).ceil().max(0.0) as usize;
     let y0 = (min_y - slack).ceil().max(0.0) as usize;
@@ -578,6 +601,7 @@ fn draw_triangle(c: &[[f64; 3]; 3], width: usize, height: usize, z: &mut [f64], 
             }
         }
     }
+    ((x1 + 1).saturating_sub(x0) * (y1 + 1).saturating_sub(y0)) as u64
 }
 
 /// Fills NaN points with the value of the nearest non-NaN point in 4-neighbour steps (ties: the
