@@ -292,6 +292,16 @@ impl Pipelines {
     }
 }
 
+/// Resolves after `ms` milliseconds on the page's timer, letting the browser run callbacks.
+async fn sleep_ms(ms: i32) {
+    let promise = js_sys::Promise::new(&mut |resolve, _| {
+        if let Some(w) = web_sys::window() {
+            let _ = w.set_timeout_with_callback_and_timeout_and_arguments_0(&resolve, ms);
+        }
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
+}
+
 /// The view's background colour.
 pub const BACKGROUND: wgpu::Color = wgpu::Color {
     r: 0.93,
@@ -405,18 +415,27 @@ pub async fn render_offscreen(
         size,
     );
     queue.submit([encoder.finish()]);
-    // WebGPU calls back from the browser's event loop; WebGL2 when the device is polled.
-    let mut resolve = None;
-    let mapped = js_sys::Promise::new(&mut |ok, _| resolve = Some(ok));
-    let resolve = resolve.ok_or("no promise")?;
-    readback.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-        let _ = resolve.call1(&wasm_bindgen::JsValue::NULL, &r.is_ok().into());
-    });
-    let _ = device.poll(wgpu::PollType::wait_indefinitely());
-    let ok = wasm_bindgen_futures::JsFuture::from(mapped)
-        .await
-        .map_err(|_| "the readback failed")?;
-    if ok.as_bool() != Some(true) {
+    // WebGPU calls back from the browser's event loop, WebGL2 when the device is polled; a
+    // blocking poll never returns under WebGL2 (it cannot wait on the GPU), so poll without
+    // blocking and yield to the event loop between polls.
+    let mapped = std::rc::Rc::new(std::cell::Cell::new(None));
+    let done = mapped.clone();
+    readback
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, move |r| done.set(Some(r.is_ok())));
+    let mut waits = 0;
+    let ok = loop {
+        let _ = device.poll(wgpu::PollType::Poll);
+        if let Some(ok) = mapped.get() {
+            break ok;
+        }
+        waits += 1;
+        if waits > 2000 {
+            return Err("the GPU did not return the pixels within 10 s".to_string());
+        }
+        sleep_ms(5).await;
+    };
+    if !ok {
         return Err("the readback buffer could not be mapped".to_string());
     }
     let data = readback

@@ -2,9 +2,9 @@
 // /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh), then:
 // first load → drop a surface → run NSGA-II until the front has ≥ 10 points → click a front
 // point → the 3-D canvas is not blank → export PLY and, with the error map, glTF and check
-// them → drop a corrupt file and check
-// the message while the previous surface stays. Screenshots go to target/e2e/. Prints (does not
-// assert) frame timing, time to first paint and evaluations/s.
+// them → drop a corrupt file and check the message while the previous surface stays.
+// Screenshots go to target/e2e/. Prints (does not assert) frame timing, time to first paint
+// and evaluations/s.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
