@@ -1472,9 +1472,12 @@ mod glb_export {
     use paretomesh::heightfield::raw;
     use std::sync::Arc;
 
-    /// Positions (with the node's translation added back), vertex count and colours of a .glb,
-    /// read with the `gltf` crate.
-    fn read_back(bytes: &[u8]) -> (Vec<[f64; 3]>, usize, Option<Vec<[u8; 4]>>) {
+    /// Vertex colours of a .glb, when it has them.
+    type Colours = Option<Vec<[u8; 4]>>;
+
+    /// Positions (with the node's translation added back), triangle count and colours of a
+    /// .glb, read with the `gltf` crate.
+    fn read_back(bytes: &[u8]) -> (Vec<[f64; 3]>, usize, Colours) {
         let file = gltf::Gltf::from_slice(bytes).expect("a valid .glb");
         let primitive = file.meshes().next().unwrap().primitives().next().unwrap();
         let blob = file.blob.as_deref();
