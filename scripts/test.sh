@@ -30,6 +30,10 @@ CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
 echo "== browser app: build and end-to-end test (headless Chromium)"
 bash scripts/build-web.sh
 node tests/e2e/app.test.mjs
+node tests/e2e/import.test.mjs
+# The WebGPU path through offscreen readback (Chromium with --enable-unsafe-webgpu; a WebGPU
+# canvas stays blank headless), compared with the WebGL2 path.
+node tests/e2e/webgpu.test.mjs
 # The share-link test compares the browser's front with the CLI's debug build (the same bits as
 # a release build, and cheaper: `cargo test` above built most of it; only the dependencies whose
 # features dev-dependencies unify differently are compiled again).

@@ -138,7 +138,7 @@ mod views {
 mod camera_and_loading {
     use paretomesh::app::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
     use paretomesh::app::loader;
-    use paretomesh::heightfield::{ImportOptions, Projection};
+    use paretomesh::heightfield::{ImportOptions, Projection, Surface};
 
     #[test]
     fn orbiting_and_zooming_stay_within_limits() {
@@ -212,6 +212,109 @@ mod camera_and_loading {
         );
         assert!(loader::options("spherical", 0, 0).is_err());
         assert!(loader::options("planar", 64, 0).is_err());
+        assert_eq!(loader::surface("outer").unwrap(), Surface::Outer);
+        assert_eq!(loader::surface("single").unwrap(), Surface::Single);
+        assert!(loader::surface("inner").unwrap_err().contains("inner"));
+    }
+
+    /// A closed box around the origin with a second box 5 % inside it: a thick shell, which
+    /// folds over itself in every projection.
+    fn thick_box_stl() -> Vec<u8> {
+        let mut s = String::from("solid shell\n");
+        for scale in [1.0, 0.95] {
+            let c = |x: f64, y: f64, z: f64| [x * scale, y * scale, z * scale * 0.5];
+            let faces = [
+                [
+                    c(-1., -1., -1.),
+                    c(1., -1., -1.),
+                    c(1., 1., -1.),
+                    c(-1., 1., -1.),
+                ],
+                [
+                    c(-1., -1., 1.),
+                    c(1., -1., 1.),
+                    c(1., 1., 1.),
+                    c(-1., 1., 1.),
+                ],
+                [
+                    c(-1., -1., -1.),
+                    c(1., -1., -1.),
+                    c(1., -1., 1.),
+                    c(-1., -1., 1.),
+                ],
+                [
+                    c(-1., 1., -1.),
+                    c(1., 1., -1.),
+                    c(1., 1., 1.),
+                    c(-1., 1., 1.),
+                ],
+                [
+                    c(-1., -1., -1.),
+                    c(-1., 1., -1.),
+                    c(-1., 1., 1.),
+                    c(-1., -1., 1.),
+                ],
+                [
+                    c(1., -1., -1.),
+                    c(1., 1., -1.),
+                    c(1., 1., 1.),
+                    c(1., -1., 1.),
+                ],
+            ];
+            for q in faces {
+                for t in [[q[0], q[1], q[2]], [q[0], q[2], q[3]]] {
+                    s.push_str("facet normal 0 0 0\n outer loop\n");
+                    for v in t {
+                        s.push_str(&format!("  vertex {} {} {}\n", v[0], v[1], v[2]));
+                    }
+                    s.push_str(" endloop\nendfacet\n");
+                }
+            }
+        }
+        s.push_str("endsolid shell\n");
+        s.into_bytes()
+    }
+
+    #[test]
+    fn a_folding_mesh_is_reported_as_such_and_loads_as_its_outer_surface() {
+        let stl = thick_box_stl();
+        let e = loader::parse_file("shell.stl", &stl, None, &ImportOptions::default()).unwrap_err();
+        assert!(e.folds, "{e:?}");
+        assert!(
+            e.message.starts_with("shell.stl") && e.message.contains("folds"),
+            "{e:?}"
+        );
+        let outer = ImportOptions {
+            surface: Surface::Outer,
+            ..ImportOptions::default()
+        };
+        let hf = loader::parse_file("shell.stl", &stl, None, &outer).unwrap();
+        assert!(hf.source().contains("outer surface"), "{}", hf.source());
+        // Other failures are not offered the outer surface.
+        let e = loader::parse_file("notes.txt", b"hello", None, &outer).unwrap_err();
+        assert!(!e.folds);
+    }
+
+    #[test]
+    fn a_geotiffs_georeferencing_is_summarised_for_the_dialog() {
+        let tif = include_bytes!("data/volcano_87x61_int16_lzw_nodata.tif");
+        let name = "volcano_87x61_int16_lzw_nodata.tif";
+        let hf = loader::parse(name, tif, None, &ImportOptions::default()).unwrap();
+        let text = loader::georeference_summary(&hf).unwrap();
+        assert!(text.contains("pixel size 10 × 10 map units"), "{text}");
+        assert!(text.contains("map (2667400, 6478710)"), "{text}");
+        assert!(text.contains("nodata -9999: 14 cells filled"), "{text}");
+        // No georeferencing tags: said so; a grid from another format has no summary.
+        let plain = include_bytes!("data/volcano_87x61_uint16_packbits.tif");
+        let hf = loader::parse("p.tif", plain, None, &ImportOptions::default()).unwrap();
+        let text = loader::georeference_summary(&hf).unwrap();
+        assert!(
+            text.contains("no pixel scale") && text.contains("no nodata"),
+            "{text}"
+        );
+        let ply = include_bytes!("data/volcano_87x61.ply");
+        let hf = loader::parse("v.ply", ply, None, &ImportOptions::default()).unwrap();
+        assert_eq!(loader::georeference_summary(&hf), None);
     }
 
     #[test]
@@ -367,6 +470,8 @@ mod app_stepping {
         tick_until_idle(&mut app, 50.0, &mut ticking_clock());
         let n = app.front().unwrap().len();
         assert!(n >= 3, "front of {n}");
+        // The finished run selected its trade-off pick; start from no selection.
+        app.select_front_index(None);
         app.move_selection(1);
         assert_eq!(app.selected_front_index(), Some(0));
         app.move_selection(1);
@@ -439,6 +544,86 @@ mod app_stepping {
         tick_until_idle(&mut app, 8.0, &mut ticking_clock());
         assert_eq!(app.status().generation, 1);
         assert_eq!(app.selected(), None);
+    }
+
+    /// The paper's trade-off pick of `app`'s front, computed from the metric itself.
+    fn expected_trade_off(app: &App) -> usize {
+        let points: Vec<_> = app
+            .front()
+            .unwrap()
+            .solutions()
+            .iter()
+            .map(|s| s.objectives())
+            .collect();
+        paretomesh::metrics::trade_off_pick(&points, config().params.seed)
+            .unwrap()
+            .index
+    }
+
+    #[test]
+    fn a_finished_run_selects_its_trade_off_pick() {
+        let mut app = app();
+        app.run().unwrap();
+        let mut clock = ticking_clock();
+        app.tick(8.0, &mut clock);
+        assert!(!app.status().done);
+        assert_eq!(
+            app.selected(),
+            None,
+            "nothing is selected while the run goes on"
+        );
+        tick_until_idle(&mut app, 8.0, &mut clock);
+        assert!(app.status().done);
+        let n = app.front().unwrap().len();
+        let pick = expected_trade_off(&app);
+        assert!(
+            n >= 3 && pick > 0 && pick < n - 1,
+            "a middle member: {pick} of {n}"
+        );
+        assert_eq!(app.selected_front_index(), Some(pick));
+        assert_eq!(
+            app.shown_kept(),
+            app.front().unwrap().solutions()[pick].kept
+        );
+    }
+
+    #[test]
+    fn a_run_finished_by_stepping_selects_its_trade_off_pick() {
+        let mut app = app();
+        while !app.step_once().unwrap().done {}
+        assert_eq!(app.selected_front_index(), Some(expected_trade_off(&app)));
+    }
+
+    #[test]
+    fn a_selection_made_before_the_end_stays() {
+        let mut app = app();
+        app.run().unwrap();
+        let mut clock = ticking_clock();
+        while app.front().is_none_or(|f| f.len() < 2) {
+            app.tick(8.0, &mut clock);
+        }
+        app.select_front_index(Some(0));
+        let chosen = app.selected().unwrap().clone();
+        tick_until_idle(&mut app, 8.0, &mut clock);
+        assert!(app.status().done);
+        assert_eq!(app.selected(), Some(&chosen));
+        assert!(!app.select_if_unselected(app.front().unwrap().solutions()[1].clone()));
+        assert_eq!(app.selected(), Some(&chosen));
+    }
+
+    #[test]
+    fn a_shared_runs_selection_wins_at_the_end() {
+        // Re-running a shared run to its last generation ends the run; the link's index stays.
+        let mut app = app();
+        app.reproduce(Reproduction {
+            generations: config().params.generations as u64,
+            selected: Some(0),
+        })
+        .unwrap();
+        tick_until_idle(&mut app, 8.0, &mut ticking_clock());
+        assert!(app.status().done);
+        assert_ne!(expected_trade_off(&app), 0, "the test must tell them apart");
+        assert_eq!(app.selected_front_index(), Some(0));
     }
 
     #[test]
@@ -605,6 +790,7 @@ mod share_links {
             projection: "cylindrical".into(),
             width: 48,
             height: 40,
+            surface: None,
         });
         let original = link(SharedSurface::File(fingerprint.clone()), Algorithm::Nsga2);
         let encoded = encode(&original);
@@ -625,6 +811,19 @@ mod share_links {
         };
         assert!(!json(&plain).contains("import"), "{}", json(&plain));
         assert!(json(&encoded).contains("\"import\":{\"projection\":\"cylindrical\""));
+        assert!(
+            json(&encoded).contains("\"width\":48,\"height\":40}"),
+            "a single surface is not written: {}",
+            json(&encoded)
+        );
+        // An outer surface travels too; an unknown one is refused.
+        let mut outer = fingerprint.clone();
+        outer.import.as_mut().unwrap().surface = Some("outer".into());
+        let outer_link = link(SharedSurface::File(outer.clone()), Algorithm::Nsga2);
+        assert_eq!(decode(&encode(&outer_link)).unwrap(), outer_link);
+        outer.import.as_mut().unwrap().surface = Some("inner".into());
+        let e = decode(&encode(&link(SharedSurface::File(outer), Algorithm::Nsga2))).unwrap_err();
+        assert!(e.to_string().contains("unknown surface"), "{e}");
         // Bad choices are refused with a message that says what is wrong.
         for (projection, width, height, expect) in [
             ("spherical", 48, 40, "unknown projection"),
@@ -637,6 +836,7 @@ mod share_links {
                 projection: projection.into(),
                 width,
                 height,
+                surface: None,
             });
             let bad = encode(&link(
                 SharedSurface::File(fingerprint.clone()),
@@ -1262,5 +1462,85 @@ mod teaching_view {
         let third = &oax_panel::meshes(record)[2];
         assert_eq!(third.t, record.rows[0].objectives.t);
         assert_eq!(third.kept, record.rows[0].genes.indices());
+    }
+}
+
+mod glb_export {
+    use paretomesh::app::geometry::error_colour;
+    use paretomesh::app::glb_export::{mesh_glb, vertex_error_colours};
+    use paretomesh::app::state::shown_mesh;
+    use paretomesh::heightfield::raw;
+    use std::sync::Arc;
+
+    /// Vertex colours of a .glb, when it has them.
+    type Colours = Option<Vec<[u8; 4]>>;
+
+    /// Positions (with the node's translation added back), triangle count and colours of a
+    /// .glb, read with the `gltf` crate.
+    fn read_back(bytes: &[u8]) -> (Vec<[f64; 3]>, usize, Colours) {
+        let file = gltf::Gltf::from_slice(bytes).expect("a valid .glb");
+        let primitive = file.meshes().next().unwrap().primitives().next().unwrap();
+        let blob = file.blob.as_deref();
+        let reader = primitive.reader(|b| match b.source() {
+            gltf::buffer::Source::Bin => blob,
+            _ => None,
+        });
+        let shift = file.nodes().next().unwrap().transform().decomposed().0;
+        let positions: Vec<[f64; 3]> = reader
+            .read_positions()
+            .unwrap()
+            .map(|p| std::array::from_fn(|k| p[k] as f64 + shift[k] as f64))
+            .collect();
+        let triangles = reader.read_indices().unwrap().into_u32().count() / 3;
+        let colours = reader.read_colors(0).map(|c| c.into_rgba_u8().collect());
+        (positions, triangles, colours)
+    }
+
+    #[test]
+    fn the_shown_mesh_reads_back_with_the_error_map_as_vertex_colours() {
+        let hf = Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap());
+        // The corners, the centre and a few points: a coarse mesh with a visible error.
+        let kept = vec![
+            0,
+            32,
+            16 * 33 + 16,
+            5 * 33 + 20,
+            25 * 33 + 8,
+            32 * 33,
+            33 * 33 - 1,
+        ];
+        let mesh = shown_mesh(&hf, &kept).unwrap();
+        let (positions, triangles, colours) = read_back(&mesh_glb(&hf, &mesh, false).unwrap());
+        assert_eq!(positions.len(), mesh.kept.len());
+        assert_eq!(triangles, mesh.triangles.len());
+        assert!(colours.is_none(), "no error map shown, no colours");
+        for (p, &g) in positions.iter().zip(&mesh.kept) {
+            let want = hf.to_world(g, hf.z()[g as usize]);
+            for k in 0..3 {
+                assert!(
+                    (p[k] - want[k]).abs() < 1e-3,
+                    "vertex {g}: {p:?} vs {want:?}"
+                );
+            }
+        }
+
+        let (_, _, colours) = read_back(&mesh_glb(&hf, &mesh, true).unwrap());
+        let colours = colours.expect("the error map as COLOR_0");
+        assert_eq!(colours, vertex_error_colours(&hf, &mesh));
+        // Different parts of a coarse mesh of a volcano are wrong by different amounts, and
+        // none is off the ramp's top: the largest mean is below the largest point error.
+        let distinct: std::collections::HashSet<_> = colours.iter().collect();
+        assert!(distinct.len() > 2, "{colours:?}");
+        let top = error_colour(1.0).map(|c| (c * 255.0).round() as u8);
+        assert!(colours.iter().all(|c| *c != top), "{colours:?}");
+        let bottom = error_colour(0.0).map(|c| (c * 255.0).round() as u8);
+        // The full mesh is exact: every vertex takes the bottom of the ramp.
+        let all: Vec<u32> = (0..hf.len() as u32).collect();
+        let exact = shown_mesh(&hf, &all).unwrap();
+        assert!(
+            vertex_error_colours(&hf, &exact)
+                .iter()
+                .all(|c| *c == bottom)
+        );
     }
 }

@@ -52,13 +52,33 @@ fn finished(surface: Surface, params: Params) -> CompareRun {
     run.run();
     let mut clock = ticking_clock();
     let mut frames = 0;
+    let mut finishing_ticks = 0;
     while run.is_running() {
-        run.tick(8.0, &mut clock);
+        if run.tick(8.0, &mut clock).finished {
+            finishing_ticks += 1;
+        }
         frames += 1;
         assert!(frames < 1_000_000, "the comparison must finish");
     }
     assert!(frames > 1, "the comparison took several frames");
+    assert_eq!(finishing_ticks, 1, "exactly the last tick reports the end");
     run
+}
+
+#[test]
+fn a_finished_comparison_offers_the_trade_off_pick_of_the_merged_fronts() {
+    let run = finished(volcano(), params());
+    let all: Vec<_> = (0..METHODS.len())
+        .flat_map(|k| run.front(k).unwrap().solutions().to_vec())
+        .collect();
+    let merged = paretomesh::front::Front::merged(&all);
+    let points: Vec<_> = merged.solutions().iter().map(|s| s.objectives()).collect();
+    let expected = &merged.solutions()[trade_off_pick(&points, params().seed).unwrap().index];
+    let pick = run.trade_off_solution().unwrap();
+    assert_eq!(&pick, expected);
+    // It is a member of some method's front, with its kept set, so the 3-D view can show it.
+    assert!(all.contains(&pick));
+    assert!(pick.kept.len() >= 4);
 }
 
 #[test]

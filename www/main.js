@@ -77,13 +77,23 @@ async function loadFiles(files) {
       const wanted = app.pendingImport();
       if (wanted) {
         const again = await parseInWorker(main.name, null, null, wanted);
-        if (again?.ok) app.loadParsed(main.name, again.surface, again.size, again.hash, wanted.projection);
+        if (again?.ok) app.loadParsed(main.name, again.surface, again.size, again.hash, wanted.projection, wanted.surface);
         else app.showLoadMessage(again ? again.error : 'the parser is not available', true);
       } else {
-        openImportDialog(main.name, result.surface, result.size, result.hash);
+        openImportDialog(main.name, result.surface, result.size, result.hash, { georeference: result.surface.georeference });
       }
     } else if (result.ok) {
-      app.loadParsed(main.name, result.surface, result.size, result.hash);
+      if (app.loadParsed(main.name, result.surface, result.size, result.hash) && result.surface.georeference) {
+        app.showLoadMessage(`loaded ${main.name} · ${result.surface.georeference}`, false);
+      }
+    } else if (result.folds) {
+      // A closed or thick mesh: offer its outer surface instead of only refusing it.
+      const wanted = app.pendingImport();
+      const options = wanted ?? { projection: 'auto', surface: 'outer', width: 0, height: 0 };
+      const outer = await parseInWorker(main.name, null, null, { ...options, surface: options.surface ?? 'outer' });
+      if (!outer?.ok) app.showLoadMessage(outer ? outer.error : result.error, true);
+      else if (wanted) app.loadParsed(main.name, outer.surface, outer.size, outer.hash, wanted.projection, wanted.surface);
+      else openImportDialog(main.name, outer.surface, outer.size, outer.hash, { folds: result.error });
     } else {
       app.showLoadMessage(result.error, true);
     }
@@ -94,28 +104,43 @@ async function loadFiles(files) {
   }
 }
 
-// The dialog for a mesh that is not a grid: projection and grid size, re-parsed in the Worker
-// (which kept the file) with a preview; nothing changes until "Use this grid".
+// The dialog for a file that is not a grid as it stands: a mesh (projection, surface and grid
+// size), a mesh that folds (offered as its outer surface, with how much of the grid was covered
+// more than once), or a GeoTIFF over the size limit (grid size, with its georeferencing). Each
+// choice is re-parsed in the Worker (which kept the file) with a preview; nothing changes until
+// "Use this grid".
 let importing = null;
-function openImportDialog(name, surface, size, hash) {
-  importing = { name, surface, size, hash, key: `auto ${surface.width} ${surface.height}` };
+const dialogKey = () => `${$('import-projection').value} ${$('import-surface').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
+function openImportDialog(name, surface, size, hash, { folds = null, georeference = null } = {}) {
+  const geotiff = georeference !== null && georeference !== undefined;
+  $('import-title').textContent = geotiff ? 'This GeoTIFF is larger than the app optimises'
+    : folds ? 'This mesh folds over itself' : 'This mesh is not a grid';
+  $('import-projection-row').hidden = geotiff;
+  $('import-surface-row').hidden = geotiff;
   $('import-projection').value = 'auto';
+  $('import-surface').value = folds ? 'outer' : 'single';
+  $('import-georeference').hidden = !geotiff;
+  $('import-georeference').textContent = geotiff ? `georeferencing: ${georeference}` : '';
+  $('import-folds').hidden = !folds;
+  $('import-folds').textContent = folds ? `As a single surface: ${folds.replace(/^[^:]*: /, '').replace(/; a closed or thick mesh.*$/, '')}. Its outer surface is shown instead.` : '';
   $('import-summary').textContent = surface.source;
   $('import-width').value = surface.width;
   $('import-height').value = surface.height;
   $('import-message').textContent = '';
+  importing = { name, surface, size, hash, key: dialogKey() };
   drawPreview('import-preview', surface);
-  app.showLoadMessage(`${name}: choose how to turn the mesh into a grid`, false);
+  app.showLoadMessage(`${name}: choose how to turn it into a grid`, false);
   $('import-dialog').showModal();
 }
 async function previewImport() {
   const options = {
     projection: $('import-projection').value,
+    surface: $('import-surface').value,
     width: Number($('import-width').value) || 0,
     height: Number($('import-height').value) || 0,
   };
   $('import-message').textContent = 'resampling…';
-  importing.key = `${options.projection} ${options.width} ${options.height}`;
+  importing.key = dialogKey();
   const result = await parseInWorker(importing.name, null, null, options);
   if (result?.ok) {
     importing.surface = result.surface;
@@ -130,10 +155,9 @@ async function previewImport() {
 function wireImportDialog() {
   $('import-apply').addEventListener('click', previewImport);
   $('import-use').addEventListener('click', async () => {
-    const key = `${$('import-projection').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
-    if (key !== importing.key && !(await previewImport())) return;
+    if (dialogKey() !== importing.key && !(await previewImport())) return;
     $('import-dialog').close();
-    app.loadParsed(importing.name, importing.surface, importing.size, importing.hash, $('import-projection').value);
+    app.loadParsed(importing.name, importing.surface, importing.size, importing.hash, $('import-projection').value, $('import-surface').value);
   });
   $('import-cancel').addEventListener('click', () => {
     $('import-dialog').close();

@@ -9,15 +9,16 @@ const ready = init();
 let last = null;
 
 self.onmessage = async ({ data }) => {
-  const { id, projection = 'auto', width = 0, height = 0 } = data;
+  const { id, projection = 'auto', surface: wall = 'single', width = 0, height = 0 } = data;
   try {
     await ready;
     // The fingerprint a share link gives the file, hashed here off the page's thread.
     if (data.bytes) last = { name: data.name, bytes: data.bytes, sidecar: data.sidecar, size: data.bytes.length, hash: fnv1a64Hex(data.bytes) };
     if (!last) throw new Error('no file to parse');
-    const surface = parseSurface(last.name, last.bytes, last.sidecar, projection, width, height);
+    const surface = parseSurface(last.name, last.bytes, last.sidecar, projection, wall, width, height);
     self.postMessage({ id, ok: true, surface, size: last.size, hash: last.hash }, [surface.z.buffer]);
   } catch (e) {
-    self.postMessage({ id, ok: false, error: e instanceof Error ? e.message : String(e) });
+    // `folds`: a mesh that folds in every projection, whose outer surface can still be read.
+    self.postMessage({ id, ok: false, error: e instanceof Error ? e.message : String(e), folds: Boolean(e?.folds) });
   }
 };

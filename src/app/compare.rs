@@ -52,6 +52,8 @@ pub struct CompareTick {
     pub evaluations: u64,
     /// Which methods got a slice, in [`METHODS`] order.
     pub served: [bool; 4],
+    /// The last unfinished method finished in this tick.
+    pub finished: bool,
 }
 
 /// The three picks of one method's front (the experiment's Table IV), with their positions in
@@ -248,8 +250,23 @@ impl CompareRun {
         self.cursor = next_cursor;
         if self.is_done() {
             self.running = false;
+            report.finished = true;
         }
         report
+    }
+
+    /// The paper's trade-off pick (see [`super::pick`]) of the four fronts merged, with the
+    /// weights drawn from the run's seed: the best balance any method found. `None` while every
+    /// front is empty.
+    pub fn trade_off_solution(&self) -> Option<Solution> {
+        let merged = Front::merged(
+            self.lanes
+                .iter()
+                .filter_map(|l| l.app.front())
+                .flat_map(|f| f.solutions()),
+        );
+        super::pick::trade_off_index(&merged, self.params.seed)
+            .map(|i| merged.solutions()[i].clone())
     }
 
     /// The methods, in [`METHODS`] order.

@@ -1,6 +1,7 @@
 //! Turning dropped files into a height field, and the built-in surface.
 
-use crate::heightfield::{Heightfield, ImportOptions, import::Projection, raw};
+use crate::heightfield::import::{ImportError, Projection, Surface};
+use crate::heightfield::{Heightfield, ImportOptions, raw};
 
 /// A surface built into the app (copied from `tests/data`, see its SOURCES.md).
 #[derive(Clone, Copy, Debug)]
@@ -83,6 +84,26 @@ pub fn options(projection: &str, width: u32, height: u32) -> Result<ImportOption
     })
 }
 
+/// The import dialog's surface choice: "single" (a mesh must not fold) or "outer" (the
+/// outermost hit at every grid point, for closed and thick meshes).
+pub fn surface(name: &str) -> Result<Surface, String> {
+    match name {
+        "single" => Ok(Surface::Single),
+        "outer" => Ok(Surface::Outer),
+        other => Err(format!("unknown surface “{other}”")),
+    }
+}
+
+/// Why a dropped file did not load.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadError {
+    /// The message for the user, naming the file.
+    pub message: String,
+    /// The file is a mesh that folds over itself in every projection: its outer surface can
+    /// still be imported, so the page offers that choice instead of only refusing.
+    pub folds: bool,
+}
+
 /// Parses a dropped file `name` with `bytes`; `.f32` grids need their `.json` `sidecar`.
 /// Every failure is a message for the user naming the file.
 pub fn parse(
@@ -91,12 +112,55 @@ pub fn parse(
     sidecar: Option<&[u8]>,
     options: &ImportOptions,
 ) -> Result<Heightfield, String> {
+    parse_file(name, bytes, sidecar, options).map_err(|e| e.message)
+}
+
+/// [`parse`], saying also whether the failure is a folding mesh (see [`LoadError::folds`]).
+pub fn parse_file(
+    name: &str,
+    bytes: &[u8],
+    sidecar: Option<&[u8]>,
+    options: &ImportOptions,
+) -> Result<Heightfield, LoadError> {
     crate::heightfield::import::from_bytes(name, bytes, sidecar, options).map_err(|e| {
+        let folds = matches!(e, ImportError::NoProjection { .. });
         let message = e.to_string();
-        if message.contains(name) {
+        let message = if message.contains(name) {
             message
         } else {
             format!("{name}: {message}")
-        }
+        };
+        LoadError { message, folds }
     })
+}
+
+/// What the import dialog says about a GeoTIFF's georeferencing: map spacing, the map position
+/// of the first tie point, the nodata value and how many cells it filled; `None` for a grid
+/// read from another format.
+pub fn georeference_summary(hf: &Heightfield) -> Option<String> {
+    let geo = hf.georeference()?;
+    let mut parts = Vec::new();
+    match geo.pixel_scale {
+        Some([sx, sy, _]) => parts.push(format!("pixel size {sx} × {sy} map units")),
+        None => parts.push("no pixel scale (ModelPixelScale)".to_string()),
+    }
+    match geo.tiepoint {
+        Some([i, j, _, x, y, _]) => {
+            let at = if geo.pixel_is_point {
+                "centre"
+            } else {
+                "corner"
+            };
+            parts.push(format!("pixel ({i}, {j}) {at} at map ({x}, {y})"))
+        }
+        None => parts.push("no tie point (ModelTiepoint)".to_string()),
+    }
+    match &geo.nodata {
+        Some(text) => parts.push(format!(
+            "nodata {text}: {} cells filled from their nearest valid cell",
+            hf.filled()
+        )),
+        None => parts.push("no nodata value".to_string()),
+    }
+    Some(parts.join(" · "))
 }

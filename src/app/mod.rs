@@ -10,6 +10,7 @@
 //! - [`plot`]: the E–T plot's layout and hit-testing.
 //! - [`camera`] and [`geometry`]: the 3-D view's orbit camera and vertex data.
 //! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image.
+//! - [`pick`]: the mesh selected when a run ends; [`glb_export`]: the shown mesh as `.glb`.
 
 pub mod algorithms;
 pub mod camera;
@@ -17,8 +18,10 @@ pub mod compare;
 pub mod compare_html;
 pub mod examples;
 pub mod geometry;
+pub mod glb_export;
 pub mod loader;
 pub mod oax_panel;
+pub mod pick;
 pub mod plot;
 pub mod preview;
 pub mod share;

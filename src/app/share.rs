@@ -123,6 +123,10 @@ pub struct ImportChoice {
     pub width: u32,
     /// Grid rows.
     pub height: u32,
+    /// "outer" for a folding mesh imported as its outer surface; absent for a single surface,
+    /// so links of meshes that do not fold read as before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
 }
 
 impl ImportChoice {
@@ -131,6 +135,9 @@ impl ImportChoice {
     pub fn validate(&self) -> Result<(), ShareError> {
         let bad = |m: String| Err(ShareError::BadImport(m));
         if let Err(e) = loader::options(&self.projection, self.width, self.height) {
+            return bad(e);
+        }
+        if let Some(Err(e)) = self.surface.as_deref().map(loader::surface) {
             return bad(e);
         }
         let (w, h) = (self.width as usize, self.height as usize);

@@ -8,6 +8,7 @@
 //! CLI reaches with the same seed.
 
 use super::algorithms::{self, Algorithm, Params, Running};
+use super::pick;
 use crate::evaluator::Evaluator;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::front::{Front, Solution};
@@ -230,8 +231,12 @@ impl App {
         self.reproduction = None;
         let evaluations = self.config.params.population.max(1) as u64;
         let optimizer = self.ensure_optimizer()?;
+        let was_done = optimizer.progress().done;
         let p = optimizer.step(evaluations);
         self.revision += 1;
+        if p.done && !was_done {
+            self.select_at_run_end();
+        }
         Ok(p)
     }
 
@@ -257,6 +262,7 @@ impl App {
         let mut now = start;
         // The slowest evaluation of this frame so far, in ms.
         let mut slowest_eval: f64 = 0.0;
+        let mut finished = false;
         loop {
             let call_start = now;
             let evals_before = optimizer.progress().evaluations;
@@ -280,6 +286,7 @@ impl App {
             if p.done {
                 self.running = false;
             }
+            finished |= p.done;
             if let Some(r) = self.reproduction
                 && (p.done || p.generation >= r.generations)
             {
@@ -302,6 +309,10 @@ impl App {
         self.elapsed_ms += now - start;
         if report.evaluations > 0 {
             self.revision += 1;
+        }
+        // After a shared run's own selection was applied, so that one wins.
+        if finished {
+            self.select_at_run_end();
         }
         report
     }
@@ -359,6 +370,30 @@ impl App {
     pub fn select_solution(&mut self, solution: Option<Solution>) {
         self.selected = solution;
         self.revision += 1;
+    }
+
+    /// Selects the front's trade-off pick (see [`super::pick`]) when nothing is selected; a
+    /// selection already made stays.
+    fn select_at_run_end(&mut self) {
+        let Some(front) = self.front() else {
+            return;
+        };
+        let chosen =
+            pick::selection_at_run_end(self.selected.as_ref(), front, self.config.params.seed);
+        if chosen.as_ref() != self.selected.as_ref() {
+            self.selected = chosen;
+            self.revision += 1;
+        }
+    }
+
+    /// Selects `solution` (a compare run's trade-off pick, say) unless something is selected
+    /// already; returns whether it did.
+    pub fn select_if_unselected(&mut self, solution: Solution) -> bool {
+        if self.selected.is_some() {
+            return false;
+        }
+        self.select_solution(Some(solution));
+        true
     }
 
     /// Index in the current front of the selected solution (matched by its objectives).

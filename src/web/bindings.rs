@@ -42,7 +42,7 @@ impl WebApp {
     pub fn load_file(&self, name: &str, bytes: &[u8], sidecar: Option<Vec<u8>>) -> bool {
         let parsed = loader::parse(name, bytes, sidecar.as_deref(), &ImportOptions::default());
         let fingerprint = FileFingerprint {
-            import: ui::import_choice(&parsed, None),
+            import: ui::import_choice(&parsed, None, None),
             ..FileFingerprint::of(name, bytes)
         };
         ui::load(&mut self.ui.borrow_mut(), fingerprint, parsed)
@@ -51,8 +51,9 @@ impl WebApp {
     /// Shows a surface the Worker parsed (see [`super::transfer`]) from a file of `size` bytes
     /// whose FNV-1a hash is `hash` (16 hex digits, from [`fnv1a64_hex`], which the Worker runs
     /// on the file's bytes); like [`WebApp::load_file`] otherwise. `projection` is the import
-    /// dialog's projection for a mesh that had to be resampled ("auto" when absent): with the
-    /// grid's size it goes into share links of this surface.
+    /// dialog's projection for a mesh that had to be resampled ("auto" when absent) and
+    /// `surface` its surface choice ("single" when absent): with the grid's size they go into
+    /// share links of this surface.
     #[wasm_bindgen(js_name = loadParsed)]
     pub fn load_parsed(
         &self,
@@ -61,18 +62,19 @@ impl WebApp {
         size: f64,
         hash: &str,
         projection: Option<String>,
+        surface: Option<String>,
     ) -> bool {
         let parsed = transfer::surface_from_js(&parsed).map_err(|e| format!("{name}: {e}"));
         let fingerprint = FileFingerprint {
             name: name.to_string(),
             size: size as u64,
             fnv1a64: u64::from_str_radix(hash, 16).unwrap_or(0),
-            import: ui::import_choice(&parsed, projection),
+            import: ui::import_choice(&parsed, projection, surface),
         };
         ui::load(&mut self.ui.borrow_mut(), fingerprint, parsed)
     }
 
-    /// The import choice (`{projection, width, height}`) of the file a share link waits for,
+    /// The import choice (`{projection, width, height, surface?}`) of the file a share link waits for,
     /// or null: the page then re-parses a dropped mesh that way instead of asking.
     #[wasm_bindgen(js_name = pendingImport)]
     pub fn pending_import(&self) -> JsValue {
@@ -253,26 +255,37 @@ pub fn evaluate_raw(grid: &[u8], sidecar: &[u8], kept: &[u32]) -> Result<JsValue
     serde::Serialize::serialize(&evaluation, &serializer).map_err(|e| JsError::new(&e.to_string()))
 }
 
-/// Parses a file (in the Worker) with the dialog's options (see [`loader::options`]) and returns
-/// the plain-object height field with `resampled: true` when a mesh was projected and resampled
-/// (the page then offers the projection dialog), or throws the message for the user.
+/// Parses a file (in the Worker) with the dialog's options (see [`loader::options`] and
+/// [`loader::surface`]) and returns the plain-object height field with `resampled: true` when a
+/// mesh was projected and resampled or a GeoTIFF was over the size limit (the page then offers
+/// the import dialog), and `georeference`: the GeoTIFF's georeferencing and nodata summary
+/// (null for other files). On failure it throws an `Error` with the message for the user and
+/// `folds: true` when the file is a mesh whose outer surface can still be imported.
 #[wasm_bindgen(js_name = parseSurface)]
 pub fn parse_surface(
     name: &str,
     bytes: &[u8],
     sidecar: Option<Vec<u8>>,
     projection: &str,
+    surface: &str,
     grid_width: u32,
     grid_height: u32,
-) -> Result<JsValue, JsError> {
-    let options =
-        loader::options(projection, grid_width, grid_height).map_err(|e| JsError::new(&e))?;
-    let hf =
-        loader::parse(name, bytes, sidecar.as_deref(), &options).map_err(|e| JsError::new(&e))?;
-    let o = transfer::surface_to_js(&hf)
-        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
-    Reflect::set(&o, &"resampled".into(), &hf.resampled().into())
-        .map_err(|_| JsError::new("cannot pass the parsed surface to the page"))?;
+) -> Result<JsValue, JsValue> {
+    let error = |message: &str, folds: bool| -> JsValue {
+        let e = js_sys::Error::new(message);
+        let _ = Reflect::set(&e, &"folds".into(), &folds.into());
+        e.into()
+    };
+    let mut options =
+        loader::options(projection, grid_width, grid_height).map_err(|e| error(&e, false))?;
+    options.surface = loader::surface(surface).map_err(|e| error(&e, false))?;
+    let hf = loader::parse_file(name, bytes, sidecar.as_deref(), &options)
+        .map_err(|e| error(&e.message, e.folds))?;
+    let handoff = || error("cannot pass the parsed surface to the page", false);
+    let o = transfer::surface_to_js(&hf).map_err(|_| handoff())?;
+    Reflect::set(&o, &"resampled".into(), &hf.resampled().into()).map_err(|_| handoff())?;
+    let georeference = loader::georeference_summary(&hf).map_or(JsValue::NULL, JsValue::from);
+    Reflect::set(&o, &"georeference".into(), &georeference).map_err(|_| handoff())?;
     Ok(o)
 }
 
@@ -282,4 +295,33 @@ pub fn parse_surface(
 pub fn draw_preview(canvas_id: &str, surface: JsValue) -> Result<(), JsError> {
     let hf = transfer::surface_from_js(&surface).map_err(|e| JsError::new(&e))?;
     preview::draw(canvas_id, &hf).map_err(|e| JsError::new(&e))
+}
+
+/// Renders test scene `scene` ("surface" or "mesh", see [`super::page::test_scene`]) with
+/// `backend` ("webgpu" or "webgl2") into an offscreen `width` × `height` texture and resolves
+/// to `{backend, width, height, pixels}`: the RGBA8 pixels read back from the GPU, top row
+/// first. The end-to-end test compares the two backends with it.
+#[wasm_bindgen(js_name = renderOffscreen)]
+pub async fn render_offscreen(
+    backend: String,
+    scene: String,
+    width: u32,
+    height: u32,
+) -> Result<JsValue, JsError> {
+    if !(1..=4096).contains(&width) || !(1..=4096).contains(&height) {
+        return Err(JsError::new("the size must be 1 to 4096 pixels per side"));
+    }
+    let layers = super::page::test_scene(&scene).map_err(|e| JsError::new(&e))?;
+    let camera = crate::app::camera::OrbitCamera::default();
+    let (name, pixels) = super::gpu::render_offscreen(&backend, (width, height), &camera, layers)
+        .await
+        .map_err(|e| JsError::new(&e))?;
+    let o = js_sys::Object::new();
+    let set = |k: &str, v: JsValue| Reflect::set(&o, &k.into(), &v);
+    set("backend", name.into())
+        .and(set("width", width.into()))
+        .and(set("height", height.into()))
+        .and(set("pixels", js_sys::Uint8Array::from(&pixels[..]).into()))
+        .map_err(|_| JsError::new("cannot pass the pixels to the page"))?;
+    Ok(o.into())
 }

@@ -51,9 +51,15 @@ pub(super) fn compare_frame(ui: &mut Ui) {
     let budget = ui.app.config().budget_ms;
     if let Some(run) = ui.compare.run.as_mut() {
         let mut clock = performance_now;
-        run.tick(budget, &mut clock);
+        let tick = run.tick(budget, &mut clock);
+        let pick = tick.finished.then(|| run.trade_off_solution()).flatten();
         if run.refresh_table(performance_now()) {
             compare_table(ui);
+        }
+        if let Some(pick) = pick
+            && ui.app.select_if_unselected(pick)
+        {
+            ui.update_layers();
         }
     }
     compare_status(ui);

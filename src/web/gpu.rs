@@ -32,11 +32,7 @@ pub struct Renderer {
     queue: wgpu::Queue,
     config: wgpu::SurfaceConfiguration,
     depth: wgpu::TextureView,
-    uniforms: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
-    fill: wgpu::RenderPipeline,
-    lines: wgpu::RenderPipeline,
-    translucent: wgpu::RenderPipeline,
+    pipelines: Pipelines,
     layers: Vec<Layer>,
     /// "WebGPU" or "WebGL2".
     pub backend: &'static str,
@@ -63,49 +59,77 @@ fn depth_view(device: &wgpu::Device, width: u32, height: u32) -> wgpu::TextureVi
         .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
-impl Renderer {
-    /// Sets up wgpu on `canvas`. With `force_webgl`, WebGPU is not tried (headless screenshots
-    /// need the WebGL2 path: a WebGPU canvas stays blank there).
-    pub async fn new(canvas: HtmlCanvasElement, force_webgl: bool) -> Result<Self, String> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-        desc.backends = if force_webgl {
-            wgpu::Backends::GL
-        } else {
-            wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL
-        };
-        let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
-        let (width, height) = (canvas.width().max(1), canvas.height().max(1));
-        let surface = instance
-            .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
-            .map_err(|e| format!("cannot draw on the canvas: {e}"))?;
-        let adapter = instance
-            .request_adapter(&wgpu::RequestAdapterOptions {
-                power_preference: wgpu::PowerPreference::default(),
-                force_fallback_adapter: false,
-                compatible_surface: Some(&surface),
-                apply_limit_buckets: false,
-            })
-            .await
-            .map_err(|e| format!("no WebGPU or WebGL2 adapter: {e}"))?;
-        let backend = match adapter.get_info().backend {
-            wgpu::Backend::BrowserWebGpu => "WebGPU",
-            _ => "WebGL2",
-        };
-        let (device, queue) = adapter
-            .request_device(&wgpu::DeviceDescriptor {
-                label: Some("paretomesh"),
-                required_features: wgpu::Features::empty(),
-                required_limits: wgpu::Limits::downlevel_webgl2_defaults()
-                    .using_resolution(adapter.limits()),
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| format!("cannot open the GPU device: {e}"))?;
-        let mut config = surface
-            .get_default_config(&adapter, width, height)
-            .ok_or("the canvas surface is not supported by the adapter")?;
-        config.present_mode = wgpu::PresentMode::Fifo;
-        surface.configure(&device, &config);
+/// The three pipelines and their uniforms, for one colour target format.
+struct Pipelines {
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    fill: wgpu::RenderPipeline,
+    lines: wgpu::RenderPipeline,
+    translucent: wgpu::RenderPipeline,
+}
+
+/// A GPU device on `canvas` (which also serves the WebGL2 backend: wgpu reaches WebGL2 only
+/// through a canvas), with WebGPU tried unless `force_webgl`, and WebGL2 not tried when
+/// `only_webgpu`. Returns the surface, device, queue, adapter and the backend's name.
+async fn open(
+    canvas: HtmlCanvasElement,
+    force_webgl: bool,
+    only_webgpu: bool,
+) -> Result<Opened, String> {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = if force_webgl {
+        wgpu::Backends::GL
+    } else if only_webgpu {
+        wgpu::Backends::BROWSER_WEBGPU
+    } else {
+        wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL
+    };
+    let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
+    let surface = instance
+        .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+        .map_err(|e| format!("cannot draw on the canvas: {e}"))?;
+    let adapter = instance
+        .request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::default(),
+            force_fallback_adapter: false,
+            compatible_surface: Some(&surface),
+            apply_limit_buckets: false,
+        })
+        .await
+        .map_err(|e| format!("no WebGPU or WebGL2 adapter: {e}"))?;
+    let backend = match adapter.get_info().backend {
+        wgpu::Backend::BrowserWebGpu => "WebGPU",
+        _ => "WebGL2",
+    };
+    let (device, queue) = adapter
+        .request_device(&wgpu::DeviceDescriptor {
+            label: Some("paretomesh"),
+            required_features: wgpu::Features::empty(),
+            required_limits: wgpu::Limits::downlevel_webgl2_defaults()
+                .using_resolution(adapter.limits()),
+            ..Default::default()
+        })
+        .await
+        .map_err(|e| format!("cannot open the GPU device: {e}"))?;
+    Ok(Opened {
+        surface,
+        adapter,
+        device,
+        queue,
+        backend,
+    })
+}
+
+struct Opened {
+    surface: wgpu::Surface<'static>,
+    adapter: wgpu::Adapter,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    backend: &'static str,
+}
+
+impl Pipelines {
+    fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("shader"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
@@ -174,7 +198,7 @@ impl Renderer {
                     entry_point: Some("fs_main"),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
-                        format: config.format,
+                        format,
                         blend,
                         write_mask: wgpu::ColorWrites::ALL,
                     })],
@@ -188,24 +212,264 @@ impl Renderer {
             slope_scale: 1.0,
             clamp: 0.0,
         };
-        let fill = make(
-            wgpu::PrimitiveTopology::TriangleList,
-            true,
-            pushed_back,
-            None,
-        );
-        let lines = make(
-            wgpu::PrimitiveTopology::LineList,
-            true,
-            Default::default(),
-            None,
-        );
-        let translucent = make(
-            wgpu::PrimitiveTopology::TriangleList,
-            false,
-            pushed_back,
-            Some(wgpu::BlendState::ALPHA_BLENDING),
-        );
+        Self {
+            fill: make(
+                wgpu::PrimitiveTopology::TriangleList,
+                true,
+                pushed_back,
+                None,
+            ),
+            lines: make(
+                wgpu::PrimitiveTopology::LineList,
+                true,
+                Default::default(),
+                None,
+            ),
+            translucent: make(
+                wgpu::PrimitiveTopology::TriangleList,
+                false,
+                pushed_back,
+                Some(wgpu::BlendState::ALPHA_BLENDING),
+            ),
+            uniforms,
+            bind_group,
+        }
+    }
+
+    /// Encodes one frame of `layers` seen from `camera` into `target` (with `depth`, both
+    /// `width` × `height`).
+    #[allow(clippy::too_many_arguments)]
+    fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        (width, height): (u32, u32),
+        camera: &OrbitCamera,
+        layers: &[Layer],
+    ) {
+        let aspect = width as f32 / height as f32;
+        let vp = camera.view_projection(aspect);
+        let mut data = [0f32; 20];
+        data[..16].copy_from_slice(&vp.to_cols_array());
+        data[16..19].copy_from_slice(&[0.3, -0.5, 0.8]);
+        queue.write_buffer(&self.uniforms, 0, bytemuck::cast_slice(&data));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(BACKGROUND),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            ..Default::default()
+        });
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        for style in [Style::Fill, Style::Lines, Style::Translucent] {
+            pass.set_pipeline(match style {
+                Style::Fill => &self.fill,
+                Style::Lines => &self.lines,
+                Style::Translucent => &self.translucent,
+            });
+            for layer in layers.iter().filter(|l| l.style == style) {
+                pass.set_vertex_buffer(0, layer.vertices.slice(..));
+                pass.set_index_buffer(layer.indices.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..layer.count, 0, 0..1);
+            }
+        }
+    }
+}
+
+/// Resolves after `ms` milliseconds on the page's timer, letting the browser run callbacks.
+async fn sleep_ms(ms: i32) {
+    let promise = js_sys::Promise::new(&mut |resolve, _| {
+        if let Some(w) = web_sys::window() {
+            let _ = w.set_timeout_with_callback_and_timeout_and_arguments_0(&resolve, ms);
+        }
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
+}
+
+/// The view's background colour.
+pub const BACKGROUND: wgpu::Color = wgpu::Color {
+    r: 0.93,
+    g: 0.94,
+    b: 0.96,
+    a: 1.0,
+};
+
+/// GPU buffers of `layers` (empty ones left out).
+fn upload(device: &wgpu::Device, layers: Vec<(Style, Geometry)>) -> Vec<Layer> {
+    layers
+        .into_iter()
+        .filter(|(_, g)| !g.indices.is_empty())
+        .map(|(style, g)| Layer {
+            style,
+            vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("vertices"),
+                contents: bytemuck::cast_slice(&g.vertices),
+                usage: wgpu::BufferUsages::VERTEX,
+            }),
+            indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("indices"),
+                contents: bytemuck::cast_slice(&g.indices),
+                usage: wgpu::BufferUsages::INDEX,
+            }),
+            count: g.indices.len() as u32,
+        })
+        .collect()
+}
+
+/// Draws `layers` from `camera` into an offscreen `width` × `height` RGBA8 texture and reads
+/// it back (`copy_texture_to_buffer`, then a mapped buffer): the pixels, row by row from the
+/// top, 4 bytes each. `backend` is "webgpu" (WebGPU only) or "webgl2"; returns the backend's
+/// name with the pixels. A canvas presents nothing in a headless browser under WebGPU, but a
+/// texture read back does, so this is how a test sees what the WebGPU path draws.
+pub async fn render_offscreen(
+    backend: &str,
+    (width, height): (u32, u32),
+    camera: &OrbitCamera,
+    layers: Vec<(Style, Geometry)>,
+) -> Result<(&'static str, Vec<u8>), String> {
+    let (force_webgl, only_webgpu) = match backend {
+        "webgpu" => (false, true),
+        "webgl2" => (true, false),
+        other => return Err(format!("unknown backend “{other}”: webgpu or webgl2")),
+    };
+    let canvas: HtmlCanvasElement = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.create_element("canvas").ok())
+        .and_then(|e| wasm_bindgen::JsCast::dyn_into(e).ok())
+        .ok_or("cannot create a canvas")?;
+    canvas.set_width(width);
+    canvas.set_height(height);
+    let gpu = open(canvas, force_webgl, only_webgpu).await?;
+    let (device, queue) = (&gpu.device, &gpu.queue);
+    let format = wgpu::TextureFormat::Rgba8Unorm;
+    let size = wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: 1,
+    };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("offscreen"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let pipelines = Pipelines::new(device, format);
+    let layers = upload(device, layers);
+    let depth = depth_view(device, width, height);
+    let row = (4 * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: u64::from(row) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("offscreen"),
+    });
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    pipelines.encode(
+        queue,
+        &mut encoder,
+        &view,
+        &depth,
+        (width, height),
+        camera,
+        &layers,
+    );
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &readback,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(height),
+            },
+        },
+        size,
+    );
+    queue.submit([encoder.finish()]);
+    // WebGPU calls back from the browser's event loop, WebGL2 when the device is polled; a
+    // blocking poll never returns under WebGL2 (it cannot wait on the GPU), so poll without
+    // blocking and yield to the event loop between polls.
+    let mapped = std::rc::Rc::new(std::cell::Cell::new(None));
+    let done = mapped.clone();
+    readback
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, move |r| done.set(Some(r.is_ok())));
+    let mut waits = 0;
+    let ok = loop {
+        let _ = device.poll(wgpu::PollType::Poll);
+        if let Some(ok) = mapped.get() {
+            break ok;
+        }
+        waits += 1;
+        if waits > 2000 {
+            return Err("the GPU did not return the pixels within 10 s".to_string());
+        }
+        sleep_ms(5).await;
+    };
+    if !ok {
+        return Err("the readback buffer could not be mapped".to_string());
+    }
+    let data = readback
+        .slice(..)
+        .get_mapped_range()
+        .map_err(|e| format!("cannot read the mapped buffer: {e}"))?;
+    let mut pixels = Vec::with_capacity((4 * width * height) as usize);
+    for y in 0..height as usize {
+        let at = y * row as usize;
+        pixels.extend_from_slice(&data[at..at + 4 * width as usize]);
+    }
+    drop(data);
+    readback.unmap();
+    Ok((gpu.backend, pixels))
+}
+
+impl Renderer {
+    /// Sets up wgpu on `canvas`. With `force_webgl`, WebGPU is not tried (headless screenshots
+    /// need the WebGL2 path: a WebGPU canvas stays blank there).
+    pub async fn new(canvas: HtmlCanvasElement, force_webgl: bool) -> Result<Self, String> {
+        let (width, height) = (canvas.width().max(1), canvas.height().max(1));
+        let Opened {
+            surface,
+            adapter,
+            device,
+            queue,
+            backend,
+        } = open(canvas, force_webgl, false).await?;
+        let mut config = surface
+            .get_default_config(&adapter, width, height)
+            .ok_or("the canvas surface is not supported by the adapter")?;
+        config.present_mode = wgpu::PresentMode::Fifo;
+        surface.configure(&device, &config);
+        let pipelines = Pipelines::new(&device, config.format);
         let depth = depth_view(&device, config.width, config.height);
         Ok(Self {
             surface,
@@ -213,11 +477,7 @@ impl Renderer {
             queue,
             config,
             depth,
-            uniforms,
-            bind_group,
-            fill,
-            lines,
-            translucent,
+            pipelines,
             layers: Vec::new(),
             backend,
         })
@@ -236,28 +496,7 @@ impl Renderer {
 
     /// Replaces every layer.
     pub fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
-        self.layers = layers
-            .into_iter()
-            .filter(|(_, g)| !g.indices.is_empty())
-            .map(|(style, g)| Layer {
-                style,
-                vertices: self
-                    .device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("vertices"),
-                        contents: bytemuck::cast_slice(&g.vertices),
-                        usage: wgpu::BufferUsages::VERTEX,
-                    }),
-                indices: self
-                    .device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("indices"),
-                        contents: bytemuck::cast_slice(&g.indices),
-                        usage: wgpu::BufferUsages::INDEX,
-                    }),
-                count: g.indices.len() as u32,
-            })
-            .collect();
+        self.layers = upload(&self.device, layers);
     }
 
     /// Draws the layers from `camera`.
@@ -271,13 +510,6 @@ impl Renderer {
             }
             _ => return,
         };
-        let aspect = self.config.width as f32 / self.config.height as f32;
-        let vp = camera.view_projection(aspect);
-        let mut data = [0f32; 20];
-        data[..16].copy_from_slice(&vp.to_cols_array());
-        data[16..19].copy_from_slice(&[0.3, -0.5, 0.8]);
-        self.queue
-            .write_buffer(&self.uniforms, 0, bytemuck::cast_slice(&data));
         let view = frame
             .texture
             .create_view(&wgpu::TextureViewDescriptor::default());
@@ -286,47 +518,15 @@ impl Renderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("scene"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: 0.93,
-                            g: 0.94,
-                            b: 0.96,
-                            a: 1.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                ..Default::default()
-            });
-            pass.set_bind_group(0, &self.bind_group, &[]);
-            for style in [Style::Fill, Style::Lines, Style::Translucent] {
-                pass.set_pipeline(match style {
-                    Style::Fill => &self.fill,
-                    Style::Lines => &self.lines,
-                    Style::Translucent => &self.translucent,
-                });
-                for layer in self.layers.iter().filter(|l| l.style == style) {
-                    pass.set_vertex_buffer(0, layer.vertices.slice(..));
-                    pass.set_index_buffer(layer.indices.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..layer.count, 0, 0..1);
-                }
-            }
-        }
+        self.pipelines.encode(
+            &self.queue,
+            &mut encoder,
+            &view,
+            &self.depth,
+            (self.config.width, self.config.height),
+            camera,
+            &self.layers,
+        );
         self.queue.submit([encoder.finish()]);
         self.queue.present(frame);
     }

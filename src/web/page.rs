@@ -354,6 +354,32 @@ fn mesh_layers(
     layers
 }
 
+/// The offscreen test scene on the built-in surface: `"surface"` is the full-resolution surface
+/// as first shown, `"mesh"` a simplified mesh (every 8th grid point of each 8th row) with its
+/// wireframe and the error map, as the view shows a selection.
+pub(super) fn test_scene(scene: &str) -> Result<Vec<(Style, Geometry)>, String> {
+    let hf = Arc::new(crate::app::loader::builtin());
+    let map = ViewMapping::new(&hf);
+    match scene {
+        "surface" => Ok(full_surface_layers(&hf, &map)),
+        "mesh" => {
+            let w = hf.width() as u32;
+            let kept: Vec<u32> = (0..hf.len() as u32)
+                .filter(|i| (i % w) % 8 == 0 && (i / w) % 8 == 0)
+                .collect();
+            let mesh = shown_mesh(&hf, &kept)?;
+            let max_error = mesh.point_error.iter().cloned().fold(0.0, f64::max);
+            let toggles = ViewToggles {
+                original: false,
+                error: true,
+                kept: false,
+            };
+            Ok(mesh_layers(&hf, &map, &mesh, max_error, toggles))
+        }
+        other => Err(format!("unknown scene “{other}”: surface or mesh")),
+    }
+}
+
 /// The layers shown when nothing is selected: the full-resolution surface, with its grid
 /// wireframe when the grid is small enough to read.
 fn full_surface_layers(hf: &Heightfield, map: &ViewMapping) -> Vec<(Style, Geometry)> {

@@ -10,6 +10,7 @@ use super::{compare_view, plot_canvas, share_view, teaching_view};
 use crate::app::algorithms;
 use crate::app::camera::OrbitCamera;
 use crate::app::geometry;
+use crate::app::glb_export::mesh_glb;
 use crate::app::loader;
 use crate::app::plot::{self, Layout, PlotPoint, Scene};
 use crate::app::share::{FileFingerprint, ImportChoice, Origin};
@@ -201,7 +202,7 @@ pub(super) fn load(
     }
 }
 
-/// Downloads the front (`json`, `csv`) or the shown mesh (`ply`, `obj`, `stl`).
+/// Downloads the front (`json`, `csv`) or the shown mesh (`ply`, `obj`, `stl`, `glb`).
 fn export(ui: &Ui, kind: &str) -> Result<(), String> {
     let name = &ui.app.surface().name;
     let stem = name.rsplit_once('.').map_or(name.as_str(), |(a, _)| a);
@@ -245,7 +246,8 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
 }
 
 /// Downloads the shown mesh (the full grid when nothing is selected) in the input's own
-/// coordinates as `kind`: PLY, OBJ or STL.
+/// coordinates as `kind`: PLY, OBJ, STL or binary glTF (with the error map as vertex colours
+/// when it is shown).
 fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
     let s = ui.app.surface();
     let hf = &s.heightfield;
@@ -270,21 +272,29 @@ fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
         ),
         "obj" => dom::download(&name, "text/plain", to_obj(&world, &note).as_bytes()),
         "stl" => dom::download(&name, "application/octet-stream", &to_stl(&world, &note)),
+        "glb" => dom::download(
+            &name,
+            "model/gltf-binary",
+            &mesh_glb(hf, &mesh, ui.toggles().error)?,
+        ),
         _ => Err(format!("unknown export kind {kind}")),
     }
 }
 
 /// How a parsed file became a grid, for its share links: `None` for a file that is a grid, else
-/// the projection chosen (`"auto"` when none was) and the grid size it gave.
+/// the projection chosen (`"auto"` when none was), the grid size it gave and the surface kept
+/// (`None` for a single one).
 pub(super) fn import_choice(
     parsed: &Result<Heightfield, String>,
     projection: Option<String>,
+    surface: Option<String>,
 ) -> Option<ImportChoice> {
     let hf = parsed.as_ref().ok().filter(|hf| hf.resampled())?;
     Some(ImportChoice {
         projection: projection.unwrap_or_else(|| "auto".to_string()),
         width: hf.width() as u32,
         height: hf.height() as u32,
+        surface: surface.filter(|s| s != "single"),
     })
 }
 
@@ -347,7 +357,7 @@ fn wire_controls(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             ui.redraw = true;
         }),
     )?;
-    for kind in ["ply", "obj", "stl", "csv", "json"] {
+    for kind in ["ply", "obj", "stl", "glb", "csv", "json"] {
         on(
             &format!("export-{kind}"),
             "click",

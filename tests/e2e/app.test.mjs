@@ -1,9 +1,10 @@
 // End-to-end test of the browser app in headless Chromium (playwright-core driving
 // /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh), then:
 // first load → drop a surface → run NSGA-II until the front has ≥ 10 points → click a front
-// point → the 3-D canvas is not blank → export PLY and check it → drop a corrupt file and check
-// the message while the previous surface stays. Screenshots go to target/e2e/. Prints (does not
-// assert) frame timing, time to first paint and evaluations/s.
+// point → the 3-D canvas is not blank → export PLY and, with the error map, glTF and check
+// them → drop a corrupt file and check the message while the previous surface stays.
+// Screenshots go to target/e2e/. Prints (does not assert) frame timing, time to first paint
+// and evaluations/s.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
@@ -91,6 +92,27 @@ await withApp(async ({ browser, url }) => {
     const f = line.split(' ').map(Number);
     assert.ok(f[0] === 3 && f.slice(1).every((i) => Number.isInteger(i) && i >= 0 && i < nv), `face line ${line}`);
   }
+
+  // Binary glTF with the error map shown: the header, the JSON chunk (one mesh, the selected
+  // vertices, normals and COLOR_0) and a binary chunk holding every accessor.
+  const [glbDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-glb')]);
+  assert.match(glbDownload.suggestedFilename(), /\.glb$/);
+  const glb = readFileSync(await glbDownload.path());
+  assert.equal(glb.toString('latin1', 0, 4), 'glTF', 'glTF magic');
+  assert.equal(glb.readUInt32LE(4), 2, 'glTF version 2');
+  assert.equal(glb.readUInt32LE(8), glb.length, 'the header gives the file length');
+  const jsonLength = glb.readUInt32LE(12);
+  assert.equal(glb.toString('latin1', 16, 20), 'JSON');
+  const gltf = JSON.parse(glb.toString('utf8', 20, 20 + jsonLength));
+  assert.equal(glb.toString('latin1', 24 + jsonLength, 28 + jsonLength), 'BIN\0');
+  const binLength = glb.readUInt32LE(20 + jsonLength);
+  assert.equal(gltf.meshes.length, 1);
+  const attributes = gltf.meshes[0].primitives[0].attributes;
+  assert.equal(gltf.accessors[attributes.POSITION].count, vertices, 'glb vertices = selected vertices');
+  assert.equal(gltf.accessors[attributes.NORMAL].count, vertices);
+  assert.equal(gltf.accessors[attributes.COLOR_0].count, vertices, 'the error map as vertex colours');
+  assert.equal(gltf.accessors[gltf.meshes[0].primitives[0].indices].count % 3, 0);
+  for (const view of gltf.bufferViews) assert.ok((view.byteOffset ?? 0) + view.byteLength <= binLength, 'views inside the binary chunk');
 
   // The front as front.json (the format of `paretomesh run --out`) and CSV.
   const frontNow = await page.evaluate(() => window.paretomesh.frontLength());

@@ -129,6 +129,17 @@ await withApp(async ({ browser, url }) => {
   await page.screenshot({ path: path.join(shots, 'compare-02-done.png') });
   await page.locator('#compare').screenshot({ path: path.join(shots, 'compare-03-panel.png') });
 
+  // The finished comparison selected the trade-off pick of the merged fronts: a mesh in the
+  // 3-D view that none of the table's picks (all front members) dominates.
+  const auto = await page.evaluate(() => window.paretomesh.selectedObjectives());
+  assert.ok(auto, 'the end of the comparison selects a mesh');
+  const [, autoT, autoE] = auto;
+  assert.ok((await page.evaluate(() => window.paretomesh.selectedVertexCount())) >= 4, 'and shows it');
+  assert.match(await page.locator('#selection-info').textContent(), new RegExp(`T = ${autoT} triangles`));
+  for (const p of picks.flatMap((r) => r.picks)) {
+    assert.ok(!(p.t <= autoT && p.e <= autoE && (p.t < autoT || p.e < autoE)), `the ${p.kind} pick (${p.t}, ${p.e}) does not dominate the selection (${autoT}, ${autoE})`);
+  }
+
   // 5. A click on a point of NSGA-II's front shows that mesh; so does a click on a pick.
   const pick = Math.floor(lengths[0] / 2);
   const [x, y] = await page.evaluate((i) => window.paretomesh.comparePointPosition(0, i), pick);

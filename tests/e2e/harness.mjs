@@ -5,6 +5,7 @@ import { chromium } from 'playwright-core';
 import { spawn } from 'node:child_process';
 import { createServer } from 'node:net';
 import { mkdirSync, existsSync } from 'node:fs';
+import { deflateSync } from 'node:zlib';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 import assert from 'node:assert/strict';
@@ -37,7 +38,8 @@ async function waitForServer(url, tries = 100) {
 }
 
 // Serves the repository, starts Chromium, runs `body({ browser, url })`, and always cleans up.
-export async function withApp(body) {
+// `args` replaces the browser flags (the WebGPU test needs its own).
+export async function withApp(body, { args = null } = {}) {
   const port = await freePort();
   const server = spawn('python3', ['-m', 'http.server', '--bind', '127.0.0.1', String(port)], { cwd: root, stdio: 'ignore' });
   const url = `http://127.0.0.1:${port}/`;
@@ -47,7 +49,7 @@ export async function withApp(body) {
     browser = await chromium.launch({
       executablePath: '/usr/bin/chromium',
       // No --enable-unsafe-webgpu: a WebGPU canvas stays blank headless, so the app takes WebGL2.
-      args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+      args: args ?? ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
     });
     await body({ browser, url });
   } finally {
@@ -124,4 +126,94 @@ export function wavyObj(w, h) {
     }
   }
   return obj;
+}
+
+// The front indices the paper's trade-off pick (eq. 7-9) can give for `front` ([T, E] pairs):
+// the mean score over random weights w equals the score at their mean w̄, which for 1000
+// uniform weights lies within 0.5 ± 0.05 (more than five standard deviations), so the pick is
+// the minimiser of α·w̄·E + (1 − w̄)·T for some w̄ in that window (α = mean T/E over E > 0).
+export function tradeOffCandidates(front) {
+  const ratios = front.filter(([, e]) => e > 0).map(([t, e]) => t / e);
+  const alpha = ratios.length ? ratios.reduce((a, b) => a + b, 0) / ratios.length : 0;
+  const picks = new Set();
+  for (let w = 0.45; w <= 0.5501; w += 0.0025) {
+    let best = 0;
+    front.forEach(([t, e], i) => {
+      const [bt, be] = front[best];
+      const s = alpha * w * e + (1 - w) * t, sb = alpha * w * be + (1 - w) * bt;
+      if (s < sb || (s === sb && (t < bt || (t === bt && e < be)))) best = i;
+    });
+    picks.add(best);
+  }
+  return picks;
+}
+
+// A closed, thick tube along z as OBJ: an outer wall of radius 1 + 0.1·sin 3θ + 0.1·cos ζ, an
+// inner wall 5 % inside it, and annular caps joining them; like a printable scan's shell, it
+// folds over itself in every projection, but its outer wall is a cylindrical height field.
+export function thickTubeObj(angles = 48, rows = 21) {
+  let obj = '';
+  const index = (wall, row, a) => 1 + wall * rows * angles + row * angles + (a % angles);
+  for (const scale of [1, 0.95]) {
+    for (let r = 0; r < rows; r++) {
+      const zeta = -2 + (4 * r) / (rows - 1);
+      for (let a = 0; a < angles; a++) {
+        const theta = (2 * Math.PI * a) / angles;
+        const rho = scale * (1 + 0.1 * Math.sin(3 * theta) + 0.1 * Math.cos(zeta));
+        obj += `v ${rho * Math.cos(theta)} ${rho * Math.sin(theta)} ${zeta}\n`;
+      }
+    }
+  }
+  for (let wall = 0; wall < 2; wall++) {
+    for (let r = 0; r + 1 < rows; r++) {
+      for (let a = 0; a < angles; a++) {
+        const [p, q, s, t] = [index(wall, r, a), index(wall, r, a + 1), index(wall, r + 1, a + 1), index(wall, r + 1, a)];
+        obj += wall === 0 ? `f ${p} ${q} ${s}\nf ${p} ${s} ${t}\n` : `f ${p} ${s} ${q}\nf ${p} ${t} ${s}\n`;
+      }
+    }
+  }
+  for (const r of [0, rows - 1]) {
+    for (let a = 0; a < angles; a++) {
+      const [p, q, s, t] = [index(0, r, a), index(0, r, a + 1), index(1, r, a + 1), index(1, r, a)];
+      obj += `f ${p} ${q} ${s}\nf ${p} ${s} ${t}\n`;
+    }
+  }
+  return obj;
+}
+
+// A single-band Int16 GeoTIFF (one Deflate strip) of `width`×`height` heights h(x, y), with
+// ModelPixelScale, ModelTiepoint and GDAL_NODATA tags; written by hand (the container is
+// small) so a test can make a grid too large to ship in tests/data.
+export function int16GeoTiff(width, height, h, { scale = [30, 30, 0], tie = [0, 0, 0, 500000, 4000000, 0], nodata = '-32768' } = {}) {
+  const samples = Buffer.alloc(width * height * 2);
+  for (let y = 0; y < height; y++) for (let x = 0; x < width; x++) samples.writeInt16LE(h(x, y), 2 * (y * width + x));
+  const strip = deflateSync(samples);
+  const doubles = (xs) => { const b = Buffer.alloc(8 * xs.length); xs.forEach((v, i) => b.writeDoubleLE(v, 8 * i)); return b; };
+  const ascii = Buffer.from(`${nodata}\0`, 'latin1');
+  // [tag, type, count, value or data]; types: 3 SHORT, 4 LONG, 2 ASCII, 12 DOUBLE.
+  const entries = [
+    [256, 4, 1, width], [257, 4, 1, height], [258, 3, 1, 16], [259, 3, 1, 8], [262, 3, 1, 1],
+    [273, 4, 1, 'strip'], [277, 3, 1, 1], [278, 4, 1, height], [279, 4, 1, strip.length], [339, 3, 1, 2],
+    [33550, 12, 3, doubles(scale)], [33922, 12, 6, doubles(tie)], [42113, 2, ascii.length, ascii],
+  ];
+  const ifdSize = 2 + 12 * entries.length + 4;
+  let extra = 8 + ifdSize;
+  const blobs = [];
+  const place = (buf) => { const at = extra; blobs.push(buf); extra += buf.length + (buf.length % 2); if (buf.length % 2) blobs.push(Buffer.alloc(1)); return at; };
+  const ifd = Buffer.alloc(ifdSize);
+  ifd.writeUInt16LE(entries.length, 0);
+  const stripAt = [];
+  entries.forEach(([tag, type, count, value], i) => {
+    const o = 2 + 12 * i;
+    ifd.writeUInt16LE(tag, o); ifd.writeUInt16LE(type, o + 2); ifd.writeUInt32LE(count, o + 4);
+    if (value === 'strip') stripAt.push(o + 8);
+    else if (Buffer.isBuffer(value)) {
+      if (value.length <= 4) value.copy(ifd, o + 8); else ifd.writeUInt32LE(place(value), o + 8);
+    } else if (type === 3) ifd.writeUInt16LE(value, o + 8);
+    else ifd.writeUInt32LE(value, o + 8);
+  });
+  const stripOffset = place(strip);
+  for (const o of stripAt) ifd.writeUInt32LE(stripOffset, o);
+  const header = Buffer.from([0x49, 0x49, 42, 0, 8, 0, 0, 0]);
+  return Buffer.concat([header, ifd, ...blobs]);
 }

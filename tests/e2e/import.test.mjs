@@ -1,0 +1,82 @@
+// End-to-end test of GeoTIFF and closed-mesh import in headless Chromium (playwright-core
+// driving /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh),
+// then: a GeoTIFF DEM with nodata cells from tests/data loads as it is, with its
+// georeferencing and filled cells reported → a small NSGA-II run to the end selects the
+// trade-off pick and shows it → a GeoTIFF over the grid limit opens the import dialog with its
+// georeferencing, and the chosen grid size is used → a closed, thick mesh (folding in every
+// projection) opens the dialog on its outer surface, saying how much of the grid was covered
+// more than once. Screenshots go to target/e2e/.
+import { readFileSync } from 'node:fs';
+import path from 'node:path';
+import assert from 'node:assert/strict';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, int16GeoTiff, thickTubeObj } from './harness.mjs';
+
+await withApp(async ({ browser, url }) => {
+  const page = await newPage(browser);
+  await page.goto(url);
+  await waitForApp(page);
+  assert.match(await page.locator('#file-input').getAttribute('accept'), /\.tif,\.tiff/, 'the picker offers GeoTIFFs');
+
+  // 1. A GeoTIFF DEM (Int16, LZW, 14 nodata cells, georeferenced) loads with no dialog.
+  const dem = 'volcano_87x61_int16_lzw_nodata.tif';
+  await dropFiles(page, [{ name: dem, bytes: readFileSync(path.join(root, 'tests/data', dem)) }]);
+  await page.waitForFunction((name) => window.paretomesh.surfaceName() === name, dem, { timeout: 30000 });
+  assert.match(await page.locator('#surface-info').textContent(), /87×61 grid · 5307 points/);
+  const loaded = await page.locator('#load-message').textContent();
+  assert.match(loaded, /pixel size 10 × 10 map units/, loaded);
+  assert.match(loaded, /map \(2667400, 6478710\)/, loaded);
+  assert.match(loaded, /nodata -9999: 14 cells filled/, loaded);
+  assert.match(await page.locator('#surface-source').textContent(), /GeoTIFF .*14 nodata cells/);
+
+  // 2. Run to the end: the trade-off pick is selected and drawn.
+  await page.fill('#population', '16');
+  await page.fill('#generations', '4');
+  await page.click('#run');
+  await page.waitForFunction(() => /done/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+  await page.waitForFunction(() => window.paretomesh.selectedVertexCount() !== undefined, null, { timeout: 10000 });
+  const [index, t] = await page.evaluate(() => window.paretomesh.selectedObjectives());
+  assert.ok(index >= 0, 'a front member is selected');
+  assert.match(await page.locator('#selection-info').textContent(), new RegExp(`T = ${t} triangles`));
+  await page.waitForTimeout(300);
+  const view = await page.locator('#view').screenshot({ path: path.join(shots, 'import-01-geotiff-selected.png') });
+  assert.ok((await pixelVariance(page, view)) > 50, 'the selected mesh is drawn');
+
+  // 3. A GeoTIFF over the grid limit (2100×2050 > 4 M points): the dialog shows its
+  // georeferencing and a grid size, and the size chosen there is used.
+  const big = int16GeoTiff(2100, 2050, (x, y) => (x === 5 && y === 7 ? -32768 : Math.round(100 * Math.sin(x / 50) + 80 * Math.cos(y / 70))));
+  await dropFiles(page, [{ name: 'big_dem.tif', bytes: big }]);
+  await page.waitForSelector('#import-dialog[open]', { timeout: 60000 });
+  assert.match(await page.locator('#import-title').textContent(), /GeoTIFF/);
+  assert.ok(await page.locator('#import-projection-row').isHidden(), 'no projection for a raster');
+  const georeference = await page.locator('#import-georeference').textContent();
+  assert.match(georeference, /pixel size 30 × 30 map units.*map \(500000, 4000000\).*nodata -32768: 1 cells filled/, georeference);
+  assert.match(await page.locator('#import-summary').textContent(), /2100×2050.*resampled by area averaging onto a 257×251 grid/);
+  assert.equal(await page.inputValue('#import-width'), '257');
+  await page.screenshot({ path: path.join(shots, 'import-02-geotiff-dialog.png') });
+  await page.fill('#import-width', '120');
+  await page.fill('#import-height', '100');
+  await page.click('#import-use');
+  await page.waitForFunction(() => window.paretomesh.surfaceName() === 'big_dem.tif', null, { timeout: 60000 });
+  assert.match(await page.locator('#surface-info').textContent(), /120×100 grid · 12000 points/);
+
+  // 4. A closed, thick mesh folds in every projection: the dialog offers its outer surface.
+  await dropFiles(page, [{ name: 'tube.obj', bytes: Buffer.from(thickTubeObj()) }]);
+  await page.waitForSelector('#import-dialog[open]', { timeout: 30000 });
+  assert.match(await page.locator('#import-title').textContent(), /folds/);
+  assert.equal(await page.inputValue('#import-surface'), 'outer');
+  const folds = await page.locator('#import-folds').textContent();
+  assert.match(folds, /cylindrical: \d+ % of the covered grid is covered more than once/, folds);
+  assert.match(await page.locator('#import-summary').textContent(), /outer surface: \d+ grid points .* covered more than once and took the outermost hit/);
+  await page.screenshot({ path: path.join(shots, 'import-03-folding-mesh.png') });
+  // The single surface is refused in the dialog with the reason; the outer one loads.
+  await page.selectOption('#import-surface', 'single');
+  await page.click('#import-apply');
+  await page.waitForFunction(() => /folds over itself/.test(document.getElementById('import-message').textContent), null, { timeout: 30000 });
+  await page.selectOption('#import-surface', 'outer');
+  await page.click('#import-use');
+  await page.waitForFunction(() => window.paretomesh.surfaceName() === 'tube.obj', null, { timeout: 30000 });
+  assert.match(await page.locator('#surface-source').textContent(), /cylindrical unwrap.*outer surface/);
+
+  assert.deepEqual(realErrors(page), [], 'no page errors');
+  console.log(`import e2e ok: ${dem} selected T = ${t}; ${georeference}; ${folds}`);
+});
