@@ -94,7 +94,7 @@ impl Default for Settings {
     /// [`Budget::PerWeight`]), reference point (1.1, 1.1).
     fn default() -> Self {
         Settings {
-            methods: Method::ALL.to_vec(),
+            methods: Method::STANDARD.to_vec(),
             runs: 10,
             weighted_runs: 10,
             seed: 1,
@@ -157,6 +157,7 @@ impl Settings {
         } else if method == Method::Weighted {
             self.weighted_runs
         } else {
+            // NSGA-II, the memetic method and its variants: run k with seed `seed + k`.
             self.runs
         }
     }
