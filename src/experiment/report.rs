@@ -52,7 +52,7 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
             let parts = registry::ga_runs_per_run(Method::Weighted);
             let share = evaluations / parts as u64;
             format!(
-                "Equal budgets: every run of a genetic algorithm ({}) stops after {evaluations} evaluations, with no generation limit. The weighted-sum GA splits its run over its {parts} weights: each weight's GA run gets ⌊{evaluations} / {parts}⌋ = {share} evaluations, and the remaining {} are not spent. Each GA run (for the weighted-sum GA, each weight's) stops at the first mating boundary at or after its budget, so it may overshoot by less than one mating (at most 11 evaluations with the default crossover). Population {} for every GA.",
+                "Equal budgets: every run of a genetic algorithm ({}) stops after {evaluations} evaluations, with no generation limit. The weighted-sum GA splits its run over its {parts} weights: each weight's GA run gets ⌊{evaluations} / {parts}⌋ = {share} evaluations, and the remaining {} are not spent. Each GA run (for the weighted-sum GA, each weight's) stops at the first mating boundary at or after its budget, so it may overshoot by less than one mating (at most 11 evaluations with the default crossover). Population {} for NSGA-II and the weighted-sum GA.",
                 ga.join(", "),
                 evaluations - share * parts as u64,
                 s.population
