@@ -373,9 +373,9 @@ mod tests {
             ..Settings::default()
         };
         let jobs = plan(2, &settings);
-        // Per dataset: 3 NSGA-II + 2 weighted-sum sweeps + 1 decimation + 1 greedy.
-        assert_eq!(jobs.len(), 14);
-        let seeds: Vec<_> = jobs[..7].iter().map(|j| (j.method, j.seed)).collect();
+        // Per dataset: 3 NSGA-II + 2 weighted-sum sweeps + 1 decimation + 1 greedy + 3 memetic.
+        assert_eq!(jobs.len(), 20);
+        let seeds: Vec<_> = jobs[..10].iter().map(|j| (j.method, j.seed)).collect();
         assert_eq!(
             seeds,
             vec![
@@ -386,11 +386,14 @@ mod tests {
                 (Method::Weighted, Some(8)),
                 (Method::Decimation, None),
                 (Method::Greedy, None),
+                (Method::Memetic, Some(7)),
+                (Method::Memetic, Some(8)),
+                (Method::Memetic, Some(9)),
             ]
         );
-        assert!(jobs[7..].iter().all(|j| j.dataset == 1));
-        // Equal budgets: 10 runs of each GA, then the two deterministic methods.
-        assert_eq!(plan(1, &Settings::default()).len(), 22);
+        assert!(jobs[10..].iter().all(|j| j.dataset == 1));
+        // Equal budgets: 10 runs of each GA, and the two deterministic methods once.
+        assert_eq!(plan(1, &Settings::default()).len(), 32);
     }
 
     #[test]
