@@ -26,7 +26,7 @@ pub struct ExperimentArgs {
     /// More input grids (each is one data set of the tables).
     #[arg(value_name = "GRID")]
     more: Vec<PathBuf>,
-    /// Runs of NSGA-II (deterministic methods run once).
+    /// Runs of NSGA-II and of each memetic method (deterministic methods run once).
     #[arg(long, default_value_t = 10)]
     runs: usize,
     /// Runs of the weighted-sum GA, each a sweep over its 11 weights [default: --runs with

@@ -69,7 +69,7 @@ impl Budget {
 pub struct Settings {
     /// The methods to compare, in table order, each at most once.
     pub methods: Vec<Method>,
-    /// Runs of NSGA-II. Paper: 10.
+    /// Runs of NSGA-II and of each memetic method. Paper (NSGA-II): 10.
     pub runs: usize,
     /// Runs of the weighted-sum GA, each a sweep over its 11 weights. Paper: 1 (with
     /// per-weight budgets a sweep costs about 11 NSGA-II runs); at equal budgets a sweep costs
@@ -89,7 +89,8 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// The paper's settings at equal budgets: every method, 10 runs of each GA, seed 1,
+    /// The paper's settings at equal budgets: every standard method ([`Method::STANDARD`]; the
+    /// ablation variants run only when named), 10 runs of each GA, seed 1,
     /// population 100, [`DEFAULT_EQUAL_EVALUATIONS`] per GA run (50 generations under
     /// [`Budget::PerWeight`]), reference point (1.1, 1.1).
     fn default() -> Self {
