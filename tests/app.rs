@@ -627,6 +627,28 @@ mod app_stepping {
     }
 
     #[test]
+    fn the_default_algorithm_is_memetic_with_the_clis_parameters() {
+        let default = RunConfig::default();
+        assert_eq!(default.algorithm, Algorithm::Memetic);
+        assert_eq!(Algorithm::ALL[0], Algorithm::Memetic, "first in the menu");
+        assert_eq!(Algorithm::from_key("memetic"), Some(Algorithm::Memetic));
+        // front.json records what `paretomesh run` without --algo records.
+        assert_eq!(
+            paretomesh::app::algorithms::params_json(Algorithm::Memetic, &default.params),
+            serde_json::to_value(paretomesh::evolution::MemeticParams::default()).unwrap()
+        );
+        // It runs in the app like any other algorithm.
+        let mut a = app();
+        a.set_config(RunConfig {
+            algorithm: Algorithm::Memetic,
+            ..config()
+        });
+        a.run().unwrap();
+        a.tick(30.0, &mut ticking_clock());
+        assert!(a.status().evaluations > 0);
+    }
+
+    #[test]
     fn every_algorithm_in_the_menu_runs() {
         for algorithm in Algorithm::ALL {
             let mut app = app();

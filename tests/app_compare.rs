@@ -1,4 +1,4 @@
-//! Compare mode (`paretomesh::app::compare`): the four methods share the frame budget, each
+//! Compare mode (`paretomesh::app::compare`): the five methods share the frame budget, each
 //! reaches the front it reaches when run alone, and the live table holds exactly the numbers
 //! the core metrics compute.
 
@@ -6,7 +6,7 @@ use paretomesh::app::algorithms::{Params, build};
 use paretomesh::app::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS, algorithm_of};
 use paretomesh::app::state::Surface;
 use paretomesh::evaluator::Evaluator;
-use paretomesh::evolution::{Nsga2, WeightedSum, WeightedSumParams};
+use paretomesh::evolution::{Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
 use paretomesh::experiment::Method;
 use paretomesh::heightfield::{Heightfield, raw};
 use paretomesh::metrics::{
@@ -108,11 +108,16 @@ fn each_method_reaches_the_front_it_reaches_alone() {
         ga: p.ga(),
         ..WeightedSumParams::default()
     };
-    let mut weighted = WeightedSum::new(hf, weighted, p.seed).unwrap();
+    let mut weighted = WeightedSum::new(hf.clone(), weighted, p.seed).unwrap();
     weighted.run_to_end();
     assert_eq!(run.front(1).unwrap(), weighted.front());
     // The weighted-sum front has at most one member per weight (11).
     assert!(run.front(1).unwrap().len() <= 11);
+    // The memetic method runs with its own defaults and the form's seed, as `paretomesh run`
+    // does without --algo.
+    let mut memetic = Memetic::new(hf, MemeticParams::default(), p.seed).unwrap();
+    memetic.run_to_end();
+    assert_eq!(run.front(4).unwrap(), memetic.front());
 }
 
 #[test]
@@ -127,12 +132,12 @@ fn the_table_holds_the_numbers_the_core_metrics_compute() {
     assert_eq!(table.normalization, n);
     assert_eq!(n.t_scale(), 2048.0);
     assert_eq!(table.reference_point, DEFAULT_REFERENCE_POINT);
-    let points: Vec<Vec<[f64; 2]>> = (0..4)
+    let points: Vec<Vec<[f64; 2]>> = (0..5)
         .map(|k| n.solutions(run.front(k).unwrap().solutions()))
         .collect();
     let reference = metrics::merge(points.iter().map(Vec::as_slice)).unwrap();
     assert_eq!(table.reference_front_size, reference.len());
-    assert_eq!(table.methods.len(), 4);
+    assert_eq!(table.methods.len(), 5);
     for (k, row) in table.methods.iter().enumerate() {
         assert_eq!(row.method, METHODS[k]);
         assert!(row.done);
@@ -152,7 +157,7 @@ fn the_table_holds_the_numbers_the_core_metrics_compute() {
         assert_eq!((picks.trade_off.e, picks.trade_off.t), trade);
     }
     // Every ordered pair, A-major.
-    assert_eq!(table.pairs.len(), 12);
+    assert_eq!(table.pairs.len(), 20);
     let mut row = table.pairs.iter();
     for (ka, a) in METHODS.into_iter().enumerate() {
         for (kb, b) in METHODS.into_iter().enumerate() {
@@ -187,19 +192,19 @@ fn the_methods_share_the_frame_budget_and_take_turns() {
     // gets it and the others wait; the next frame starts with the next method.
     let mut clock = ticking_clock();
     let first = run.tick(1.0, &mut clock);
-    assert_eq!(first.served, [true, false, false, false]);
+    assert_eq!(first.served, [true, false, false, false, false]);
     let second = run.tick(1.0, &mut clock);
-    assert_eq!(second.served, [false, true, false, false]);
-    // A generous budget serves all four in one frame.
+    assert_eq!(second.served, [false, true, false, false, false]);
+    // A generous budget serves all five in one frame.
     let all = run.tick(200.0, &mut clock);
-    assert_eq!(all.served, [true; 4]);
+    assert_eq!(all.served, [true; 5]);
     for (k, method) in METHODS.into_iter().enumerate() {
         assert!(run.status(k).unwrap().evaluations > 0, "{method:?}");
     }
     // Run to the end: a finished method is never served again.
     let mut frames = 0;
     while run.is_running() {
-        let done_before: Vec<bool> = (0..4).map(|k| run.status(k).unwrap().done).collect();
+        let done_before: Vec<bool> = (0..5).map(|k| run.status(k).unwrap().done).collect();
         let t = run.tick(8.0, &mut clock);
         for (k, method) in METHODS.into_iter().enumerate() {
             assert!(!(done_before[k] && t.served[k]), "{method:?}");
@@ -226,7 +231,7 @@ fn the_live_table_is_throttled_but_final_when_the_run_ends() {
         assert_eq!(m.hvr.is_some(), m.front_size > 0, "{:?}", m.method);
         assert_eq!(m.picks.is_some(), m.front_size > 0, "{:?}", m.method);
     }
-    assert_eq!(early.pairs.len(), 12);
+    assert_eq!(early.pairs.len(), 20);
     for p in &early.pairs {
         let present = |x: Method| {
             early
@@ -284,14 +289,15 @@ fn bad_parameters_and_a_flat_surface_are_messages_not_panics() {
     assert!(run.refresh_table(0.0));
     let message = run.table().unwrap().as_ref().err().unwrap().clone();
     assert!(message.contains("normalisation"), "{message}");
-    assert!((0..4).all(|k| !run.front(k).unwrap().is_empty()));
+    assert!((0..5).all(|k| !run.front(k).unwrap().is_empty()));
     assert_eq!(
         run.methods().collect::<Vec<_>>(),
         vec![
             Method::Nsga2,
             Method::Weighted,
             Method::Decimation,
-            Method::Greedy
+            Method::Greedy,
+            Method::Memetic
         ]
     );
 }

@@ -143,7 +143,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     let json = std::fs::read_to_string(out.join("results.json")).unwrap();
     let svg = std::fs::read_to_string(out.join("fronts-volcano_17x17.svg")).unwrap();
     let results = Results::from_json(&json).unwrap();
-    let labels: Vec<&str> = Method::ALL.iter().map(|m| m.label()).collect();
+    let labels: Vec<&str> = Method::STANDARD.iter().map(|m| m.label()).collect();
 
     // results.json: the protocol's run counts and seeds, and real solutions.
     assert_eq!(results.datasets.len(), 1);
@@ -161,17 +161,23 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     );
     assert_eq!(paper.t_scale(), 512.0); // 2·16·16
     let methods: Vec<Method> = d.methods.iter().map(|m| m.method).collect();
-    assert_eq!(methods, Method::ALL);
+    assert_eq!(methods, Method::STANDARD);
     for m in &d.methods {
         let seeds: Vec<_> = m.runs.iter().map(|r| r.seed).collect();
         if m.method.is_stochastic() {
             let want = match m.method {
-                Method::Nsga2 => vec![Some(5), Some(6), Some(7)],
-                _ => vec![Some(5), Some(6)],
+                Method::Weighted => vec![Some(5), Some(6)],
+                _ => vec![Some(5), Some(6), Some(7)],
             };
             assert_eq!(seeds, want, "{}", m.method);
-            assert_eq!(m.params["population"], 8);
-            assert_eq!(m.params["generations"], 3);
+            if m.method == Method::Memetic {
+                // Its own population; NSGA-II's 8 × 3 generations as evaluations.
+                assert_eq!(m.params["population"], 24);
+                assert_eq!(m.params["max_evaluations"], 84);
+            } else {
+                assert_eq!(m.params["population"], 8);
+                assert_eq!(m.params["generations"], 3);
+            }
         } else {
             assert_eq!(seeds, vec![None], "{}", m.method);
         }
@@ -210,7 +216,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     let t2 = rows(&report, "## Table II.", &["Data set"]);
     assert_eq!(t2.len(), 2);
     assert_eq!(t2[0][0], "volcano_17x17");
-    for k in 0..4 {
+    for k in 0..5 {
         assert_4dp(summary(&t2[0][k + 1]), mean_std(&hvr[k]), "HVR");
         let merged_hvr =
             metrics::hypervolume_ratio(&merged[k], &reference, reference_point).unwrap();
@@ -220,7 +226,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
 
     // Table III: every ordered pair.
     let t3 = rows(&report, "## Table III.", &["A"]);
-    assert_eq!(t3.len(), 12);
+    assert_eq!(t3.len(), 20);
     for row in &t3 {
         let a = labels.iter().position(|l| *l == row[0]).unwrap();
         let b = labels.iter().position(|l| *l == row[1]).unwrap();
@@ -237,7 +243,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
 
     // Table IV: picks from the merged fronts, in the grid's units.
     let t4 = rows(&report, "## Table IV.", &["Data set"]);
-    assert_eq!(t4.len(), 4);
+    assert_eq!(t4.len(), 5);
     for (k, row) in t4.iter().enumerate() {
         assert_eq!(row[1], labels[k]);
         let picks = [
@@ -258,10 +264,10 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
 
     // Table V: averaged dominance probability and the rank-sum mark on per-run HVRs.
     let t5 = rows(&report, "## Table V.", &["P(row ≺ column)"]);
-    assert_eq!(t5.len(), 4);
+    assert_eq!(t5.len(), 5);
     for (a, row) in t5.iter().enumerate() {
         assert_eq!(row[0], labels[a]);
-        for b in 0..4 {
+        for b in 0..5 {
             let cell = &row[b + 1];
             if a == b {
                 assert_eq!(cell, "—");
@@ -298,9 +304,9 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     let doc = roxmltree::Document::parse(&svg).expect("the figure is well-formed XML");
     let class = |n: &roxmltree::Node, c: &str| n.attribute("class") == Some(c);
     let fronts: Vec<_> = doc.descendants().filter(|n| class(n, "front")).collect();
-    assert_eq!(fronts.len(), 4);
+    assert_eq!(fronts.len(), 5);
     for (k, g) in fronts.iter().enumerate() {
-        assert_eq!(g.attribute("data-method"), Some(Method::ALL[k].name()));
+        assert_eq!(g.attribute("data-method"), Some(Method::STANDARD[k].name()));
         let polyline = g.children().find(|c| c.has_tag_name("polyline")).unwrap();
         let points = polyline.attribute("points").unwrap().split(' ').count();
         assert_eq!(points, merged[k].len());
@@ -314,7 +320,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
         .filter(|n| class(n, "legend-entry"))
         .map(|n| n.descendants().filter_map(|t| t.text()).collect::<String>())
         .collect();
-    assert_eq!(legend.len(), 4);
+    assert_eq!(legend.len(), 5);
     for (k, entry) in legend.iter().enumerate() {
         assert!(entry.starts_with(labels[k]), "{entry}");
     }
@@ -773,4 +779,147 @@ fn outside_fronts_are_rescored_and_reported_beside_the_methods() {
         err.contains("no valid mesh") && err.contains("not on a grid point"),
         "{err}"
     );
+}
+
+#[test]
+fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_full_method() {
+    let dir = scratch("ablation");
+    let out = dir.join("out");
+    let grid = data("camera_33x33.f32");
+    // 2 600 evaluations: the two greedy sweeps (2 × 1 089) and a few generations.
+    let o = paretomesh(&[
+        "experiment",
+        grid.to_str().unwrap(),
+        "--methods",
+        "greedy",
+        "--ablation",
+        "memetic",
+        "--runs",
+        "3",
+        "--evals",
+        "2600",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let results = Results::from_json(&read(&out, "results.json")).unwrap();
+    let d = &results.datasets[0];
+    let methods: Vec<Method> = d.methods.iter().map(|m| m.method).collect();
+    let mut want = vec![Method::Greedy];
+    want.extend(Method::Memetic.with_ablations());
+    assert_eq!(methods, want);
+
+    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let mut evaluator = Evaluator::new(hf.clone());
+    let paper = Normalization::from_evaluator(&mut evaluator).unwrap();
+    let switches = [
+        "greedy_seeding",
+        "guided_mutation",
+        "neighbour_mating",
+        "local_search",
+    ];
+    for m in d.methods.iter().filter(|m| m.method != Method::Greedy) {
+        assert_eq!(m.params["max_evaluations"], 2600, "{}", m.method);
+        // The full method writes no switch; each variant writes the one it turns off.
+        let off: Vec<&str> = switches
+            .iter()
+            .copied()
+            .filter(|s| m.params.get(*s) == Some(&serde_json::Value::Bool(false)))
+            .collect();
+        assert_eq!(
+            off.len(),
+            usize::from(m.method != Method::Memetic),
+            "{}",
+            m.method
+        );
+        let seeds: Vec<_> = m.runs.iter().map(|r| r.seed).collect();
+        assert_eq!(seeds, vec![Some(1), Some(2), Some(3)], "{}", m.method);
+        for r in &m.runs {
+            assert!(!r.front.is_empty(), "{}", m.method);
+            // Every GA run stops within one unit of work of the budget (a move's trials, or a
+            // local-search round, are the largest: under 100 evaluations).
+            assert!(
+                (2600..2700).contains(&r.evaluations),
+                "{} spent {}",
+                m.method,
+                r.evaluations
+            );
+            for s in &r.front {
+                let fresh = evaluator.score(&s.kept).unwrap();
+                assert_eq!(fresh.t, s.t);
+                assert!((fresh.e_sum - s.e_sum).abs() <= 1e-9 * s.e_sum.max(1.0));
+            }
+        }
+    }
+    // Greedy seeding puts both greedy fronts in the archive, so the full method's runs all
+    // differ from the unseeded variant's.
+    let full = &d.methods[1];
+    let no_seed = &d.methods[2];
+    assert_eq!(no_seed.method, Method::MemeticNoSeed);
+    assert_ne!(full.runs[0].front, no_seed.runs[0].front);
+
+    // The ablation table: each variant against the full method, p from the rank-sum test on
+    // the per-run HVRs recomputed here.
+    let report = read(&out, "report.md");
+    for m in Method::Memetic.with_ablations().into_iter().skip(1) {
+        let (_, removes) = m.spec().ablation.unwrap();
+        assert!(report.contains(removes), "{m} is not explained:\n{report}");
+    }
+    let runs: Vec<Vec<Vec<Point>>> = d
+        .methods
+        .iter()
+        .map(|m| m.runs.iter().map(|r| paper.solutions(&r.front)).collect())
+        .collect();
+    let merged: Vec<Vec<Point>> = runs
+        .iter()
+        .map(|r| metrics::merge(r.iter().map(Vec::as_slice)).unwrap())
+        .collect();
+    let reference = metrics::merge(merged.iter().map(Vec::as_slice)).unwrap();
+    let hvr: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|f| {
+                    metrics::hypervolume_ratio(f, &reference, results.settings.reference_point)
+                        .unwrap()
+                })
+                .collect()
+        })
+        .collect();
+    let table = rows(&report, "## Ablations", &["Data set"]);
+    assert_eq!(table.len(), 4, "{report}");
+    for (k, row) in table.iter().enumerate() {
+        let variant = k + 2;
+        assert_eq!(row[1], d.methods[variant].method.label());
+        assert_4dp(summary(&row[2]), mean_std(&hvr[variant]), "variant HVR");
+        assert_4dp(summary(&row[3]), mean_std(&hvr[1]), "full HVR");
+        let t = metrics::rank_sum_test(&hvr[variant], &hvr[1]).unwrap();
+        assert_eq!(row[5], format!("{:.2e}", t.p_value), "{row:?}");
+        let mark = match t.verdict(0.05) {
+            std::cmp::Ordering::Greater => "+",
+            std::cmp::Ordering::Less => "−",
+            std::cmp::Ordering::Equal => "=",
+        };
+        assert_eq!(row[6], mark, "{row:?}");
+    }
+    // The figure draws every variant.
+    let svg = read(&out, "fronts-camera_33x33.svg");
+    for m in &methods {
+        assert!(
+            svg.contains(&format!("data-method=\"{}\"", m.name())),
+            "{m}"
+        );
+    }
+
+    // --ablation of a method without variants is refused.
+    let o = paretomesh(&[
+        "experiment",
+        grid.to_str().unwrap(),
+        "--ablation",
+        "nsga2",
+        "--out",
+        dir.join("refused").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no ablation variants"));
 }

@@ -343,3 +343,47 @@ fn run_without_algo_is_memetic_and_its_front_rescores() {
     assert!(!refused.status.success());
     assert!(String::from_utf8_lossy(&refused.stderr).contains("memetic"));
 }
+
+#[test]
+fn each_ablation_switch_changes_the_run_and_keeps_it_reproducible_and_honest() {
+    let hf = fixture("camera_33x33");
+    let budget = 2 * hf.len() as u64 + 600;
+    let mut full = Memetic::new(hf.clone(), params(budget), 4).unwrap();
+    full.run_to_end();
+    let corners = hf.corners();
+    let mut ev = Evaluator::new(hf.clone());
+    type Switch = fn(&mut MemeticParams);
+    let switches: [(&str, Switch); 4] = [
+        ("no greedy seeding", |p| p.greedy_seeding = false),
+        ("random mutation", |p| p.guided_mutation = false),
+        ("random mates", |p| p.neighbour_mating = false),
+        ("no local search", |p| p.local_search = false),
+    ];
+    for (what, switch) in switches {
+        let mut p = params(budget);
+        switch(&mut p);
+        let mut whole = Memetic::new(hf.clone(), p.clone(), 4).unwrap();
+        let end = whole.run_to_end();
+        assert!(end.evaluations >= budget, "{what}: {end:?}");
+        assert_ne!(pairs(whole.front()), pairs(full.front()), "{what}");
+        let mut sliced = Memetic::new(hf.clone(), p.clone(), 4).unwrap();
+        while !sliced.step(97).done {}
+        assert_eq!(pairs(sliced.front()), pairs(whole.front()), "{what}");
+        for s in whole.front().solutions() {
+            assert!(
+                corners.iter().all(|c| s.kept.binary_search(c).is_ok()),
+                "{what}"
+            );
+            let fresh = ev.score(&s.kept).unwrap();
+            assert_eq!((fresh.t, fresh.e_sum), (s.t, s.e_sum), "{what}");
+        }
+        if !p.greedy_seeding {
+            assert!(whole.seed_front().is_empty(), "{what}: no greedy sweep ran");
+        }
+    }
+    // The switches are written only when off, so the full method's parameters read as before.
+    let json = serde_json::to_value(MemeticParams::default()).unwrap();
+    assert_eq!(json.as_object().unwrap().len(), 4, "{json}");
+    let back: MemeticParams = serde_json::from_value(json).unwrap();
+    assert_eq!(back, MemeticParams::default());
+}

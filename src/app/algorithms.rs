@@ -4,7 +4,9 @@
 use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
 use crate::evolution::oax::OaxRecord;
 use crate::evolution::trace::GenerationTrace;
-use crate::evolution::{CrossoverKind, GaParams, Nsga2, WeightedSum, WeightedSumParams};
+use crate::evolution::{
+    CrossoverKind, GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams,
+};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
 use serde::{Deserialize, Serialize};
@@ -13,6 +15,9 @@ use std::sync::Arc;
 /// An algorithm the app can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Algorithm {
+    /// The memetic NSGA-II, the project's own method and the app's default: greedy seeds,
+    /// error-guided operators and local search (its own parameters; only the seed is the form's).
+    Memetic,
     /// NSGA-II with the chosen crossover (the paper's method with orthogonal-array crossover).
     Nsga2,
     /// A GA on weighted sums of E and T, one run per weight (0, 0.1, …, 1).
@@ -25,16 +30,21 @@ pub enum Algorithm {
 
 impl Algorithm {
     /// Every algorithm, in the order of the menu.
-    pub const ALL: [Algorithm; 4] = [
+    pub const ALL: [Algorithm; 5] = [
+        Algorithm::Memetic,
         Algorithm::Nsga2,
         Algorithm::WeightedSum,
         Algorithm::GreedyInsertion,
         Algorithm::Decimation,
     ];
 
+    /// The algorithm a new app runs: the project's best method.
+    pub const DEFAULT: Algorithm = Algorithm::Memetic;
+
     /// The menu's value for this algorithm, also its name in front.json (as the CLI spells it).
     pub fn key(self) -> &'static str {
         match self {
+            Algorithm::Memetic => "memetic",
             Algorithm::Nsga2 => "nsga2",
             Algorithm::WeightedSum => "weighted",
             Algorithm::GreedyInsertion => "greedy",
@@ -50,6 +60,7 @@ impl Algorithm {
     /// Name for people.
     pub fn label(self) -> &'static str {
         match self {
+            Algorithm::Memetic => "memetic NSGA-II",
             Algorithm::Nsga2 => "NSGA-II",
             Algorithm::WeightedSum => "weighted-sum GA",
             Algorithm::GreedyInsertion => "greedy insertion",
@@ -57,7 +68,8 @@ impl Algorithm {
         }
     }
 
-    /// True when the GA parameters (population, crossover, mutation, seed) apply.
+    /// True when the paper's GA parameters (population, generations, crossover, mutation, seed)
+    /// apply. The memetic method runs with its own parameters and the form's seed.
     pub fn is_genetic(self) -> bool {
         matches!(self, Algorithm::Nsga2 | Algorithm::WeightedSum)
     }
@@ -176,6 +188,14 @@ impl Running for Nsga2 {
         Nsga2::last_crossover(self)
     }
 }
+impl Running for Memetic {
+    fn population_points(&self) -> Vec<(f64, f64, usize)> {
+        self.population()
+            .iter()
+            .map(|m| (m.score.t as f64, m.score.e_sum, m.rank))
+            .collect()
+    }
+}
 impl Running for WeightedSum {}
 impl Running for GreedyInsertion {}
 impl Running for EdgeDecimation {}
@@ -183,6 +203,7 @@ impl Running for EdgeDecimation {}
 /// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
 pub fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
     let value = match algorithm {
+        Algorithm::Memetic => serde_json::to_value(MemeticParams::default()),
         Algorithm::Nsga2 => serde_json::to_value(params.ga()),
         Algorithm::WeightedSum => serde_json::to_value(WeightedSumParams {
             ga: params.ga(),
@@ -203,6 +224,9 @@ pub fn build(
 ) -> Result<Box<dyn Running>, String> {
     params.validate()?;
     Ok(match algorithm {
+        Algorithm::Memetic => Box::new(
+            Memetic::new(hf, MemeticParams::default(), params.seed).map_err(|e| e.to_string())?,
+        ),
         Algorithm::Nsga2 => {
             Box::new(Nsga2::new(hf, params.ga(), params.seed).map_err(|e| e.to_string())?)
         }

@@ -8,14 +8,14 @@ use std::fmt::Write;
 
 /// Okabe–Ito colours (distinguishable with the common colour-vision deficiencies), one per
 /// method in [`METHODS`] order; each method also has its own marker shape.
-pub const COLOURS: [&str; 4] = ["#0072B2", "#E69F00", "#009E73", "#CC79A7"];
+pub const COLOURS: [&str; METHODS.len()] = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#000000"];
 
 /// Marker shapes, in [`METHODS`] order, as the legend names them.
-pub const SHAPES: [&str; 4] = ["●", "■", "▲", "◆"];
+pub const SHAPES: [&str; METHODS.len()] = ["●", "■", "▲", "◆", "★"];
 
 /// Short method names for the tables (the legend gives the full ones), so that the tables fit
 /// the page's right column.
-pub const SHORT: [&str; 4] = ["NSGA-II", "Weighted", "Decimation", "Greedy"];
+pub const SHORT: [&str; METHODS.len()] = ["NSGA-II", "Weighted", "Decimation", "Greedy", "Memetic"];
 
 /// Position of `m` in [`METHODS`] (the order of colours, shapes and fronts).
 pub fn method_index(m: Method) -> usize {
@@ -107,9 +107,9 @@ pub fn table_html(table: &CompareTable) -> (String, String, String) {
 pub fn note_text(table: &CompareTable) -> String {
     let n = table.normalization;
     format!(
-        "One normalisation for the four fronts: E ÷ {} (E of the corner-only mesh), T ÷ {} (the full \
+        "One normalisation for the five fronts: E ÷ {} (E of the corner-only mesh), T ÷ {} (the full \
          grid's triangles). HVR = hypervolume of the front ÷ that of the reference front (the \
-         non-dominated merge of the four fronts, {} points), reference point ({}, {}). ε+ in \
+         non-dominated merge of the five fronts, {} points), reference point ({}, {}). ε+ in \
          normalised units; C(A, B) = share of B's points weakly dominated by A's. Trade-off pick: \
          eq. 7–9 with 1000 weights from seed {}. The same computation as `paretomesh experiment`. {}",
         plot::format_value(n.e_scale()),
@@ -119,9 +119,9 @@ pub fn note_text(table: &CompareTable) -> String {
         table.reference_point[1],
         table.seed,
         if table.complete {
-            "Final: all four methods are done."
+            "Final: all five methods are done."
         } else {
-            "Live: updated at most 4 times a second until all four are done."
+            "Live: updated at most 4 times a second until all five are done."
         }
     )
 }

@@ -34,7 +34,7 @@ pub struct RunConfig {
 impl Default for RunConfig {
     fn default() -> Self {
         Self {
-            algorithm: Algorithm::Nsga2,
+            algorithm: Algorithm::DEFAULT,
             params: Params::default(),
             budget_ms: DEFAULT_BUDGET_MS,
         }

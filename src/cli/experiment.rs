@@ -26,7 +26,7 @@ pub struct ExperimentArgs {
     /// More input grids (each is one data set of the tables).
     #[arg(value_name = "GRID")]
     more: Vec<PathBuf>,
-    /// Runs of NSGA-II (deterministic methods run once).
+    /// Runs of NSGA-II and of each memetic method (deterministic methods run once).
     #[arg(long, default_value_t = 10)]
     runs: usize,
     /// Runs of the weighted-sum GA, each a sweep over its 11 weights [default: --runs with
@@ -51,9 +51,15 @@ pub struct ExperimentArgs {
     /// GA generations with `--budget per-weight` [default: 50].
     #[arg(long)]
     gens: Option<usize>,
-    /// Comma-separated methods to compare, in table order [default: every method].
+    /// Comma-separated methods to compare, in table order [default: nsga2, weighted,
+    /// decimation, greedy, memetic]; the memetic ablation variants are memetic-no-seed,
+    /// memetic-random-mutation, memetic-no-neighbour-mating and memetic-no-local-search.
     #[arg(long, value_delimiter = ',')]
     methods: Vec<String>,
+    /// Adds METHOD and every ablation variant of it (each with one component switched off, at
+    /// the same budget) after the methods compared.
+    #[arg(long, value_name = "METHOD")]
+    ablation: Option<String>,
     /// Fronts made by other tools, one option per grid in grid order, each NAME=FILE,…: FILE is
     /// a front.json, a JSON list of {vertices: [grid indices], triangles: [[a, b, c], …]}
     /// (indices into vertices), or a directory of PLY/OBJ meshes with vertices on grid points
@@ -271,6 +277,34 @@ fn read_external(name: &str, path: &Path, dataset: &Dataset) -> Result<ExternalF
     Ok(front)
 }
 
+/// The methods to compare: `--methods` (or the standard ones), then `--ablation`'s method and
+/// its variants that are not listed yet.
+fn methods(args: &ExperimentArgs) -> Result<Vec<Method>, String> {
+    let mut methods: Vec<Method> = if args.methods.is_empty() {
+        Method::STANDARD.to_vec()
+    } else {
+        args.methods
+            .iter()
+            .map(|m| Method::parse(m))
+            .collect::<Result<_, _>>()?
+    };
+    if let Some(name) = &args.ablation {
+        let full = Method::parse(name)?;
+        let all = full.with_ablations();
+        if all.len() < 2 {
+            return Err(format!(
+                "--ablation: {full} has no ablation variants (memetic has)"
+            ));
+        }
+        for m in all {
+            if !methods.contains(&m) {
+                methods.push(m);
+            }
+        }
+    }
+    Ok(methods)
+}
+
 /// The command line as a shell would take it back (arguments with spaces or quotes quoted).
 fn command_line() -> String {
     let quote = |a: String| {
@@ -293,14 +327,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
     let start = Instant::now();
     let (budget, generations) = budget(args)?;
     let settings = Settings {
-        methods: if args.methods.is_empty() {
-            Method::ALL.to_vec()
-        } else {
-            args.methods
-                .iter()
-                .map(|m| Method::parse(m))
-                .collect::<Result<_, _>>()?
-        },
+        methods: methods(args)?,
         runs: args.runs,
         weighted_runs: args.weighted_runs.unwrap_or(match budget {
             Budget::Equal { .. } => args.runs,

@@ -20,6 +20,20 @@ pub enum Method {
     Decimation,
     /// Greedy insertion (deterministic).
     Greedy,
+    /// The memetic NSGA-II, the project's own method (stochastic).
+    Memetic,
+    /// The memetic method without greedy seeding: random kept sets at log-spaced densities.
+    #[serde(rename = "memetic-no-seed")]
+    MemeticNoSeed,
+    /// The memetic method with random bit-flip mutation instead of the error-guided operators.
+    #[serde(rename = "memetic-random-mutation")]
+    MemeticRandomMutation,
+    /// The memetic method mating with any member instead of a neighbour in T.
+    #[serde(rename = "memetic-no-neighbour-mating")]
+    MemeticNoNeighbourMating,
+    /// The memetic method without its local search.
+    #[serde(rename = "memetic-no-local-search")]
+    MemeticNoLocalSearch,
 }
 
 /// What kind of budget a method runs on.
@@ -48,16 +62,46 @@ pub struct MethodSpec {
     pub colour: &'static str,
     /// Rough cost of one run, larger first in the scheduler (so the last jobs are short).
     pub cost: u8,
+    /// For an ablation variant: the full method, and what the variant removes from it (in the
+    /// report's words). `None` for a method in its own right.
+    pub ablation: Option<(Method, &'static str)>,
 }
 
 impl Method {
-    /// Every method, in the order the tables list them.
-    pub const ALL: [Method; 4] = [
+    /// Every method and ablation variant, in the order the tables list them.
+    pub const ALL: [Method; 9] = [
         Method::Nsga2,
         Method::Weighted,
         Method::Decimation,
         Method::Greedy,
+        Method::Memetic,
+        Method::MemeticNoSeed,
+        Method::MemeticRandomMutation,
+        Method::MemeticNoNeighbourMating,
+        Method::MemeticNoLocalSearch,
     ];
+
+    /// The methods an experiment compares when none are named: every method in its own right
+    /// (the ablation variants only run when asked for).
+    pub const STANDARD: [Method; 5] = [
+        Method::Nsga2,
+        Method::Weighted,
+        Method::Decimation,
+        Method::Greedy,
+        Method::Memetic,
+    ];
+
+    /// `self` followed by each of its ablation variants, in table order (just `self` for a
+    /// method without variants).
+    pub fn with_ablations(self) -> Vec<Method> {
+        std::iter::once(self)
+            .chain(
+                Method::ALL
+                    .into_iter()
+                    .filter(|m| m.spec().ablation.is_some_and(|(full, _)| full == self)),
+            )
+            .collect()
+    }
 
     /// The method's fixed facts (colours: the colour-blind-safe Okabe–Ito hues).
     pub fn spec(self) -> MethodSpec {
@@ -69,6 +113,7 @@ impl Method {
                 budget: BudgetKind::Ga,
                 colour: "#D55E00",
                 cost: 2,
+                ablation: None,
             },
             Method::Weighted => MethodSpec {
                 name: "weighted",
@@ -77,6 +122,7 @@ impl Method {
                 budget: BudgetKind::Ga,
                 colour: "#0072B2",
                 cost: 3,
+                ablation: None,
             },
             Method::Decimation => MethodSpec {
                 name: "decimation",
@@ -85,6 +131,7 @@ impl Method {
                 budget: BudgetKind::OwnRule,
                 colour: "#009E73",
                 cost: 0,
+                ablation: None,
             },
             Method::Greedy => MethodSpec {
                 name: "greedy",
@@ -93,11 +140,69 @@ impl Method {
                 budget: BudgetKind::OwnRule,
                 colour: "#CC79A7",
                 cost: 1,
+                ablation: None,
+            },
+            Method::Memetic => MethodSpec {
+                name: "memetic",
+                label: "Memetic",
+                stochastic: true,
+                budget: BudgetKind::Ga,
+                colour: "#000000",
+                cost: 2,
+                ablation: None,
+            },
+            Method::MemeticNoSeed => MethodSpec {
+                name: "memetic-no-seed",
+                label: "Memetic, no greedy seeding",
+                stochastic: true,
+                budget: BudgetKind::Ga,
+                colour: "#E69F00",
+                cost: 2,
+                ablation: Some((
+                    Method::Memetic,
+                    "greedy seeding: the initial population is random kept sets at log-spaced densities instead of greedy-insertion snapshots, and the greedy fronts do not start the archive",
+                )),
+            },
+            Method::MemeticRandomMutation => MethodSpec {
+                name: "memetic-random-mutation",
+                label: "Memetic, random mutation",
+                stochastic: true,
+                budget: BudgetKind::Ga,
+                colour: "#56B4E9",
+                cost: 2,
+                ablation: Some((
+                    Method::Memetic,
+                    "error-guided mutation: a child flips one random grid point in or out instead of an error-guided insertion, removal or vertex move",
+                )),
+            },
+            Method::MemeticNoNeighbourMating => MethodSpec {
+                name: "memetic-no-neighbour-mating",
+                label: "Memetic, random mates",
+                stochastic: true,
+                budget: BudgetKind::Ga,
+                colour: "#999999",
+                cost: 2,
+                ablation: Some((
+                    Method::Memetic,
+                    "mating among neighbours: a crossover mate is any other member, whatever its T, instead of one of the 4 nearest in T",
+                )),
+            },
+            Method::MemeticNoLocalSearch => MethodSpec {
+                name: "memetic-no-local-search",
+                label: "Memetic, no local search",
+                stochastic: true,
+                budget: BudgetKind::Ga,
+                colour: "#F0E442",
+                cost: 2,
+                ablation: Some((
+                    Method::Memetic,
+                    "local search: no fixed-T swap moves on archive members; the budget goes to offspring only",
+                )),
             },
         }
     }
 
-    /// The command-line name (`nsga2`, `weighted`, `decimation`, `greedy`).
+    /// The command-line name (`nsga2`, `weighted`, `decimation`, `greedy`, `memetic`, …).
     pub fn name(self) -> &'static str {
         self.spec().name
     }
@@ -152,7 +257,16 @@ mod tests {
             );
         }
         let err = Method::parse("nsga3").unwrap_err();
-        assert!(err.contains("nsga2, weighted, decimation, greedy"), "{err}");
+        assert!(
+            err.contains("nsga2, weighted, decimation, greedy, memetic, memetic-no-seed"),
+            "{err}"
+        );
+        assert_eq!(
+            Method::Memetic.with_ablations().len(),
+            5,
+            "the full method and four variants"
+        );
+        assert_eq!(Method::Nsga2.with_ablations(), vec![Method::Nsga2]);
     }
 
     #[test]

@@ -10,8 +10,9 @@
 
 use super::ExperimentError;
 use super::method::{BudgetKind, Method};
-use super::protocol::{Budget, Settings};
+use super::protocol::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
+use crate::evolution::memetic::{Memetic, MemeticParams};
 use crate::evolution::{GaParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
@@ -46,6 +47,61 @@ fn weighted_params(settings: &Settings) -> WeightedSumParams {
     }
 }
 
+/// The evaluations of one memetic run under [`Budget::PerWeight`], where the other GAs run
+/// for generations rather than evaluations: what an NSGA-II run of the settings' population
+/// and generations spends, counted at [`DEFAULT_EQUAL_EVALUATIONS`] for the paper's 100 × 50
+/// (17 401 on jacksboro_65x65) and in proportion to population × generations otherwise.
+pub fn nsga2_equivalent_evaluations(settings: &Settings) -> u64 {
+    let paper = (PAPER_POPULATION * PAPER_GENERATIONS) as u128;
+    let asked = (settings.population as u128) * (settings.generations as u128);
+    ((DEFAULT_EQUAL_EVALUATIONS as u128 * asked + paper / 2) / paper).max(1) as u64
+}
+
+/// The paper's population and generations, the scale of [`DEFAULT_EQUAL_EVALUATIONS`].
+const PAPER_POPULATION: usize = 100;
+const PAPER_GENERATIONS: usize = 50;
+
+/// The memetic method's parameters (its own defaults, population included) with the
+/// experiment's evaluation budget and, for an ablation variant, its component switched off.
+pub fn memetic_params(method: Method, settings: &Settings) -> MemeticParams {
+    let evaluations = match settings.budget {
+        Budget::Equal { evaluations } => evaluations,
+        Budget::PerWeight => nsga2_equivalent_evaluations(settings),
+    };
+    let full = MemeticParams {
+        max_evaluations: Some(evaluations),
+        ..MemeticParams::default()
+    };
+    match method {
+        Method::MemeticNoSeed => MemeticParams {
+            greedy_seeding: false,
+            ..full
+        },
+        Method::MemeticRandomMutation => MemeticParams {
+            guided_mutation: false,
+            ..full
+        },
+        Method::MemeticNoNeighbourMating => MemeticParams {
+            neighbour_mating: false,
+            ..full
+        },
+        Method::MemeticNoLocalSearch => MemeticParams {
+            local_search: false,
+            ..full
+        },
+        _ => full,
+    }
+}
+
+/// Is `method` the memetic method or one of its ablation variants?
+pub fn is_memetic(method: Method) -> bool {
+    method == Method::Memetic
+        || method
+            .spec()
+            .ablation
+            .is_some_and(|(full, _)| full == Method::Memetic)
+}
+
 /// How many GA runs one run of `method` is made of (the weighted-sum GA: one per weight), and
 /// so how many shares an equal budget is split into. 1 for every other method.
 pub fn ga_runs_per_run(method: Method) -> usize {
@@ -62,6 +118,14 @@ pub fn budget_text(method: Method, settings: &Settings) -> String {
         return "own stopping rule".to_string();
     }
     let parts = ga_runs_per_run(method);
+    if is_memetic(method) && settings.budget == Budget::PerWeight {
+        return format!(
+            "{} (NSGA-II's population {} × {} generations, in evaluations)",
+            nsga2_equivalent_evaluations(settings),
+            settings.population,
+            settings.generations
+        );
+    }
     match settings.budget {
         Budget::Equal { evaluations } if parts > 1 => {
             let share = evaluations / parts as u64;
@@ -89,6 +153,7 @@ pub fn params(method: Method, settings: &Settings) -> Result<serde_json::Value, 
         Method::Weighted => serde_json::to_value(weighted_params(settings)),
         Method::Decimation => serde_json::to_value(DecimationParams::default()),
         Method::Greedy => serde_json::to_value(GreedyParams::default()),
+        m => serde_json::to_value(memetic_params(m, settings)),
     };
     value.map_err(|e| ExperimentError::Params {
         method,
@@ -126,6 +191,10 @@ pub fn build(
             GreedyInsertion::new(hf, GreedyParams::default())
                 .map_err(|e| refused(e.to_string()))?,
         ),
+        m => Box::new(
+            Memetic::new(hf, memetic_params(m, settings), need_seed()?)
+                .map_err(|e| refused(e.to_string()))?,
+        ),
     })
 }
 
@@ -147,6 +216,16 @@ mod tests {
             "17400 = 11 weights × 1581 (+ 9 unspent)"
         );
         assert_eq!(budget_text(Method::Greedy, &equal), "own stopping rule");
+        let m = params(Method::Memetic, &equal).unwrap();
+        assert_eq!(m["max_evaluations"], 17_400);
+        assert_eq!(
+            m.get("local_search"),
+            None,
+            "the full method writes no switch"
+        );
+        let v = params(Method::MemeticNoLocalSearch, &equal).unwrap();
+        assert_eq!(v["local_search"], false);
+        assert_eq!(budget_text(Method::Memetic, &equal), "17400");
 
         let paper = Settings {
             budget: Budget::PerWeight,
@@ -159,5 +238,14 @@ mod tests {
             budget_text(Method::Weighted, &paper),
             "11 weights × (population 100 × 50 generations)"
         );
+        assert_eq!(
+            params(Method::Memetic, &paper).unwrap()["max_evaluations"],
+            17_400
+        );
+        let half = Settings {
+            generations: 25,
+            ..paper
+        };
+        assert_eq!(nsga2_equivalent_evaluations(&half), 8_700);
     }
 }

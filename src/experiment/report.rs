@@ -8,10 +8,11 @@
 use super::analysis::{Analysis, DatasetAnalysis, MethodAnalysis, SIGNIFICANCE_LEVEL};
 use super::contender::Contender;
 use super::method::Method;
-use super::protocol::{Budget, Settings};
+use super::protocol::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 use super::registry;
 use super::results::{DatasetResults, Results};
 use super::stats::Summary;
+use crate::evolution::memetic::MemeticParams;
 use std::fmt::Write;
 
 /// `mean ± std` with 4 decimals, `± n/a` for a single value.
@@ -51,7 +52,7 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
             let parts = registry::ga_runs_per_run(Method::Weighted);
             let share = evaluations / parts as u64;
             format!(
-                "Equal budgets: every run of a genetic algorithm ({}) stops after {evaluations} evaluations, with no generation limit. The weighted-sum GA splits its run over its {parts} weights: each weight's GA run gets ⌊{evaluations} / {parts}⌋ = {share} evaluations, and the remaining {} are not spent. Each GA run (for the weighted-sum GA, each weight's) stops at the first mating boundary at or after its budget, so it may overshoot by less than one mating (at most 11 evaluations with the default crossover). Population {} for every GA.",
+                "Equal budgets: every run of a genetic algorithm ({}) stops after {evaluations} evaluations, with no generation limit. The weighted-sum GA splits its run over its {parts} weights: each weight's GA run gets ⌊{evaluations} / {parts}⌋ = {share} evaluations, and the remaining {} are not spent. Each GA run (for the weighted-sum GA, each weight's) stops at the first mating boundary at or after its budget, so it may overshoot by less than one mating (at most 11 evaluations with the default crossover). Population {} for NSGA-II and the weighted-sum GA.",
                 ga.join(", "),
                 evaluations - share * parts as u64,
                 s.population
@@ -73,8 +74,35 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
             format!("{n} times")
         }
     };
+    let memetic: Vec<&str> = s
+        .methods
+        .iter()
+        .filter(|&&m| registry::is_memetic(m))
+        .map(|m| m.label())
+        .collect();
+    if !memetic.is_empty() {
+        let which = memetic.join(", ");
+        p.push_str(&match s.budget {
+            Budget::Equal { evaluations } => format!(
+                " The memetic method ({which}) gets the same {evaluations} evaluations per run, its greedy seeding sweeps included, with its own population of {}.",
+                MemeticParams::default().population
+            ),
+            Budget::PerWeight => format!(
+                " The memetic method ({which}) runs to an evaluation budget, not generations: it gets the NSGA-II run's budget, {} evaluations per run, its greedy seeding sweeps included (what an NSGA-II run of population {} for {} generations spends, taken as {DEFAULT_EQUAL_EVALUATIONS} for the paper's 100 × 50 and in proportion otherwise), with its own population of {}.",
+                registry::nsga2_equivalent_evaluations(s),
+                s.population,
+                s.generations,
+                MemeticParams::default().population
+            ),
+        });
+    }
     p.push_str(&format!(
-        " NSGA-II runs {} and the weighted-sum GA {} (run k with seed {} + k); decimation and greedy insertion are deterministic, stop by their own rule and run once.",
+        " NSGA-II{} runs {} and the weighted-sum GA {} (run k with seed {} + k); decimation and greedy insertion are deterministic, stop by their own rule and run once.",
+        if memetic.is_empty() {
+            ""
+        } else {
+            " and each memetic method"
+        },
         times(s.runs),
         times(s.weighted_runs),
         s.seed
@@ -120,6 +148,9 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
     };
     if s.methods.contains(&Method::Nsga2) {
         let _ = writeln!(w, "- NSGA-II: {}.", seeds(s.runs));
+    }
+    for &m in s.methods.iter().filter(|&&m| registry::is_memetic(m)) {
+        let _ = writeln!(w, "- {}: {}.", m.label(), seeds(s.runs));
     }
     if s.methods.contains(&Method::Weighted) {
         let _ = writeln!(
@@ -247,6 +278,7 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
     }
 
     table_ii(w, results, analysis);
+    ablations(w, s, analysis);
     table_iii(w, analysis);
     table_iv(w, results, analysis);
     table_v(w, analysis);
@@ -322,6 +354,81 @@ fn table_ii(w: &mut String, results: &Results, analysis: &Analysis) {
     };
     let _ = writeln!(w, "\nHVR of each method's merged front ({merged_note}):\n");
     method_table(w, analysis, |m| format!("{:.4}", m.merged_hvr));
+}
+
+/// The ablation variants among the methods: what each removes, and its per-run HVR against
+/// the full method's with the rank-sum test (the same test as Table V's marks).
+fn ablations(w: &mut String, s: &Settings, analysis: &Analysis) {
+    let variants: Vec<(Method, Method, &str)> = s
+        .methods
+        .iter()
+        .filter_map(|&m| {
+            m.spec()
+                .ablation
+                .filter(|(full, _)| s.methods.contains(full))
+                .map(|(full, removes)| (m, full, removes))
+        })
+        .collect();
+    if variants.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        w,
+        "
+## Ablations
+"
+    );
+    let _ = writeln!(
+        w,
+        "Each variant is its full method with one component switched off, at the same budget and seeds. What each variant removes:
+"
+    );
+    for (m, full, removes) in &variants {
+        let _ = writeln!(
+            w,
+            "- {} (`{}`): {} without {removes}.",
+            m.label(),
+            m.name(),
+            full.label()
+        );
+    }
+    let _ = writeln!(
+        w,
+        "
+Per-run HVR (Table II) of each variant against its full method: two-sided Wilcoxon rank-sum test at α = {SIGNIFICANCE_LEVEL}; mark `−`: the variant is significantly worse (the component earns its keep), `+` significantly better, `=` no significant difference.
+"
+    );
+    let _ = writeln!(
+        w,
+        "| Data set | Variant | HVR | Full method's HVR | Difference of means | p | Mark |"
+    );
+    let _ = writeln!(w, "|---|---|---|---|---|---|---|");
+    for a in &analysis.datasets {
+        let hvr = |m: Method| a.methods.iter().find(|x| x.method == m).map(|x| &x.hvr);
+        for &(m, full, _) in &variants {
+            let (Some(hv), Some(hf)) = (hvr(m), hvr(full)) else {
+                continue;
+            };
+            let pair = a.pairs.iter().find(|p| p.a == m && p.b == full);
+            let (p, mark) = match pair {
+                Some(p) => (
+                    p.test
+                        .map_or("n/a".to_string(), |t| format!("{:.2e}", t.p_value)),
+                    p.mark.symbol(),
+                ),
+                None => ("n/a".to_string(), "n/a"),
+            };
+            let _ = writeln!(
+                w,
+                "| {} | {} | {} | {} | {:+.4} | {p} | {mark} |",
+                a.name,
+                m.label(),
+                format_summary(hv),
+                format_summary(hf),
+                hv.mean - hf.mean
+            );
+        }
+    }
 }
 
 /// A table with one row per data set and one column per method (then outside front), cells

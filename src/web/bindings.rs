@@ -193,7 +193,7 @@ impl WebApp {
         })
     }
 
-    /// True once all four methods of the comparison have finished.
+    /// True once every method of the comparison have finished.
     #[wasm_bindgen(js_name = compareDone)]
     pub fn compare_done(&self) -> bool {
         self.ui

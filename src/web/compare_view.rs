@@ -1,5 +1,5 @@
 //! Compare mode in the page: the toggle and buttons of the `#compare` fieldset, the plot of the
-//! four fronts (`#compare-plot`), the live tables and click-to-select into the 3-D view. The
+//! five fronts (`#compare-plot`), the live tables and click-to-select into the 3-D view. The
 //! logic is [`CompareRun`]; this is its DOM.
 
 use super::dom::{self, by_id, listen};
@@ -29,7 +29,7 @@ fn set_html(id: &str, html: &str) {
 }
 
 /// Compare mode's part of a frame: advance the run within the budget, refresh the table
-/// (throttled), and draw the four fronts.
+/// (throttled), and draw the five fronts.
 pub(super) fn compare_frame(ui: &mut Ui) {
     let surface = Arc::as_ptr(&ui.app.surface().heightfield);
     if ui
@@ -42,7 +42,7 @@ pub(super) fn compare_frame(ui: &mut Ui) {
         compare_reset(ui);
         dom::set_text(
             "compare-message",
-            "the surface changed: press Compare to run the four methods on it",
+            "the surface changed: press Compare to run the five methods on it",
         );
     }
     if !dom::checked("compare-on") {

@@ -1,8 +1,8 @@
 // End-to-end test of compare mode in headless Chromium (playwright-core driving
 // /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh), then on
 // the built-in surface: small GA settings → turn compare mode on → Compare → the table is live
-// while the methods run → all four finish with non-empty fronts → the tables list the four
-// methods, their picks and all 12 ordered pairs with finite numbers equal to the app's own
+// while the methods run → all five finish with non-empty fronts → the tables list the five
+// methods, their picks and all 20 ordered pairs with finite numbers equal to the app's own
 // table → a click on a front point and one on a pick show those meshes → compare mode off
 // brings the single-run plot back. Screenshots go to target/e2e/. Prints (does not assert) the
 // frame timing, the share of wall time spent optimising, and the comparison's run time.
@@ -17,7 +17,7 @@ const GENERATIONS = process.env.COMPARE_GENS ?? '8';
 const SEED = '3';
 // How long the comparison may take; raise it with the paper's settings (COMPARE_TIMEOUT_S).
 const TIMEOUT_MS = 1000 * Number(process.env.COMPARE_TIMEOUT_S ?? '600');
-const METHODS = ['nsga2', 'weighted', 'decimation', 'greedy'];
+const METHODS = ['nsga2', 'weighted', 'decimation', 'greedy', 'memetic'];
 
 // The numbers of a table body: one array of cells per row, each cell's data-value (the full
 // precision the page was given) parsed as a number.
@@ -36,6 +36,8 @@ await withApp(async ({ browser, url }) => {
   assert.match(await page.locator('#surface-info').textContent(), /jacksboro_65x65 · 65×65 grid/);
 
   // 1. The form's GA parameters, then compare mode on: its panel replaces the single-run plot.
+  // The GA fields show once a GA is chosen (the default, memetic, runs with its own parameters).
+  await page.selectOption('#algorithm', 'nsga2');
   await page.fill('#population', POPULATION);
   await page.fill('#generations', GENERATIONS);
   await page.fill('#seed', SEED);
@@ -79,12 +81,12 @@ await withApp(async ({ browser, url }) => {
 
   // 3. Four non-empty fronts.
   const lengths = await page.evaluate(() => window.paretomesh.compareFrontLengths());
-  assert.equal(lengths.length, 4);
-  assert.ok(lengths.every((n) => n > 0), `four non-empty fronts: ${lengths}`);
+  assert.equal(lengths.length, METHODS.length);
+  assert.ok(lengths.every((n) => n > 0), `five non-empty fronts: ${lengths}`);
   assert.ok(lengths[1] <= 11, 'the weighted-sum GA has at most one point per weight');
   assert.match(await page.locator('#compare-status').textContent(), /^done · /);
 
-  // 4. The tables: the four methods, their picks, all 12 ordered pairs, finite numbers equal
+  // 4. The tables: the five methods, their picks, all 20 ordered pairs, finite numbers equal
   // to the app's table, final.
   const table = JSON.parse(await page.evaluate(() => window.paretomesh.compareTable()));
   assert.ok(table.complete, 'the table is final');
@@ -112,7 +114,7 @@ await withApp(async ({ browser, url }) => {
     assert.ok(r.picks[1].t <= r.picks[0].t && r.picks[1].t <= r.picks[2].t, `${r.method} fewest triangles`);
   });
   const pairs = await cellValues(page, 'compare-pairs');
-  assert.equal(pairs.length, 12, 'every ordered pair');
+  assert.equal(pairs.length, METHODS.length * (METHODS.length - 1), 'every ordered pair');
   const expectedPairs = METHODS.flatMap((a) => METHODS.filter((b) => b !== a).map((b) => `${a}>${b}`));
   assert.deepEqual(pairs.map((r) => `${r.a}>${r.b}`), expectedPairs);
   pairs.forEach((r, i) => {
@@ -167,7 +169,7 @@ await withApp(async ({ browser, url }) => {
   const sorted = [...frames].sort((a, b) => a - b);
   const p95 = sorted[Math.floor(0.95 * (sorted.length - 1))] ?? 0;
   console.log(`compare e2e ok: population ${POPULATION}, ${GENERATIONS} generations, seed ${SEED}; ` +
-    `fronts ${lengths.join('/')} (NSGA-II/weighted/decimation/greedy); ${evaluations} evaluations; ` +
+    `fronts ${lengths.join('/')} (NSGA-II/weighted/decimation/greedy/memetic); ${evaluations} evaluations; ` +
     `done ${(wallMs / 1000).toFixed(1)} s after the click, ${(optimisingMs / 1000).toFixed(1)} s of it optimising ` +
     `(${((100 * optimisingMs) / wallMs).toFixed(0)} % of wall time); ` +
     `${(100 * within).toFixed(1)} % of ${frames.length} frames within 20 ms, 95th percentile ${p95.toFixed(1)} ms; ` +

@@ -50,6 +50,7 @@ async function shareNow(page, { embed = false } = {}) {
 
 // Runs NSGA-II with population 20 on the page's surface to the end; returns its front.
 async function runSmall(page, { generations, seed }) {
+  await page.selectOption('#algorithm', 'nsga2');
   await page.fill('#population', '20');
   await page.fill('#generations', String(generations));
   await page.fill('#seed', String(seed));

@@ -14,6 +14,8 @@ await withApp(async ({ browser, url }) => {
   const page = await newPage(browser);
   await page.goto(url);
   await waitForApp(page);
+  // Teaching mode walks NSGA-II's generation; the app's default is the memetic method.
+  await page.selectOption('#algorithm', 'nsga2');
   await page.fill('#population', '16');
   await page.fill('#generations', '6');
   await page.check('#teach');

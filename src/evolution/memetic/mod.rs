@@ -19,6 +19,11 @@
 //! Every evaluated kept set is offered to the archive ([`Optimizer::front`]), which starts as
 //! both greedy fronts.
 //!
+//! Each component can be switched off in [`MemeticParams`] (greedy seeding, guided mutation,
+//! mating among neighbours, local search), so that an experiment can measure what each one
+//! adds; the unguided replacements are random kept sets at log-spaced densities, a random
+//! point flip, and a random mate.
+//!
 //! Every random draw comes from one generator seeded by the run's seed, in an order fixed by
 //! the units, and the state only changes a whole unit at a time, so a seed reproduces a run
 //! exactly however the work is sliced into steps.

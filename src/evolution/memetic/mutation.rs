@@ -78,6 +78,33 @@ pub fn remove(guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
     })
 }
 
+/// Flips one grid point drawn uniformly among the non-corner ones: removes it when kept,
+/// inserts it otherwise. The unguided mutation the error-guided operators are measured
+/// against; `None` when the grid has no point but its corners.
+pub fn random_flip(hf: &Heightfield, member: &Member, rng: &mut Pcg64Mcg) -> Option<Edit> {
+    let corners = hf.corners();
+    if hf.len() <= corners.len() {
+        return None;
+    }
+    let p = loop {
+        let p = rng.random_range(0..hf.len() as u32);
+        if !corners.contains(&p) {
+            break p;
+        }
+    };
+    Some(if member.state.is_kept(p) {
+        Edit {
+            remove: vec![p],
+            insert: Vec::new(),
+        }
+    } else {
+        Edit {
+            remove: Vec::new(),
+            insert: vec![p],
+        }
+    })
+}
+
 /// The free grid points among the 8 neighbours of kept point `v` in its border class (interior
 /// points for an interior `v`, points of the same border side for a border one), in grid order.
 pub fn free_neighbours(hf: &Heightfield, member: &Member, v: u32) -> Vec<u32> {

@@ -26,6 +26,18 @@ pub fn pick_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<
     Some(others[rng.random_range(0..k)])
 }
 
+/// Draws the mate of `population[a]` among all other members, equally likely, whatever their
+/// T (the ablation of mating among neighbours). `None` for a population of one.
+pub fn pick_any_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<usize> {
+    let n = population.len();
+    if n < 2 {
+        return None;
+    }
+    // Draw among the n − 1 others by skipping over `a`.
+    let b = rng.random_range(0..n - 1);
+    Some(if b >= a { b + 1 } else { b })
+}
+
 /// A cut: grid points with coordinate ≥ `at` along the axis come from the second parent.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Cut {

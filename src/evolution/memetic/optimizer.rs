@@ -5,7 +5,7 @@ use super::member::{Member, offer};
 use super::mutation::{self, Operator};
 use super::neighbour_mating::{self, Cut};
 use super::params::{MemeticParams, MemeticParamsError};
-use super::seeding::Seeding;
+use super::seeding::{self, Seeding};
 use crate::evaluator::Evaluator;
 use crate::evolution::ranking::{crowding_distances, non_dominated_fronts};
 use crate::front::Front;
@@ -36,6 +36,8 @@ pub struct Memetic {
     seed_front: Front,
     /// The seeds' kept sets, once seeding is done, in the order they join.
     seeds: Vec<Vec<u32>>,
+    /// The random initial kept sets were drawn (when greedy seeding is off).
+    randomly_seeded: bool,
     population: Vec<Member>,
     offspring: Vec<Member>,
     archive: Front,
@@ -62,6 +64,7 @@ impl Memetic {
             seeding: Seeding::new(hf.clone()),
             seed_front: Front::default(),
             seeds: Vec::new(),
+            randomly_seeded: false,
             population: Vec::with_capacity(params.population),
             offspring: Vec::with_capacity(params.population),
             archive: Front::default(),
@@ -106,10 +109,26 @@ impl Memetic {
 
     fn advance(&mut self) {
         if self.total_evaluations() >= self.budget {
+            // A budget smaller than the seeding still ends with a front: the sweep's
+            // recordings so far.
+            if let Some(front) = self.seeding.partial_front() {
+                for s in front.solutions() {
+                    self.archive.offer(s.clone());
+                    self.seed_front.offer(s.clone());
+                }
+            }
             self.done = true;
             return;
         }
-        if !self.seeding.is_done() {
+        if !self.params.greedy_seeding {
+            if !self.randomly_seeded {
+                let hf = self.evaluator.heightfield().clone();
+                self.seeds = seeding::random_seeds(&hf, self.params.population, &mut self.rng);
+                self.seeds.reverse();
+                self.randomly_seeded = true;
+                return;
+            }
+        } else if !self.seeding.is_done() {
             if let Some(front) = self.seeding.unit() {
                 for s in front.solutions() {
                     self.archive.offer(s.clone());
@@ -137,12 +156,20 @@ impl Memetic {
                 self.child();
                 if self.offspring.len() >= self.params.population {
                     self.survival();
-                    self.stage = Stage::LocalSearch(self.params.local_search_rounds);
+                    if self.params.local_search {
+                        self.stage = Stage::LocalSearch(self.params.local_search_rounds);
+                    } else {
+                        self.generation += 1;
+                    }
                 }
             }
-            Stage::Offspring => {
+            Stage::Offspring if self.params.local_search => {
                 // Too few seeds to mate (a tiny grid): local search only.
                 self.stage = Stage::LocalSearch(self.params.local_search_rounds.max(1));
+            }
+            Stage::Offspring => {
+                // Too few seeds to mate and no local search: nothing can improve the front.
+                self.done = true;
             }
             Stage::LocalSearch(left) => {
                 if left > 0 {
@@ -182,10 +209,12 @@ impl Memetic {
         let hf = self.evaluator.heightfield().clone();
         let a = self.tournament();
         let crossed = self.rng.random::<f64>() < self.params.crossover_probability;
-        let mate = if crossed {
+        let mate = if !crossed {
+            None
+        } else if self.params.neighbour_mating {
             neighbour_mating::pick_mate(&self.population, a, &mut self.rng)
         } else {
-            None
+            neighbour_mating::pick_any_mate(&self.population, a, &mut self.rng)
         };
         let mut child = match mate {
             Some(b) => {
@@ -204,6 +233,15 @@ impl Memetic {
                 parent.clone()
             }
         };
+        if !self.params.guided_mutation {
+            if let Some(edit) = mutation::random_flip(&hf, &child, &mut self.rng) {
+                child.apply(&mut self.evaluator, &edit);
+                self.evaluations += 1;
+                offer(&mut self.archive, &child.kept, &child.score);
+            }
+            self.offspring.push(child);
+            return;
+        }
         child.guide(&hf);
         let edit = match Operator::draw(&mut self.rng) {
             Operator::Insert => mutation::insert(&hf, child.guide(&hf), &mut self.rng),

@@ -19,6 +19,29 @@ pub struct MemeticParams {
     /// Stop once this many evaluations were spent (checked between units of work); `None` =
     /// [`default_budget`] of the grid.
     pub max_evaluations: Option<u64>,
+    /// Seed from the greedy sweeps ([`seeding`](super::seeding)); when off, the initial
+    /// population is random kept sets at log-spaced densities (an ablation).
+    #[serde(skip_serializing_if = "is_on")]
+    pub greedy_seeding: bool,
+    /// Mutate with the error-guided operators ([`mutation`](super::mutation)); when off, a
+    /// child flips one random grid point in or out (an ablation).
+    #[serde(skip_serializing_if = "is_on")]
+    pub guided_mutation: bool,
+    /// Draw a crossover mate among the neighbours in T
+    /// ([`neighbour_mating`](super::neighbour_mating)); when off, any other member (an
+    /// ablation).
+    #[serde(skip_serializing_if = "is_on")]
+    pub neighbour_mating: bool,
+    /// Run the local search after each generation ([`local_search`](super::local_search));
+    /// when off, generations are offspring and survival only (an ablation).
+    #[serde(skip_serializing_if = "is_on")]
+    pub local_search: bool,
+}
+
+/// The component switches are written only when off, so the full method's parameters (and its
+/// front.json) read as before the switches existed.
+fn is_on(switch: &bool) -> bool {
+    *switch
 }
 
 impl Default for MemeticParams {
@@ -28,6 +51,10 @@ impl Default for MemeticParams {
             crossover_probability: 0.3,
             local_search_rounds: 24,
             max_evaluations: None,
+            greedy_seeding: true,
+            guided_mutation: true,
+            neighbour_mating: true,
+            local_search: true,
         }
     }
 }

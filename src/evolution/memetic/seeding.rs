@@ -16,6 +16,8 @@ use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, Insertio
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
+use rand::RngExt;
+use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
 
 /// Recordings per seeding run.
@@ -57,6 +59,12 @@ impl Seeding {
                 .current
                 .as_ref()
                 .map_or(0, |(_, run)| run.progress().evaluations)
+    }
+
+    /// The recorded meshes of the run in progress, if any: what a run stopped by its budget
+    /// in the middle of seeding can still offer.
+    pub fn partial_front(&self) -> Option<&Front> {
+        self.current.as_ref().map(|(_, run)| run.front())
     }
 
     /// One insertion (starting the next run when none is in progress). Returns a finished
@@ -115,4 +123,43 @@ pub fn spread(n: usize, s: usize) -> Vec<usize> {
             .map(|j| (2 * j * (n - 1) + (s - 1)) / (2 * (s - 1)))
             .collect(),
     }
+}
+
+/// `population` random kept sets, the unguided start the greedy seeds are measured against:
+/// member j keeps the corners and random other points, n_j points in all, with n_j spaced
+/// geometrically from 5 to every grid point (so the densities cover the front evenly in log T,
+/// as the greedy seeds do). Each set is increasing.
+pub fn random_seeds(hf: &Heightfield, population: usize, rng: &mut Pcg64Mcg) -> Vec<Vec<u32>> {
+    let corners = hf.corners();
+    let others: Vec<u32> = (0..hf.len() as u32)
+        .filter(|i| !corners.contains(i))
+        .collect();
+    let (least, most) = (corners.len() as f64 + 1.0, hf.len() as f64);
+    (0..population)
+        .map(|j| {
+            let share = if population > 1 {
+                j as f64 / (population - 1) as f64
+            } else {
+                0.5
+            };
+            let points = (least.ln() + share * (most.ln() - least.ln()))
+                .exp()
+                .round() as usize;
+            let extra = points.saturating_sub(corners.len()).min(others.len());
+            // A partial Fisher–Yates shuffle over the non-corner points.
+            let mut pool = others.clone();
+            for k in 0..extra {
+                let pick = rng.random_range(k..pool.len());
+                pool.swap(k, pick);
+            }
+            let mut kept: Vec<u32> = corners
+                .iter()
+                .copied()
+                .chain(pool[..extra].iter().copied())
+                .collect();
+            kept.sort_unstable();
+            kept.dedup();
+            kept
+        })
+        .collect()
 }
