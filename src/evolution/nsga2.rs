@@ -56,7 +56,7 @@ use super::mating::{MatingContext, PendingMating};
 use super::oax::OaxRecord;
 use super::operators;
 use super::params::{GaParams, ParamsError};
-use super::ranking::{crowding_distances, non_dominated_fronts};
+use super::ranking::{crowding_distances, non_dominated_fronts, ranks_and_crowding};
 use super::scorer::Scorer;
 use super::trace::{GenerationTrace, MatingTrace, Member};
 use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
@@ -422,11 +422,8 @@ fn rank_and_crowd(population: &mut [Individual]) {
         .iter()
         .map(|s| s.objectives.objectives())
         .collect();
-    for (rank, front) in non_dominated_fronts(&points).iter().enumerate() {
-        for (&i, d) in front.iter().zip(crowding_distances(&points, front)) {
-            population[i].rank = rank;
-            population[i].crowding = d;
-        }
+    for (i, (rank, crowding)) in population.iter_mut().zip(ranks_and_crowding(&points)) {
+        (i.rank, i.crowding) = (rank, crowding);
     }
 }
 

@@ -50,6 +50,17 @@ pub fn ranks(points: &[[f64; 2]]) -> Vec<usize> {
     rank
 }
 
+/// The rank (0 = non-dominated) of every point and its crowding distance within its front.
+pub fn ranks_and_crowding(points: &[[f64; 2]]) -> Vec<(usize, f64)> {
+    let mut out = vec![(0, 0.0); points.len()];
+    for (rank, front) in non_dominated_fronts(points).iter().enumerate() {
+        for (&i, d) in front.iter().zip(crowding_distances(points, front)) {
+            out[i] = (rank, d);
+        }
+    }
+    out
+}
+
 /// The crowding distance of each member of `front` (indices into `points`), in the order of
 /// `front`: for each objective, the members are sorted by it (ties by position in `front`), the
 /// two extremes get infinity and every other member adds the gap between its two neighbours,

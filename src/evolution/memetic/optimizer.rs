@@ -7,7 +7,7 @@ use super::neighbour_mating::{self, Cut};
 use super::params::{MemeticParams, MemeticParamsError};
 use super::seeding::{self, Seeding};
 use crate::evaluator::Evaluator;
-use crate::evolution::ranking::{crowding_distances, non_dominated_fronts};
+use crate::evolution::ranking::{crowding_distances, non_dominated_fronts, ranks_and_crowding};
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -315,11 +315,8 @@ fn two_mut(v: &mut [Member], a: usize, b: usize) -> (&mut Member, &mut Member) {
 /// Sets every member's rank and crowding distance within `population`.
 fn rank_and_crowd(population: &mut [Member]) {
     let points: Vec<[f64; 2]> = population.iter().map(Member::pair).collect();
-    for (rank, front) in non_dominated_fronts(&points).iter().enumerate() {
-        for (&i, d) in front.iter().zip(crowding_distances(&points, front)) {
-            population[i].rank = rank;
-            population[i].crowding = d;
-        }
+    for (m, (rank, crowding)) in population.iter_mut().zip(ranks_and_crowding(&points)) {
+        (m.rank, m.crowding) = (rank, crowding);
     }
 }
 
