@@ -56,7 +56,7 @@ use super::mating::{MatingContext, PendingMating};
 use super::oax::OaxRecord;
 use super::operators;
 use super::params::{GaParams, ParamsError};
-use super::ranking::{crowding_distances, non_dominated_fronts, ranks_and_crowding};
+use super::ranking::{crowding_distances, non_dominated_fronts, ranks_and_crowding, survivors};
 use super::scorer::Scorer;
 use super::trace::{GenerationTrace, MatingTrace, Member};
 use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
@@ -378,28 +378,10 @@ impl Nsga2 {
                 self.trace.union[i].crowding = d;
             }
         }
-        for front in fronts {
-            let room = mu - self.population.len();
-            if room == 0 {
-                break;
-            }
-            let chosen: Vec<usize> = if front.len() <= room {
-                front
-            } else {
-                // The crowding distances within this front, computed above for the trace.
-                let d: Vec<f64> = front
-                    .iter()
-                    .map(|&i| self.trace.union[i].crowding)
-                    .collect();
-                let mut order: Vec<usize> = (0..front.len()).collect();
-                order.sort_by(|&a, &b| d[b].total_cmp(&d[a]).then(a.cmp(&b)));
-                order[..room].iter().map(|&k| front[k]).collect()
-            };
-            for k in chosen {
-                self.trace.survivors.push(k);
-                self.population
-                    .push(union[k].take().expect("each index is in one front"));
-            }
+        for k in survivors(&points, &fronts, mu) {
+            self.trace.survivors.push(k);
+            self.population
+                .push(union[k].take().expect("each index is in one front"));
         }
         rank_and_crowd(&mut self.population);
         self.scorer

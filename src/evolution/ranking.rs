@@ -61,6 +61,29 @@ pub fn ranks_and_crowding(points: &[[f64; 2]]) -> Vec<(usize, f64)> {
     out
 }
 
+/// (μ + λ) survival: the indices of the `mu` points kept, in the order they are taken. Whole
+/// fronts (`fronts`, best rank first, as [`non_dominated_fronts`] gives them) are kept while they
+/// fit; the front that does not fit keeps its members of largest crowding distance, ties going
+/// to the earlier member of the front.
+pub fn survivors(points: &[[f64; 2]], fronts: &[Vec<usize>], mu: usize) -> Vec<usize> {
+    let mut kept = Vec::with_capacity(mu);
+    for front in fronts {
+        let room = mu - kept.len();
+        if room == 0 {
+            break;
+        }
+        if front.len() <= room {
+            kept.extend_from_slice(front);
+        } else {
+            let d = crowding_distances(points, front);
+            let mut order: Vec<usize> = (0..front.len()).collect();
+            order.sort_by(|&a, &b| d[b].total_cmp(&d[a]).then(a.cmp(&b)));
+            kept.extend(order[..room].iter().map(|&k| front[k]));
+        }
+    }
+    kept
+}
+
 /// The crowding distance of each member of `front` (indices into `points`), in the order of
 /// `front`: for each objective, the members are sorted by it (ties by position in `front`), the
 /// two extremes get infinity and every other member adds the gap between its two neighbours,
@@ -122,5 +145,25 @@ mod tests {
         assert!((d[3] - 1.1).abs() < 1e-12);
         // Two or fewer members are all boundary points.
         assert_eq!(crowding_distances(&p, &[0, 3]), vec![f64::INFINITY; 2]);
+    }
+
+    #[test]
+    fn survivors_take_whole_fronts_then_the_least_crowded() {
+        // Front 1 is (0,10) (1,6) (4,3) (10,0), front 2 (2,9) (11,1). With μ = 5 front 1 fits
+        // whole; of front 2 only one fits, and both of its members are extremes (crowding ∞),
+        // so the earlier one, (2,9), is kept. With μ = 3, front 1 keeps its two extremes
+        // (∞) and then (4,3), whose gap ((10−1)/10 + (6−0)/10) beats (1,6)'s (4/10 + 7/10).
+        let points = [
+            [0.0, 10.0],
+            [2.0, 9.0],
+            [1.0, 6.0],
+            [4.0, 3.0],
+            [11.0, 1.0],
+            [10.0, 0.0],
+        ];
+        let fronts = non_dominated_fronts(&points);
+        assert_eq!(survivors(&points, &fronts, 5), vec![0, 2, 3, 5, 1]);
+        assert_eq!(survivors(&points, &fronts, 3), vec![0, 5, 3]);
+        assert_eq!(survivors(&points, &fronts, 6).len(), 6);
     }
 }

@@ -7,7 +7,7 @@ use super::neighbour_mating::{self, Cut};
 use super::params::{MemeticParams, MemeticParamsError};
 use super::seeding::{self, Seeding};
 use crate::evaluator::Evaluator;
-use crate::evolution::ranking::{crowding_distances, non_dominated_fronts, ranks_and_crowding};
+use crate::evolution::ranking::{non_dominated_fronts, ranks_and_crowding, survivors};
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
@@ -278,23 +278,9 @@ impl Memetic {
             .iter()
             .map(|m| m.as_ref().expect("all present").pair())
             .collect();
-        for front in non_dominated_fronts(&points) {
-            let room = mu - self.population.len();
-            if room == 0 {
-                break;
-            }
-            let chosen: Vec<usize> = if front.len() <= room {
-                front
-            } else {
-                let d = crowding_distances(&points, &front);
-                let mut order: Vec<usize> = (0..front.len()).collect();
-                order.sort_by(|&a, &b| d[b].total_cmp(&d[a]).then(a.cmp(&b)));
-                order[..room].iter().map(|&k| front[k]).collect()
-            };
-            for k in chosen {
-                self.population
-                    .push(union[k].take().expect("each index is in one front"));
-            }
+        for k in survivors(&points, &non_dominated_fronts(&points), mu) {
+            self.population
+                .push(union[k].take().expect("each index is in one front"));
         }
         rank_and_crowd(&mut self.population);
     }
