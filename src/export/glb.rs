@@ -6,6 +6,7 @@
 //! bounding box, which goes into the node's translation (f64 in the JSON): map coordinates such
 //! as a GeoTIFF's (millions of metres) would otherwise lose their decimetres to f32 rounding.
 
+use super::mesh::area_normal;
 use serde_json::{Value, json};
 use std::fmt;
 
@@ -310,15 +311,7 @@ pub fn vertex_normals(positions: &[[f64; 3]], indices: &[u32]) -> Vec<[f32; 3]> 
             continue;
         }
         let [a, b, c] = [t[0], t[1], t[2]].map(|i| positions[i as usize]);
-        let (u, v) = (
-            [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
-            [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
-        );
-        let n = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
+        let n = area_normal(a, b, c);
         for &i in t {
             for k in 0..3 {
                 sums[i as usize][k] += n[k];

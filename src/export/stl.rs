@@ -1,6 +1,6 @@
 //! Binary STL.
 
-use super::mesh::WorldMesh;
+use super::mesh::{WorldMesh, area_normal};
 
 /// `mesh` as binary STL: an 80-byte header (`header`, cut or padded with spaces), the triangle
 /// count, then per triangle the unit normal and the three corners as little-endian f32.
@@ -30,13 +30,7 @@ pub fn to_stl(mesh: &WorldMesh, header: &str) -> Vec<u8> {
 
 /// The unit normal of triangle (`a`, `b`, `c`) by the right-hand rule; zero when degenerate.
 fn unit_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let n = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
+    let n = area_normal(a, b, c);
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if len > 0.0 {
         n.map(|x| x / len)
