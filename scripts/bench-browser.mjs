@@ -1,0 +1,140 @@
+// Measures the default method in the browser app (headless Chromium, WebGL2), as a benchmark:
+// it prints figures and asserts nothing about time.
+//
+//   node scripts/bench-browser.mjs [SURFACE_257.ply] [GRID_1025.f32]
+//
+// 1. Drops a 257×257 PLY (a seeded synthetic terrain when none is given), runs greedy insertion
+//    to get its front, then runs the default method and reports: the time from Run to the first
+//    front (the greedy seed), the time until the front's normalised hypervolume exceeds greedy
+//    insertion's, and the frame intervals while it runs (median, 95th percentile).
+// 2. Drops a 1025×1025 .f32 grid with its .json sidecar (synthetic when none is given) and
+//    reports the time from the drop to the surface drawn and to the first front after Run.
+// Needs the built app (bash scripts/build-web.sh).
+import { readFileSync } from 'node:fs';
+import path from 'node:path';
+import { withApp, newPage, waitForApp, dropFiles } from '../tests/e2e/harness.mjs';
+
+/// A seeded terrain: ridges, valleys and a few sharp features, so that no constant fits it.
+function terrain(w, h) {
+  const z = new Float32Array(w * h);
+  for (let y = 0; y < h; y++) {
+    for (let x = 0; x < w; x++) {
+      const u = x / (w - 1), v = y / (h - 1);
+      let s = 40 * Math.sin(3.1 * u + 1.3) * Math.cos(2.3 * v) + 25 * Math.abs(Math.sin(7 * u + 5 * v));
+      s += 8 * Math.sin(23 * u * v + 2) + 60 * Math.exp(-((u - 0.3) ** 2 + (v - 0.6) ** 2) * 80);
+      s += 4 * Math.sin(61 * u) * Math.sin(47 * v);
+      z[y * w + x] = s;
+    }
+  }
+  return z;
+}
+
+function gridPly(w, h, z) {
+  const lines = ['ply', 'format ascii 1.0', `element vertex ${w * h}`, 'property float x',
+    'property float y', 'property float z', `element face ${2 * (w - 1) * (h - 1)}`,
+    'property list uchar int vertex_indices', 'end_header'];
+  for (let y = 0; y < h; y++) for (let x = 0; x < w; x++) lines.push(`${x} ${y} ${z[y * w + x]}`);
+  for (let y = 0; y < h - 1; y++) {
+    for (let x = 0; x < w - 1; x++) {
+      const a = y * w + x;
+      lines.push(`3 ${a} ${a + 1} ${a + w}`, `3 ${a + 1} ${a + w + 1} ${a + w}`);
+    }
+  }
+  return Buffer.from(lines.join('\n') + '\n');
+}
+
+/// Hypervolume of `front` ([T, E] pairs) in normalised objectives (T / full T, E / E0) against
+/// the reference point (1.1, 1.1).
+function hypervolume(front, fullT, e0) {
+  const pts = front.map(([t, e]) => [t / fullT, e / e0]).filter(([t, e]) => t < 1.1 && e < 1.1)
+    .sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+  const staircase = [];
+  for (const p of pts) if (!staircase.length || p[1] < staircase[staircase.length - 1][1]) staircase.push(p);
+  let hv = 0;
+  staircase.forEach(([t, e], i) => { hv += ((staircase[i + 1]?.[0] ?? 1.1) - t) * (1.1 - e); });
+  return hv;
+}
+
+const pairs = (flat) => { const out = []; for (let i = 0; i < flat.length; i += 2) out.push([flat[i], flat[i + 1]]); return out; };
+const pct = (xs, p) => { const s = [...xs].sort((a, b) => a - b); return s[Math.min(s.length - 1, Math.floor(p * s.length))]; };
+
+const [plyArg, gridArg] = process.argv.slice(2);
+const ply = plyArg
+  ? { name: path.basename(plyArg), bytes: readFileSync(plyArg) }
+  : { name: 'terrain_257x257.ply', bytes: gridPly(257, 257, terrain(257, 257)) };
+let big;
+if (gridArg) {
+  big = [{ name: path.basename(gridArg), bytes: readFileSync(gridArg) },
+    { name: path.basename(gridArg).replace(/\.f32$/, '.json'), bytes: readFileSync(gridArg.replace(/\.f32$/, '.json')) }];
+} else {
+  const z = terrain(1025, 1025);
+  big = [{ name: 'terrain_1025x1025.f32', bytes: Buffer.from(z.buffer) },
+    { name: 'terrain_1025x1025.json', bytes: Buffer.from(JSON.stringify({ width: 1025, height: 1025 })) }];
+}
+
+async function runUntil(page, algorithm, done, timeout) {
+  await page.selectOption('#algorithm', algorithm);
+  await page.evaluate(() => {
+    window.__frames = [];
+    window.__stopFrames = false;
+    let last = performance.now();
+    const tick = (t) => { window.__frames.push(t - last); last = t; if (!window.__stopFrames) requestAnimationFrame(tick); };
+    requestAnimationFrame(tick);
+  });
+  const t0 = Date.now();
+  await page.click('#run');
+  await page.waitForFunction(done, null, { timeout, polling: 50 });
+  return Date.now() - t0;
+}
+
+await withApp(async ({ browser, url }) => {
+  const page = await newPage(browser);
+  await page.goto(url);
+  await waitForApp(page);
+
+  // 1. The 257×257 PLY.
+  await dropFiles(page, [ply]);
+  await page.waitForFunction((n) => window.paretomesh.surfaceName() === n, ply.name, { timeout: 120000 });
+  const info = await page.locator('#surface-info').textContent();
+  const [, w, h] = info.match(/(\d+)×(\d+) grid/).map(Number);
+  const fullT = 2 * (w - 1) * (h - 1);
+  const greedyMs = await runUntil(page, 'greedy', () => document.getElementById('status').textContent.startsWith('done'), 600000);
+  const greedy = pairs(await page.evaluate(() => window.paretomesh.frontObjectives()));
+  // E0: the corner-only mesh's E (greedy insertion's first snapshot).
+  const e0 = (greedy.find(([t]) => t === 2) ?? greedy.reduce((a, b) => (a[1] > b[1] ? a : b)))[1];
+  const hvGreedy = hypervolume(greedy, fullT, e0);
+  await page.evaluate(() => { window.__stopFrames = true; });
+
+  await page.selectOption('#algorithm', 'memetic');
+  const seedMs = await runUntil(page, 'memetic', () => window.paretomesh.frontLength() > 0, 600000);
+  const seedFrames = await page.evaluate(() => window.__frames.length);
+  const t1 = Date.now();
+  let beatMs = null, hv = 0;
+  // Runs for 20 s (or until the front beats greedy insertion's, if later), sampling the front.
+  while (Date.now() - t1 < 120000 && (beatMs === null || Date.now() - t1 < 20000)) {
+    hv = hypervolume(pairs(await page.evaluate(() => window.paretomesh.frontObjectives())), fullT, e0);
+    if (beatMs === null && hv > hvGreedy) beatMs = seedMs + Date.now() - t1;
+    await page.waitForTimeout(250);
+  }
+  const all = await page.evaluate(() => { window.__stopFrames = true; return window.__frames; });
+  const frames = all.slice(2);
+  const after = all.slice(seedFrames);
+  const frameLine = (xs) => `${xs.length} frames, median ${pct(xs, 0.5).toFixed(1)} ms, 95th percentile ${pct(xs, 0.95).toFixed(1)} ms, ${(100 * xs.filter((f) => f < 20).length / xs.length).toFixed(1)} % under 20 ms`;
+  await page.click('#pause');
+  console.log(`${ply.name}: ${w}×${h}; greedy insertion ${greedyMs} ms in the app, hypervolume ${hvGreedy.toFixed(4)}`);
+  console.log(`  default method: first front ${seedMs} ms after Run; front beats greedy insertion's at ${beatMs ?? '> ' + (seedMs + 120000)} ms (hypervolume ${hv.toFixed(4)})`);
+  console.log(`  frames while running (first ${((seedMs + Date.now() - t1) / 1000).toFixed(0)} s): ${frameLine(frames)}`);
+  console.log(`  frames after the first front: ${frameLine(after)}`);
+  console.log(`  status: ${await page.locator('#status').textContent()}`);
+
+  // 2. The 1025×1025 grid.
+  const t2 = Date.now();
+  await dropFiles(page, big);
+  await page.waitForFunction((n) => window.paretomesh.surfaceName() === n, big[0].name, { timeout: 300000, polling: 50 });
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  const loadMs = Date.now() - t2;
+  const frontMs = await runUntil(page, 'memetic', () => window.paretomesh.frontLength() > 0, 600000);
+  await page.evaluate(() => { window.__stopFrames = true; });
+  await page.click('#pause');
+  console.log(`${big[0].name}: loaded and drawn ${loadMs} ms after the drop; first front ${frontMs} ms after Run (${loadMs + frontMs} ms in all)`);
+});
