@@ -46,6 +46,7 @@ pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue>
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
     share_view::update_share_controls(&ui);
     dom::write_config(ui.app.config()).map_err(|e| JsValue::from_str(&e))?;
+    super::page::show_parameters();
     ui.surface_info();
     by_id::<web_sys::HtmlElement>("legend-bar")
         .map_err(|e| JsValue::from_str(&e))?

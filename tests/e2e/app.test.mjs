@@ -39,8 +39,18 @@ await withApp(async ({ browser, url }) => {
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, '02-dropped.png') });
 
+  // The form shows only the fields the selected method reads: the memetic method (the
+  // default) only the seed, greedy insertion none, NSGA-II all of them.
+  const shown = (ids) => Promise.all(ids.map((id) => page.locator(`#${id}`).isVisible()));
+  const fields = ['population', 'generations', 'crossover', 'crossover-probability', 'mutation-probability', 'seed'];
+  assert.equal(await page.inputValue('#algorithm'), 'memetic');
+  assert.deepEqual(await shown(fields), [false, false, false, false, false, true], 'memetic: only the seed');
+  await page.selectOption('#algorithm', 'greedy');
+  assert.deepEqual(await shown(fields), [false, false, false, false, false, false], 'greedy insertion: no field');
+
   // 3. Run NSGA-II until the front has at least 10 points, measuring frame intervals.
   await page.selectOption('#algorithm', 'nsga2');
+  assert.deepEqual(await shown(fields), [true, true, true, true, true, true], 'NSGA-II: every field');
   await page.evaluate(() => {
     window.__frames = [];
     let last = performance.now();
