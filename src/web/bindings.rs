@@ -20,7 +20,7 @@ pub struct WebApp {
     ui: Rc<RefCell<Ui>>,
 }
 
-/// Starts the app: panic hook, built-in surface, wgpu on the `#view` canvas (WebGL2 only when
+/// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
 /// `force_webgl`), listeners. The surface is drawn on the first [`WebApp::frame`].
 #[wasm_bindgen]
 pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {

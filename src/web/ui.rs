@@ -29,7 +29,7 @@ use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use web_sys::{HtmlCanvasElement, KeyboardEvent, MouseEvent, PointerEvent, WheelEvent};
 
-/// Starts the app: panic hook, built-in surface, wgpu on the `#view` canvas (WebGL2 only when
+/// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
 /// `force_webgl`), listeners. The surface is drawn on the first [`frame`].
 pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue> {
     install_panic_hook();
