@@ -1566,3 +1566,174 @@ mod glb_export {
         );
     }
 }
+
+mod parameter_fields {
+    use paretomesh::app::algorithms::{Algorithm, Field, Params, build};
+    use paretomesh::app::compare;
+    use paretomesh::evaluator::Score;
+    use paretomesh::evolution::CrossoverKind;
+    use paretomesh::heightfield::raw;
+    use std::sync::Arc;
+
+    fn base() -> Params {
+        Params {
+            population: 10,
+            generations: 4,
+            seed: 3,
+            ..Params::default()
+        }
+    }
+
+    /// `params` with `field` set to another valid value.
+    fn changed(params: &Params, field: Field) -> Params {
+        let mut p = params.clone();
+        match field {
+            Field::Population => p.population = 14,
+            Field::Generations => p.generations = 6,
+            Field::Crossover => p.crossover = CrossoverKind::Uniform,
+            Field::CrossoverProbability => p.crossover_probability = 0.3,
+            Field::MutationProbability => p.mutation_probability = Some(0.2),
+            Field::Seed => p.seed = 99,
+        }
+        p
+    }
+
+    /// Evaluations spent and the front (scores and kept sets) of `algorithm` with `params` on
+    /// the 33×33 volcano: the two GAs run to their end, the others for a fixed budget (the
+    /// memetic method's past its deterministic greedy seeding).
+    fn outcome(algorithm: Algorithm, params: &Params) -> (u64, Vec<(Score, Vec<u32>)>) {
+        let hf = Arc::new(raw::parse(super::GRID, super::SIDECAR, "volcano_33x33").unwrap());
+        let mut run = build(algorithm, params, hf).unwrap();
+        let progress = match algorithm {
+            Algorithm::Nsga2 | Algorithm::WeightedSum => run.run_to_end(),
+            Algorithm::Memetic => run.step(6000),
+            _ => run.step(1500),
+        };
+        let front = run
+            .front()
+            .solutions()
+            .iter()
+            .map(|s| (s.score, s.kept.clone()))
+            .collect();
+        (progress.evaluations, front)
+    }
+
+    #[test]
+    fn the_form_shows_a_field_exactly_when_it_changes_the_run() {
+        for algorithm in Algorithm::ALL {
+            let before = outcome(algorithm, &base());
+            for field in Field::ALL {
+                let after = outcome(algorithm, &changed(&base(), field));
+                assert_eq!(
+                    algorithm.uses(field),
+                    after != before,
+                    "{algorithm:?} and {field:?}: shown = {}",
+                    algorithm.uses(field)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_memetic_method_reads_only_the_seed_and_the_classical_methods_none() {
+        let used = |a: Algorithm| -> Vec<Field> {
+            Field::ALL.into_iter().filter(|&f| a.uses(f)).collect()
+        };
+        assert_eq!(used(Algorithm::Memetic), vec![Field::Seed]);
+        assert_eq!(used(Algorithm::GreedyInsertion), Vec::<Field>::new());
+        assert_eq!(used(Algorithm::Decimation), Vec::<Field>::new());
+        assert_eq!(used(Algorithm::Nsga2), Field::ALL.to_vec());
+    }
+
+    #[test]
+    fn compare_mode_reads_every_field_since_it_runs_the_two_gas() {
+        for field in Field::ALL {
+            assert!(compare::reads(field), "{field:?}");
+        }
+    }
+}
+
+mod worker_handoff {
+    use paretomesh::app::handoff::SurfaceParts;
+    use paretomesh::app::loader;
+    use paretomesh::export::mesh::WorldMesh;
+    use paretomesh::heightfield::{Heightfield, ImportOptions};
+
+    fn parse(name: &str, options: &ImportOptions) -> Heightfield {
+        let bytes =
+            std::fs::read(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        loader::parse_file(name, &bytes, None, options).unwrap()
+    }
+
+    fn round_trip(hf: &Heightfield) -> Heightfield {
+        SurfaceParts::of(hf).into_heightfield().unwrap()
+    }
+
+    #[test]
+    fn a_geotiff_crosses_with_its_georeference_and_exports_in_map_coordinates() {
+        let hf = parse(
+            "volcano_87x61_int16_lzw_nodata.tif",
+            &ImportOptions::default(),
+        );
+        let geo = hf.georeference().expect("a georeferenced DEM").clone();
+        let page = round_trip(&hf);
+        assert_eq!(page, hf);
+        assert_eq!(page.georeference(), Some(&geo));
+        assert_eq!(
+            loader::georeference_summary(&page),
+            loader::georeference_summary(&hf)
+        );
+        // Corner (0, 0) is the south-west sample centre in map units: the tie point's corner
+        // (2667400, 6478710) plus half a 10 m pixel east, and 60.5 pixels south.
+        let corners = hf.corners();
+        let mesh =
+            WorldMesh::new(&page, &corners, &[[corners[0], corners[1], corners[2]]]).unwrap();
+        assert_eq!(mesh.vertices[0][..2], [2_667_405.0, 6_478_105.0]);
+        assert_eq!(
+            mesh.vertices,
+            WorldMesh::new(&hf, &corners, &[[corners[0], corners[1], corners[2]]])
+                .unwrap()
+                .vertices
+        );
+    }
+
+    #[test]
+    fn every_grid_kind_crosses_unchanged() {
+        let resampled = ImportOptions {
+            grid_size: Some((40, 30)),
+            ..ImportOptions::default()
+        };
+        for hf in [
+            parse(
+                "jacksboro_65x65_float32_tiled_deflate.tif",
+                &ImportOptions::default(),
+            ),
+            parse("volcano_87x61_uint16_packbits.tif", &resampled),
+            parse("camera_33x33_float64.tif", &ImportOptions::default()),
+            parse("volcano_87x61.ply", &ImportOptions::default()),
+            parse("bunny_33x33.ply", &ImportOptions::default()),
+            loader::builtin(),
+        ] {
+            assert_eq!(round_trip(&hf), hf, "{}", hf.source());
+        }
+    }
+
+    #[test]
+    fn broken_parts_are_refused_with_a_message() {
+        let mut parts = SurfaceParts::of(&loader::builtin());
+        parts.placement_kind = "spherical".into();
+        assert_eq!(
+            parts.clone().into_heightfield().unwrap_err(),
+            "parsed surface: unknown placement spherical"
+        );
+        parts.placement_kind = "planar".into();
+        parts.placement_values = vec![0.0; 11];
+        assert_eq!(
+            parts.clone().into_heightfield().unwrap_err(),
+            "parsed surface: placement has too few values"
+        );
+        parts.placement_kind = "grid".into();
+        parts.z.pop();
+        assert!(parts.into_heightfield().is_err());
+    }
+}

@@ -80,11 +80,11 @@ async function loadFiles(files) {
         if (again?.ok) app.loadParsed(main.name, again.surface, again.size, again.hash, wanted.projection, wanted.surface);
         else app.showLoadMessage(again ? again.error : 'the parser is not available', true);
       } else {
-        openImportDialog(main.name, result.surface, result.size, result.hash, { georeference: result.surface.georeference });
+        openImportDialog(main.name, result.surface, result.size, result.hash, { georeference: result.surface.georeferenceSummary });
       }
     } else if (result.ok) {
-      if (app.loadParsed(main.name, result.surface, result.size, result.hash) && result.surface.georeference) {
-        app.showLoadMessage(`loaded ${main.name} · ${result.surface.georeference}`, false);
+      if (app.loadParsed(main.name, result.surface, result.size, result.hash) && result.surface.georeferenceSummary) {
+        app.showLoadMessage(`loaded ${main.name} · ${result.surface.georeferenceSummary}`, false);
       }
     } else if (result.folds) {
       // A closed or thick mesh: offer its outer surface instead of only refusing it.

@@ -68,10 +68,56 @@ impl Algorithm {
         }
     }
 
-    /// True when the paper's GA parameters (population, generations, crossover, mutation, seed)
-    /// apply. The memetic method runs with its own parameters and the form's seed.
-    pub fn is_genetic(self) -> bool {
-        matches!(self, Algorithm::Nsga2 | Algorithm::WeightedSum)
+    /// True when [`build`] reads `field` of the form for this algorithm: every field for the two
+    /// GAs, only the seed for the memetic method (it runs with its own parameters), none for the
+    /// deterministic classical methods.
+    pub fn uses(self, field: Field) -> bool {
+        match self {
+            Algorithm::Nsga2 | Algorithm::WeightedSum => true,
+            Algorithm::Memetic => field == Field::Seed,
+            Algorithm::GreedyInsertion | Algorithm::Decimation => false,
+        }
+    }
+}
+
+/// A field of the parameter form (a member of [`Params`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    /// [`Params::population`].
+    Population,
+    /// [`Params::generations`].
+    Generations,
+    /// [`Params::crossover`].
+    Crossover,
+    /// [`Params::crossover_probability`].
+    CrossoverProbability,
+    /// [`Params::mutation_probability`].
+    MutationProbability,
+    /// [`Params::seed`].
+    Seed,
+}
+
+impl Field {
+    /// Every field, in the form's order.
+    pub const ALL: [Field; 6] = [
+        Field::Population,
+        Field::Generations,
+        Field::Crossover,
+        Field::CrossoverProbability,
+        Field::MutationProbability,
+        Field::Seed,
+    ];
+
+    /// The id of the field's input in the page.
+    pub fn id(self) -> &'static str {
+        match self {
+            Field::Population => "population",
+            Field::Generations => "generations",
+            Field::Crossover => "crossover",
+            Field::CrossoverProbability => "crossover-probability",
+            Field::MutationProbability => "mutation-probability",
+            Field::Seed => "seed",
+        }
     }
 }
 

@@ -16,7 +16,7 @@
 //! non-dominated merge of the fronts, and the trade-off picks' weights drawn from the run's
 //! seed.
 
-use super::algorithms::{Algorithm, Params};
+use super::algorithms::{Algorithm, Field, Params};
 use super::state::{App, RunConfig, Status, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
@@ -43,6 +43,11 @@ pub fn algorithm_of(method: Method) -> Algorithm {
         // Compare mode runs the full method; its ablation variants are the experiment's.
         _ => Algorithm::Memetic,
     }
+}
+
+/// True when a comparison reads `field` of the form: one of the compared methods uses it.
+pub fn reads(field: Field) -> bool {
+    METHODS.iter().any(|&m| algorithm_of(m).uses(field))
 }
 
 /// What one [`CompareRun::tick`] did.

@@ -9,7 +9,8 @@
 //! - [`teaching`]: the teaching view's phases and scenes; [`oax_panel`] its crossover panel.
 //! - [`plot`]: the E–T plot's layout and hit-testing.
 //! - [`camera`] and [`geometry`]: the 3-D view's orbit camera and vertex data.
-//! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image.
+//! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image;
+//!   [`handoff`] the parsed surface as plain parts, for the import Worker's hand-off.
 //! - [`pick`]: the mesh selected when a run ends; [`glb_export`]: the shown mesh as `.glb`.
 
 pub mod algorithms;
@@ -19,6 +20,7 @@ pub mod compare_html;
 pub mod examples;
 pub mod geometry;
 pub mod glb_export;
+pub mod handoff;
 pub mod loader;
 pub mod oax_panel;
 pub mod pick;

@@ -20,7 +20,7 @@ pub struct WebApp {
     ui: Rc<RefCell<Ui>>,
 }
 
-/// Starts the app: panic hook, built-in surface, wgpu on the `#view` canvas (WebGL2 only when
+/// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
 /// `force_webgl`), listeners. The surface is drawn on the first [`WebApp::frame`].
 #[wasm_bindgen]
 pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
@@ -258,8 +258,8 @@ pub fn evaluate_raw(grid: &[u8], sidecar: &[u8], kept: &[u32]) -> Result<JsValue
 /// Parses a file (in the Worker) with the dialog's options (see [`loader::options`] and
 /// [`loader::surface`]) and returns the plain-object height field with `resampled: true` when a
 /// mesh was projected and resampled or a GeoTIFF was over the size limit (the page then offers
-/// the import dialog), and `georeference`: the GeoTIFF's georeferencing and nodata summary
-/// (null for other files). On failure it throws an `Error` with the message for the user and
+/// the import dialog), and `georeferenceSummary`: the GeoTIFF's georeferencing and nodata
+/// summary (null for other files). On failure it throws an `Error` with the message for the user and
 /// `folds: true` when the file is a mesh whose outer surface can still be imported.
 #[wasm_bindgen(js_name = parseSurface)]
 pub fn parse_surface(
@@ -283,9 +283,8 @@ pub fn parse_surface(
         .map_err(|e| error(&e.message, e.folds))?;
     let handoff = || error("cannot pass the parsed surface to the page", false);
     let o = transfer::surface_to_js(&hf).map_err(|_| handoff())?;
-    Reflect::set(&o, &"resampled".into(), &hf.resampled().into()).map_err(|_| handoff())?;
-    let georeference = loader::georeference_summary(&hf).map_or(JsValue::NULL, JsValue::from);
-    Reflect::set(&o, &"georeference".into(), &georeference).map_err(|_| handoff())?;
+    let summary = loader::georeference_summary(&hf).map_or(JsValue::NULL, JsValue::from);
+    Reflect::set(&o, &"georeferenceSummary".into(), &summary).map_err(|_| handoff())?;
     Ok(o)
 }
 

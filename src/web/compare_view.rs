@@ -117,6 +117,7 @@ fn compare_mode(ui: &mut Ui, on: bool) {
         let _ = right.class_list().toggle_with_force("comparing", on);
     }
     dom::set_visible("compare-body", on);
+    super::page::show_parameters();
     if !on {
         compare_pause(ui);
     }

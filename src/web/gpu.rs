@@ -1,7 +1,8 @@
-//! The wgpu renderer on a canvas. It draws named layers of [`Geometry`] each frame with one of
-//! three pipelines: shaded fill (pushed back by a depth bias so the wireframe shows), lines, and
-//! translucent fill.
+//! The 3-D view's renderer: WebGPU through wgpu where the browser offers an adapter, else
+//! WebGL2 ([`super::webgl`]). It draws named layers of [`Geometry`] each frame in three styles:
+//! shaded fill (pushed back by a depth bias so the wireframe shows), lines, and translucent fill.
 
+use super::webgl::GlRenderer;
 use crate::app::camera::OrbitCamera;
 use crate::app::geometry::{Geometry, Vertex};
 use web_sys::HtmlCanvasElement;
@@ -25,8 +26,20 @@ struct Layer {
     count: u32,
 }
 
-/// The GPU state for one canvas.
+/// The renderer on one canvas.
 pub struct Renderer {
+    view: View,
+    /// "WebGPU" or "WebGL2".
+    pub backend: &'static str,
+}
+
+enum View {
+    WebGpu(Box<WebGpuView>),
+    WebGl2(GlRenderer),
+}
+
+/// The WebGPU state for one canvas.
+struct WebGpuView {
     surface: wgpu::Surface<'static>,
     device: wgpu::Device,
     queue: wgpu::Queue,
@@ -34,8 +47,6 @@ pub struct Renderer {
     depth: wgpu::TextureView,
     pipelines: Pipelines,
     layers: Vec<Layer>,
-    /// "WebGPU" or "WebGL2".
-    pub backend: &'static str,
 }
 
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
@@ -68,23 +79,11 @@ struct Pipelines {
     translucent: wgpu::RenderPipeline,
 }
 
-/// A GPU device on `canvas` (which also serves the WebGL2 backend: wgpu reaches WebGL2 only
-/// through a canvas), with WebGPU tried unless `force_webgl`, and WebGL2 not tried when
-/// `only_webgpu`. Returns the surface, device, queue, adapter and the backend's name.
-async fn open(
-    canvas: HtmlCanvasElement,
-    force_webgl: bool,
-    only_webgpu: bool,
-) -> Result<Opened, String> {
+/// A WebGPU device on `canvas`, with the surface, adapter and queue.
+async fn open(canvas: HtmlCanvasElement) -> Result<Opened, String> {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-    desc.backends = if force_webgl {
-        wgpu::Backends::GL
-    } else if only_webgpu {
-        wgpu::Backends::BROWSER_WEBGPU
-    } else {
-        wgpu::Backends::BROWSER_WEBGPU | wgpu::Backends::GL
-    };
-    let instance = wgpu::util::new_instance_with_webgpu_detection(desc).await;
+    desc.backends = wgpu::Backends::BROWSER_WEBGPU;
+    let instance = wgpu::Instance::new(desc);
     let surface = instance
         .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
         .map_err(|e| format!("cannot draw on the canvas: {e}"))?;
@@ -96,11 +95,7 @@ async fn open(
             apply_limit_buckets: false,
         })
         .await
-        .map_err(|e| format!("no WebGPU or WebGL2 adapter: {e}"))?;
-    let backend = match adapter.get_info().backend {
-        wgpu::Backend::BrowserWebGpu => "WebGPU",
-        _ => "WebGL2",
-    };
+        .map_err(|e| format!("no WebGPU adapter: {e}"))?;
     let (device, queue) = adapter
         .request_device(&wgpu::DeviceDescriptor {
             label: Some("paretomesh"),
@@ -116,7 +111,6 @@ async fn open(
         adapter,
         device,
         queue,
-        backend,
     })
 }
 
@@ -125,7 +119,12 @@ struct Opened {
     adapter: wgpu::Adapter,
     device: wgpu::Device,
     queue: wgpu::Queue,
-    backend: &'static str,
+}
+
+/// True when the browser offers a WebGPU adapter. Asked before a canvas gets a context: a
+/// canvas that gave a WebGPU context cannot give a WebGL2 one.
+async fn webgpu_available() -> bool {
+    wgpu::util::is_browser_webgpu_supported().await
 }
 
 impl Pipelines {
@@ -253,7 +252,7 @@ impl Pipelines {
         let vp = camera.view_projection(aspect);
         let mut data = [0f32; 20];
         data[..16].copy_from_slice(&vp.to_cols_array());
-        data[16..19].copy_from_slice(&[0.3, -0.5, 0.8]);
+        data[16..19].copy_from_slice(&LIGHT);
         queue.write_buffer(&self.uniforms, 0, bytemuck::cast_slice(&data));
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("scene"),
@@ -302,6 +301,9 @@ async fn sleep_ms(ms: i32) {
     let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
 }
 
+/// The direction of the light the fill is shaded by (both faces lit alike).
+pub const LIGHT: [f32; 3] = [0.3, -0.5, 0.8];
+
 /// The view's background colour.
 pub const BACKGROUND: wgpu::Color = wgpu::Color {
     r: 0.93,
@@ -332,22 +334,17 @@ fn upload(device: &wgpu::Device, layers: Vec<(Style, Geometry)>) -> Vec<Layer> {
         .collect()
 }
 
-/// Draws `layers` from `camera` into an offscreen `width` × `height` RGBA8 texture and reads
-/// it back (`copy_texture_to_buffer`, then a mapped buffer): the pixels, row by row from the
-/// top, 4 bytes each. `backend` is "webgpu" (WebGPU only) or "webgl2"; returns the backend's
-/// name with the pixels. A canvas presents nothing in a headless browser under WebGPU, but a
-/// texture read back does, so this is how a test sees what the WebGPU path draws.
+/// Draws `layers` from `camera` into an offscreen `width` × `height` RGBA8 image and reads it
+/// back: the pixels, row by row from the top, 4 bytes each. `backend` is "webgpu" or "webgl2";
+/// returns the backend's name with the pixels. A canvas presents nothing in a headless browser
+/// under WebGPU, but a texture read back does, so this is how a test sees what the WebGPU path
+/// draws.
 pub async fn render_offscreen(
     backend: &str,
     (width, height): (u32, u32),
     camera: &OrbitCamera,
     layers: Vec<(Style, Geometry)>,
 ) -> Result<(&'static str, Vec<u8>), String> {
-    let (force_webgl, only_webgpu) = match backend {
-        "webgpu" => (false, true),
-        "webgl2" => (true, false),
-        other => return Err(format!("unknown backend “{other}”: webgpu or webgl2")),
-    };
     let canvas: HtmlCanvasElement = web_sys::window()
         .and_then(|w| w.document())
         .and_then(|d| d.create_element("canvas").ok())
@@ -355,7 +352,29 @@ pub async fn render_offscreen(
         .ok_or("cannot create a canvas")?;
     canvas.set_width(width);
     canvas.set_height(height);
-    let gpu = open(canvas, force_webgl, only_webgpu).await?;
+    match backend {
+        "webgpu" => Ok((
+            "WebGPU",
+            webgpu_offscreen(canvas, (width, height), camera, layers).await?,
+        )),
+        "webgl2" => {
+            let mut gl = GlRenderer::new(&canvas, true)?;
+            gl.set_layers(layers);
+            gl.draw(camera);
+            Ok(("WebGL2", gl.read_pixels()?))
+        }
+        other => Err(format!("unknown backend “{other}”: webgpu or webgl2")),
+    }
+}
+
+/// [`render_offscreen`] on WebGPU: a texture, `copy_texture_to_buffer`, then a mapped buffer.
+async fn webgpu_offscreen(
+    canvas: HtmlCanvasElement,
+    (width, height): (u32, u32),
+    camera: &OrbitCamera,
+    layers: Vec<(Style, Geometry)>,
+) -> Result<Vec<u8>, String> {
+    let gpu = open(canvas).await?;
     let (device, queue) = (&gpu.device, &gpu.queue);
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let size = wgpu::Extent3d {
@@ -415,9 +434,7 @@ pub async fn render_offscreen(
         size,
     );
     queue.submit([encoder.finish()]);
-    // WebGPU calls back from the browser's event loop, WebGL2 when the device is polled; a
-    // blocking poll never returns under WebGL2 (it cannot wait on the GPU), so poll without
-    // blocking and yield to the event loop between polls.
+    // WebGPU calls back from the browser's event loop: yield to it until the buffer is mapped.
     let mapped = std::rc::Rc::new(std::cell::Cell::new(None));
     let done = mapped.clone();
     readback
@@ -449,21 +466,61 @@ pub async fn render_offscreen(
     }
     drop(data);
     readback.unmap();
-    Ok((gpu.backend, pixels))
+    Ok(pixels)
 }
 
 impl Renderer {
-    /// Sets up wgpu on `canvas`. With `force_webgl`, WebGPU is not tried (headless screenshots
-    /// need the WebGL2 path: a WebGPU canvas stays blank there).
+    /// Sets up the view on `canvas`: WebGPU when the browser offers an adapter and not
+    /// `force_webgl` (headless screenshots need the WebGL2 path: a WebGPU canvas stays blank
+    /// there), else WebGL2.
     pub async fn new(canvas: HtmlCanvasElement, force_webgl: bool) -> Result<Self, String> {
+        if !force_webgl && webgpu_available().await {
+            let view = WebGpuView::new(canvas).await?;
+            return Ok(Self {
+                view: View::WebGpu(Box::new(view)),
+                backend: "WebGPU",
+            });
+        }
+        Ok(Self {
+            view: View::WebGl2(GlRenderer::new(&canvas, false)?),
+            backend: "WebGL2",
+        })
+    }
+
+    /// Resizes the drawing buffer to `width` × `height` device pixels when it changed.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        match &mut self.view {
+            View::WebGpu(v) => v.resize(width, height),
+            View::WebGl2(v) => v.resize(width, height),
+        }
+    }
+
+    /// Replaces every layer.
+    pub fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
+        match &mut self.view {
+            View::WebGpu(v) => v.layers = upload(&v.device, layers),
+            View::WebGl2(v) => v.set_layers(layers),
+        }
+    }
+
+    /// Draws the layers from `camera`.
+    pub fn draw(&mut self, camera: &OrbitCamera) {
+        match &mut self.view {
+            View::WebGpu(v) => v.draw(camera),
+            View::WebGl2(v) => v.draw(camera),
+        }
+    }
+}
+
+impl WebGpuView {
+    async fn new(canvas: HtmlCanvasElement) -> Result<Self, String> {
         let (width, height) = (canvas.width().max(1), canvas.height().max(1));
         let Opened {
             surface,
             adapter,
             device,
             queue,
-            backend,
-        } = open(canvas, force_webgl, false).await?;
+        } = open(canvas).await?;
         let mut config = surface
             .get_default_config(&adapter, width, height)
             .ok_or("the canvas surface is not supported by the adapter")?;
@@ -479,12 +536,10 @@ impl Renderer {
             depth,
             pipelines,
             layers: Vec::new(),
-            backend,
         })
     }
 
-    /// Resizes the drawing buffer to `width` × `height` device pixels when it changed.
-    pub fn resize(&mut self, width: u32, height: u32) {
+    fn resize(&mut self, width: u32, height: u32) {
         let (width, height) = (width.max(1), height.max(1));
         if (width, height) != (self.config.width, self.config.height) {
             self.config.width = width;
@@ -494,13 +549,7 @@ impl Renderer {
         }
     }
 
-    /// Replaces every layer.
-    pub fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
-        self.layers = upload(&self.device, layers);
-    }
-
-    /// Draws the layers from `camera`.
-    pub fn draw(&mut self, camera: &OrbitCamera) {
+    fn draw(&mut self, camera: &OrbitCamera) {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,

@@ -7,8 +7,8 @@
 //! - [`page`]: the page state every view works on.
 //! - [`dom`]: the page's controls; [`plot_canvas`]: the plot's drawing; [`preview`]: the import
 //!   preview; [`transfer`]: height fields to and from the Worker.
-//! - [`gpu`]: the 3-D view through wgpu: WebGPU where the browser offers an adapter, WebGL2
-//!   otherwise.
+//! - [`gpu`]: the 3-D view: WebGPU through wgpu where the browser offers an adapter, else
+//!   WebGL2 ([`webgl`], on web-sys).
 
 pub mod bindings;
 pub mod compare_view;
@@ -22,5 +22,6 @@ pub mod share_view;
 pub mod teaching_view;
 pub mod transfer;
 pub mod ui;
+pub mod webgl;
 
 pub use bindings::{WebApp, evaluate_raw};

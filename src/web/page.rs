@@ -4,9 +4,11 @@
 
 use super::dom::{self, by_id, listen};
 use super::gpu::{Renderer, Style};
+use crate::app::algorithms::{Algorithm, Field};
 use crate::app::camera::OrbitCamera;
-use crate::app::compare::CompareRun;
+use crate::app::compare::{self, CompareRun};
 use crate::app::geometry::{self, Geometry, ViewMapping};
+use crate::app::loader;
 use crate::app::plot::{self, Layout, PlotPoint};
 use crate::app::share::{Origin, ShareLink, ViewToggles};
 use crate::app::state::{App, ShownMesh, shown_mesh};
@@ -170,7 +172,12 @@ impl Ui {
                 hf.full_triangles()
             ),
         );
-        dom::set_text("surface-source", hf.source());
+        // A GeoTIFF's map frame stays in view: the exports' coordinates are map coordinates.
+        let source = match loader::georeference_summary(hf) {
+            Some(geo) => format!("{} · georeferencing: {geo}", hf.source()),
+            None => hf.source().to_string(),
+        };
+        dom::set_text("surface-source", &source);
     }
 
     /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed.
@@ -270,9 +277,9 @@ impl Ui {
 
     /// Reads the parameter form into the app's configuration, or shows why it cannot.
     pub(super) fn apply_form(&mut self) -> bool {
+        show_parameters();
         match dom::read_config() {
             Ok(config) => {
-                show_genetic_parameters(config.algorithm.is_genetic());
                 self.app.set_config(config);
                 dom::set_text("run-message", "");
                 true
@@ -285,23 +292,25 @@ impl Ui {
     }
 }
 
-/// Shows the GA parameters' fields only for a genetic algorithm: they mean nothing to the
-/// classical methods.
-fn show_genetic_parameters(genetic: bool) {
-    for id in [
-        "population",
-        "generations",
-        "crossover",
-        "crossover-probability",
-        "mutation-probability",
-        "seed",
-    ] {
-        if let Some(label) = dom::document()
-            .get_element_by_id(id)
+/// Shows only the parameter fields that the method in the menu (or, in compare mode, one of
+/// the compared methods) reads: the others would change nothing.
+pub(super) fn show_parameters() {
+    let document = dom::document();
+    let Some(algorithm) = document
+        .get_element_by_id("algorithm")
+        .and_then(|e| e.dyn_into::<web_sys::HtmlSelectElement>().ok())
+        .and_then(|menu| Algorithm::from_key(&menu.value()))
+    else {
+        return;
+    };
+    let comparing = dom::checked("compare-on");
+    for field in Field::ALL {
+        if let Some(label) = document
+            .get_element_by_id(field.id())
             .and_then(|e| e.parent_element())
             .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
         {
-            label.set_hidden(!genetic);
+            label.set_hidden(!(algorithm.uses(field) || (comparing && compare::reads(field))));
         }
     }
 }

@@ -29,7 +29,7 @@ use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use web_sys::{HtmlCanvasElement, KeyboardEvent, MouseEvent, PointerEvent, WheelEvent};
 
-/// Starts the app: panic hook, built-in surface, wgpu on the `#view` canvas (WebGL2 only when
+/// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
 /// `force_webgl`), listeners. The surface is drawn on the first [`frame`].
 pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue> {
     install_panic_hook();
@@ -46,6 +46,7 @@ pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue>
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
     share_view::update_share_controls(&ui);
     dom::write_config(ui.app.config()).map_err(|e| JsValue::from_str(&e))?;
+    super::page::show_parameters();
     ui.surface_info();
     by_id::<web_sys::HtmlElement>("legend-bar")
         .map_err(|e| JsValue::from_str(&e))?

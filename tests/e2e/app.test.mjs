@@ -1,8 +1,9 @@
 // End-to-end test of the browser app in headless Chromium (playwright-core driving
 // /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh), then:
-// first load → drop a surface → run NSGA-II until the front has ≥ 10 points → click a front
-// point → the 3-D canvas is not blank → export PLY and, with the error map, glTF and check
-// them → drop a corrupt file and check the message while the previous surface stays.
+// first load → drop a surface → the form shows the fields each method reads → run NSGA-II
+// until the front has ≥ 10 points → click a front point → the 3-D canvas is not blank →
+// export PLY and, with the error map, glTF and check them → drop a corrupt file and check the
+// message while the previous surface stays.
 // Screenshots go to target/e2e/. Prints (does not assert) frame timing, time to first paint
 // and evaluations/s.
 import { readFileSync } from 'node:fs';
@@ -39,8 +40,23 @@ await withApp(async ({ browser, url }) => {
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, '02-dropped.png') });
 
+  // The form shows only the fields the selected method reads: the memetic method (the
+  // default) only the seed, greedy insertion none, NSGA-II all of them.
+  const shown = (ids) => Promise.all(ids.map((id) => page.locator(`#${id}`).isVisible()));
+  const fields = ['population', 'generations', 'crossover', 'crossover-probability', 'mutation-probability', 'seed'];
+  assert.equal(await page.inputValue('#algorithm'), 'memetic');
+  assert.deepEqual(await shown(fields), [false, false, false, false, false, true], 'memetic: only the seed');
+  // Compare mode runs the two GAs with the form's parameters, so it shows every field.
+  await page.check('#compare-on');
+  assert.deepEqual(await shown(fields), [true, true, true, true, true, true], 'compare mode: every field');
+  await page.uncheck('#compare-on');
+  assert.deepEqual(await shown(fields), [false, false, false, false, false, true], 'memetic again');
+  await page.selectOption('#algorithm', 'greedy');
+  assert.deepEqual(await shown(fields), [false, false, false, false, false, false], 'greedy insertion: no field');
+
   // 3. Run NSGA-II until the front has at least 10 points, measuring frame intervals.
   await page.selectOption('#algorithm', 'nsga2');
+  assert.deepEqual(await shown(fields), [true, true, true, true, true, true], 'NSGA-II: every field');
   await page.evaluate(() => {
     window.__frames = [];
     let last = performance.now();

@@ -79,7 +79,7 @@ await withApp(async ({ browser, url }) => {
   assert.ok(liveTables >= 2, `the table changed while the methods ran (${liveTables} live tables)`);
   const [evaluations, optimisingMs] = await page.evaluate(() => window.paretomesh.compareTotals());
 
-  // 3. Four non-empty fronts.
+  // 3. Five non-empty fronts.
   const lengths = await page.evaluate(() => window.paretomesh.compareFrontLengths());
   assert.equal(lengths.length, METHODS.length);
   assert.ok(lengths.every((n) => n > 0), `five non-empty fronts: ${lengths}`);

@@ -2,10 +2,11 @@
 // driving /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh),
 // then: a GeoTIFF DEM with nodata cells from tests/data loads as it is, with its
 // georeferencing and filled cells reported → a small NSGA-II run to the end selects the
-// trade-off pick and shows it → a GeoTIFF over the grid limit opens the import dialog with its
-// georeferencing, and the chosen grid size is used → a closed, thick mesh (folding in every
-// projection) opens the dialog on its outer surface, saying how much of the grid was covered
-// more than once. Screenshots go to target/e2e/.
+// trade-off pick and shows it, and its PLY export lies in the DEM's map coordinates → a
+// GeoTIFF over the grid limit opens the import dialog with its georeferencing, and the chosen
+// grid size is used → a closed, thick mesh (folding in every projection) opens the dialog on
+// its outer surface, saying how much of the grid was covered more than once. Screenshots go
+// to target/e2e/.
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
@@ -26,9 +27,13 @@ await withApp(async ({ browser, url }) => {
   assert.match(loaded, /pixel size 10 × 10 map units/, loaded);
   assert.match(loaded, /map \(2667400, 6478710\)/, loaded);
   assert.match(loaded, /nodata -9999: 14 cells filled/, loaded);
-  assert.match(await page.locator('#surface-source').textContent(), /GeoTIFF .*14 nodata cells/);
+  const source = await page.locator('#surface-source').textContent();
+  assert.match(source, /GeoTIFF .*14 nodata cells/);
+  // The page's surface kept the georeferencing the Worker read, not only its summary.
+  assert.match(source, /georeferencing: pixel size 10 × 10 map units · pixel \(0, 0\) corner at map \(2667400, 6478710\)/, source);
 
   // 2. Run to the end: the trade-off pick is selected and drawn.
+  await page.selectOption('#algorithm', 'nsga2');
   await page.fill('#population', '16');
   await page.fill('#generations', '4');
   await page.click('#run');
@@ -40,6 +45,24 @@ await withApp(async ({ browser, url }) => {
   await page.waitForTimeout(300);
   const view = await page.locator('#view').screenshot({ path: path.join(shots, 'import-01-geotiff-selected.png') });
   assert.ok((await pixelVariance(page, view)) > 50, 'the selected mesh is drawn');
+
+  // The exported mesh lies on the map as `paretomesh export` puts it: 10 m sample centres from
+  // the tie point's pixel corner (2667400, 6478710) plus half a pixel, rows turned so that y
+  // grows northwards; the four corners are always kept, so they span the DEM exactly.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export-ply')]);
+  const ply = readFileSync(await download.path(), 'utf8');
+  const header = ply.slice(0, ply.indexOf('end_header\n'));
+  const nv = Number(/element vertex (\d+)/.exec(header)[1]);
+  assert.equal(nv, await page.evaluate(() => window.paretomesh.selectedVertexCount()), 'the selected mesh is exported');
+  const vertices = ply.slice(header.length + 'end_header\n'.length).trim().split('\n').slice(0, nv).map((l) => l.split(' ').map(Number));
+  const xs = vertices.map((v) => v[0]);
+  const ys = vertices.map((v) => v[1]);
+  assert.deepEqual([Math.min(...xs), Math.max(...xs)], [2667405, 2667405 + 86 * 10], 'x spans the DEM in map units');
+  assert.deepEqual([Math.min(...ys), Math.max(...ys)], [6478705 - 60 * 10, 6478705], 'y spans the DEM in map units');
+  for (const [x, y, z] of vertices) {
+    assert.ok(Number.isInteger((x - 2667405) / 10) && Number.isInteger((y - 6478105) / 10), `a sample centre: ${x} ${y}`);
+    assert.ok(z >= 90 && z <= 200, `a height of the volcano: ${z}`);
+  }
 
   // 3. A GeoTIFF over the grid limit (2100×2050 > 4 M points): the dialog shows its
   // georeferencing and a grid size, and the size chosen there is used.
