@@ -64,7 +64,11 @@ impl PartScores {
     ) -> bool {
         self.made_from = 0;
         let n = hf.len();
-        if !classes.is_for(a, b) || classes.part.len() != n || !a.lookup_valid || !b.lookup_valid {
+        if !classes.is_for(a, b)
+            || classes.part.len() != n
+            || !(a.lookup_valid && a.sat_valid)
+            || !(b.lookup_valid && b.sat_valid)
+        {
             return false;
         }
         let parents = [a, b];
