@@ -99,7 +99,11 @@ fn greedy_reaches_zero_error_with_every_point() {
     // Running to the end inserts every grid point, so the last solution is the full mesh.
     for name in ["jacksboro_33x33", "volcano_33x33"] {
         let hf = fixture(name);
-        for rule in [InsertionRule::MaxError, InsertionRule::SumReduction] {
+        for rule in [
+            InsertionRule::MaxError,
+            InsertionRule::SumReduction,
+            InsertionRule::WorstTriangle,
+        ] {
             let mut run = greedy(&hf, rule, GreedyStop::AllPoints);
             let p = run.run_to_end();
             assert_eq!(p.evaluations as usize, hf.len() - 4);

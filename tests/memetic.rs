@@ -266,6 +266,45 @@ fn the_front_weakly_dominates_its_greedy_seed_front_and_scores_honestly() {
 }
 
 #[test]
+fn members_between_uses_hold_no_per_grid_point_arrays_and_seeds_stay_below_a_quarter() {
+    // A stowed member's mesh lends its per-grid-point arrays to the members being edited, so
+    // the population's memory grows with its meshes, not with the grid; the seeds are at most
+    // a quarter of the full mesh.
+    let hf = fixture("volcano_33x33");
+    let mut run = Memetic::new(hf.clone(), params(2 * hf.len() as u64 + 2000), 3).unwrap();
+    let (mut checked, mut seeds_seen) = (0, false);
+    // Slices of one unit, so that the population is seen as soon as the last seed joins.
+    while !run.step(1).done {
+        if !seeds_seen && run.population().len() == 8 {
+            let quarter = hf.full_triangles() / 4;
+            assert!(run.population().iter().all(|m| m.score.t <= quarter));
+            seeds_seen = true;
+        }
+        for m in run.population() {
+            assert!(!m.state.has_lookups(), "a population member is stowed");
+            // Its score is still its mesh's, and its mesh can be lent arrays again.
+            assert_eq!(m.state.score(), Some(m.score));
+            checked += 1;
+        }
+    }
+    assert!(seeds_seen && checked > 100, "the run got past seeding");
+    let mut member = run.population()[0].clone();
+    let mut pool = paretomesh::evolution::memetic::member::LookupPool::default();
+    member.unstow(&mut pool);
+    assert!(member.state.has_lookups());
+    let mut ev = Evaluator::new(hf.clone());
+    let edit = paretomesh::evolution::memetic::member::Edit {
+        remove: Vec::new(),
+        insert: (0..hf.len() as u32)
+            .filter(|i| member.kept.binary_search(i).is_err())
+            .take(3)
+            .collect(),
+    };
+    member.apply(&mut ev, &edit);
+    check(&mut ev, &hf, &member, "an edit of an unstowed member");
+}
+
+#[test]
 fn bad_parameters_are_refused_with_a_reason() {
     let hf = fixture("camera_33x33");
     let small = MemeticParams {

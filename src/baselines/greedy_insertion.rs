@@ -9,8 +9,9 @@
 //! One run gives a whole front: a solution is recorded each time the triangle count first
 //! reaches the next value of a geometric sweep from 2 triangles to the full mesh
 //! ([`GreedyParams::records`] values, rounded and deduplicated), and once more when the run
-//! stops. The numbers of every recorded solution come from a fresh
-//! [`Evaluator::score`](crate::evaluator::Evaluator::score) of its kept set.
+//! stops. The numbers of every recorded solution are those of a fresh
+//! [`Evaluator::score`](crate::evaluator::Evaluator::score) of its kept set, bit for bit (its
+//! mesh's triangles are scored as the evaluator scores them).
 //!
 //! Unit of work: one insertion (one evaluation). [`Progress::generation`] counts the recorded
 //! solutions.
@@ -518,10 +519,9 @@ impl GreedyInsertion {
             return;
         }
         let kept = self.kept();
-        let score = self
-            .evaluator
-            .score(&kept)
-            .expect("kept indices are grid indices");
+        // The mesh is the canonical triangulation of `kept`: scoring its triangles gives a
+        // fresh evaluation's bits without the triangulation.
+        let score = self.evaluator.score_canonical(&self.mesh);
         let s = Solution { score, kept };
         self.last_recorded_points = self.kept_count;
         self.front.offer(s.clone());

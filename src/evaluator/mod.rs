@@ -62,7 +62,7 @@ pub use error::{EvaluateError, check_indices};
 pub use mesh::canonical_form::canonical_set;
 pub use mesh::canonical_triangulation::Triangulation;
 pub use mesh::delaunay_check::is_delaunay;
-pub use mesh::state::MeshState;
+pub use mesh::state::{GridLookups, MeshState};
 pub use part_scores::{Changes, PartScores};
 pub use score::{Evaluation, Score};
 
@@ -123,6 +123,17 @@ impl Evaluator {
             .mesh_mut()
             .rebuild_delaunay(self.hf.width(), &self.kept);
         Ok(self.state.score_once(&self.hf))
+    }
+
+    /// The score of `mesh`, the canonical triangulation of its vertices on this evaluator's
+    /// grid (as greedy insertion keeps it): [`score`](Self::score)'s bits for that kept set (the
+    /// triangulation is unique and the totals are exact integers), without triangulating again.
+    pub(crate) fn score_canonical(&mut self, mesh: &Triangulation) -> Score {
+        let own = self.state.mesh_mut();
+        own.vertices.clear();
+        own.vertices.extend_from_slice(&mesh.vertices);
+        own.twin.clear();
+        self.state.score_once(&self.hf)
     }
 
     /// Like [`score`](Self::score), but builds the mesh into `state`, which can then be edited

@@ -18,7 +18,8 @@
 //!   their sum over its triangles, is the same in any order.
 //!
 //! Cost: an edit costs about its walk, its flips or hole fill, and the area of the triangles it
-//! changed; a state costs ≈ 5 bytes per grid point plus 48 bytes per triangle.
+//! changed; a state costs ≈ 5 bytes per grid point plus 48 bytes per triangle, or only the
+//! latter while its per-grid-point arrays are lent out ([`MeshState::detach_lookups`]).
 
 mod remove;
 mod scratch;
@@ -49,6 +50,14 @@ impl MeshState {
             return Err(EvaluateError::ForeignState);
         }
         self.check_edit(hf, remove, insert)?;
+        // The kept points' bitset, when up to date, stays so (a bit per changed point).
+        let lookup_valid = self.lookup_valid;
+        for &i in remove {
+            self.mark_kept_bit(i, false);
+        }
+        for &i in insert {
+            self.mark_kept_bit(i, true);
+        }
         let discs_valid = self.discs_valid && self.discs.len() == self.mesh.len();
         let lattice = Lattice::new(hf.width());
         scratch.touched.clear();
@@ -95,6 +104,7 @@ impl MeshState {
         self.rasterise(hf, slots.iter().copied());
         let score = self.finish(hf);
         self.discs_valid = discs_valid;
+        self.lookup_valid = lookup_valid;
         Ok(score)
     }
 

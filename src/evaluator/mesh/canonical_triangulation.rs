@@ -450,6 +450,17 @@ impl Triangulation {
         self.twin.clear();
     }
 
+    /// Frees the scratch buffers of a build (the triangles stay), for a mesh that is kept but
+    /// not built into again.
+    pub(crate) fn drop_scratch(&mut self) {
+        self.stack = Vec::new();
+        self.slot = Vec::new();
+        self.rev = Vec::new();
+        self.order = InsertionOrder::default();
+        self.halves = Vec::new();
+        self.flips = Vec::new();
+    }
+
     /// Number of triangles.
     pub fn len(&self) -> usize {
         self.vertices.len() / 3

@@ -395,10 +395,9 @@ fn drop_from_base(
 fn reused_base_totals(base: &MeshState, work: &ChangeScratch) -> ErrorTotals {
     let is_dropped = |t: usize| work.dropped.iter().any(|&(_, d)| d as usize == t);
     let all = &base.totals[..base.mesh.len()];
-    let mut totals = ErrorTotals::default();
-    for own in all {
-        totals.add(own);
-    }
+    // The mesh's own sum, less the dropped triangles' (exact integers): a cost per dropped
+    // triangle, not per triangle of the mesh.
+    let mut totals = base.all;
     let mut max_dropped = false;
     for &(_, t) in &work.dropped {
         let own = &all[t as usize];

@@ -64,7 +64,8 @@ impl PartScores {
     ) -> bool {
         self.made_from = 0;
         let n = hf.len();
-        if !classes.is_for(a, b) || classes.part.len() != n || !a.lookup_valid || !b.lookup_valid {
+        let ready = |s: &MeshState| s.lookup_valid && s.sat_valid;
+        if !classes.is_for(a, b) || classes.part.len() != n || !ready(a) || !ready(b) {
             return false;
         }
         let parents = [a, b];

@@ -87,12 +87,14 @@ impl MeshState {
     pub(crate) fn finish(&mut self, hf: &Heightfield) -> Score {
         self.discs_valid = false;
         self.lookup_valid = false;
+        self.sat_valid = false;
         self.revision = next_revision();
         let units = ErrorUnits::of(hf);
         let mut all = ErrorTotals::default();
         for t in &self.totals[..self.mesh.len()] {
             all.add(t);
         }
+        self.all = all;
         self.score_from(units.values(&all), hf.len())
     }
 

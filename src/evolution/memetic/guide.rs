@@ -7,6 +7,12 @@ use crate::evaluator::mesh::canonical_form::canonical;
 use crate::evaluator::raster::Grid;
 use crate::heightfield::Heightfield;
 
+thread_local! {
+    /// [`Guide::of`]'s map from grid index to position in the kept list (`u32::MAX` for a
+    /// point that is not kept), grown to the largest grid seen.
+    static KEPT_POSITION: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// [`Guide::worst`] of a triangle that owns no grid point with a nonzero error.
 pub const NO_POINT: u32 = u32::MAX;
 
@@ -42,27 +48,36 @@ impl Guide {
         let mut area = vec![0i64; kept.len()];
         let mut neighbour_z = vec![0.0f64; kept.len()];
         let mut neighbours = vec![0u32; kept.len()];
-        // Grid index → position in `kept`, for the triangles' vertices.
-        let mut slot = vec![u32::MAX; hf.len()];
-        for (v, &i) in kept.iter().enumerate() {
-            slot[i as usize] = v as u32;
-        }
         let mut total = 0.0;
-        for (&tri, &sum) in triangles.iter().zip(&sums) {
-            total += sum;
-            cumulative.push(total);
-            let points = tri.map(|i| lattice.point(i));
-            let twice_area = orient(points[0], points[1], points[2]);
-            for k in 0..3 {
-                let v = slot[tri[k] as usize] as usize;
-                if v >= kept.len() {
-                    continue;
-                }
-                area[v] += twice_area;
-                neighbour_z[v] += z[tri[(k + 1) % 3] as usize] + z[tri[(k + 2) % 3] as usize];
-                neighbours[v] += 2;
+        KEPT_POSITION.with_borrow_mut(|slot| {
+            // Grid index → position in `kept`, for the triangles' vertices: one map per thread,
+            // set for this mesh's kept points and reset after, so a guide costs its mesh's
+            // size, not the grid's.
+            if slot.len() < hf.len() {
+                slot.resize(hf.len(), u32::MAX);
             }
-        }
+            for (v, &i) in kept.iter().enumerate() {
+                slot[i as usize] = v as u32;
+            }
+            for (&tri, &sum) in triangles.iter().zip(&sums) {
+                total += sum;
+                cumulative.push(total);
+                let points = tri.map(|i| lattice.point(i));
+                let twice_area = orient(points[0], points[1], points[2]);
+                for k in 0..3 {
+                    let v = slot[tri[k] as usize] as usize;
+                    if v >= kept.len() {
+                        continue;
+                    }
+                    area[v] += twice_area;
+                    neighbour_z[v] += z[tri[(k + 1) % 3] as usize] + z[tri[(k + 2) % 3] as usize];
+                    neighbours[v] += 2;
+                }
+            }
+            for &i in kept {
+                slot[i as usize] = u32::MAX;
+            }
+        });
         let corners = hf.corners();
         let removal_cost = kept
             .iter()

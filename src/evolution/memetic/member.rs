@@ -2,9 +2,33 @@
 //! archive receives them.
 
 use super::guide::Guide;
-use crate::evaluator::{Evaluator, MeshState, Score};
+use crate::evaluator::{Evaluator, GridLookups, MeshState, Score};
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
+
+/// Per-grid-point arrays lent to the members being edited ([`Member::unstow`]) and taken back
+/// from those set aside ([`Member::stow`]): a population member that waits for its next use
+/// holds its mesh and kept list only, so a member's memory grows with its mesh, not with the
+/// grid.
+#[derive(Debug, Default)]
+pub struct LookupPool {
+    free: Vec<GridLookups>,
+}
+
+/// Arrays a [`LookupPool`] keeps at most: a child, its two parents and one spare.
+pub const POOLED_LOOKUPS: usize = 4;
+
+impl LookupPool {
+    fn take(&mut self) -> GridLookups {
+        self.free.pop().unwrap_or_default()
+    }
+
+    fn give(&mut self, lookups: GridLookups) {
+        if self.free.len() < POOLED_LOOKUPS {
+            self.free.push(lookups);
+        }
+    }
+}
 
 /// A population member (or the subject of local search): kept points, score and mesh.
 #[derive(Clone, Debug)]
@@ -62,6 +86,22 @@ impl Member {
     /// them so).
     pub fn ready_for_trials(&mut self) {
         self.state.ensure_lookups();
+    }
+
+    /// Sets the member aside: its mesh's per-grid-point arrays go back to `pool`
+    /// ([`MeshState::detach_lookups`]). It must be [unstowed](Self::unstow) before it is edited,
+    /// tried or composed from; its guide and score stay.
+    pub fn stow(&mut self, pool: &mut LookupPool) {
+        if let Some(lookups) = self.state.detach_lookups() {
+            pool.give(lookups);
+        }
+    }
+
+    /// Makes a stowed member editable again, with arrays from `pool` (a pass over its mesh).
+    pub fn unstow(&mut self, pool: &mut LookupPool) {
+        if !self.state.has_lookups() {
+            self.state.attach_lookups(pool.take());
+        }
     }
 
     /// Applies `edit` to the mesh ([`Evaluator::edit`], one evaluation) and the kept list.

@@ -10,7 +10,10 @@
 //! - [`neighbour_mating`]: crossover between parents of similar T.
 //! - [`local_search`]: swap moves at fixed T on archive members, spread over the front.
 //! - [`guide`]: the per-triangle errors and per-vertex removal costs the operators read.
-//! - [`member`]: a scored kept set with its mesh, and the edits made to it.
+//! - [`member`]: a scored kept set with its mesh, and the edits made to it. Members that wait
+//!   for their next use are stowed: their meshes lend their per-grid-point arrays to the few
+//!   being edited ([`member::LookupPool`]), so a member's memory grows with its mesh, not with
+//!   the grid.
 //! - [`optimizer`]: the loop.
 //!
 //! A generation: μ children (each a copy of a tournament winner or, with the crossover

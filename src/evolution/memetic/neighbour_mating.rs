@@ -58,6 +58,38 @@ impl Cut {
         }
     }
 
+    /// The grid points beyond the cut as a bitset (bit `i` of word `i / 64`), what
+    /// [`Evaluator::compose`] reads: set a run of bits per row (or one run for a cut across
+    /// rows), so it costs a bit per grid point, not a test.
+    pub fn labels(&self, hf: &Heightfield) -> Vec<u64> {
+        let (w, n) = (hf.width(), hf.len());
+        let mut bits = vec![0u64; n.div_ceil(64)];
+        // Bits from..to: single bits up to a word boundary, whole words, single bits after.
+        let mut set = |from: usize, to: usize| {
+            let mut i = from;
+            while i < to && i % 64 != 0 {
+                bits[i / 64] |= 1 << (i % 64);
+                i += 1;
+            }
+            while i + 64 <= to {
+                bits[i / 64] = u64::MAX;
+                i += 64;
+            }
+            while i < to {
+                bits[i / 64] |= 1 << (i % 64);
+                i += 1;
+            }
+        };
+        if self.vertical {
+            for y in 0..hf.height() {
+                set(y * w + self.at.min(w), (y + 1) * w);
+            }
+        } else {
+            set((self.at * w).min(n), n);
+        }
+        bits
+    }
+
     /// Is grid point `i` beyond the cut (taken from the second parent)?
     pub fn from_second(&self, hf: &Heightfield, i: u32) -> bool {
         let (x, y) = hf.coords(i);
@@ -79,17 +111,43 @@ pub fn cross(evaluator: &mut Evaluator, a: &mut Member, b: &mut Member, cut: Cut
         .collect();
     kept.sort_unstable();
     kept.dedup();
-    let mut from_b = vec![0u64; hf.len().div_ceil(64)];
-    for i in 0..hf.len() as u32 {
-        if cut.from_second(&hf, i) {
-            from_b[i as usize / 64] |= 1 << (i % 64);
-        }
-    }
-    a.state.ensure_discs();
-    b.state.ensure_discs();
+    let from_b = cut.labels(&hf);
+    a.state.ensure_disc_boxes();
+    b.state.ensure_disc_boxes();
     let mut state = MeshState::default();
     match evaluator.compose(&mut state, &a.state, &b.state, &from_b) {
         Some(score) => Member::scored(kept, score, state),
         None => Member::fresh(evaluator, kept),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bitset of a cut marks exactly the points beyond it, for cuts of either direction at
+    /// every position (words split anywhere by the rows).
+    #[test]
+    fn a_cuts_labels_are_the_points_beyond_it() {
+        for (w, h) in [(5usize, 7usize), (64, 3), (67, 9), (130, 2)] {
+            let hf = Heightfield::new(w, h, vec![0.0; w * h]).unwrap();
+            for vertical in [false, true] {
+                let side = if vertical { w } else { h };
+                for at in 1..side {
+                    let cut = Cut { vertical, at };
+                    let bits = cut.labels(&hf);
+                    assert_eq!(bits.len(), (w * h).div_ceil(64));
+                    for i in 0..(w * h) as u32 {
+                        let bit = (bits[i as usize / 64] >> (i % 64)) & 1 == 1;
+                        assert_eq!(bit, cut.from_second(&hf, i), "{w}x{h} {cut:?} point {i}");
+                    }
+                    // No bit past the grid.
+                    let tail = (w * h) % 64;
+                    if tail != 0 {
+                        assert_eq!(bits[bits.len() - 1] >> tail, 0);
+                    }
+                }
+            }
+        }
     }
 }

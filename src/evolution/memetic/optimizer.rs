@@ -1,7 +1,7 @@
 //! The memetic optimizer: NSGA-II's loop with guided operators and local search.
 
 use super::local_search::LocalSearch;
-use super::member::{Member, offer};
+use super::member::{LookupPool, Member, offer};
 use super::mutation::{self, Operator};
 use super::neighbour_mating::{self, Cut};
 use super::params::{MemeticParams, MemeticParamsError};
@@ -38,8 +38,10 @@ pub struct Memetic {
     seeds: Vec<Vec<u32>>,
     /// The random initial kept sets were drawn (when greedy seeding is off).
     randomly_seeded: bool,
+    /// Stowed between uses ([`Member::stow`]), as are the offspring.
     population: Vec<Member>,
     offspring: Vec<Member>,
+    lookups: LookupPool,
     archive: Front,
     local: LocalSearch,
     stage: Stage,
@@ -67,6 +69,7 @@ impl Memetic {
             randomly_seeded: false,
             population: Vec::with_capacity(params.population),
             offspring: Vec::with_capacity(params.population),
+            lookups: LookupPool::default(),
             archive: Front::default(),
             local: LocalSearch::new(&hf),
             stage: Stage::Offspring,
@@ -142,7 +145,8 @@ impl Memetic {
             return;
         }
         if let Some(kept) = self.seeds.pop() {
-            let member = Member::fresh(&mut self.evaluator, kept);
+            let mut member = Member::fresh(&mut self.evaluator, kept);
+            member.stow(&mut self.lookups);
             self.evaluations += 1;
             offer(&mut self.archive, &member.kept, &member.score);
             self.population.push(member);
@@ -220,17 +224,22 @@ impl Memetic {
             Some(b) => {
                 let cut = Cut::draw(&hf, &mut self.rng);
                 let (pa, pb) = two_mut(&mut self.population, a, b);
+                pa.unstow(&mut self.lookups);
+                pb.unstow(&mut self.lookups);
                 let c = neighbour_mating::cross(&mut self.evaluator, pa, pb, cut);
+                pa.stow(&mut self.lookups);
+                pb.stow(&mut self.lookups);
                 self.evaluations += 1;
                 offer(&mut self.archive, &c.kept, &c.score);
                 c
             }
             None => {
-                // The parent keeps the guide and lookups its copy needs, for its next copies.
+                // The parent keeps the guide its copy needs, for its next copies.
                 let parent = &mut self.population[a];
                 parent.guide(&hf);
-                parent.ready_for_trials();
-                parent.clone()
+                let mut copy = parent.clone();
+                copy.unstow(&mut self.lookups);
+                copy
             }
         };
         if !self.params.guided_mutation {
@@ -239,6 +248,7 @@ impl Memetic {
                 self.evaluations += 1;
                 offer(&mut self.archive, &child.kept, &child.score);
             }
+            child.stow(&mut self.lookups);
             self.offspring.push(child);
             return;
         }
@@ -262,6 +272,7 @@ impl Memetic {
             self.evaluations += 1;
             offer(&mut self.archive, &child.kept, &child.score);
         }
+        child.stow(&mut self.lookups);
         self.offspring.push(child);
     }
 

@@ -60,16 +60,24 @@ impl Default for MemeticParams {
 }
 
 /// The default evaluation budget on `hf`: the two seeding sweeps (one evaluation per grid
-/// point each), then [`SEARCH_EVALUATIONS`] plus one per grid point for the evolution and the
-/// local search. The search grows slowly with the grid because its evaluations are local edits
-/// whose cost grows with it (through the meshes it builds and copies): measured on one core,
-/// this takes under 1 s on a 65×65 grid and about 5 s on a 257×257 one.
+/// point each), then [`SEARCH_EVALUATIONS`] plus one per grid point, up to
+/// [`SEARCH_GRID_CAP`] of them, for the evolution and the local search. The search grows with
+/// the grid because the front has more to improve on a larger one, but more slowly than the
+/// grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more (its mesh is
+/// larger), so a search that grew with the grid would make the run grow faster than the
+/// sweeps do. Measured on one core: under 1 s on a 65×65 grid, a few seconds on a 257×257
+/// one, under a minute on a 1025×1025 one (see docs/performance.md).
 pub fn default_budget(hf: &Heightfield) -> u64 {
-    3 * hf.len() as u64 + SEARCH_EVALUATIONS
+    let n = hf.len() as u64;
+    2 * n + SEARCH_EVALUATIONS + n.min(SEARCH_GRID_CAP)
 }
 
 /// See [`default_budget`].
 pub const SEARCH_EVALUATIONS: u64 = 36_000;
+
+/// See [`default_budget`]: 2¹⁷, twice a 257×257 grid, so grids up to that size search as
+/// long as ever, and larger ones search at most 167 072 evaluations.
+pub const SEARCH_GRID_CAP: u64 = 1 << 17;
 
 /// Why a set of parameters cannot run.
 #[derive(Clone, Debug, PartialEq)]

@@ -7,8 +7,9 @@
 //! triangle counts (twice greedy insertion's default, so that the seed front has no wide gaps
 //! in T). Every recorded mesh of both runs is offered to the archive (so the final front
 //! weakly dominates both greedy fronts), and the population takes ⌈μ/2⌉ seeds from the first
-//! run's front and ⌊μ/2⌋ from the second's, at evenly spaced positions of each front (by
-//! increasing T, so evenly in log T, from the sparsest to the densest mesh).
+//! run's front and ⌊μ/2⌋ from the second's, at evenly spaced positions of each front's members
+//! of at most [`densest_seed`] triangles (by increasing T, so evenly in log T, from the
+//! sparsest mesh to a quarter of the full one).
 //!
 //! Unit: one greedy insertion (one evaluation).
 
@@ -97,19 +98,31 @@ impl Seeding {
     }
 
     /// The kept sets of the seeds: `population` of them when the fronts have that many
-    /// members (fewer otherwise), ⌈μ/2⌉ from the first front, the rest from the second, each
-    /// at evenly spaced positions of its front.
+    /// members of at most [`densest_seed`] triangles (fewer otherwise), ⌈μ/2⌉ from the first
+    /// front, the rest from the second, each at evenly spaced positions of those members.
     pub fn seeds(&self, population: usize) -> Vec<Vec<u32>> {
         let shares = [population.div_ceil(2), population / 2];
+        let densest = densest_seed(&self.hf);
         let mut seeds = Vec::with_capacity(population);
         for (front, share) in self.fronts.iter().zip(shares) {
-            let members = front.solutions();
+            let all = front.solutions();
+            // The front is sorted by increasing T.
+            let members = &all[..all.partition_point(|s| s.t <= densest).max(1)];
             for index in spread(members.len(), share) {
                 seeds.push(members[index].kept.clone());
             }
         }
         seeds
     }
+}
+
+/// The most triangles a seed has: a quarter of the full mesh, where the local search's targets
+/// end too. Denser meshes have errors near zero, so the search gains little there, while their
+/// meshes are the largest and every copy, guide and trial on them costs in proportion (on a
+/// 1025×1025 grid a full mesh has 2 M triangles). The archive still holds the sweeps' denser
+/// meshes.
+pub fn densest_seed(hf: &Heightfield) -> usize {
+    hf.full_triangles() / 4
 }
 
 /// min(`s`, `n`) distinct indices of 0..`n` at evenly spaced positions, round(j·(n−1)/(s−1)),
