@@ -227,5 +227,20 @@ write("share_link", "file_with_import", link({
     "import": {"projection": "cylindrical", "width": 65, "height": 33}}))
 write("share_link", "embedded_4x3", link({"kind": "embedded", "name": "bump", "width": 4,
                                           "height": 3}, grid=bump(4, 3)))
+# An embedded grid with a GeoTIFF's geometry: map origin and spacing, filled nodata cells, the
+# georeference tags; and one of a resampled mesh, with its planar placement.
+write("share_link", "embedded_4x3_georeferenced", link({
+    "kind": "embedded", "name": "dem.tif", "width": 4, "height": 3,
+    "geometry": {"origin": [2667405.0, 6478685.0], "spacing": [10.0, 12.5], "filled": 2,
+                 "georeference": {"pixel_scale": [10.0, 12.5, 0.0],
+                                  "tiepoint": [0.0, 0.0, 0.0, 2667400.0, 6478710.0, 0.0],
+                                  "pixel_is_point": True, "nodata": "-9999"}}},
+    grid=bump(4, 3)))
+write("share_link", "embedded_4x3_planar", link({
+    "kind": "embedded", "name": "scan.ply", "width": 4, "height": 3,
+    "geometry": {"origin": [-1.5, 0.25], "spacing": [0.5, 0.75],
+                 "placement": {"kind": "planar", "origin": [1.0, 2.0, 3.0], "u": [1.0, 0.0, 0.0],
+                               "v": [0.0, 0.0, 1.0], "n": [0.0, -1.0, 0.0]}}},
+    grid=bump(4, 3)))
 
 tiffs()

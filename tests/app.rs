@@ -668,12 +668,15 @@ mod share_links {
     use base64::engine::general_purpose::URL_SAFE_NO_PAD;
     use paretomesh::app::algorithms::{Algorithm, Params};
     use paretomesh::app::camera::OrbitCamera;
+    use paretomesh::app::loader;
     use paretomesh::app::loader::BUILTIN_NAME;
     use paretomesh::app::share::{
-        EmbeddedGrid, FileFingerprint, ImportChoice, MAX_LINK_LEN, ShareError, ShareLink,
-        SharedSurface, ViewToggles, decode, encode, fnv1a64,
+        EmbeddedGrid, FileFingerprint, GridGeometry, ImportChoice, MAX_LINK_LEN, ShareError,
+        ShareLink, SharedSurface, ViewToggles, decode, encode, fnv1a64,
     };
     use paretomesh::evolution::CrossoverKind;
+    use paretomesh::export::mesh::WorldMesh;
+    use paretomesh::heightfield::{Georeference, Heightfield, ImportOptions};
     use rand::{RngExt, SeedableRng};
     use serde_json::{Value, json};
 
@@ -689,6 +692,7 @@ mod share_links {
                 .chunks_exact(4)
                 .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
                 .collect(),
+            geometry: GridGeometry::default(),
         }
     }
 
@@ -877,7 +881,7 @@ mod share_links {
     fn an_embedded_grid_round_trips_bit_for_bit() {
         let volcano = grid("volcano_33x33.f32", 33, VOLCANO);
         let original = link(
-            SharedSurface::Embedded(volcano.clone()),
+            SharedSurface::Embedded(Box::new(volcano.clone())),
             Algorithm::WeightedSum,
         );
         let encoded = encode(&original);
@@ -892,12 +896,261 @@ mod share_links {
         assert_eq!((hf.width(), hf.height()), (33, 33));
         // The largest embeddable grid, a 65×65 terrain, fits under the link cap.
         let big = link(
-            SharedSurface::Embedded(grid("j.f32", 65, JACKSBORO_65)),
+            SharedSurface::Embedded(Box::new(grid("j.f32", 65, JACKSBORO_65))),
             Algorithm::Nsga2,
         );
         let encoded = encode(&big);
         assert!(encoded.len() <= MAX_LINK_LEN, "{}", encoded.len());
         assert_eq!(decode(&encoded).unwrap(), big);
+    }
+
+    /// A DEM read as the page reads a dropped file.
+    fn dem(name: &str, grid_size: Option<(usize, usize)>) -> Heightfield {
+        let bytes =
+            std::fs::read(format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        let options = ImportOptions {
+            grid_size,
+            ..ImportOptions::default()
+        };
+        loader::parse_file(name, &bytes, None, &options).unwrap()
+    }
+
+    /// The surface a reader of `hf`'s embedded-grid link gets.
+    fn reopened(hf: &Heightfield) -> Heightfield {
+        let (grid, _) = EmbeddedGrid::of("dem.tif", hf).expect("small enough to embed");
+        let decoded = decode(&encode(&link(
+            SharedSurface::Embedded(Box::new(grid.clone())),
+            Algorithm::Nsga2,
+        )))
+        .unwrap();
+        let SharedSurface::Embedded(back) = &decoded.surface else {
+            panic!("not embedded");
+        };
+        assert_eq!(**back, grid);
+        back.to_heightfield().unwrap()
+    }
+
+    #[test]
+    fn a_georeferenced_dem_reopens_where_it_lies_on_the_map() {
+        // A DEM with nodata cells, resampled to embeddable size (non-unit spacing), and a
+        // PixelIsPoint DEM read as it is.
+        let resampled = dem("volcano_87x61_int16_lzw_nodata.tif", Some((44, 31)));
+        let point = dem("jacksboro_65x65_float32_tiled_deflate.tif", None);
+        assert_eq!(resampled.filled(), 14);
+        assert!(point.georeference().unwrap().pixel_is_point);
+        for hf in [resampled, point] {
+            let page = reopened(&hf);
+            assert_eq!((page.width(), page.height()), (hf.width(), hf.height()));
+            let as_f32: Vec<f64> = hf.z().iter().map(|&z| f64::from(z as f32)).collect();
+            assert_eq!(page.z(), &as_f32[..]);
+            assert_eq!(page.origin(), hf.origin());
+            assert_eq!(page.spacing(), hf.spacing());
+            assert_eq!(page.placement(), hf.placement());
+            assert_eq!(page.filled(), hf.filled());
+            assert_eq!(page.georeference(), hf.georeference());
+            assert_eq!(
+                loader::georeference_summary(&page),
+                loader::georeference_summary(&hf)
+            );
+            // Exports of the reopened surface land on the same map coordinates (heights
+            // travel as f32).
+            let corners = hf.corners();
+            let triangles = [[corners[0], corners[1], corners[2]]];
+            let vertices = |hf: &Heightfield| {
+                let mesh = WorldMesh::new(hf, &corners, &triangles).unwrap();
+                let [x, y, z] = mesh.vertices[3];
+                [x, y, f64::from(z as f32)]
+            };
+            assert_eq!(vertices(&page), vertices(&hf));
+        }
+        // Grid point (0, 0) of the reopened DEM is its south-west sample centre in map units
+        // (the tie point's corner plus half a 10 m pixel east and 60.5 pixels south), not (0, 0).
+        let page = reopened(&dem("volcano_87x61_int16_lzw_nodata.tif", Some((44, 31))));
+        assert_eq!(page.to_world(0, 0.0)[..2], [2_667_405.0, 6_478_105.0]);
+    }
+
+    #[test]
+    fn a_mesh_grids_placement_travels_and_plain_grids_stay_as_they_were() {
+        let resampled_mesh = dem("bunny_33x33.ply", Some((20, 17)));
+        assert_ne!(
+            resampled_mesh.placement(),
+            &paretomesh::heightfield::Placement::Grid
+        );
+        let page = reopened(&resampled_mesh);
+        assert_eq!(page.placement(), resampled_mesh.placement());
+        assert_eq!(page.spacing(), resampled_mesh.spacing());
+        assert_eq!(page.origin(), resampled_mesh.origin());
+        // A plain grid's link carries no geometry, exactly as before it could.
+        let plain = link(
+            SharedSurface::Embedded(Box::new(grid("v.f32", 33, VOLCANO))),
+            Algorithm::Nsga2,
+        );
+        let settings = settings_of(&plain);
+        assert!(settings["surface"].get("geometry").is_none(), "{settings}");
+        let hf = decode(&encode(&plain)).map(|l| match l.surface {
+            SharedSurface::Embedded(g) => g.to_heightfield().unwrap(),
+            _ => panic!("not embedded"),
+        });
+        let hf = hf.unwrap();
+        assert_eq!((hf.origin(), hf.spacing()), ([0.0, 0.0], [1.0, 1.0]));
+        assert!(hf.georeference().is_none());
+    }
+
+    /// A 4×3 embedded-grid link as written before grids carried their geometry.
+    const LINK_WITHOUT_GEOMETRY: &str = "v1.eyJzdXJmYWNlIjp7ImtpbmQiOiJlbWJlZGRlZCIsIm5hbWUiOiJidW1wIiwid2lkdGgiOjQsImhlaWdodCI6M30sImFsZ29yaXRobSI6Im5zZ2EyIiwicGFyYW1zIjp7InBvcHVsYXRpb24iOjQwLCJnZW5lcmF0aW9ucyI6MjAsImNyb3Nzb3ZlciI6Im9heCIsImNyb3Nzb3Zlcl9wcm9iYWJpbGl0eSI6MC44LCJtdXRhdGlvbl9wcm9iYWJpbGl0eSI6bnVsbCwic2VlZCI6N30sImdlbmVyYXRpb25zX3J1biI6MjAsInNlbGVjdGVkIjozLCJjYW1lcmEiOnsieWF3IjotMS45LCJwaXRjaCI6MC45LCJkaXN0YW5jZSI6MS45LCJ0YXJnZXQiOlswLjAsMC4wLDAuMF19LCJ0b2dnbGVzIjp7Im9yaWdpbmFsIjp0cnVlLCJlcnJvciI6ZmFsc2UsImtlcHQiOmZhbHNlfX0.eNpjYFA4wMDgsJ8BDBr2AYkDUNoeSNsxoMkDANhRCTY";
+
+    /// A 4×3 embedded-grid link with a GeoTIFF-like geometry, in the current format.
+    const LINK_WITH_GEOMETRY: &str = "v1.eyJzdXJmYWNlIjp7ImtpbmQiOiJlbWJlZGRlZCIsIm5hbWUiOiJidW1wIiwid2lkdGgiOjQsImhlaWdodCI6MywiZ2VvbWV0cnkiOnsib3JpZ2luIjpbMjY2NzQwNS4wLDY0Nzg2ODUuMF0sInNwYWNpbmciOlsxMC4wLDEyLjVdLCJmaWxsZWQiOjIsImdlb3JlZmVyZW5jZSI6eyJwaXhlbF9zY2FsZSI6WzEwLjAsMTIuNSwwLjBdLCJ0aWVwb2ludCI6WzAuMCwwLjAsMC4wLDI2Njc0MDAuMCw2NDc4NzEwLjAsMC4wXSwibm9kYXRhIjoiLTk5OTkifX19LCJhbGdvcml0aG0iOiJuc2dhMiIsInBhcmFtcyI6eyJwb3B1bGF0aW9uIjo0MCwiZ2VuZXJhdGlvbnMiOjIwLCJjcm9zc292ZXIiOiJvYXgiLCJjcm9zc292ZXJfcHJvYmFiaWxpdHkiOjAuOCwibXV0YXRpb25fcHJvYmFiaWxpdHkiOm51bGwsInNlZWQiOjd9LCJnZW5lcmF0aW9uc19ydW4iOjIwLCJzZWxlY3RlZCI6MywiY2FtZXJhIjp7InlhdyI6LTEuOSwicGl0Y2giOjAuOSwiZGlzdGFuY2UiOjEuOSwidGFyZ2V0IjpbMC4wLDAuMCwwLjBdfSwidG9nZ2xlcyI6eyJvcmlnaW5hbCI6dHJ1ZSwiZXJyb3IiOmZhbHNlLCJrZXB0IjpmYWxzZX19.eNpdibERAEAEwDLKT_KMZjKMxjmVFEkReAkaDOat3Er3c34B2FEJNg";
+
+    #[test]
+    fn links_of_both_formats_decode() {
+        let old = decode(LINK_WITHOUT_GEOMETRY).unwrap();
+        let SharedSurface::Embedded(g) = &old.surface else {
+            panic!("not embedded");
+        };
+        assert_eq!((g.name.as_str(), g.width, g.height), ("bump", 4, 3));
+        assert_eq!(g.geometry, GridGeometry::default());
+        let hf = g.to_heightfield().unwrap();
+        assert_eq!((hf.origin(), hf.spacing()), ([0.0, 0.0], [1.0, 1.0]));
+        assert_eq!((hf.filled(), hf.georeference()), (0, None));
+        // Re-encoding it writes the same settings (the deflated grid may differ, as deflaters
+        // do): a plain grid's links did not change.
+        let settings = |link: &str| link.split('.').nth(1).unwrap().to_string();
+        assert_eq!(settings(&encode(&old)), settings(LINK_WITHOUT_GEOMETRY));
+
+        // The same grid with a GeoTIFF-like geometry: the link written now, frozen.
+        let mut with_geometry = old;
+        if let SharedSurface::Embedded(g) = &mut with_geometry.surface {
+            g.geometry = geo_geometry();
+        }
+        assert_eq!(
+            settings(&encode(&with_geometry)),
+            settings(LINK_WITH_GEOMETRY)
+        );
+        let new = decode(LINK_WITH_GEOMETRY).unwrap();
+        assert_eq!(new, with_geometry);
+        let SharedSurface::Embedded(g) = &new.surface else {
+            panic!("not embedded");
+        };
+        let hf = g.to_heightfield().unwrap();
+        assert_eq!(hf.origin(), [2_667_405.0, 6_478_685.0]);
+        assert_eq!(hf.spacing(), [10.0, 12.5]);
+        assert_eq!(hf.filled(), 2);
+        assert_eq!(
+            hf.georeference().and_then(|g| g.nodata.as_deref()),
+            Some("-9999")
+        );
+    }
+
+    #[test]
+    fn the_share_link_fuzz_seeds_are_valid_links() {
+        // The fuzz corpus starts from valid links of every surface kind, geometries included.
+        let dir = format!("{}/fuzz/seeds/share_link", env!("CARGO_MANIFEST_DIR"));
+        let mut with_geometry = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let link = decode(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            if let SharedSurface::Embedded(g) = &link.surface
+                && g.geometry != GridGeometry::default()
+            {
+                g.to_heightfield().unwrap();
+                with_geometry += 1;
+            }
+        }
+        assert!(with_geometry >= 2, "{with_geometry}");
+    }
+
+    /// A GeoTIFF-like geometry: 10 m pixels, a tie point, two nodata cells filled.
+    fn geo_geometry() -> GridGeometry {
+        GridGeometry {
+            origin: [2_667_405.0, 6_478_685.0],
+            spacing: [10.0, 12.5],
+            placement: paretomesh::heightfield::Placement::Grid,
+            filled: 2,
+            georeference: Some(Georeference {
+                pixel_scale: Some([10.0, 12.5, 0.0]),
+                tiepoint: Some([0.0, 0.0, 0.0, 2_667_400.0, 6_478_710.0, 0.0]),
+                pixel_is_point: false,
+                nodata: Some("-9999".into()),
+            }),
+        }
+    }
+
+    #[test]
+    fn malformed_geometry_is_refused_with_a_message() {
+        let mut with_geometry = decode(LINK_WITHOUT_GEOMETRY).unwrap();
+        if let SharedSurface::Embedded(g) = &mut with_geometry.surface {
+            g.geometry = geo_geometry();
+        }
+        let encoded = encode(&with_geometry);
+        let parts: Vec<&str> = encoded.split('.').collect();
+        let settings: Value =
+            serde_json::from_slice(&URL_SAFE_NO_PAD.decode(parts[1]).unwrap()).unwrap();
+        let edited = |edit: &dyn Fn(&mut Value)| {
+            let mut s = settings.clone();
+            edit(&mut s["surface"]["geometry"]);
+            decode(&format!("{}.{}", with_settings(&s), parts[2]))
+        };
+        assert_eq!(edited(&|_| {}).unwrap(), with_geometry);
+        type Edit<'a> = &'a dyn Fn(&mut Value);
+        let bad_geometry: [(Edit, &str); 8] = [
+            (&|g| g["spacing"] = json!([0.0, 1.0]), "spacing"),
+            (&|g| g["spacing"] = json!([-10.0, 10.0]), "spacing"),
+            (&|g| g["origin"] = json!([1e300, 0.0]), "origin"),
+            (&|g| g["filled"] = json!(13), "13 filled points"),
+            (
+                &|g| g["georeference"]["nodata"] = json!("-99\n99"),
+                "nodata",
+            ),
+            (
+                &|g| g["georeference"]["nodata"] = json!("9".repeat(65)),
+                "nodata",
+            ),
+            (
+                &|g| g["georeference"]["tiepoint"] = json!([0, 0, 0, 1e17, 0, 0]),
+                "georeference",
+            ),
+            (
+                &|g| {
+                    g["placement"] = json!({"kind": "planar", "origin": [0, 0, 0],
+                        "u": [1, 0, 0], "v": [0, 1e20, 0], "n": [0, 0, 1]})
+                },
+                "placement",
+            ),
+        ];
+        for (edit, expect) in bad_geometry {
+            let e = edited(edit).unwrap_err();
+            let ShareError::BadGeometry(reason) = &e else {
+                panic!("{e:?}");
+            };
+            assert!(reason.contains(expect), "{reason}");
+            let text = e.to_string();
+            assert!(
+                text.starts_with("This share link cannot be opened: ") && text.len() < 300,
+                "{text}"
+            );
+        }
+        let malformed: [Edit; 9] = [
+            &|g| g["spacing"] = json!("10"),
+            &|g| g["spacing"] = json!([10.0]),
+            &|g| g["origin"] = Value::Null,
+            &|g| g["filled"] = json!(-1),
+            &|g| g["crs"] = json!("EPSG:2193"),
+            &|g| g["placement"] = json!({"kind": "spherical"}),
+            &|g| g["georeference"]["tiepoint"] = json!([0, 0, 0, 1, 2]),
+            &|g| g["georeference"]["pixel_is_point"] = json!("yes"),
+            &|g| *g = json!([1, 2]),
+        ];
+        for edit in malformed {
+            let e = edited(edit).unwrap_err();
+            assert!(matches!(e, ShareError::Malformed(_)), "{e:?}");
+            assert!(e.to_string().len() < 300, "{e}");
+        }
+        // A geometry on a surface that is not an embedded grid is not a field it has.
+        let e = tampered(|s| s["surface"]["geometry"] = settings["surface"]["geometry"].clone())
+            .unwrap_err();
+        assert!(matches!(e, ShareError::Malformed(_)), "{e:?}");
     }
 
     #[test]
@@ -1238,7 +1491,7 @@ mod share_links {
                 Algorithm::GreedyInsertion,
             )),
             encode(&link(
-                SharedSurface::Embedded(grid("v.f32", 33, VOLCANO)),
+                SharedSurface::Embedded(Box::new(grid("v.f32", 33, VOLCANO))),
                 Algorithm::Nsga2,
             )),
         ];

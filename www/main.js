@@ -198,8 +198,10 @@ $('panic-reset').addEventListener('click', () => location.reload());
 
 try {
   await init();
-  const forceWebgl = new URLSearchParams(location.search).has('webgl');
-  app = await start(forceWebgl);
+  const flags = new URLSearchParams(location.search);
+  // ?webgl: WebGL2 only; ?webgpu-fail: a WebGPU device request the browser refuses, to see the
+  // fallback to WebGL2.
+  app = await start(flags.has('webgl'), flags.has('webgpu-fail'));
   window.paretomesh = app; // for the console and the end-to-end test
   if (location.hash.length > 1) app.openLink(location.hash); // a share link
   wireDrop();

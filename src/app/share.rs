@@ -7,7 +7,10 @@
 //! - `<JSON>` is URL-safe base64 without padding of the compact JSON of the link's fields
 //!   (`surface`, `algorithm`, `params`, `generations_run`, `selected`, `camera`, `toggles`;
 //!   unknown fields are rejected; a file surface made from a mesh that is not a grid also
-//!   carries its `import` choice, projection and grid size, which older links simply lack);
+//!   carries its `import` choice, projection and grid size, which older links simply lack;
+//!   an embedded grid whose height field is not at unit spacing at the origin carries its
+//!   `geometry`: origin, spacing, placement, filled-point count and GeoTIFF georeference, which
+//!   links of plain grids, older ones included, lack and read as unit spacing at the origin);
 //! - `<GRID>` is URL-safe base64 without padding of the zlib-deflated grid heights, f32
 //!   little-endian, row-major (index = y·width + x). It travels outside the JSON so that it is
 //!   base64-encoded once only.
@@ -26,7 +29,7 @@
 use super::algorithms::{Algorithm, Params};
 use super::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
 use super::loader;
-use crate::heightfield::{Heightfield, MAX_POINTS, MAX_SIDE};
+use crate::heightfield::{Georeference, Heightfield, MAX_POINTS, MAX_SIDE, Placement};
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
@@ -54,6 +57,12 @@ pub const MAX_FILE_SIZE: u64 = 1 << 32;
 pub const MAX_YAW: f32 = 1.0e6;
 /// Largest |coordinate| of the camera target (the surface is normalised to unit size).
 pub const MAX_TARGET: f32 = 1.0e4;
+/// Largest magnitude of any number of an embedded grid's geometry (origin, spacing, placement
+/// vectors, georeference). Map coordinates are far below it, and with it every grid point of an
+/// embedded grid maps to a finite 3-D point.
+pub const MAX_GEOMETRY: f64 = 1.0e15;
+/// Longest GeoTIFF nodata text, in bytes (GDAL writes a number).
+pub const MAX_NODATA_LEN: usize = 64;
 
 /// Everything needed to reproduce a view.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,8 +102,8 @@ pub enum SharedSurface {
     Builtin(String),
     /// A user's file, which the reader must drop again; the fingerprint checks it is the same.
     File(FileFingerprint),
-    /// A small grid carried in the link itself.
-    Embedded(EmbeddedGrid),
+    /// A small grid carried in the link itself (boxed: its geometry makes it the largest kind).
+    Embedded(Box<EmbeddedGrid>),
 }
 
 /// Identifies a user's file without carrying it.
@@ -189,15 +198,145 @@ pub struct EmbeddedGrid {
     /// Heights, row-major, `width · height` finite values. f32 because that is what the raw
     /// format stores, and half the link length of f64.
     pub z: Vec<f32>,
+    /// Where the grid lies: what its height field holds besides the heights.
+    pub geometry: GridGeometry,
+}
+
+/// Everything of an embedded grid's height field besides its heights, so that the reader's
+/// surface lies where the writer's did and exports land on the same map coordinates. The
+/// default, unit spacing at the origin with nothing else, is what links without it mean.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridGeometry {
+    /// Grid coordinates of point (0, 0) ([`Heightfield::origin`]).
+    pub origin: [f64; 2],
+    /// Grid spacing along x and y ([`Heightfield::spacing`]).
+    pub spacing: [f64; 2],
+    /// How grid coordinates map back to 3-D ([`Heightfield::placement`]).
+    pub placement: Placement,
+    /// Points filled from their nearest valid neighbour, e.g. a GeoTIFF's nodata cells
+    /// ([`Heightfield::filled`]).
+    pub filled: usize,
+    /// The GeoTIFF georeferencing, for a grid read from a GeoTIFF.
+    pub georeference: Option<Georeference>,
+}
+
+impl Default for GridGeometry {
+    fn default() -> Self {
+        Self {
+            origin: [0.0, 0.0],
+            spacing: [1.0, 1.0],
+            placement: Placement::Grid,
+            filled: 0,
+            georeference: None,
+        }
+    }
+}
+
+impl GridGeometry {
+    /// The geometry of `hf`.
+    pub fn of(hf: &Heightfield) -> Self {
+        Self {
+            origin: hf.origin(),
+            spacing: hf.spacing(),
+            placement: hf.placement().clone(),
+            filled: hf.filled(),
+            georeference: hf.georeference().cloned(),
+        }
+    }
+
+    /// Checks that every number is finite and at most [`MAX_GEOMETRY`] in magnitude, the
+    /// spacing positive, the filled count at most `points`, and the nodata text short.
+    pub fn validate(&self, points: usize) -> Result<(), ShareError> {
+        let bad = |m: String| Err(ShareError::BadGeometry(m));
+        let in_range = |values: &[f64]| values.iter().all(|v| v.abs() <= MAX_GEOMETRY);
+        if !in_range(&self.origin) {
+            return bad(format!(
+                "the origin {:?} is not within ±{MAX_GEOMETRY:e}",
+                self.origin
+            ));
+        }
+        if !self.spacing.iter().all(|&d| d > 0.0 && d <= MAX_GEOMETRY) {
+            return bad(format!(
+                "the spacing {:?} is not positive and at most {MAX_GEOMETRY:e}",
+                self.spacing
+            ));
+        }
+        let vectors: Vec<f64> = match &self.placement {
+            Placement::Grid => Vec::new(),
+            Placement::Planar { origin, u, v, n } => [*origin, *u, *v, *n].concat(),
+            Placement::Cylindrical {
+                origin,
+                axis,
+                reference,
+            } => [*origin, *axis, *reference].concat(),
+        };
+        if !in_range(&vectors) {
+            return bad(format!(
+                "a placement vector is not within ±{MAX_GEOMETRY:e}"
+            ));
+        }
+        if self.filled > points {
+            return bad(format!(
+                "{} filled points on a grid of {points}",
+                self.filled
+            ));
+        }
+        if let Some(geo) = &self.georeference {
+            let numbers = [
+                geo.pixel_scale.as_ref().map_or(&[][..], |s| &s[..]),
+                geo.tiepoint.as_ref().map_or(&[][..], |t| &t[..]),
+            ]
+            .concat();
+            if !in_range(&numbers) {
+                return bad(format!(
+                    "a georeference number is not within ±{MAX_GEOMETRY:e}"
+                ));
+            }
+            if let Some(text) = &geo.nodata
+                && (text.is_empty()
+                    || text.len() > MAX_NODATA_LEN
+                    || text.chars().any(char::is_control))
+            {
+                return bad(format!(
+                    "the nodata text \"{}\" is empty, longer than {MAX_NODATA_LEN} bytes, or has control characters",
+                    clip(text, 20)
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl EmbeddedGrid {
-    /// The grid as a height field (unit spacing at the origin). Fails as [`decode`] would on a
-    /// bad size or a non-finite height.
+    /// The grid of `hf` named `name`, and whether its heights are exact as f32; `None` when it
+    /// is too large to embed.
+    pub fn of(name: &str, hf: &Heightfield) -> Option<(Self, bool)> {
+        let (z, exact) = embeddable(hf)?;
+        let grid = Self {
+            name: name.to_string(),
+            width: hf.width(),
+            height: hf.height(),
+            z,
+            geometry: GridGeometry::of(hf),
+        };
+        Some((grid, exact))
+    }
+
+    /// The grid as a height field, with its geometry. Fails as [`decode`] would on a bad size,
+    /// a non-finite height or a bad geometry.
     pub fn to_heightfield(&self) -> Result<Heightfield, ShareError> {
         self.validate()?;
         let z = self.z.iter().map(|&v| f64::from(v)).collect();
-        Heightfield::new(self.width, self.height, z).map_err(|e| ShareError::BadGrid(e.to_string()))
+        let g = &self.geometry;
+        let mut hf = Heightfield::new(self.width, self.height, z)
+            .and_then(|hf| hf.with_geometry(g.origin, g.spacing))
+            .map_err(|e| ShareError::BadGrid(e.to_string()))?
+            .with_placement(g.placement.clone())
+            .with_filled(g.filled);
+        if let Some(georeference) = &g.georeference {
+            hf = hf.with_georeference(georeference.clone());
+        }
+        Ok(hf)
     }
 
     fn validate(&self) -> Result<(), ShareError> {
@@ -213,7 +352,7 @@ impl EmbeddedGrid {
         if let Some(index) = self.z.iter().position(|v| !v.is_finite()) {
             return Err(ShareError::NonFiniteHeight { index });
         }
-        Ok(())
+        self.geometry.validate(expected)
     }
 }
 
@@ -300,6 +439,8 @@ pub enum ShareError {
     },
     /// The grid is not a valid height field.
     BadGrid(String),
+    /// The embedded grid's geometry (origin, spacing, placement, georeference) is invalid.
+    BadGeometry(String),
 }
 
 /// At most `max` characters of `s`, for echoing hostile input in a message.
@@ -374,6 +515,11 @@ impl fmt::Display for ShareError {
                 "its embedded grid has a NaN or infinite height at point {index}."
             ),
             Self::BadGrid(m) => write!(f, "its embedded grid is invalid: {m}."),
+            Self::BadGeometry(m) => write!(
+                f,
+                "its embedded grid's placement (origin, spacing or georeference) is invalid: {}.",
+                clip(m, 160)
+            ),
         }
     }
 }
@@ -410,7 +556,130 @@ enum WireSurface {
         name: String,
         width: u64,
         height: u64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        geometry: Option<Box<WireGeometry>>,
     },
+}
+
+/// [`GridGeometry`] as it travels; written only when it is not the default, so links of plain
+/// grids are what they were before it existed.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WireGeometry {
+    origin: [f64; 2],
+    spacing: [f64; 2],
+    #[serde(default, skip_serializing_if = "is_zero")]
+    filled: u64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    placement: Option<WirePlacement>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    georeference: Option<WireGeoreference>,
+}
+
+fn is_zero(n: &u64) -> bool {
+    *n == 0
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+/// A [`Placement`] other than `Grid` (which is the absent field).
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum WirePlacement {
+    Planar {
+        origin: [f64; 3],
+        u: [f64; 3],
+        v: [f64; 3],
+        n: [f64; 3],
+    },
+    Cylindrical {
+        origin: [f64; 3],
+        axis: [f64; 3],
+        reference: [f64; 3],
+    },
+}
+
+/// [`Georeference`] as it travels; absent tags are absent fields.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WireGeoreference {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pixel_scale: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tiepoint: Option<[f64; 6]>,
+    #[serde(default, skip_serializing_if = "is_false")]
+    pixel_is_point: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    nodata: Option<String>,
+}
+
+impl WireGeometry {
+    /// `None` for the default geometry, which links leave out.
+    fn of(g: &GridGeometry) -> Option<Self> {
+        if *g == GridGeometry::default() {
+            return None;
+        }
+        let placement = match g.placement.clone() {
+            Placement::Grid => None,
+            Placement::Planar { origin, u, v, n } => {
+                Some(WirePlacement::Planar { origin, u, v, n })
+            }
+            Placement::Cylindrical {
+                origin,
+                axis,
+                reference,
+            } => Some(WirePlacement::Cylindrical {
+                origin,
+                axis,
+                reference,
+            }),
+        };
+        Some(Self {
+            origin: g.origin,
+            spacing: g.spacing,
+            filled: g.filled as u64,
+            placement,
+            georeference: g.georeference.clone().map(|geo| WireGeoreference {
+                pixel_scale: geo.pixel_scale,
+                tiepoint: geo.tiepoint,
+                pixel_is_point: geo.pixel_is_point,
+                nodata: geo.nodata,
+            }),
+        })
+    }
+
+    fn into_geometry(self) -> GridGeometry {
+        let placement = match self.placement {
+            None => Placement::Grid,
+            Some(WirePlacement::Planar { origin, u, v, n }) => {
+                Placement::Planar { origin, u, v, n }
+            }
+            Some(WirePlacement::Cylindrical {
+                origin,
+                axis,
+                reference,
+            }) => Placement::Cylindrical {
+                origin,
+                axis,
+                reference,
+            },
+        };
+        GridGeometry {
+            origin: self.origin,
+            spacing: self.spacing,
+            placement,
+            // Saturates: a count past usize is refused by the range check anyway.
+            filled: usize::try_from(self.filled).unwrap_or(usize::MAX),
+            georeference: self.georeference.map(|geo| Georeference {
+                pixel_scale: geo.pixel_scale,
+                tiepoint: geo.tiepoint,
+                pixel_is_point: geo.pixel_is_point,
+                nodata: geo.nodata,
+            }),
+        }
+    }
 }
 
 /// The link's URL hash fragment (without the `#`). Infallible: a [`ShareLink`] that breaks the
@@ -434,6 +703,7 @@ pub fn encode(link: &ShareLink) -> String {
                     name: g.name.clone(),
                     width: g.width as u64,
                     height: g.height as u64,
+                    geometry: WireGeometry::of(&g.geometry).map(Box::new),
                 },
                 Some(miniz_oxide::deflate::compress_to_vec_zlib(&bytes, 9)),
             )
@@ -515,17 +785,19 @@ pub fn decode(fragment: &str) -> Result<ShareLink, ShareError> {
             name,
             width,
             height,
+            geometry,
         } => {
             let width = usize::try_from(width).unwrap_or(usize::MAX);
             let height = usize::try_from(height).unwrap_or(usize::MAX);
             check_grid_size(width, height)?;
             let data = grid_part.ok_or(ShareError::MissingGrid)?;
-            SharedSurface::Embedded(EmbeddedGrid {
+            SharedSurface::Embedded(Box::new(EmbeddedGrid {
                 name,
                 width,
                 height,
                 z: inflate_grid(data, width, height)?,
-            })
+                geometry: geometry.map_or_else(GridGeometry::default, |g| g.into_geometry()),
+            }))
         }
     };
     let selected = match wire.selected {

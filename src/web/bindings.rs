@@ -2,6 +2,7 @@
 //! [`WebApp`] handle with its start-up and frame, file loading and read-only accessors for the
 //! end-to-end tests, and the free functions the Worker and the import dialog use.
 
+use super::gpu::BackendChoice;
 use super::page::Ui;
 use super::{dom, preview, share_view, teaching_view, transfer, ui};
 use crate::app::compare::METHODS;
@@ -21,11 +22,20 @@ pub struct WebApp {
 }
 
 /// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
-/// `force_webgl`), listeners. The surface is drawn on the first [`WebApp::frame`].
+/// `force_webgl`; with `fail_webgpu`, WebGPU with a device request the browser refuses, which
+/// shows the fallback to WebGL2), listeners. The surface is drawn on the first
+/// [`WebApp::frame`].
 #[wasm_bindgen]
-pub async fn start(force_webgl: bool) -> Result<WebApp, JsValue> {
+pub async fn start(force_webgl: bool, fail_webgpu: bool) -> Result<WebApp, JsValue> {
+    let backends = if force_webgl {
+        BackendChoice::WebGl2
+    } else if fail_webgpu {
+        BackendChoice::FailingWebGpu
+    } else {
+        BackendChoice::Auto
+    };
     Ok(WebApp {
-        ui: ui::start(force_webgl).await?,
+        ui: ui::start(backends).await?,
     })
 }
 

@@ -79,8 +79,10 @@ struct Pipelines {
     translucent: wgpu::RenderPipeline,
 }
 
-/// A WebGPU device on `canvas`, with the surface, adapter and queue.
-async fn open(canvas: HtmlCanvasElement) -> Result<Opened, String> {
+/// A WebGPU device on `canvas`, with the surface, adapter and queue. `fail_device` asks for
+/// more bind groups than the adapter has, so that the browser refuses the device: how the
+/// end-to-end test reaches the WebGL2 fallback on a browser whose WebGPU works.
+async fn open(canvas: HtmlCanvasElement, fail_device: bool) -> Result<Opened, String> {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
     desc.backends = wgpu::Backends::BROWSER_WEBGPU;
     let instance = wgpu::Instance::new(desc);
@@ -96,12 +98,16 @@ async fn open(canvas: HtmlCanvasElement) -> Result<Opened, String> {
         })
         .await
         .map_err(|e| format!("no WebGPU adapter: {e}"))?;
+    let mut required_limits =
+        wgpu::Limits::downlevel_webgl2_defaults().using_resolution(adapter.limits());
+    if fail_device {
+        required_limits.max_bind_groups = adapter.limits().max_bind_groups.saturating_add(1);
+    }
     let (device, queue) = adapter
         .request_device(&wgpu::DeviceDescriptor {
             label: Some("paretomesh"),
             required_features: wgpu::Features::empty(),
-            required_limits: wgpu::Limits::downlevel_webgl2_defaults()
-                .using_resolution(adapter.limits()),
+            required_limits,
             ..Default::default()
         })
         .await
@@ -374,7 +380,7 @@ async fn webgpu_offscreen(
     camera: &OrbitCamera,
     layers: Vec<(Style, Geometry)>,
 ) -> Result<Vec<u8>, String> {
-    let gpu = open(canvas).await?;
+    let gpu = open(canvas, false).await?;
     let (device, queue) = (&gpu.device, &gpu.queue);
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let size = wgpu::Extent3d {
@@ -469,17 +475,45 @@ async fn webgpu_offscreen(
     Ok(pixels)
 }
 
+/// Which backend the 3-D view tries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BackendChoice {
+    /// WebGPU when the browser offers an adapter, else WebGL2.
+    Auto,
+    /// WebGL2 only (headless screenshots need it: a WebGPU canvas stays blank there).
+    WebGl2,
+    /// WebGPU with a device request the browser must refuse, to exercise the fallback.
+    FailingWebGpu,
+}
+
 impl Renderer {
-    /// Sets up the view on `canvas`: WebGPU when the browser offers an adapter and not
-    /// `force_webgl` (headless screenshots need the WebGL2 path: a WebGPU canvas stays blank
-    /// there), else WebGL2.
-    pub async fn new(canvas: HtmlCanvasElement, force_webgl: bool) -> Result<Self, String> {
-        if !force_webgl && webgpu_available().await {
-            let view = WebGpuView::new(canvas).await?;
-            return Ok(Self {
-                view: View::WebGpu(Box::new(view)),
-                backend: "WebGPU",
-            });
+    /// Sets up the view on `canvas`: WebGPU as `choice` says, else WebGL2. When
+    /// WebGPU is offered but its device, canvas configuration or pipelines cannot be set up,
+    /// the console says why and the view falls back to WebGL2 on a copy of the canvas that
+    /// replaces it in the page (a canvas that gave a WebGPU context gives no WebGL2 one), so
+    /// callers must look the canvas up again after this.
+    pub async fn new(canvas: HtmlCanvasElement, choice: BackendChoice) -> Result<Self, String> {
+        let mut canvas = canvas;
+        if choice != BackendChoice::WebGl2 && webgpu_available().await {
+            let fail_device = choice == BackendChoice::FailingWebGpu;
+            match WebGpuView::new(canvas.clone(), fail_device).await {
+                Ok(view) => {
+                    return Ok(Self {
+                        view: View::WebGpu(Box::new(view)),
+                        backend: "WebGPU",
+                    });
+                }
+                Err(e) => {
+                    web_sys::console::warn_1(
+                        &format!(
+                            "ParetoMesh: WebGPU offers an adapter but cannot draw ({e}); \
+                             falling back to WebGL2"
+                        )
+                        .into(),
+                    );
+                    canvas = fresh_canvas(&canvas)?;
+                }
+            }
         }
         Ok(Self {
             view: View::WebGl2(GlRenderer::new(&canvas, false)?),
@@ -512,23 +546,44 @@ impl Renderer {
     }
 }
 
+/// A copy of `canvas` (same id, classes, size) put in its place in the page, without its
+/// context, so that it can give a WebGL2 context after the original gave a WebGPU one.
+fn fresh_canvas(canvas: &HtmlCanvasElement) -> Result<HtmlCanvasElement, String> {
+    let copy: HtmlCanvasElement = canvas
+        .clone_node()
+        .ok()
+        .and_then(|node| wasm_bindgen::JsCast::dyn_into(node).ok())
+        .ok_or("cannot copy the canvas for the WebGL2 fallback")?;
+    canvas
+        .replace_with_with_node_1(&copy)
+        .map_err(|_| "cannot put a fresh canvas in the page for the WebGL2 fallback")?;
+    Ok(copy)
+}
+
 impl WebGpuView {
-    async fn new(canvas: HtmlCanvasElement) -> Result<Self, String> {
+    /// The WebGPU view on `canvas`, checked by acquiring its first frame: a refused device, a
+    /// canvas configuration the browser rejects, or a pipeline that does not validate is an
+    /// error here rather than a blank or panicking view later.
+    async fn new(canvas: HtmlCanvasElement, fail_device: bool) -> Result<Self, String> {
         let (width, height) = (canvas.width().max(1), canvas.height().max(1));
         let Opened {
             surface,
             adapter,
             device,
             queue,
-        } = open(canvas).await?;
+        } = open(canvas, fail_device).await?;
         let mut config = surface
             .get_default_config(&adapter, width, height)
             .ok_or("the canvas surface is not supported by the adapter")?;
         config.present_mode = wgpu::PresentMode::Fifo;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         surface.configure(&device, &config);
         let pipelines = Pipelines::new(&device, config.format);
         let depth = depth_view(&device, config.width, config.height);
-        Ok(Self {
+        if let Some(e) = scope.pop().await {
+            return Err(format!("cannot set up drawing on the canvas: {e}"));
+        }
+        let mut view = Self {
             surface,
             device,
             queue,
@@ -536,7 +591,12 @@ impl WebGpuView {
             depth,
             pipelines,
             layers: Vec::new(),
-        })
+        };
+        // The browser reports a rejected canvas configuration only as a lost surface.
+        if !view.present(&OrbitCamera::default()) {
+            return Err("the browser rejected the canvas configuration".to_string());
+        }
+        Ok(view)
     }
 
     fn resize(&mut self, width: u32, height: u32) {
@@ -550,14 +610,20 @@ impl WebGpuView {
     }
 
     fn draw(&mut self, camera: &OrbitCamera) {
+        if !self.present(camera) {
+            self.surface.configure(&self.device, &self.config);
+        }
+    }
+
+    /// Draws one frame; false when the surface is lost or outdated (nothing drawn).
+    fn present(&mut self, camera: &OrbitCamera) -> bool {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                self.surface.configure(&self.device, &self.config);
-                return;
-            }
-            _ => return,
+            wgpu::CurrentSurfaceTexture::Outdated
+            | wgpu::CurrentSurfaceTexture::Lost
+            | wgpu::CurrentSurfaceTexture::Validation => return false,
+            _ => return true,
         };
         let view = frame
             .texture
@@ -578,5 +644,6 @@ impl WebGpuView {
         );
         self.queue.submit([encoder.finish()]);
         self.queue.present(frame);
+        true
     }
 }

@@ -57,7 +57,7 @@ fn current_link(ui: &Ui, embed: bool) -> Result<(ShareLink, String), String> {
     let shared = match (&ui.origin, embed) {
         (Origin::Builtin(name), _) => SharedSurface::Builtin((*name).to_string()),
         (Origin::File(_) | Origin::Embedded, true) | (Origin::Embedded, false) => {
-            let (z, exact) = embeddable(hf).ok_or_else(|| {
+            let (grid, exact) = EmbeddedGrid::of(&surface.name, hf).ok_or_else(|| {
                 format!(
                     "only grids of at most {MAX_EMBEDDED_SIDE}×{MAX_EMBEDDED_SIDE} points can \
                      travel in a link; this one is {}×{}",
@@ -70,12 +70,7 @@ fn current_link(ui: &Ui, embed: bool) -> Result<(ShareLink, String), String> {
                         differ slightly."
                     .to_string();
             }
-            SharedSurface::Embedded(EmbeddedGrid {
-                name: surface.name.clone(),
-                width: hf.width(),
-                height: hf.height(),
-                z,
-            })
+            SharedSurface::Embedded(Box::new(grid))
         }
         (Origin::File(fingerprint), false) => {
             note = format!(

@@ -4,7 +4,7 @@
 //! teaching and compare mode are in their own modules; [`super::bindings`] is what the JS calls.
 
 use super::dom::{self, by_id, listen};
-use super::gpu::Renderer;
+use super::gpu::{BackendChoice, Renderer};
 use super::page::{HIT_RADIUS, Ui, on_event, performance_now, z_unit};
 use super::{compare_view, plot_canvas, share_view, teaching_view};
 use crate::app::algorithms;
@@ -29,9 +29,9 @@ use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use web_sys::{HtmlCanvasElement, KeyboardEvent, MouseEvent, PointerEvent, WheelEvent};
 
-/// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
-/// `force_webgl`), listeners. The surface is drawn on the first [`frame`].
-pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue> {
+/// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (on the
+/// backend `backends` says), listeners. The surface is drawn on the first [`frame`].
+pub(super) async fn start(backends: BackendChoice) -> Result<Rc<RefCell<Ui>>, JsValue> {
     install_panic_hook();
     let hf = loader::builtin();
     let app = App::new(
@@ -56,13 +56,15 @@ pub(super) async fn start(force_webgl: bool) -> Result<Rc<RefCell<Ui>>, JsValue>
     let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
     canvas.set_width(((canvas.client_width() as f64) * dpr).round().max(1.0) as u32);
     canvas.set_height(((canvas.client_height() as f64) * dpr).round().max(1.0) as u32);
-    match Renderer::new(canvas.clone(), force_webgl).await {
+    match Renderer::new(canvas, backends).await {
         Ok(r) => {
             dom::set_text("backend", r.backend);
             ui.renderer = Some(r);
         }
         Err(e) => dom::set_text("backend", &format!("no 3-D view: {e}")),
     }
+    // The WebGL2 fallback may have put a fresh copy of the canvas in its place.
+    let canvas = by_id::<HtmlCanvasElement>("view").map_err(|e| JsValue::from_str(&e))?;
     ui.selection_info();
     let ui = Rc::new(RefCell::new(ui));
     wire(&ui, &canvas).map_err(|e| JsValue::from_str(&e))?;

@@ -5,7 +5,10 @@
 // 2. malformed and hostile links show a clear message, keep the default demo, and never panic;
 // 3. a run on a dropped file shared by fingerprint asks for the file, refuses a wrong one and
 //    reproduces with the right one; the same run shared with the grid embedded reproduces with
-//    no file at all.
+//    no file at all;
+// 4. a mesh's link carries its import choice;
+// 5. a GeoTIFF DEM's embedded-grid link reopens on the same map: same georeferencing, same
+//    front, and a PLY export with the same vertex coordinates.
 // Needs the CLI (cargo build --bin paretomesh; `cargo test` builds it too) and www/pkg. The
 // debug build: its numbers are the same bits as the release build's (no fast-math anywhere),
 // and it saves CI a release build of its own.
@@ -14,7 +17,7 @@ import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj, tradeOffCandidates } from './harness.mjs';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj, tradeOffCandidates, int16GeoTiff } from './harness.mjs';
 
 const cli = path.join(root, 'target/debug/paretomesh');
 assert.ok(existsSync(cli), 'build the CLI first: cargo build --bin paretomesh');
@@ -201,7 +204,39 @@ await withApp(async ({ browser, url }) => {
   assert.deepEqual(realErrors(meshReader), [], 'no page errors');
   await meshReader.close();
 
+  // 5. A GeoTIFF DEM shared with its grid embedded: the reader's surface lies on the same map
+  // (spacing, origin, georeference, filled nodata cells), so its export has the same vertices.
+  const dem = [{ name: 'dem.tif', bytes: int16GeoTiff(40, 30, (x, y) => (x === 3 && y === 4 ? -32768 : Math.round(50 * Math.sin(x / 6) + 30 * Math.cos(y / 5) + x)), { scale: [30, 25, 0], tie: [0, 0, 0, 500000, 4000000, 0] }) }];
+  const exportPly = async (p) => {
+    const [download] = await Promise.all([p.waitForEvent('download'), p.click('#export-ply')]);
+    const ply = readFileSync(await download.path(), 'utf8');
+    const nv = Number(/element vertex (\d+)/.exec(ply)[1]);
+    return ply.slice(ply.indexOf('end_header\n') + 'end_header\n'.length).trim().split('\n').slice(0, nv);
+  };
+  const demAuthor = await newPage(browser);
+  await demAuthor.goto(url);
+  await waitForApp(demAuthor);
+  await dropFiles(demAuthor, dem);
+  await demAuthor.waitForFunction(() => window.paretomesh.surfaceName() === 'dem.tif', null, { timeout: 30000 });
+  const demSource = await demAuthor.locator('#surface-source').textContent();
+  assert.match(demSource, /georeferencing: pixel size 30 × 25 map units .*nodata -32768: 1 cells filled/);
+  const demFront = await runSmall(demAuthor, { generations: 3, seed: 9 });
+  const authorVertices = await exportPly(demAuthor);
+  // Grid point (0, 0) is the south-west pixel centre: x = 500000 + 15, y = 4000000 − 29.5 · 25.
+  assert.ok(authorVertices.some((v) => v.startsWith('500015 3999262.5 ')), `map coordinates: ${authorVertices[0]}`);
+  const demLink = await shareNow(demAuthor, { embed: true });
+  assert.deepEqual(realErrors(demAuthor), [], 'no page errors while sharing a DEM');
+  await demAuthor.close();
+  const demReader = await openLink(browser, url, demLink);
+  await waitForReproduction(demReader);
+  const readerSource = await demReader.locator('#surface-source').textContent();
+  assert.equal(readerSource.split(' · georeferencing: ')[1], demSource.split(' · georeferencing: ')[1], 'the same georeferencing');
+  assert.deepEqual(await demReader.evaluate(() => window.paretomesh.frontObjectives()), demFront, 'DEM link: same front');
+  assert.deepEqual(await exportPly(demReader), authorVertices, 'DEM link: the export lands on the same map coordinates');
+  assert.deepEqual(realErrors(demReader), [], 'no page errors');
+  await demReader.close();
+
   console.log(`share e2e ok: the bunny example re-ran to the CLI's front of ${expected.length} members in ${seconds.toFixed(1)} s; ` +
-    `link lengths: example ${quick.hash.length}, file ${byFingerprint.length}, embedded 33×33 ${embedded.length} characters; ` +
+    `link lengths: example ${quick.hash.length}, file ${byFingerprint.length}, embedded 33×33 ${embedded.length}, embedded 40×30 DEM ${demLink.length} characters; ` +
     `hostile-link message example: ${messages['huge number']}`);
 });

@@ -9,11 +9,13 @@
 // covers a plausible share of the frame and the wireframe and error colours are there. The
 // same scenes are rendered with the WebGL2 backend, and the two images must agree within a
 // tolerance (rasterisation rules and line drawing differ a little between the backends).
-// The page itself runs with ?webgl, so its own canvas stays on the WebGL2 path.
+// The page itself runs with ?webgl, so its own canvas stays on the WebGL2 path. Last, a page
+// without flags must take WebGPU, and one with ?webgpu-fail (a device request the browser
+// refuses) must fall back to WebGL2.
 import path from 'node:path';
 import { writeFileSync } from 'node:fs';
 import assert from 'node:assert/strict';
-import { shots, withApp, newPage, realErrors, waitForApp } from './harness.mjs';
+import { shots, withApp, newPage, realErrors, waitForApp, pixelVariance } from './harness.mjs';
 
 const WIDTH = 320;
 const HEIGHT = 240;
@@ -89,6 +91,46 @@ await withApp(async ({ browser, url }) => {
   }
 
   assert.deepEqual(realErrors(page), [], 'no page errors');
+
+  // With no flag the page's own view takes WebGPU: its device, canvas configuration and
+  // pipelines pass the checks that send a failing WebGPU to WebGL2 (the canvas itself presents
+  // nothing a headless screenshot can see, see the header).
+  const direct = await newPage(browser);
+  await direct.goto(url);
+  await waitForApp(direct);
+  assert.equal(await direct.locator('#backend').textContent(), 'WebGPU', 'the page uses WebGPU when it works');
+  assert.deepEqual(realErrors(direct), [], 'no page errors on WebGPU');
+  await direct.close();
+
+  // An adapter whose device request fails: ?webgpu-fail asks for more bind groups than the
+  // adapter has, so the browser refuses the device after the canvas gave a WebGPU context. The
+  // page must fall back to WebGL2 on a fresh canvas, say why in the console, draw the surface
+  // and still orbit with the mouse on the canvas that replaced the first.
+  const failing = await newPage(browser);
+  const warnings = [];
+  failing.on('console', (m) => { if (m.type() === 'warning') warnings.push(m.text()); });
+  await failing.goto(`${url}?webgpu-fail`);
+  await waitForApp(failing);
+  assert.equal(await failing.locator('#backend').textContent(), 'WebGL2', 'the view fell back to WebGL2');
+  assert.ok(warnings.some((w) => /WebGPU .*cannot draw .*cannot open the GPU device.*falling back to WebGL2/s.test(w)),
+    `the console says why: ${JSON.stringify(warnings)}`);
+  assert.equal(await failing.locator('canvas#view').count(), 1, 'one view canvas');
+  assert.ok(await failing.evaluate(() => document.getElementById('view').getContext('webgl2') !== null),
+    'the view canvas is a WebGL2 one');
+  const before = await failing.locator('#view').screenshot();
+  writeFileSync(path.join(shots, 'webgpu-fail-fallback.png'), before);
+  const fallbackVariance = await pixelVariance(failing, before);
+  assert.ok(fallbackVariance > 50, `the fallback draws the surface (pixel variance ${fallbackVariance.toFixed(1)})`);
+  const box = await failing.locator('#view').boundingBox();
+  await failing.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await failing.mouse.down();
+  await failing.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2, { steps: 5 });
+  await failing.mouse.up();
+  await failing.waitForTimeout(300);
+  const after = await failing.locator('#view').screenshot();
+  assert.ok(!before.equals(after), 'dragging on the fresh canvas orbits the view');
+  assert.deepEqual(realErrors(failing), [], 'no page errors on the fallback');
+
   const pct = (x) => `${(100 * x).toFixed(1)} %`;
   console.log(`webgpu e2e ok: ${Object.entries(results).map(([k, r]) => `${k}: ${pct(r.covered)} covered, ${pct(r.dark)} wireframe, ${pct(r.warm)} warm, ${pct(r.cool)} cool`).join('; ')}; ` +
     `backends agree: ${Object.entries(agreement).map(([s, a]) => `${s} mean ${a.mean.toFixed(2)}, ${pct(a.off)} off`).join('; ')}`);
