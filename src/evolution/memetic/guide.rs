@@ -7,6 +7,11 @@ use crate::evaluator::mesh::canonical_form::canonical;
 use crate::evaluator::raster::Grid;
 use crate::heightfield::Heightfield;
 
+thread_local! {
+    /// [`Guide::of`]'s grid-index → kept-position buffer, all `u32::MAX` between calls.
+    static SLOTS: std::cell::Cell<Vec<u32>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
 /// [`Guide::worst`] of a triangle that owns no grid point with a nonzero error.
 pub const NO_POINT: u32 = u32::MAX;
 
@@ -42,8 +47,10 @@ impl Guide {
         let mut area = vec![0i64; kept.len()];
         let mut neighbour_z = vec![0.0f64; kept.len()];
         let mut neighbours = vec![0u32; kept.len()];
-        // Grid index → position in `kept`, for the triangles' vertices.
-        let mut slot = vec![u32::MAX; hf.len()];
+        // Grid index → position in `kept`, for the triangles' vertices: a buffer kept between
+        // guides (and reset at the kept points only), so that a guide costs O(T), not O(grid).
+        let mut slot = SLOTS.take();
+        slot.resize(hf.len(), u32::MAX);
         for (v, &i) in kept.iter().enumerate() {
             slot[i as usize] = v as u32;
         }
@@ -63,6 +70,10 @@ impl Guide {
                 neighbours[v] += 2;
             }
         }
+        for &i in kept {
+            slot[i as usize] = u32::MAX;
+        }
+        SLOTS.set(slot);
         let corners = hf.corners();
         let removal_cost = kept
             .iter()
