@@ -258,11 +258,11 @@ fn round(
     let mut gains: Vec<(f64, u32, usize)> = Vec::with_capacity(2 * largest.len());
     for t in largest {
         let key = guide_triangles[t];
-        if !memo.insertions.contains_key(&key) {
+        let tried = memo.insertions.entry(key).or_insert_with(|| {
             let mut points = vec![guide.worst_point(&hf, t), guide.centre_point(&hf, t)];
             points.retain(|&p| p != NO_POINT && !on_border(&hf, p));
             points.dedup();
-            let tried = points
+            points
                 .into_iter()
                 .map(|p| {
                     let edit = Edit {
@@ -271,10 +271,9 @@ fn round(
                     };
                     (p, e - scored(evaluator, &edit))
                 })
-                .collect();
-            memo.insertions.insert(key, tried);
-        }
-        gains.extend(memo.insertions[&key].iter().map(|&(p, gain)| (gain, p, t)));
+                .collect()
+        });
+        gains.extend(tried.iter().map(|&(p, gain)| (gain, p, t)));
     }
     losses.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     gains.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
@@ -318,7 +317,12 @@ fn round(
     neighbours_of(hf.len(), guide_triangles, &edit.remove, &mut changed);
     member.apply(evaluator, &edit);
     *evaluations += 1;
-    neighbours_of(hf.len(), &member.guide(&hf).triangles, &edit.insert, &mut changed);
+    neighbours_of(
+        hf.len(),
+        &member.guide(&hf).triangles,
+        &edit.insert,
+        &mut changed,
+    );
     memo.forget(&changed);
     true
 }
@@ -411,20 +415,19 @@ fn independent_pairs(
     let mut touched: IndexSet<u32> = IndexSet::default();
     let (mut remove, mut insert) = (Vec::new(), Vec::new());
     let (mut g, mut l) = (gains.iter(), losses.iter().enumerate());
-    'pairs: loop {
-        let Some(&(gain, p, t)) = g.find(|c| triangles[c.2].iter().all(|v| !touched.contains(v)))
-        else {
-            break;
-        };
+    while let Some(&(gain, p, t)) = g.find(|c| triangles[c.2].iter().all(|v| !touched.contains(v)))
+    {
         let near = triangles[t];
         let removal = l.find(|(k, c)| {
             let around = &star[*k];
             !touched.contains(&c.1)
                 && !near.contains(&c.1)
-                && around.iter().all(|v| !touched.contains(v) && !near.contains(v))
+                && around
+                    .iter()
+                    .all(|v| !touched.contains(v) && !near.contains(v))
         });
         let Some((k, &(loss, r))) = removal else {
-            break 'pairs;
+            break;
         };
         if gain <= loss {
             break;
@@ -486,4 +489,41 @@ pub fn van_der_corput(mut k: u64) -> f64 {
         scale /= 2.0;
     }
     value
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paired_edits_stay_apart_and_stop_when_the_gain_no_longer_pays() {
+        // A strip of triangles 0-1-2, 1-2-3, 2-3-4, 3-4-5, 4-5-6, 5-6-7 on a grid of 8 points.
+        let triangles: Vec<[u32; 3]> = (0..6).map(|k| [k, k + 1, k + 2]).collect();
+        // Insertions in triangles 0 and 1 (sharing vertices 1 and 2), and in triangle 5.
+        let gains = [(10.0, 100, 0), (9.0, 101, 1), (8.0, 102, 5)];
+        // Removing 3 touches 1..=5 (its star), removing 7 touches 5 and 6.
+        let losses = [(1.0, 3), (2.0, 7), (3.0, 6)];
+        let (remove, insert) = independent_pairs(200, &triangles, &losses, &gains);
+        // The best insertion (into 0-1-2) cannot pair with removing 3, whose star holds 1 and
+        // 2: it pairs with 7. The second insertion shares vertices with the first, the third
+        // with removing 7.
+        assert_eq!((remove, insert), (vec![7], vec![100]));
+        // A gain that does not exceed the loss ends the pairing.
+        let (remove, insert) = independent_pairs(200, &triangles, &[(20.0, 7)], &gains);
+        assert!(remove.is_empty() && insert.is_empty());
+    }
+
+    #[test]
+    fn the_memo_forgets_the_trials_around_changed_points() {
+        let mut memo = Memo::default();
+        memo.losses.insert(3, 1.0);
+        memo.losses.insert(9, 2.0);
+        memo.insertions.insert([1, 2, 3], vec![(50, 4.0)]);
+        memo.insertions.insert([7, 8, 9], vec![(60, 5.0)]);
+        let changed: IndexSet<u32> = [3, 4].into_iter().collect();
+        memo.forget(&changed);
+        assert!(!memo.losses.contains_key(&3) && memo.losses.contains_key(&9));
+        assert!(!memo.insertions.contains_key(&[1, 2, 3]));
+        assert!(memo.insertions.contains_key(&[7, 8, 9]));
+    }
 }

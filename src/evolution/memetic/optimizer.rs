@@ -326,7 +326,8 @@ fn rank_and_crowd(population: &mut [Member]) {
 impl Optimizer for Memetic {
     /// Unit: one greedy insertion while seeding; then one seed's scoring, one child (a
     /// crossover and a mutation, up to 10 evaluations with a move's trials), or one
-    /// local-search step (a visit's start or one round, up to about 60 evaluations).
+    /// local-search step (a visit's start, one padding step, or one round: at most two trials
+    /// per candidate, fewer once its trials are remembered).
     fn unit(&mut self) {
         self.advance();
     }
