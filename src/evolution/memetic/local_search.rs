@@ -101,8 +101,9 @@ impl LocalSearch {
         (self.low * (self.high / self.low).powf(f)).round() as usize
     }
 
-    /// One unit: starts a visit (picking, building and padding its member) or runs one round of
-    /// the visit in progress. Counts its evaluations in `evaluations`.
+    /// One unit: starts a visit (picking and building its member), or makes one padding step
+    /// of the visit in progress (up to its target, or past it after its rounds), or runs one
+    /// of its rounds. Counts its evaluations in `evaluations`.
     pub fn unit(
         &mut self,
         evaluator: &mut Evaluator,
@@ -445,7 +446,7 @@ fn independent_pairs(
 /// by small integers and never iterated, so neither flooding resistance nor order matters, and
 /// the default hasher's cost would rival the trials'.
 #[derive(Default)]
-pub struct IndexHasher(u64);
+struct IndexHasher(u64);
 
 impl IndexHasher {
     fn add(&mut self, v: u64) {
