@@ -426,3 +426,61 @@ fn each_ablation_switch_changes_the_run_and_keeps_it_reproducible_and_honest() {
     let back: MemeticParams = serde_json::from_value(json).unwrap();
     assert_eq!(back, MemeticParams::default());
 }
+
+#[test]
+fn run_honours_the_population_and_crossover_probability_and_refuses_what_it_would_ignore() {
+    let grid = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/camera_33x33.f32");
+    let out = std::env::temp_dir().join(format!(
+        "paretomesh_memetic_options_{}.json",
+        std::process::id()
+    ));
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+            .arg("run")
+            .arg(&grid)
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let honoured = run(&["--evals", "2500", "--pop", "4", "--pc", "0.6"]);
+    assert!(
+        honoured.status.success(),
+        "{}",
+        String::from_utf8_lossy(&honoured.stderr)
+    );
+    let file: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    assert_eq!(file["params"]["population"], 4);
+    assert_eq!(file["params"]["crossover_probability"], 0.6);
+    // A bad crossover probability is the method's own error.
+    let bad = run(&["--pc", "1.5"]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("crossover probability"));
+    // Each option another method owns is refused by name, with the method, before any run.
+    for (algo, option, value) in [
+        ("memetic", "--gens", "5"),
+        ("memetic", "--pm", "0.01"),
+        ("memetic", "--crossover", "uniform"),
+        ("memetic", "--factors", "3"),
+        ("memetic", "--rule", "worst-triangle"),
+        ("memetic", "--max-error-fraction", "0.1"),
+        ("nsga2", "--rule", "max-error"),
+        ("greedy", "--pop", "10"),
+        ("greedy", "--pc", "0.5"),
+        ("decimation", "--rule", "max-error"),
+    ] {
+        let refused = run(&["--algo", algo, option, value]);
+        assert!(!refused.status.success(), "{algo} {option}");
+        let stderr = String::from_utf8_lossy(&refused.stderr);
+        assert!(
+            stderr.contains(&format!("{option} does not apply to --algo {algo}")),
+            "{algo} {option}: {stderr}"
+        );
+        assert!(!out.exists(), "{algo} {option}: nothing is written");
+    }
+    // The --gens refusal says what to use instead.
+    let gens = run(&["--gens", "5"]);
+    assert!(String::from_utf8_lossy(&gens.stderr).contains("--evals"));
+}

@@ -84,21 +84,21 @@ pub struct RunArgs {
     /// Population size [default: 100 for the GAs, 24 for memetic].
     #[arg(long)]
     pop: Option<usize>,
-    /// Generations (per weight, for the weighted-sum GA).
-    #[arg(long, default_value_t = GaParams::default().generations)]
-    gens: usize,
-    /// Crossover probability.
-    #[arg(long, default_value_t = GaParams::default().crossover_probability)]
-    pc: f64,
-    /// Bit-flip probability per free gene [default: 1/L, L = grid points − 4].
+    /// GAs: generations (per weight, for the weighted-sum GA) [default: 50].
+    #[arg(long)]
+    gens: Option<usize>,
+    /// Crossover probability [default: 0.8 for the GAs, 0.3 for memetic].
+    #[arg(long)]
+    pc: Option<f64>,
+    /// GAs: bit-flip probability per free gene [default: 1/L, L = grid points − 4].
     #[arg(long)]
     pm: Option<f64>,
-    /// Crossover operator.
-    #[arg(long, value_enum, default_value = "oax")]
-    crossover: CrossoverArg,
-    /// Number of OAX factors (spatial blocks).
-    #[arg(long, default_value_t = GaParams::default().factors)]
-    factors: usize,
+    /// GAs: crossover operator [default: oax].
+    #[arg(long, value_enum)]
+    crossover: Option<CrossoverArg>,
+    /// GAs: number of OAX factors (spatial blocks) [default: 7].
+    #[arg(long)]
+    factors: Option<usize>,
     /// Seed of the random generator.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -110,9 +110,9 @@ pub struct RunArgs {
     /// run, whose insertions count as evaluations [default: 0, as in the paper].
     #[arg(long, default_value_t = 0.0)]
     greedy_seed: f64,
-    /// Greedy insertion: which point to insert next.
-    #[arg(long, value_enum, default_value = "max-error")]
-    rule: RuleArg,
+    /// Greedy insertion: which point to insert next [default: max-error].
+    #[arg(long, value_enum)]
+    rule: Option<RuleArg>,
     /// Greedy insertion: stop once E_max ≤ this fraction of the z range (e.g. 0.01)
     /// [default: insert every point, or stop after --evals insertions].
     #[arg(long)]
@@ -139,17 +139,18 @@ struct Built {
 }
 
 fn ga_params(args: &RunArgs) -> GaParams {
+    let defaults = GaParams::default();
     GaParams {
-        population: args.pop.unwrap_or(GaParams::default().population),
-        generations: args.gens,
-        crossover_probability: args.pc,
+        population: args.pop.unwrap_or(defaults.population),
+        generations: args.gens.unwrap_or(defaults.generations),
+        crossover_probability: args.pc.unwrap_or(defaults.crossover_probability),
         mutation_probability: args.pm,
-        crossover: match args.crossover {
+        crossover: args.crossover.map_or(defaults.crossover, |c| match c {
             CrossoverArg::Oax => CrossoverKind::Oax,
             CrossoverArg::Uniform => CrossoverKind::Uniform,
             CrossoverArg::TwoPoint => CrossoverKind::TwoPoint,
-        },
-        factors: args.factors,
+        }),
+        factors: args.factors.unwrap_or(defaults.factors),
         max_evaluations: args.evals,
         greedy_seed_fraction: args.greedy_seed,
     }
@@ -159,7 +160,62 @@ fn to_json<T: serde::Serialize>(params: &T) -> serde_json::Value {
     serde_json::to_value(params).expect("parameters are plain data")
 }
 
+/// The method-specific options given on the command line, with their names.
+fn given_options(args: &RunArgs) -> Vec<&'static str> {
+    [
+        ("--pop", args.pop.is_some()),
+        ("--gens", args.gens.is_some()),
+        ("--pc", args.pc.is_some()),
+        ("--pm", args.pm.is_some()),
+        ("--crossover", args.crossover.is_some()),
+        ("--factors", args.factors.is_some()),
+        ("--rule", args.rule.is_some()),
+        ("--max-error-fraction", args.max_error_fraction.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(name, given)| given.then_some(name))
+    .collect()
+}
+
+/// Refuses an option that `algo` would ignore, saying why and what to use instead, so that a
+/// run never silently differs from what its command line asks for.
+fn refuse_foreign_options(args: &RunArgs) -> Result<(), String> {
+    let algo = args.algo;
+    for option in given_options(args) {
+        let greedy_option = matches!(option, "--rule" | "--max-error-fraction");
+        let refusal = match algo {
+            Algo::Memetic => match option {
+                "--pop" | "--pc" => None,
+                "--gens" => Some(
+                    "memetic runs to its evaluation budget, not for a number of generations: use --evals",
+                ),
+                "--pm" | "--crossover" | "--factors" => Some(
+                    "memetic mutates with its error-guided operators and crosses parents of similar T along a straight cut",
+                ),
+                _ => Some("it belongs to greedy insertion"),
+            },
+            Algo::Nsga2 | Algo::Weighted => {
+                greedy_option.then_some("it belongs to greedy insertion")
+            }
+            Algo::Greedy => (!greedy_option).then_some("it belongs to the evolutionary methods"),
+            Algo::Decimation => Some(if greedy_option {
+                "it belongs to greedy insertion"
+            } else {
+                "it belongs to the evolutionary methods"
+            }),
+        };
+        if let Some(why) = refusal {
+            return Err(format!(
+                "{option} does not apply to --algo {}: {why}",
+                algo.name()
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
+    refuse_foreign_options(args)?;
     if args.greedy_seed != 0.0
         && matches!(args.algo, Algo::Greedy | Algo::Decimation | Algo::Memetic)
     {
@@ -173,6 +229,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             let defaults = MemeticParams::default();
             let p = MemeticParams {
                 population: args.pop.unwrap_or(defaults.population),
+                crossover_probability: args.pc.unwrap_or(defaults.crossover_probability),
                 max_evaluations: args.evals,
                 ..defaults
             };
@@ -222,7 +279,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
                 (None, None) => GreedyStop::AllPoints,
             };
             let p = GreedyParams {
-                rule: match args.rule {
+                rule: match args.rule.unwrap_or(RuleArg::MaxError) {
                     RuleArg::MaxError => InsertionRule::MaxError,
                     RuleArg::SumReduction => InsertionRule::SumReduction,
                     RuleArg::WorstTriangle => InsertionRule::WorstTriangle,

@@ -11,18 +11,26 @@
 //! - moves: [`MOVES`] vertices of triangles drawn in proportion to their error sum, each to
 //!   each of its free grid neighbours.
 //!
-//! A round scores every removal × insertion pair and every move exactly
-//! ([`mutation::trial`]) and applies the best improving one; a visit runs rounds on one member
-//! until a round finds nothing or [`ROUNDS_PER_VISIT`] are done.
+//! A round scores each removal and each insertion alone ([`mutation::trial`]), pairs the best
+//! insertions with the cheapest removals while the gain exceeds the loss and no two paired
+//! edits touch the same vertices (so their effects add up), and applies the batch if it
+//! improves, else its better half, and so on; only when no batch improves are the moves tried.
+//! A visit runs rounds on one member until a round finds nothing or [`ROUNDS_PER_VISIT`] are
+//! done. The single trials are remembered between the rounds of a visit ([`Memo`]) and only
+//! those near the last edit are scored again, so a round costs about as many evaluations as
+//! the last edit changed, not as many as there are candidates.
 //!
 //! Spreading the budget over the front: visits go to triangle counts on a geometric sweep
 //! from the sparsest useful mesh to a quarter of the full mesh (denser meshes have errors near
 //! zero, so little to gain), [`TARGETS`] per sweep, each sweep
 //! shifted by the next term of a van der Corput sequence so later sweeps fall between the
 //! earlier ones. A visit takes the archive member with the most triangles at or below its
-//! target and first pads it up to the target with the worst points of its largest-error
-//! triangles, so the front gains a member at every target and the improvements of a sparser
-//! member carry to denser ones.
+//! target and pads it up to the target with the worst points of its largest-error triangles,
+//! a few at a time ([`PAD_STEP`]), so the front gains members all the way to the target and
+//! the improvements of a sparser member carry to denser ones. After its rounds, the visit
+//! goes on padding the improved member up to the next target of the sweep while each step
+//! enters the archive: an improved member dominates the old members just above it, and this
+//! fills the gap in T it would otherwise leave.
 
 use super::guide::{Guide, NO_POINT};
 use super::member::{Edit, Member, offer, on_border};
@@ -32,6 +40,8 @@ use crate::front::Front;
 use crate::heightfield::Heightfield;
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
+use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// Removal (and insertion) candidates per round: one per [`POINTS_PER_CANDIDATE`] kept points,
 /// at least [`MIN_CANDIDATES`] and at most [`MAX_CANDIDATES`], so that a round on a dense mesh
@@ -47,14 +57,18 @@ pub const MOVES: usize = 2;
 pub const ROUNDS_PER_VISIT: usize = 20;
 /// Target triangle counts per sweep.
 pub const TARGETS: usize = 32;
+/// Padding inserts at most one point per this many kept points at a time (about 2 % more
+/// triangles), offering each step to the archive, so that the front it passes through has no
+/// wide gaps in T.
+pub const PAD_STEP: usize = 50;
 
 /// The local search's state between units; see the module doc.
 #[derive(Debug)]
 pub struct LocalSearch {
     /// Visits started so far.
     visits: u64,
-    /// The member being improved, and its rounds left.
-    subject: Option<(Member, usize)>,
+    /// The member being improved, its rounds left and its target.
+    subject: Option<Visit>,
     /// The sparsest and densest targets.
     low: f64,
     high: f64,
@@ -73,6 +87,11 @@ impl LocalSearch {
         }
     }
 
+    /// The ratio between consecutive targets of a sweep.
+    fn spacing(&self) -> f64 {
+        (self.high / self.low).powf(1.0 / TARGETS as f64)
+    }
+
     /// The target of visit `k`: sweep `k / TARGETS`, position `k % TARGETS`, shifted by the
     /// sweep's van der Corput term so that sweeps interleave.
     pub fn target(&self, k: u64) -> usize {
@@ -82,8 +101,9 @@ impl LocalSearch {
         (self.low * (self.high / self.low).powf(f)).round() as usize
     }
 
-    /// One unit: starts a visit (picking, building and padding its member) or runs one round of
-    /// the visit in progress. Counts its evaluations in `evaluations`.
+    /// One unit: starts a visit (picking and building its member), or makes one padding step
+    /// of the visit in progress (up to its target, or past it after its rounds), or runs one
+    /// of its rounds. Counts its evaluations in `evaluations`.
     pub fn unit(
         &mut self,
         evaluator: &mut Evaluator,
@@ -92,7 +112,7 @@ impl LocalSearch {
         evaluations: &mut u64,
     ) {
         let hf = evaluator.heightfield().clone();
-        let Some((member, rounds)) = self.subject.as_mut() else {
+        let Some(visit) = self.subject.as_mut() else {
             let target = self.target(self.visits);
             self.visits += 1;
             let members = archive.solutions();
@@ -100,29 +120,66 @@ impl LocalSearch {
             let Some(start) = members.get(at - 1) else {
                 return;
             };
-            let mut member = Member::fresh(evaluator, start.kept.clone());
+            let member = Member::fresh(evaluator, start.kept.clone());
             *evaluations += 1;
-            let room = target.saturating_sub(member.score.t) / 2;
-            if room > 0 {
-                let edit = padding(&hf, &mut member, room);
-                if !edit.insert.is_empty() {
-                    member.apply(evaluator, &edit);
-                    *evaluations += 1;
-                    offer(archive, &member.kept, &member.score);
-                }
-            }
-            self.subject = Some((member, ROUNDS_PER_VISIT));
+            self.subject = Some(Visit {
+                member,
+                target,
+                rounds: ROUNDS_PER_VISIT,
+                memo: Memo::default(),
+                carrying: false,
+            });
             return;
         };
-        let improved = round(evaluator, member, rng, evaluations);
+        let member = &mut visit.member;
+        let step_points = |member: &Member| member.kept.len().div_ceil(PAD_STEP).max(1);
+        if visit.carrying {
+            let edit = padding(&hf, member, step_points(member));
+            let mut entered = false;
+            if !edit.insert.is_empty() {
+                member.apply(evaluator, &edit);
+                *evaluations += 1;
+                entered = offer(archive, &member.kept, &member.score);
+            }
+            if !entered || member.score.t as f64 >= visit.target as f64 * self.spacing() {
+                self.subject = None;
+            }
+            return;
+        }
+        let room = visit.target.saturating_sub(member.score.t) / 2;
+        if room > 0 {
+            let edit = padding(&hf, member, room.min(step_points(member)));
+            if edit.insert.is_empty() {
+                visit.target = member.score.t;
+            } else {
+                member.apply(evaluator, &edit);
+                *evaluations += 1;
+                offer(archive, &member.kept, &member.score);
+            }
+            return;
+        }
+        let improved = round(evaluator, member, &mut visit.memo, rng, evaluations);
         if improved {
             offer(archive, &member.kept, &member.score);
         }
-        *rounds -= 1;
-        if !improved || *rounds == 0 {
-            self.subject = None;
+        visit.rounds -= 1;
+        if !improved || visit.rounds == 0 {
+            visit.carrying = true;
         }
     }
+}
+
+/// A visit of the local search: its member, target and progress.
+#[derive(Debug)]
+struct Visit {
+    member: Member,
+    target: usize,
+    /// Rounds left.
+    rounds: usize,
+    memo: Memo,
+    /// The rounds are over and the member is padded on past the target while each step
+    /// enters the archive.
+    carrying: bool,
 }
 
 /// The interior worst points of up to `count` largest-error triangles, to insert.
@@ -153,6 +210,7 @@ fn padding(hf: &Heightfield, member: &mut Member, count: usize) -> Edit {
 fn round(
     evaluator: &mut Evaluator,
     member: &mut Member,
+    memo: &mut Memo,
     rng: &mut Pcg64Mcg,
     evaluations: &mut u64,
 ) -> bool {
@@ -160,17 +218,12 @@ fn round(
     member.ready_for_trials();
     let candidates =
         (member.kept.len() / POINTS_PER_CANDIDATE).clamp(MIN_CANDIDATES, MAX_CANDIDATES);
-    let guide: &Guide = member.guide(&hf);
+    member.guide(&hf);
+    // Held apart from the member while the trials borrow it, and given back unless it goes stale.
+    let guide: Guide = member.guide.take().expect("just made");
     let removals = guide.cheapest_removals(candidates, |i| !on_border(&hf, i));
-    // Two insertion candidates per triangle: its worst point and its error's centre.
-    let mut insertions: Vec<u32> = guide
-        .largest_triangles(candidates.div_ceil(2))
-        .into_iter()
-        .flat_map(|t| [guide.worst_point(&hf, t), guide.centre_point(&hf, t)])
-        .filter(|&p| p != NO_POINT && !on_border(&hf, p))
-        .collect();
-    insertions.sort_unstable();
-    insertions.dedup();
+    let largest = guide.largest_triangles(candidates.div_ceil(2));
+    let guide_triangles = &guide.triangles;
     let mut moved: Vec<u32> = Vec::with_capacity(MOVES);
     let corners = hf.corners();
     for _ in 0..MOVES {
@@ -190,35 +243,48 @@ fn round(
     let mut losses: Vec<(f64, u32)> = removals
         .iter()
         .map(|&r| {
+            if let Some(&loss) = memo.losses.get(&r) {
+                return (loss, r);
+            }
             let edit = Edit {
                 remove: vec![r],
                 insert: Vec::new(),
             };
-            (scored(evaluator, &edit) - e, r)
+            let loss = scored(evaluator, &edit) - e;
+            memo.losses.insert(r, loss);
+            (loss, r)
         })
         .collect();
-    let mut gains: Vec<(f64, u32)> = insertions
-        .iter()
-        .map(|&p| {
-            let edit = Edit {
-                remove: Vec::new(),
-                insert: vec![p],
-            };
-            (e - scored(evaluator, &edit), p)
-        })
-        .collect();
+    // Two insertion candidates per triangle: its worst point and its error's centre.
+    let mut gains: Vec<(f64, u32, usize)> = Vec::with_capacity(2 * largest.len());
+    for t in largest {
+        let key = guide_triangles[t];
+        let tried = memo.insertions.entry(key).or_insert_with(|| {
+            let mut points = vec![guide.worst_point(&hf, t), guide.centre_point(&hf, t)];
+            points.retain(|&p| p != NO_POINT && !on_border(&hf, p));
+            points.dedup();
+            points
+                .into_iter()
+                .map(|p| {
+                    let edit = Edit {
+                        remove: Vec::new(),
+                        insert: vec![p],
+                    };
+                    (p, e - scored(evaluator, &edit))
+                })
+                .collect()
+        });
+        gains.extend(tried.iter().map(|&(p, gain)| (gain, p, t)));
+    }
     losses.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     gains.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    let mut pairs = losses
-        .iter()
-        .zip(&gains)
-        .take_while(|(l, g)| g.0 > l.0)
-        .count();
+    let (remove, insert) = independent_pairs(hf.len(), guide_triangles, &losses, &gains);
+    let mut pairs = remove.len();
     let mut chosen: Option<Edit> = None;
     while pairs > 0 {
         let edit = Edit {
-            remove: losses[..pairs].iter().map(|l| l.1).collect(),
-            insert: gains[..pairs].iter().map(|g| g.1).collect(),
+            remove: remove[..pairs].to_vec(),
+            insert: insert[..pairs].to_vec(),
         };
         if scored(evaluator, &edit) < e {
             chosen = Some(edit);
@@ -243,12 +309,175 @@ fn round(
         }
     }
     let Some(edit) = chosen else {
+        member.guide = Some(guide);
         return false;
     };
+    // The single trials that stay exact are those whose surroundings the edit left alone: the
+    // removed points' old neighbours and the inserted points' new ones bound what changed.
+    let mut changed: IndexSet<u32> = edit.remove.iter().chain(&edit.insert).copied().collect();
+    neighbours_of(hf.len(), guide_triangles, &edit.remove, &mut changed);
     member.apply(evaluator, &edit);
     *evaluations += 1;
+    neighbours_of(
+        hf.len(),
+        &member.guide(&hf).triangles,
+        &edit.insert,
+        &mut changed,
+    );
+    memo.forget(&changed);
     true
 }
+
+/// Adds to `out` the vertices of the `triangles` that have one of `points` as a vertex.
+fn neighbours_of(grid_len: usize, triangles: &[[u32; 3]], points: &[u32], out: &mut IndexSet<u32>) {
+    with_marks(grid_len, |marks| {
+        for &p in points {
+            marks[p as usize] = 0;
+        }
+        for tri in triangles {
+            if tri.iter().any(|&v| marks[v as usize] == 0) {
+                out.extend(tri);
+            }
+        }
+        for &p in points {
+            marks[p as usize] = u32::MAX;
+        }
+    });
+}
+
+thread_local! {
+    /// [`with_marks`]'s buffer, all `u32::MAX` between calls.
+    static MARKS: std::cell::Cell<Vec<u32>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
+/// Runs `f` on a buffer of at least `len` entries, all `u32::MAX`, which `f` must leave so: a
+/// per-grid-point mark that costs nothing to clear, for the passes over a mesh's triangles.
+fn with_marks<R>(len: usize, f: impl FnOnce(&mut [u32]) -> R) -> R {
+    let mut marks = MARKS.take();
+    if marks.len() < len {
+        marks.resize(len, u32::MAX);
+    }
+    let result = f(&mut marks);
+    MARKS.set(marks);
+    result
+}
+
+/// Single-edit trials of one visit's member, kept between its rounds while they stay exact
+/// (see [`round`]), so that a round scores only the candidates near the last edit.
+#[derive(Debug, Default)]
+pub struct Memo {
+    /// Per kept point, the rise of E_sum when it alone is removed.
+    losses: IndexMap<u32, f64>,
+    /// Per triangle, its insertion candidates with the drop of E_sum when each alone is
+    /// inserted.
+    insertions: IndexMap<[u32; 3], Vec<(u32, f64)>>,
+}
+
+impl Memo {
+    /// Drops the trials that an edit changing the stars of the points `changed` may have made
+    /// stale: removals of those points, insertions into triangles with one of them as a vertex.
+    fn forget(&mut self, changed: &IndexSet<u32>) {
+        self.losses.retain(|v, _| !changed.contains(v));
+        self.insertions
+            .retain(|tri, _| tri.iter().all(|v| !changed.contains(v)));
+    }
+}
+
+/// Pairs the best insertions (`gains`, best first, each with the triangle holding it) with the
+/// cheapest removals (`losses`, cheapest first) while the gain exceeds the loss, skipping any
+/// candidate whose edit would touch the same vertices as one already paired: the removal of a
+/// vertex changes its star, an insertion the triangle holding it and its surroundings, and
+/// only edits that stay apart add up to what their single trials promised. Returns the
+/// removals and insertions, best pair first.
+fn independent_pairs(
+    grid_len: usize,
+    triangles: &[[u32; 3]],
+    losses: &[(f64, u32)],
+    gains: &[(f64, u32, usize)],
+) -> (Vec<u32>, Vec<u32>) {
+    // Each removal candidate's neighbours, indexed like `losses`.
+    let mut star: Vec<Vec<u32>> = vec![Vec::new(); losses.len()];
+    with_marks(grid_len, |marks| {
+        for (k, l) in losses.iter().enumerate() {
+            marks[l.1 as usize] = k as u32;
+        }
+        for tri in triangles {
+            for k in 0..3 {
+                let at = marks[tri[k] as usize];
+                if at != u32::MAX {
+                    star[at as usize].extend([tri[(k + 1) % 3], tri[(k + 2) % 3]]);
+                }
+            }
+        }
+        for l in losses {
+            marks[l.1 as usize] = u32::MAX;
+        }
+    });
+    let mut touched: IndexSet<u32> = IndexSet::default();
+    let (mut remove, mut insert) = (Vec::new(), Vec::new());
+    let (mut g, mut l) = (gains.iter(), losses.iter().enumerate());
+    while let Some(&(gain, p, t)) = g.find(|c| triangles[c.2].iter().all(|v| !touched.contains(v)))
+    {
+        let near = triangles[t];
+        let removal = l.find(|(k, c)| {
+            let around = &star[*k];
+            !touched.contains(&c.1)
+                && !near.contains(&c.1)
+                && around
+                    .iter()
+                    .all(|v| !touched.contains(v) && !near.contains(v))
+        });
+        let Some((k, &(loss, r))) = removal else {
+            break;
+        };
+        if gain <= loss {
+            break;
+        }
+        touched.extend(near);
+        touched.insert(r);
+        touched.extend(star[k].iter().copied());
+        remove.push(r);
+        insert.push(p);
+    }
+    (remove, insert)
+}
+
+/// A multiply-rotate hasher for grid indices and their triples: the maps of a round are keyed
+/// by small integers and never iterated, so neither flooding resistance nor order matters, and
+/// the default hasher's cost would rival the trials'.
+#[derive(Default)]
+struct IndexHasher(u64);
+
+impl IndexHasher {
+    fn add(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for IndexHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(4) {
+            let mut word = [0u8; 4];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from(u32::from_le_bytes(word)));
+        }
+    }
+
+    fn write_u32(&mut self, n: u32) {
+        self.add(u64::from(n));
+    }
+
+    fn write_usize(&mut self, n: usize) {
+        self.add(n as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+type IndexMap<K, V> = HashMap<K, V, BuildHasherDefault<IndexHasher>>;
+type IndexSet<K> = HashSet<K, BuildHasherDefault<IndexHasher>>;
 
 /// The `k`-th term of the base-2 van der Corput sequence, in [0, 1): 0, ½, ¼, ¾, ⅛, …
 pub fn van_der_corput(mut k: u64) -> f64 {
@@ -261,4 +490,41 @@ pub fn van_der_corput(mut k: u64) -> f64 {
         scale /= 2.0;
     }
     value
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paired_edits_stay_apart_and_stop_when_the_gain_no_longer_pays() {
+        // A strip of triangles 0-1-2, 1-2-3, 2-3-4, 3-4-5, 4-5-6, 5-6-7 on a grid of 8 points.
+        let triangles: Vec<[u32; 3]> = (0..6).map(|k| [k, k + 1, k + 2]).collect();
+        // Insertions in triangles 0 and 1 (sharing vertices 1 and 2), and in triangle 5.
+        let gains = [(10.0, 100, 0), (9.0, 101, 1), (8.0, 102, 5)];
+        // Removing 3 touches 1..=5 (its star), removing 7 touches 5 and 6.
+        let losses = [(1.0, 3), (2.0, 7), (3.0, 6)];
+        let (remove, insert) = independent_pairs(200, &triangles, &losses, &gains);
+        // The best insertion (into 0-1-2) cannot pair with removing 3, whose star holds 1 and
+        // 2: it pairs with 7. The second insertion shares vertices with the first, the third
+        // with removing 7.
+        assert_eq!((remove, insert), (vec![7], vec![100]));
+        // A gain that does not exceed the loss ends the pairing.
+        let (remove, insert) = independent_pairs(200, &triangles, &[(20.0, 7)], &gains);
+        assert!(remove.is_empty() && insert.is_empty());
+    }
+
+    #[test]
+    fn the_memo_forgets_the_trials_around_changed_points() {
+        let mut memo = Memo::default();
+        memo.losses.insert(3, 1.0);
+        memo.losses.insert(9, 2.0);
+        memo.insertions.insert([1, 2, 3], vec![(50, 4.0)]);
+        memo.insertions.insert([7, 8, 9], vec![(60, 5.0)]);
+        let changed: IndexSet<u32> = [3, 4].into_iter().collect();
+        memo.forget(&changed);
+        assert!(!memo.losses.contains_key(&3) && memo.losses.contains_key(&9));
+        assert!(!memo.insertions.contains_key(&[1, 2, 3]));
+        assert!(memo.insertions.contains_key(&[7, 8, 9]));
+    }
 }

@@ -18,7 +18,9 @@
 //!
 //! A generation: μ children (each a copy of a tournament winner or, with the crossover
 //! probability, its crossover with a neighbour in T; then one guided mutation drawn among the
-//! three), (μ + λ) survival, then [`MemeticParams::local_search_rounds`] local-search units.
+//! three), (μ + λ) survival, then [`MemeticParams::local_search_rounds`] local-search units,
+//! and more until the local search has spent its share of the evaluations
+//! ([`LOCAL_SEARCH_SHARE`](optimizer::LOCAL_SEARCH_SHARE)).
 //! Every evaluated kept set is offered to the archive ([`Optimizer::front`]), which starts as
 //! both greedy fronts.
 //!

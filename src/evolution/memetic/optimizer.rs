@@ -15,6 +15,12 @@ use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
 
+/// The share of the evaluations after seeding that goes to the local search: a generation's
+/// local-search phase runs its [`MemeticParams::local_search_rounds`] units and then goes on
+/// until the local search holds this share, so that the split between offspring and local
+/// search does not drift with how many evaluations a round happens to cost.
+pub const LOCAL_SEARCH_SHARE: f64 = 0.98;
+
 /// Where a generation stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
@@ -48,6 +54,8 @@ pub struct Memetic {
     generation: u64,
     /// Evaluations after seeding.
     evaluations: u64,
+    /// Of those, the local search's.
+    local_evaluations: u64,
     done: bool,
 }
 
@@ -75,6 +83,7 @@ impl Memetic {
             stage: Stage::Offspring,
             generation: 0,
             evaluations: 0,
+            local_evaluations: 0,
             done: false,
             params,
             seed,
@@ -104,6 +113,12 @@ impl Memetic {
     /// The current population.
     pub fn population(&self) -> &[Member] {
         &self.population
+    }
+
+    /// The local search's evaluations due by now: its [`LOCAL_SEARCH_SHARE`] of those after
+    /// seeding.
+    fn local_search_due(&self) -> u64 {
+        (self.evaluations as f64 * LOCAL_SEARCH_SHARE) as u64
     }
 
     fn total_evaluations(&self) -> u64 {
@@ -176,19 +191,21 @@ impl Memetic {
                 self.done = true;
             }
             Stage::LocalSearch(left) => {
-                if left > 0 {
+                if left > 0 || self.local_evaluations < self.local_search_due() {
+                    let before = self.evaluations;
                     self.local.unit(
                         &mut self.evaluator,
                         &mut self.archive,
                         &mut self.rng,
                         &mut self.evaluations,
                     );
+                    self.local_evaluations += self.evaluations - before;
                 }
-                if left <= 1 {
+                if left <= 1 && self.local_evaluations >= self.local_search_due() {
                     self.generation += 1;
                     self.stage = Stage::Offspring;
                 } else {
-                    self.stage = Stage::LocalSearch(left - 1);
+                    self.stage = Stage::LocalSearch(left.saturating_sub(1));
                 }
             }
         }
@@ -320,7 +337,8 @@ fn rank_and_crowd(population: &mut [Member]) {
 impl Optimizer for Memetic {
     /// Unit: one greedy insertion while seeding; then one seed's scoring, one child (a
     /// crossover and a mutation, up to 10 evaluations with a move's trials), or one
-    /// local-search step (a visit's start or one round, up to about 60 evaluations).
+    /// local-search step (a visit's start, one padding step, or one round: at most two trials
+    /// per candidate, fewer once its trials are remembered).
     fn unit(&mut self) {
         self.advance();
     }

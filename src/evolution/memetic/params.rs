@@ -14,7 +14,8 @@ pub struct MemeticParams {
     /// Probability that a child is a crossover of two neighbours in T (else a copy of one
     /// parent), before its guided mutation.
     pub crossover_probability: f64,
-    /// Local-search rounds after each generation's offspring.
+    /// Local-search units after each generation's offspring, at least (see
+    /// [`LOCAL_SEARCH_SHARE`](super::optimizer::LOCAL_SEARCH_SHARE)).
     pub local_search_rounds: usize,
     /// Stop once this many evaluations were spent (checked between units of work); `None` =
     /// [`default_budget`] of the grid.
