@@ -91,8 +91,11 @@ fn f64_tag(
     }
 }
 
+/// The TIFF decoder over the file's bytes.
+type TiffDecoder<'a> = Decoder<Cursor<&'a [u8]>>;
+
 /// Reads the georeferencing tags. Only the values the grid uses are checked.
-fn georeference(decoder: &mut Decoder<Cursor<&[u8]>>) -> Result<Georeference, ImportError> {
+fn georeference(decoder: &mut TiffDecoder<'_>) -> Result<Georeference, ImportError> {
     let scale = f64_tag(decoder, Tag::ModelPixelScaleTag)?;
     let pixel_scale = match scale {
         None => None,
@@ -228,7 +231,7 @@ pub fn parse(
 
 /// Opens the TIFF and checks what this reader supports (size, one band, compression) before
 /// anything is decoded; returns the decoder and the image's width and height.
-fn open(bytes: &[u8]) -> Result<(Decoder<Cursor<&[u8]>>, usize, usize), ImportError> {
+fn open(bytes: &[u8]) -> Result<(TiffDecoder<'_>, usize, usize), ImportError> {
     let mut limits = Limits::default();
     limits.decoding_buffer_size = (MAX_SOURCE_POINTS * 8) as usize;
     let mut decoder = Decoder::new(Cursor::new(bytes))

@@ -348,14 +348,7 @@ pub async fn render_offscreen(
         "webgl2" => (true, false),
         other => return Err(format!("unknown backend “{other}”: webgpu or webgl2")),
     };
-    let canvas: HtmlCanvasElement = web_sys::window()
-        .and_then(|w| w.document())
-        .and_then(|d| d.create_element("canvas").ok())
-        .and_then(|e| wasm_bindgen::JsCast::dyn_into(e).ok())
-        .ok_or("cannot create a canvas")?;
-    canvas.set_width(width);
-    canvas.set_height(height);
-    let gpu = open(canvas, force_webgl, only_webgpu).await?;
+    let gpu = open(offscreen_canvas(width, height)?, force_webgl, only_webgpu).await?;
     let (device, queue) = (&gpu.device, &gpu.queue);
     let format = wgpu::TextureFormat::Rgba8Unorm;
     let size = wgpu::Extent3d {
@@ -415,6 +408,30 @@ pub async fn render_offscreen(
         size,
     );
     queue.submit([encoder.finish()]);
+    let pixels = read_rows(device, &readback, row, (width, height)).await?;
+    Ok((gpu.backend, pixels))
+}
+
+/// A detached `width` × `height` canvas for an offscreen device.
+fn offscreen_canvas(width: u32, height: u32) -> Result<HtmlCanvasElement, String> {
+    let canvas: HtmlCanvasElement = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.create_element("canvas").ok())
+        .and_then(|e| wasm_bindgen::JsCast::dyn_into(e).ok())
+        .ok_or("cannot create a canvas")?;
+    canvas.set_width(width);
+    canvas.set_height(height);
+    Ok(canvas)
+}
+
+/// Maps `readback` (rows of `row` bytes, submitted to be filled) and returns its `width` ×
+/// `height` RGBA8 pixels without the rows' padding.
+async fn read_rows(
+    device: &wgpu::Device,
+    readback: &wgpu::Buffer,
+    row: u32,
+    (width, height): (u32, u32),
+) -> Result<Vec<u8>, String> {
     // WebGPU calls back from the browser's event loop, WebGL2 when the device is polled; a
     // blocking poll never returns under WebGL2 (it cannot wait on the GPU), so poll without
     // blocking and yield to the event loop between polls.
@@ -449,7 +466,7 @@ pub async fn render_offscreen(
     }
     drop(data);
     readback.unmap();
-    Ok((gpu.backend, pixels))
+    Ok(pixels)
 }
 
 impl Renderer {
