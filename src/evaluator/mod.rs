@@ -24,8 +24,9 @@
 //!   speaks;
 //! - `exact/`: integer predicates and the tie rule, fixed-point error sums, and the paper's E by
 //!   brute force (`paper_e.rs`, the reference the tests hold every path to);
-//! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation/`: the triangulation, its packed-half-edge insertion and its insertion order), canonical
-//!   forms, [`MeshState`], hole fill and region wrapping;
+//! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation/`: the mesh, its
+//!   insertion on packed half-edges, its insertion order), canonical forms, [`MeshState`], hole
+//!   fill and region wrapping;
 //! - `raster/`: which triangle owns which grid point, span sums, the fresh build of a mesh;
 //! - `edit/` (remove and insert points) and `compose/` (the OAX composition of two parents);
 //! - `part_scores/`: a crossover's children and mutants scored without their meshes;
