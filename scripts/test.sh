@@ -4,40 +4,61 @@
 # (playwright-core driving /usr/bin/chromium). It first runs `scripts/setup.sh`, which installs
 # what is missing (the wasm32 target, wasm-bindgen-cli matching Cargo.lock, chromium and
 # chromedriver, the npm tools) and skips what is already there, so it works on a fresh machine.
+# Each stage's elapsed seconds are printed when it ends, and all of them at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-echo "== toolchain"
+stage_name=""
+stage_start=0
+timings=""
+# Ends the current stage (printing its seconds, from bash's SECONDS) and starts the next.
+stage() {
+  if [ -n "$stage_name" ]; then
+    local took=$((SECONDS - stage_start))
+    echo "-- $stage_name: $took s"
+    timings+="$(printf '%6d s  %s' "$took" "$stage_name")"$'\n'
+  fi
+  stage_name=$1
+  stage_start=$SECONDS
+  if [ -n "$stage_name" ]; then echo "== $stage_name"; fi
+}
+
+stage "toolchain"
 bash scripts/setup.sh
 
-echo "== cargo fmt --check"
+stage "cargo fmt --check"
 cargo fmt --all -- --check
 
-echo "== clippy (native)"
+stage "clippy (native)"
 cargo clippy --all-targets -- -D warnings
 
-echo "== clippy (wasm32)"
+stage "clippy (wasm32)"
 cargo clippy --target wasm32-unknown-unknown --lib --tests -- -D warnings
 
-echo "== native tests"
+# This also builds target/debug/paretomesh, the CLI that share.test.mjs compares with.
+stage "native tests"
 cargo test --all-targets
 cargo test --doc
 
-echo "== wasm tests (headless Chromium)"
+stage "wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web
 
-echo "== browser app: build and end-to-end test (headless Chromium)"
+stage "browser app: build"
 bash scripts/build-web.sh
+
+stage "browser app: end-to-end tests (headless Chromium)"
 node tests/e2e/app.test.mjs
 node tests/e2e/import.test.mjs
 # The WebGPU path through offscreen readback (Chromium with --enable-unsafe-webgpu; a WebGPU
 # canvas stays blank headless), compared with the WebGL2 path.
 node tests/e2e/webgpu.test.mjs
-# The share-link test compares the browser's front with the CLI's debug build (the same bits as
-# a release build, and cheaper: `cargo test` above built most of it; only the dependencies whose
-# features dev-dependencies unify differently are compiled again).
-cargo build --bin paretomesh
+# The share-link test compares the browser's front with the CLI's debug build, the one
+# `cargo test` built above (the same bits as a release build).
 node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
 node tests/e2e/compare.test.mjs
+
+stage ""
+echo "== stage times (total $SECONDS s)"
+printf '%s' "$timings"

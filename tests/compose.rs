@@ -7,7 +7,7 @@ mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::evaluator::canonical_set as triangle_set;
-use paretomesh::evaluator::{Changes, Evaluator, MeshState, PartClasses, PartScores};
+use paretomesh::evaluator::{Changes, Crossing, Evaluator, MeshState, PartClasses, PartScores};
 use paretomesh::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -221,7 +221,12 @@ fn compose_by_parts(
         }
         let classes = PartClasses::new(&hf, &a, &b, &rects).expect("the rectangles tile the grid");
         let mut scores = PartScores::default();
-        assert!(scores.prepare(&hf, &a, &b, &classes));
+        let crossing = Crossing {
+            hf: &hf,
+            parents: [&a, &b],
+            classes: &classes,
+        };
+        assert!(scores.prepare(crossing));
         let all = 1u32 << rects.len();
         let levels: Vec<u32> = if all <= 16 {
             (0..all).collect()
@@ -317,7 +322,12 @@ fn a_part_classification_serves_only_its_parents_and_tilings() {
     // Scores prepared from one classification serve that one only, even for the same parents
     // (the weighted-sum GA crosses the same pair again with other blocks).
     let mut scores = PartScores::default();
-    assert!(scores.prepare(&hf, &states[0], &states[1], &classes));
+    let crossing = Crossing {
+        hf: &hf,
+        parents: [&states[0], &states[1]],
+        classes: &classes,
+    };
+    assert!(scores.prepare(crossing));
     let thirds = [[0, 0, w / 3, h], [w / 3, 0, w, h]];
     let other_classes = PartClasses::new(&hf, &states[0], &states[1], &thirds).unwrap();
     assert!(

@@ -9,8 +9,8 @@ use super::input::InputArgs;
 use clap::{Args, ValueEnum};
 use paretomesh::evaluator::Evaluator;
 use paretomesh::experiment::{
-    self, Analysis, Budget, DEFAULT_EQUAL_EVALUATIONS, Dataset, ExternalFront, Method, Results,
-    RunRecord, RunTiming, Settings, Timings, external,
+    self, Analysis, Budget, DEFAULT_EQUAL_EVALUATIONS, Dataset, ExternalFront, Job, Method,
+    Results, RunRecord, RunTiming, Settings, Timings, external,
 };
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -323,43 +323,13 @@ fn command_line() -> String {
         .join(" ")
 }
 
+/// Runs `paretomesh experiment`: every method's runs on every data set, in parallel, then the
+/// report, the figures and results.json.
 pub fn run(args: &ExperimentArgs) -> Result<(), String> {
     let start = Instant::now();
-    let (budget, generations) = budget(args)?;
-    let settings = Settings {
-        methods: methods(args)?,
-        runs: args.runs,
-        weighted_runs: args.weighted_runs.unwrap_or(match budget {
-            Budget::Equal { .. } => args.runs,
-            Budget::PerWeight => 1,
-        }),
-        seed: args.seed,
-        population: args.pop,
-        generations,
-        budget,
-        reference_point: args
-            .reference
-            .unwrap_or(paretomesh::metrics::DEFAULT_REFERENCE_POINT),
-    };
+    let settings = settings(args)?;
     settings.validate().map_err(|e| e.to_string())?;
-
-    let mut datasets: Vec<Dataset> = Vec::new();
-    for path in std::iter::once(&args.input.grid).chain(&args.more) {
-        let input = InputArgs {
-            grid: path.clone(),
-            import: args.input.import.clone(),
-        };
-        let hf = input
-            .load()
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let name = dataset_name(path);
-        if datasets.iter().any(|d| d.name == name) {
-            return Err(format!(
-                "two inputs are named {name:?}; the tables and figures need distinct file names"
-            ));
-        }
-        datasets.push(Dataset::new(name, hf, e_units(path)).map_err(|e| format!("{e}"))?);
-    }
+    let datasets = load_datasets(args)?;
 
     let specs = external_specs(args, datasets.len())?;
     // Bad parameters and outside fronts fail now, not after the runs.
@@ -385,6 +355,79 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
         datasets.len(),
         jobs.len()
     );
+    let (records, run_timings) = run_jobs(&pool, &jobs, &datasets, &settings)?;
+    let mut results = experiment::assemble(&settings, &datasets, &jobs, records, None)
+        .map_err(|e| e.to_string())?;
+    for (d, x) in results.datasets.iter_mut().zip(externals) {
+        d.external = x;
+    }
+    results.command = Some(command_line());
+    let analysis = Analysis::of(&results).map_err(|e| e.to_string())?;
+    results.timings = Some(Timings {
+        wall_seconds: start.elapsed().as_secs_f64(),
+        threads,
+        runs: run_timings,
+    });
+
+    let out = write_outputs(&args.out, &results, &analysis, true)?;
+    println!(
+        "wrote {out} (report.md, results.json, {} figure(s)) in {:.1} s",
+        results.datasets.len(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// The experiment's settings from the command line (not yet validated).
+fn settings(args: &ExperimentArgs) -> Result<Settings, String> {
+    let (budget, generations) = budget(args)?;
+    Ok(Settings {
+        methods: methods(args)?,
+        runs: args.runs,
+        weighted_runs: args.weighted_runs.unwrap_or(match budget {
+            Budget::Equal { .. } => args.runs,
+            Budget::PerWeight => 1,
+        }),
+        seed: args.seed,
+        population: args.pop,
+        generations,
+        budget,
+        reference_point: args
+            .reference
+            .unwrap_or(paretomesh::metrics::DEFAULT_REFERENCE_POINT),
+    })
+}
+
+/// The data sets: the grid and the more grids, each loaded with the import options, with
+/// distinct names.
+fn load_datasets(args: &ExperimentArgs) -> Result<Vec<Dataset>, String> {
+    let mut datasets: Vec<Dataset> = Vec::new();
+    for path in std::iter::once(&args.input.grid).chain(&args.more) {
+        let input = InputArgs {
+            grid: path.clone(),
+            import: args.input.import.clone(),
+        };
+        let hf = input
+            .load()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let name = dataset_name(path);
+        if datasets.iter().any(|d| d.name == name) {
+            return Err(format!(
+                "two inputs are named {name:?}; the tables and figures need distinct file names"
+            ));
+        }
+        datasets.push(Dataset::new(name, hf, e_units(path)).map_err(|e| format!("{e}"))?);
+    }
+    Ok(datasets)
+}
+
+/// Runs `jobs` on `pool`, and returns their records and wall times in plan order.
+fn run_jobs(
+    pool: &rayon::ThreadPool,
+    jobs: &[Job],
+    datasets: &[Dataset],
+    settings: &Settings,
+) -> Result<(Vec<RunRecord>, Vec<RunTiming>), String> {
     let done = AtomicUsize::new(0);
     // Longest jobs first, handed out one at a time to whichever thread is free, so the last jobs
     // to finish are short. Each job is a pure function of its seed and the records go back to
@@ -399,7 +442,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
                 let job = &jobs[i];
                 let t0 = Instant::now();
                 let dataset = &datasets[job.dataset];
-                let record = experiment::run_job(job, dataset, &settings);
+                let record = experiment::run_job(job, dataset, settings);
                 let millis = t0.elapsed().as_millis() as u64;
                 let k = done.fetch_add(1, Ordering::Relaxed) + 1;
                 if let Ok(r) = &record {
@@ -430,26 +473,7 @@ pub fn run(args: &ExperimentArgs) -> Result<(), String> {
             millis,
         });
     }
-    let mut results = experiment::assemble(&settings, &datasets, &jobs, records, None)
-        .map_err(|e| e.to_string())?;
-    for (d, x) in results.datasets.iter_mut().zip(externals) {
-        d.external = x;
-    }
-    results.command = Some(command_line());
-    let analysis = Analysis::of(&results).map_err(|e| e.to_string())?;
-    results.timings = Some(Timings {
-        wall_seconds: start.elapsed().as_secs_f64(),
-        threads,
-        runs: run_timings,
-    });
-
-    let out = write_outputs(&args.out, &results, &analysis, true)?;
-    println!(
-        "wrote {out} (report.md, results.json, {} figure(s)) in {:.1} s",
-        results.datasets.len(),
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
+    Ok((records, run_timings))
 }
 
 /// Writes report.md, the figures and (if `with_results`) results.json into `out`; returns

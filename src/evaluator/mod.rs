@@ -24,8 +24,9 @@
 //!   speaks;
 //! - `exact/`: integer predicates and the tie rule, fixed-point error sums, and the paper's E by
 //!   brute force (`paper_e.rs`, the reference the tests hold every path to);
-//! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation.rs`), canonical
-//!   forms, [`MeshState`], hole fill and region wrapping;
+//! - `mesh/`: the canonical Delaunay triangulation (`canonical_triangulation/`: the mesh, its
+//!   insertion on packed half-edges, its insertion order), canonical forms, [`MeshState`], hole
+//!   fill and region wrapping;
 //! - `raster/`: which triangle owns which grid point, span sums, the fresh build of a mesh;
 //! - `edit/` (remove and insert points) and `compose/` (the OAX composition of two parents);
 //! - `part_scores/`: a crossover's children and mutants scored without their meshes;
@@ -57,7 +58,7 @@ mod test_grids;
 #[cfg(test)]
 mod tests;
 
-pub use compose::PartClasses;
+pub use compose::{Crossing, PartClasses};
 pub use error::{EvaluateError, check_indices};
 pub use mesh::canonical_form::canonical_set;
 pub use mesh::canonical_triangulation::Triangulation;
@@ -246,15 +247,13 @@ impl Evaluator {
         classes: &PartClasses,
         levels: u32,
     ) -> Option<Score> {
-        state.compose_parts(
-            &self.hf,
-            a,
-            b,
+        let crossing = Crossing {
+            hf: &self.hf,
+            parents: [a, b],
             classes,
-            levels,
-            &mut self.compose_scratch,
-            &mut self.row_scratch.memo,
-        )
+        };
+        let memo = &mut self.row_scratch.memo;
+        state.compose_parts(crossing, levels, &mut self.compose_scratch, memo)
     }
 
     /// The score [`compose_parts`](Self::compose_parts) gives for `levels`, bit for bit, without
@@ -264,7 +263,7 @@ impl Evaluator {
     /// guard fails.
     ///
     /// ```
-    /// use paretomesh::evaluator::{Evaluator, MeshState, PartClasses, PartScores};
+    /// use paretomesh::evaluator::{Crossing, Evaluator, MeshState, PartClasses, PartScores};
     /// use paretomesh::heightfield::Heightfield;
     /// use std::sync::Arc;
     /// let z: Vec<f64> = (0..25).map(|i| ((i * 7) % 5) as f64).collect();
@@ -277,7 +276,8 @@ impl Evaluator {
     /// b.ensure_discs();
     /// let classes = PartClasses::new(&hf, &a, &b, &[[0, 0, 2, 5], [2, 0, 5, 5]]).unwrap();
     /// let mut scores = PartScores::default();
-    /// assert!(scores.prepare(&hf, &a, &b, &classes));
+    /// let crossing = Crossing { hf: &hf, parents: [&a, &b], classes: &classes };
+    /// assert!(scores.prepare(crossing));
     /// // Part 0 from A (its point 6), part 1 from B (its point 8).
     /// let score = ev.score_parts(&a, &b, &classes, &mut scores, 0b10).unwrap();
     /// assert_eq!(score, ev.score(&[6, 8]).unwrap());
@@ -290,7 +290,12 @@ impl Evaluator {
         scores: &mut PartScores,
         levels: u32,
     ) -> Option<Score> {
-        scores.score(&self.hf, a, b, classes, levels, &mut self.row_scratch)
+        let crossing = Crossing {
+            hf: &self.hf,
+            parents: [a, b],
+            classes,
+        };
+        scores.score(crossing, levels, &mut self.row_scratch)
     }
 
     /// [`score_parts`](Self::score_parts) for that child with `changes` made to its kept
@@ -305,15 +310,12 @@ impl Evaluator {
         levels: u32,
         changes: Changes<'_>,
     ) -> Option<Score> {
-        scores.score_changed(
-            &self.hf,
-            a,
-            b,
+        let crossing = Crossing {
+            hf: &self.hf,
+            parents: [a, b],
             classes,
-            levels,
-            changes,
-            &mut self.row_scratch,
-        )
+        };
+        scores.score_changed(crossing, levels, changes, &mut self.row_scratch)
     }
 
     /// The score of the mesh that `base` (scored by this evaluator, its lookups filled:

@@ -198,6 +198,8 @@ impl From<MetricsError> for Failure {
     }
 }
 
+/// The analysis of one data set's runs: each contender's HVRs, merged front and picks, and
+/// every ordered pair of contenders compared.
 fn analyse_dataset(
     d: &DatasetResults,
     reference_point: Point,
@@ -265,38 +267,9 @@ fn analyse_dataset(
     let mut pairs = Vec::new();
     for (ka, a) in methods.iter().enumerate() {
         for (kb, b) in methods.iter().enumerate() {
-            if ka == kb {
-                continue;
+            if ka != kb {
+                pairs.push(compare_pair([a, b], [&run_points[ka], &run_points[kb]])?);
             }
-            let (mut eps, mut cov, mut dom) = (Vec::new(), Vec::new(), Vec::new());
-            for fa in &run_points[ka] {
-                for fb in &run_points[kb] {
-                    eps.push(additive_epsilon(fa, fb)?);
-                    cov.push(coverage(fa, fb)?);
-                    dom.push(dominance_probability(fa, fb)?);
-                }
-            }
-            let test = if a.hvr_runs.len() > 1 && b.hvr_runs.len() > 1 {
-                Some(rank_sum_test(&a.hvr_runs, &b.hvr_runs)?)
-            } else {
-                None
-            };
-            let mark = match test.map(|t| t.verdict(SIGNIFICANCE_LEVEL)) {
-                None => Mark::NotApplicable,
-                Some(Ordering::Greater) => Mark::Better,
-                Some(Ordering::Less) => Mark::Worse,
-                Some(Ordering::Equal) => Mark::Equal,
-            };
-            let summary = |v: &[f64]| Summary::of(v).expect("both methods have runs");
-            pairs.push(PairAnalysis {
-                a: a.method.clone(),
-                b: b.method.clone(),
-                epsilon: summary(&eps),
-                coverage: summary(&cov),
-                dominance: summary(&dom),
-                test,
-                mark,
-            });
         }
     }
     Ok(DatasetAnalysis {
@@ -304,6 +277,43 @@ fn analyse_dataset(
         methods,
         reference_front,
         pairs,
+    })
+}
+
+/// Method `a` against method `b` (`methods`), from their normalised run fronts (`runs`):
+/// ε, C and dominance over every pair of runs, and the rank-sum test of their HVRs.
+fn compare_pair(
+    [a, b]: [&MethodAnalysis; 2],
+    [runs_a, runs_b]: [&[Vec<Point>]; 2],
+) -> Result<PairAnalysis, Failure> {
+    let (mut eps, mut cov, mut dom) = (Vec::new(), Vec::new(), Vec::new());
+    for fa in runs_a {
+        for fb in runs_b {
+            eps.push(additive_epsilon(fa, fb)?);
+            cov.push(coverage(fa, fb)?);
+            dom.push(dominance_probability(fa, fb)?);
+        }
+    }
+    let test = if a.hvr_runs.len() > 1 && b.hvr_runs.len() > 1 {
+        Some(rank_sum_test(&a.hvr_runs, &b.hvr_runs)?)
+    } else {
+        None
+    };
+    let mark = match test.map(|t| t.verdict(SIGNIFICANCE_LEVEL)) {
+        None => Mark::NotApplicable,
+        Some(Ordering::Greater) => Mark::Better,
+        Some(Ordering::Less) => Mark::Worse,
+        Some(Ordering::Equal) => Mark::Equal,
+    };
+    let summary = |v: &[f64]| Summary::of(v).expect("both methods have runs");
+    Ok(PairAnalysis {
+        a: a.method.clone(),
+        b: b.method.clone(),
+        epsilon: summary(&eps),
+        coverage: summary(&cov),
+        dominance: summary(&dom),
+        test,
+        mark,
     })
 }
 

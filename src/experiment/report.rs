@@ -132,6 +132,25 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
     let _ = writeln!(w, "## Protocol\n");
     let _ = writeln!(w, "{}\n", protocol_paragraph(s, has_external));
 
+    settings_section(w, results);
+    datasets_section(w, results);
+    runs_section(w, results, analysis);
+    if has_external {
+        outside_fronts(w, results);
+    }
+
+    table_ii(w, results, analysis);
+    ablations(w, s, analysis);
+    table_iii(w, analysis);
+    table_iv(w, results, analysis);
+    table_v(w, analysis);
+    out
+}
+
+/// The Settings section: methods, seeds, budget, parameters, normalisation, statistics and
+/// wall time.
+fn settings_section(w: &mut String, results: &Results) {
+    let s = &results.settings;
     let _ = writeln!(w, "## Settings\n");
     let _ = writeln!(
         w,
@@ -214,7 +233,10 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
             let _ = writeln!(w, "- Wall time: not measured.");
         }
     }
+}
 
+/// The Data sets table: grid, E unit, normalisation and source of each data set.
+fn datasets_section(w: &mut String, results: &Results) {
     let _ = writeln!(w, "\n## Data sets\n");
     let _ = writeln!(
         w,
@@ -234,7 +256,12 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
             cell(&d.grid.source)
         );
     }
+}
 
+/// The Runs table: each method's budget and the evaluations its runs spent, per data set, with
+/// the outside fronts.
+fn runs_section(w: &mut String, results: &Results, analysis: &Analysis) {
+    let s = &results.settings;
     let _ = writeln!(w, "\n## Runs\n");
     let _ = writeln!(
         w,
@@ -273,16 +300,6 @@ pub fn report_markdown(results: &Results, analysis: &Analysis) -> String {
             );
         }
     }
-    if has_external {
-        outside_fronts(w, results);
-    }
-
-    table_ii(w, results, analysis);
-    ablations(w, s, analysis);
-    table_iii(w, analysis);
-    table_iv(w, results, analysis);
-    table_v(w, analysis);
-    out
 }
 
 /// Escapes a free-text table cell.

@@ -6,7 +6,7 @@
 //! and one `<circle>` per point; a `<g class="legend">` with one `<g class="legend-entry"
 //! data-method="NAME">` each; `<text class="axis-label">` for both axes, with units.
 
-use super::analysis::DatasetAnalysis;
+use super::analysis::{DatasetAnalysis, MethodAnalysis};
 use super::contender::Contender;
 use super::results::DatasetResults;
 use std::fmt::Write;
@@ -21,9 +21,12 @@ const BOTTOM: f64 = 60.0;
 /// Colours of outside fronts, in order (the Okabe–Ito hues the methods do not use, then grey).
 const EXTERNAL_COLOURS: [&str; 4] = ["#E69F00", "#56B4E9", "#000000", "#999999"];
 
+/// A front's colour and, for an outside front, its dash pattern.
+type Style = (&'static str, Option<&'static str>);
+
 /// The colour of a front and, for outside fronts, the dash pattern that sets them apart.
 /// `external` counts the outside fronts before this one.
-fn style(c: &Contender, external: usize) -> (&'static str, Option<&'static str>) {
+fn style(c: &Contender, external: usize) -> Style {
     match c {
         Contender::Method(m) => (m.spec().colour, None),
         Contender::External(_) => (
@@ -86,11 +89,12 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         (t.max(s.t as f64), e.max(s.e_sum))
     });
     let (xt, yt) = (ticks(max_t), ticks(max_e));
-    let (x_end, y_end) = (*xt.last().unwrap_or(&1.0), *yt.last().unwrap_or(&1.0));
-    let plot_w = WIDTH - LEFT - RIGHT;
-    let plot_h = HEIGHT - TOP - BOTTOM;
-    let x = |t: f64| LEFT + t / x_end * plot_w;
-    let y = |e: f64| TOP + plot_h - e / y_end * plot_h;
+    let plot = Plot {
+        x_end: *xt.last().unwrap_or(&1.0),
+        y_end: *yt.last().unwrap_or(&1.0),
+        w: WIDTH - LEFT - RIGHT,
+        h: HEIGHT - TOP - BOTTOM,
+    };
 
     let mut s = String::new();
     let _ = writeln!(
@@ -111,14 +115,56 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
     let _ = writeln!(
         s,
         r#"<text class="title" x="{}" y="24" text-anchor="middle" font-size="15">Merged fronts on {} ({}×{})</text>"#,
-        LEFT + plot_w / 2.0,
+        LEFT + plot.w / 2.0,
         xml_escape(&dataset.name),
         dataset.grid.width,
         dataset.grid.height
     );
-    // Grid lines and ticks, then the axes over them.
+    // Grid lines and ticks, then the axes over them; one group per method, then per outside
+    // front; the legend.
+    axes(&mut s, &plot, &xt, &yt, &dataset.e_units);
+    let styles: Vec<_> = analysis
+        .methods
+        .iter()
+        .scan(0, |external, m| {
+            let st = style(&m.method, *external);
+            *external += usize::from(m.method.method().is_none());
+            Some(st)
+        })
+        .collect();
+    fronts(&mut s, &plot, &analysis.methods, &styles);
+    legend(&mut s, &analysis.methods, &styles);
+    let _ = writeln!(s, "</svg>");
+    s
+}
+
+/// The plotting area: the axes' ends in data units and the area's size in pixels.
+struct Plot {
+    x_end: f64,
+    y_end: f64,
+    w: f64,
+    h: f64,
+}
+
+impl Plot {
+    /// The x pixel of `t` triangles.
+    fn x(&self, t: f64) -> f64 {
+        LEFT + t / self.x_end * self.w
+    }
+
+    /// The y pixel of an error `e`.
+    fn y(&self, e: f64) -> f64 {
+        TOP + self.h - e / self.y_end * self.h
+    }
+}
+
+/// The grid lines at the ticks `xt` and `yt` with their labels, the axes, and the axis labels
+/// (E in `e_units`).
+fn axes(s: &mut String, plot: &Plot, xt: &[f64], yt: &[f64], e_units: &str) {
+    let (plot_w, plot_h) = (plot.w, plot.h);
+    let (x, y) = (|t| plot.x(t), |e| plot.y(e));
     let _ = writeln!(s, r#"<g class="ticks">"#);
-    for &t in &xt {
+    for &t in xt {
         let px = x(t);
         let _ = writeln!(
             s,
@@ -128,7 +174,7 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
             tick_label(t)
         );
     }
-    for &e in &yt {
+    for &e in yt {
         let py = y(e);
         let _ = writeln!(
             s,
@@ -165,19 +211,14 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         r#"<text class="axis-label" data-axis="y" x="20" y="{:.2}" text-anchor="middle" transform="rotate(-90 20 {:.2})">E = Σ|z − z̃| ({})</text>"#,
         TOP + plot_h / 2.0,
         TOP + plot_h / 2.0,
-        xml_escape(&dataset.e_units)
+        xml_escape(e_units)
     );
-    // One group per method, then per outside front.
-    let styles: Vec<_> = analysis
-        .methods
-        .iter()
-        .scan(0, |external, m| {
-            let st = style(&m.method, *external);
-            *external += usize::from(m.method.method().is_none());
-            Some(st)
-        })
-        .collect();
-    for (m, &(colour, dash)) in analysis.methods.iter().zip(&styles) {
+}
+
+/// One group per method's merged front (a polyline and its points) in its `styles` entry.
+fn fronts(s: &mut String, plot: &Plot, methods: &[MethodAnalysis], styles: &[Style]) {
+    let (x, y) = (|t| plot.x(t), |e| plot.y(e));
+    for (m, &(colour, dash)) in methods.iter().zip(styles) {
         let _ = writeln!(
             s,
             r#"<g class="front" data-method="{}"{} stroke="{colour}" fill="{colour}">"#,
@@ -209,10 +250,13 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         }
         let _ = writeln!(s, "</g>");
     }
-    // Legend.
+}
+
+/// The legend: each method's line style, name and number of front points.
+fn legend(s: &mut String, methods: &[MethodAnalysis], styles: &[Style]) {
     let lx = WIDTH - RIGHT + 20.0;
     let _ = writeln!(s, r#"<g class="legend">"#);
-    for (i, (m, &(colour, dash))) in analysis.methods.iter().zip(&styles).enumerate() {
+    for (i, (m, &(colour, dash))) in methods.iter().zip(styles).enumerate() {
         let ly = TOP + 10.0 + i as f64 * 22.0;
         let dash_attr = dash.map_or(String::new(), |d| format!(r#" stroke-dasharray="{d}""#));
         let _ = writeln!(
@@ -228,8 +272,6 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         );
     }
     let _ = writeln!(s, "</g>");
-    let _ = writeln!(s, "</svg>");
-    s
 }
 
 #[cfg(test)]

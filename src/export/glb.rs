@@ -172,22 +172,71 @@ fn push_view(bin: &mut Vec<u8>, bytes: &[u8], target: u32, stride: Option<usize>
 /// sides). Fails on inconsistent input, never panics.
 pub fn write_glb(mesh: &GlbMesh<'_>) -> Result<Vec<u8>, GlbError> {
     check(mesh)?;
-    let n = mesh.positions.len();
+    let (centre, local) = centred(mesh.positions);
+    let Buffers {
+        bin,
+        views,
+        accessors,
+        attributes,
+    } = buffers(mesh, &local);
+    let mut node = json!({"mesh": 0});
+    if centre.iter().any(|&c| c != 0.0) {
+        node["translation"] = json!(centre);
+    }
+    let document = json!({
+        "asset": {"version": "2.0", "generator": "ParetoMesh"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [node],
+        "meshes": [{"primitives": [{
+            "attributes": attributes,
+            "indices": 2,
+            "material": 0,
+            "mode": TRIANGLES,
+        }]}],
+        "materials": [{
+            "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0},
+            "doubleSided": true,
+        }],
+        "buffers": [{"byteLength": bin.len()}],
+        "bufferViews": views,
+        "accessors": accessors,
+    });
+    container(&document, &bin)
+}
+
+/// The centre of the positions' bounding box, and the positions relative to it in single
+/// precision (the node's translation puts them back).
+fn centred(positions: &[[f64; 3]]) -> ([f64; 3], Vec<[f32; 3]>) {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in mesh.positions {
+    for p in positions {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
         }
     }
     let centre: [f64; 3] = std::array::from_fn(|k| (lo[k] + hi[k]) / 2.0);
-    let local: Vec<[f32; 3]> = mesh
-        .positions
+    let local: Vec<[f32; 3]> = positions
         .iter()
         .map(|p| std::array::from_fn(|k| (p[k] - centre[k]) as f32))
         .collect();
+    (centre, local)
+}
+
+/// The binary buffer and the glTF views, accessors and attributes that describe it.
+struct Buffers {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+    attributes: Value,
+}
+
+/// The vertex positions (`local`, with their bounds), normals, indices and colours of `mesh`,
+/// one buffer view and accessor each, in one buffer padded to 4 bytes.
+fn buffers(mesh: &GlbMesh<'_>, local: &[[f32; 3]]) -> Buffers {
+    let n = mesh.positions.len();
     let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-    for p in &local {
+    for p in local {
         for k in 0..3 {
             min[k] = min[k].min(p[k]);
             max[k] = max[k].max(p[k]);
@@ -259,29 +308,16 @@ pub fn write_glb(mesh: &GlbMesh<'_>) -> Result<Vec<u8>, GlbError> {
     while bin.len() % 4 != 0 {
         bin.push(0);
     }
-    let mut node = json!({"mesh": 0});
-    if centre.iter().any(|&c| c != 0.0) {
-        node["translation"] = json!(centre);
+    Buffers {
+        bin,
+        views,
+        accessors,
+        attributes,
     }
-    let document = json!({
-        "asset": {"version": "2.0", "generator": "ParetoMesh"},
-        "scene": 0,
-        "scenes": [{"nodes": [0]}],
-        "nodes": [node],
-        "meshes": [{"primitives": [{
-            "attributes": attributes,
-            "indices": 2,
-            "material": 0,
-            "mode": TRIANGLES,
-        }]}],
-        "materials": [{
-            "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0},
-            "doubleSided": true,
-        }],
-        "buffers": [{"byteLength": bin.len()}],
-        "bufferViews": views,
-        "accessors": accessors,
-    });
+}
+
+/// The GLB container: the 12-byte header, the JSON chunk (space-padded) and the binary chunk.
+fn container(document: &Value, bin: &[u8]) -> Result<Vec<u8>, GlbError> {
     let mut text = document.to_string().into_bytes();
     while text.len() % 4 != 0 {
         text.push(b' ');
@@ -297,7 +333,7 @@ pub fn write_glb(mesh: &GlbMesh<'_>) -> Result<Vec<u8>, GlbError> {
     out.extend_from_slice(&text);
     out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
     out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
+    out.extend_from_slice(bin);
     Ok(out)
 }
 

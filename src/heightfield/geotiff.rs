@@ -91,8 +91,11 @@ fn f64_tag(
     }
 }
 
+/// The TIFF decoder over the file's bytes.
+type TiffDecoder<'a> = Decoder<Cursor<&'a [u8]>>;
+
 /// Reads the georeferencing tags. Only the values the grid uses are checked.
-fn georeference(decoder: &mut Decoder<Cursor<&[u8]>>) -> Result<Georeference, ImportError> {
+fn georeference(decoder: &mut TiffDecoder<'_>) -> Result<Georeference, ImportError> {
     let scale = f64_tag(decoder, Tag::ModelPixelScaleTag)?;
     let pixel_scale = match scale {
         None => None,
@@ -191,6 +194,44 @@ pub fn parse(
     name: &str,
     grid_size: Option<(usize, usize)>,
 ) -> Result<Heightfield, ImportError> {
+    let (mut decoder, width, height) = open(bytes)?;
+    let geo = georeference(&mut decoder)?;
+    let mut z = samples(decoder.read_image().map_err(decoding)?)?;
+    if z.len() != width * height {
+        return Err(malformed(format!(
+            "a {width}×{height} image decoded to {} samples",
+            z.len()
+        )));
+    }
+    // Missing cells become NaN, then take their nearest valid value.
+    mark_missing(&mut z, &geo)?;
+    let filled = fill_nearest(&mut z, width, height);
+
+    let geometry = map_geometry(&geo, height);
+    if geometry.is_some() {
+        // Row 0 becomes the southern row, so that grid y grows with map y.
+        let flipped: Vec<f64> = z.chunks_exact(width).rev().flatten().copied().collect();
+        z = flipped;
+    }
+    let (origin, spacing) = geometry.unwrap_or(([0.0, 0.0], [1.0, 1.0]));
+    let mut note = source_note(name, width, height, filled, &geo, geometry.is_some());
+    let raster = Raster {
+        z,
+        width,
+        height,
+        origin,
+        spacing,
+    };
+    let hf = sized(raster, grid_size, &mut note)?;
+    Ok(hf
+        .with_filled(filled)
+        .with_georeference(geo)
+        .with_source(note))
+}
+
+/// Opens the TIFF and checks what this reader supports (size, one band, compression) before
+/// anything is decoded; returns the decoder and the image's width and height.
+fn open(bytes: &[u8]) -> Result<(TiffDecoder<'_>, usize, usize), ImportError> {
     let mut limits = Limits::default();
     limits.decoding_buffer_size = (MAX_SOURCE_POINTS * 8) as usize;
     let mut decoder = Decoder::new(Cursor::new(bytes))
@@ -228,16 +269,12 @@ pub fn parse(
             compression_name(compression)
         )));
     }
-    let geo = georeference(&mut decoder)?;
-    let mut z = samples(decoder.read_image().map_err(decoding)?)?;
-    if z.len() != width * height {
-        return Err(malformed(format!(
-            "a {width}×{height} image decoded to {} samples",
-            z.len()
-        )));
-    }
+    Ok((decoder, width, height))
+}
 
-    // Missing cells become NaN, then take their nearest valid value.
+/// Turns the cells that are nodata (GDAL_NODATA) or not finite into NaN; an error when no
+/// cell is left or the nodata value is not a number.
+fn mark_missing(z: &mut [f64], geo: &Georeference) -> Result<(), ImportError> {
     let nodata = match &geo.nodata {
         Some(text) if text.eq_ignore_ascii_case("nan") => Some(f64::NAN),
         Some(text) => Some(text.parse::<f64>().map_err(|_| {
@@ -247,7 +284,7 @@ pub fn parse(
         })?),
         None => None,
     };
-    for v in &mut z {
+    for v in z.iter_mut() {
         if !v.is_finite() || nodata.is_some_and(|n| *v == n) {
             *v = f64::NAN;
         }
@@ -257,16 +294,18 @@ pub fn parse(
             "every cell is nodata (or not a finite number); there is no height to read",
         ));
     }
-    let filled = fill_nearest(&mut z, width, height);
+    Ok(())
+}
 
-    let geometry = map_geometry(&geo, height);
-    if geometry.is_some() {
-        // Row 0 becomes the southern row, so that grid y grows with map y.
-        let flipped: Vec<f64> = z.chunks_exact(width).rev().flatten().copied().collect();
-        z = flipped;
-    }
-    let (origin, spacing) = geometry.unwrap_or(([0.0, 0.0], [1.0, 1.0]));
-
+/// The source note: the file, its filled cells and how its rows map to the grid.
+fn source_note(
+    name: &str,
+    width: usize,
+    height: usize,
+    filled: usize,
+    geo: &Georeference,
+    georeferenced: bool,
+) -> String {
     let mut note = format!("GeoTIFF {name} ({width}×{height}");
     if let Some(text) = &geo.nodata {
         note.push_str(&format!(
@@ -278,12 +317,37 @@ pub fn parse(
         ));
     }
     note.push(')');
-    note.push_str(if geometry.is_some() {
+    note.push_str(if georeferenced {
         "; grid row 0 is the southern (last) row, grid x and y are map coordinates of sample centres"
     } else {
         "; no georeferencing (ModelPixelScale and ModelTiepoint), image row 0 is grid row 0"
     });
+    note
+}
 
+/// The decoded heights, grid row 0 first, with their map placement.
+struct Raster {
+    z: Vec<f64>,
+    width: usize,
+    height: usize,
+    origin: [f64; 2],
+    spacing: [f64; 2],
+}
+
+/// The height field of `raster` at `grid_size`, or, unasked, at its own size when that fits
+/// the limit and else scaled down to [`DEFAULT_MAX_SIDE`]; a resampling is told in `note`.
+fn sized(
+    raster: Raster,
+    grid_size: Option<(usize, usize)>,
+    note: &mut String,
+) -> Result<Heightfield, ImportError> {
+    let Raster {
+        z,
+        width,
+        height,
+        origin,
+        spacing,
+    } = raster;
     let fits = super::check_size(width, height).is_ok();
     let target = match grid_size {
         Some(size) => Some(size),
@@ -294,7 +358,7 @@ pub fn parse(
             Some((side(width), side(height)))
         }
     };
-    let hf = match target {
+    Ok(match target {
         Some((tw, th)) if (tw, th) != (width, height) => {
             super::check_size(tw, th)?;
             let averaged = area_average(&z, width, height, tw, th);
@@ -315,9 +379,5 @@ pub fn parse(
                 .with_resampled()
         }
         _ => Heightfield::new(width, height, z)?.with_geometry(origin, spacing)?,
-    };
-    Ok(hf
-        .with_filled(filled)
-        .with_georeference(geo)
-        .with_source(note))
+    })
 }

@@ -165,42 +165,80 @@ pub fn to_heightfield(
         _ => None,
     };
     if let Some(grid) = grid {
-        let found = format!(
-            "{summary}: the vertices form an exact {}×{} grid",
-            grid.width, grid.height
-        );
-        if options
-            .grid_size
-            .is_none_or(|size| size == (grid.width, grid.height))
-        {
-            return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
-                .with_geometry(grid.origin, grid.spacing)?
-                .with_placement(Placement::Grid)
-                .with_source(format!("{found}, used as is")));
-        }
-        // Another size: resample in the grid's own (x, y) plane, heights stay z.
-        if mesh.triangles.is_empty() {
-            return Err(ImportError::EmptyMesh { format });
-        }
-        if let resample::Outcome::Grid(r) =
-            resample::resample_along(mesh, [0.0, 0.0, 1.0], options.grid_size)?
-        {
-            let note = format!(
-                "{found}, resampled in its (x, y) plane onto a {}×{} grid; {} grid points had no triangle and took their nearest value",
-                r.width, r.height, r.filled
-            );
-            return Ok(Heightfield::new(r.width, r.height, r.z)?
-                .with_geometry(r.origin, r.spacing)?
-                .with_placement(r.placement)
-                .with_filled(r.filled)
-                .with_resampled()
-                .with_source(note));
+        if let Some(hf) = from_lattice(mesh, format, &summary, grid, options)? {
+            return Ok(hf);
         }
         // A lattice whose triangles fold in (x, y) (unusual faces): the general path decides.
     }
     if mesh.triangles.is_empty() {
         return Err(ImportError::EmptyMesh { format });
     }
+    let mut tried: Vec<(Projection, Option<f64>)> = Vec::new();
+    if let Some(hf) = as_single_surface(mesh, &summary, options, &mut tried)? {
+        return Ok(hf);
+    }
+    if tried.iter().all(|(_, overlap)| overlap.is_none()) {
+        // No projection has any area: every triangle is degenerate.
+        return Err(ImportError::EmptyMesh { format });
+    }
+    if options.surface == Surface::Outer && options.projection == Projection::Auto {
+        // Every single-surface projection folds: the outer surface in the projection that suits
+        // the mesh's shape.
+        if let Some(hf) = as_outer_surface(mesh, &summary, options, &tried)? {
+            return Ok(hf);
+        }
+    }
+    Err(ImportError::NoProjection { tried })
+}
+
+/// A mesh whose vertices form an exact grid: that grid as is, or resampled in its own (x, y)
+/// plane to the asked size (heights stay z). `None` when its triangles fold in (x, y).
+fn from_lattice(
+    mesh: &TriangleMesh,
+    format: &'static str,
+    summary: &str,
+    grid: Lattice,
+    options: &ImportOptions,
+) -> Result<Option<Heightfield>, ImportError> {
+    let found = format!(
+        "{summary}: the vertices form an exact {}×{} grid",
+        grid.width, grid.height
+    );
+    if options
+        .grid_size
+        .is_none_or(|size| size == (grid.width, grid.height))
+    {
+        return Ok(Some(
+            Heightfield::new(grid.width, grid.height, grid.z)?
+                .with_geometry(grid.origin, grid.spacing)?
+                .with_placement(Placement::Grid)
+                .with_source(format!("{found}, used as is")),
+        ));
+    }
+    if mesh.triangles.is_empty() {
+        return Err(ImportError::EmptyMesh { format });
+    }
+    match resample::resample_along(mesh, [0.0, 0.0, 1.0], options.grid_size)? {
+        resample::Outcome::Grid(r) => {
+            let note = format!(
+                "{found}, resampled in its (x, y) plane onto a {}×{} grid; {} grid points had no triangle and took their nearest value",
+                r.width, r.height, r.filled
+            );
+            resampled(r, note).map(Some)
+        }
+        resample::Outcome::Folded { .. } => Ok(None),
+    }
+}
+
+/// The mesh as a single surface, in the projection `options` name or, with the automatic
+/// choice, planar then cylindrical; each projection that folds is pushed on `tried` with its
+/// share covered more than once. `None` when all fold.
+fn as_single_surface(
+    mesh: &TriangleMesh,
+    summary: &str,
+    options: &ImportOptions,
+    tried: &mut Vec<(Projection, Option<f64>)>,
+) -> Result<Option<Heightfield>, ImportError> {
     let tries: &[Projection] = match options.projection {
         Projection::Auto => &[Projection::Planar, Projection::Cylindrical],
         other => std::slice::from_ref(match other {
@@ -214,7 +252,6 @@ pub fn to_heightfield(
         Projection::Auto => Surface::Single,
         _ => options.surface,
     };
-    let mut tried: Vec<(Projection, Option<f64>)> = Vec::new();
     for &projection in tries {
         match resample::resample(mesh, projection, options.grid_size, surface)? {
             resample::Outcome::Grid(grid) => {
@@ -222,10 +259,7 @@ pub fn to_heightfield(
                     "{summary}: resampled onto a {}×{} grid by {}; {:.1} % of the covered grid covered more than once (highest wins); {} grid points had no triangle and took their nearest value",
                     grid.width,
                     grid.height,
-                    match projection {
-                        Projection::Cylindrical => "cylindrical unwrap around the principal axis",
-                        _ => "planar projection onto the best-fit plane",
-                    },
+                    projection_words(projection),
                     grid.overlap * 100.0,
                     grid.filled
                 );
@@ -246,55 +280,63 @@ pub fn to_heightfield(
                 } else {
                     note
                 };
-                return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
-                    .with_geometry(grid.origin, grid.spacing)?
-                    .with_placement(grid.placement)
-                    .with_filled(grid.filled)
-                    .with_resampled()
-                    .with_source(note));
+                return resampled(grid, note).map(Some);
             }
             resample::Outcome::Folded { overlap } => tried.push((projection, overlap)),
         }
     }
-    if tried.iter().all(|(_, overlap)| overlap.is_none()) {
-        // No projection has any area: every triangle is degenerate.
-        return Err(ImportError::EmptyMesh { format });
+    Ok(None)
+}
+
+/// The mesh's outer surface, in the projection that suits its shape, once every
+/// single-surface projection in `tried` folds. `None` when that folds too.
+fn as_outer_surface(
+    mesh: &TriangleMesh,
+    summary: &str,
+    options: &ImportOptions,
+    tried: &[(Projection, Option<f64>)],
+) -> Result<Option<Heightfield>, ImportError> {
+    let projection = resample::outer_projection(mesh);
+    let resample::Outcome::Grid(grid) =
+        resample::resample(mesh, projection, options.grid_size, Surface::Outer)?
+    else {
+        return Ok(None);
+    };
+    let folds = tried
+        .iter()
+        .map(|(p, share)| match share {
+            Some(share) => format!("{}: {:.0} %", p.name(), share * 100.0),
+            None => format!("{}: no area", p.name()),
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let note = format!(
+        "{summary}: resampled onto a {}×{} grid by {}; {} grid points had no triangle and took their nearest value (as a single surface every projection folds, covered more than once: {folds})",
+        grid.width,
+        grid.height,
+        projection_words(projection),
+        grid.filled
+    );
+    let note = outer_note(&note, &grid);
+    resampled(grid, note).map(Some)
+}
+
+/// How the source note names a projection.
+fn projection_words(projection: Projection) -> &'static str {
+    match projection {
+        Projection::Cylindrical => "cylindrical unwrap around the principal axis",
+        _ => "planar projection onto the best-fit plane",
     }
-    if options.surface == Surface::Outer && options.projection == Projection::Auto {
-        // Every single-surface projection folds: the outer surface in the projection that suits
-        // the mesh's shape.
-        let projection = resample::outer_projection(mesh);
-        if let resample::Outcome::Grid(grid) =
-            resample::resample(mesh, projection, options.grid_size, Surface::Outer)?
-        {
-            let folds = tried
-                .iter()
-                .map(|(p, share)| match share {
-                    Some(share) => format!("{}: {:.0} %", p.name(), share * 100.0),
-                    None => format!("{}: no area", p.name()),
-                })
-                .collect::<Vec<_>>()
-                .join(", ");
-            let note = format!(
-                "{summary}: resampled onto a {}×{} grid by {}; {} grid points had no triangle and took their nearest value (as a single surface every projection folds, covered more than once: {folds})",
-                grid.width,
-                grid.height,
-                match projection {
-                    Projection::Cylindrical => "cylindrical unwrap around the principal axis",
-                    _ => "planar projection onto the best-fit plane",
-                },
-                grid.filled
-            );
-            let note = outer_note(&note, &grid);
-            return Ok(Heightfield::new(grid.width, grid.height, grid.z)?
-                .with_geometry(grid.origin, grid.spacing)?
-                .with_placement(grid.placement)
-                .with_filled(grid.filled)
-                .with_resampled()
-                .with_source(note));
-        }
-    }
-    Err(ImportError::NoProjection { tried })
+}
+
+/// The height field of a resampled grid, with its source `note`.
+fn resampled(grid: resample::Resampled, note: String) -> Result<Heightfield, ImportError> {
+    Ok(Heightfield::new(grid.width, grid.height, grid.z)?
+        .with_geometry(grid.origin, grid.spacing)?
+        .with_placement(grid.placement)
+        .with_filled(grid.filled)
+        .with_resampled()
+        .with_source(note))
 }
 
 /// The import report's words on an outer surface: how many grid points were covered more than

@@ -385,14 +385,66 @@ fn min_bytes(element: &Element, encoding: Encoding) -> u64 {
 /// Parses a PLY file into a validated mesh. Never panics: every bad input is an [`ImportError`].
 pub fn parse(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
     let (encoding, elements, body_start) = parse_header(bytes)?;
+    let Layout {
+        vertex_at,
+        face_at,
+        xyz,
+        index_list,
+    } = layout(&elements)?;
+    let vertex_count = elements[vertex_at].count;
+    let face_count = face_at.map_or(0, |f| elements[f].count);
+    // Every element's claimed count against the bytes that are really there, before allocating.
+    check_claimed_sizes(&elements, encoding, (bytes.len() - body_start) as u64)?;
+    let mut body = body(bytes, body_start, encoding)?;
+    let mut mesh = TriangleMesh {
+        vertices: Vec::with_capacity(vertex_count as usize),
+        triangles: Vec::with_capacity((face_count as usize).min(1 << 20)),
+    };
+    let (mut scalars, mut list) = (Vec::new(), Vec::new());
+    for (e, element) in elements.iter().enumerate() {
+        let wanted_list = if Some(e) == face_at { index_list } else { None };
+        for i in 0..element.count {
+            body.read(element, &mut scalars, wanted_list, &mut list)
+                .map_err(|err| read_error(err, element, i))?;
+            if e == vertex_at {
+                mesh.vertices
+                    .push([scalars[xyz[0]], scalars[xyz[1]], scalars[xyz[2]]]);
+            } else if Some(e) == face_at {
+                add_face(&mut mesh.triangles, &list, i, vertex_count)?;
+            }
+        }
+    }
+    if let Some(extra) = body.leftover() {
+        return Err(ImportError::WrongCount {
+            format: FORMAT,
+            message: format!(
+                "the header declares {vertex_count} vertices and {face_count} faces, but the file has {extra} after them"
+            ),
+        });
+    }
+    mesh.validate(FORMAT)?;
+    Ok(mesh)
+}
+
+/// Where the mesh is among the header's elements: the vertex element and its x, y, z
+/// properties, the face element (if any) and its index list.
+struct Layout {
+    vertex_at: usize,
+    face_at: Option<usize>,
+    xyz: Vec<usize>,
+    index_list: Option<usize>,
+}
+
+/// Finds the [`Layout`] in the header's `elements`; an error when a part the mesh needs is
+/// missing or the vertex and face counts are over the limits.
+fn layout(elements: &[Element]) -> Result<Layout, ImportError> {
     let vertex_at = elements
         .iter()
         .position(|e| e.name == "vertex")
         .ok_or_else(|| malformed("the header declares no vertex element"))?;
     let face_at = elements.iter().position(|e| e.name == "face");
-    let vertex_count = elements[vertex_at].count;
     let face_count = face_at.map_or(0, |f| elements[f].count);
-    check_counts(FORMAT, vertex_count, face_count)?;
+    check_counts(FORMAT, elements[vertex_at].count, face_count)?;
     let xyz: Vec<usize> = ["x", "y", "z"]
         .iter()
         .map(|name| {
@@ -418,10 +470,23 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
         ),
         None => None,
     };
-    // Every element's claimed count against the bytes that are really there, before allocating.
-    let available = (bytes.len() - body_start) as u64;
+    Ok(Layout {
+        vertex_at,
+        face_at,
+        xyz,
+        index_list,
+    })
+}
+
+/// Refuses element counts over the limit, or whose instances need more than the `available`
+/// bytes after the header.
+fn check_claimed_sizes(
+    elements: &[Element],
+    encoding: Encoding,
+    available: u64,
+) -> Result<(), ImportError> {
     let mut needed: u64 = 0;
-    for e in &elements {
+    for e in elements {
         if e.count > MAX_TRIANGLES as u64 {
             return Err(ImportError::OverLimit {
                 format: FORMAT,
@@ -440,7 +505,12 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
             ),
         });
     }
-    let mut body = match encoding {
+    Ok(())
+}
+
+/// The reader of the body that starts at `body_start`.
+fn body(bytes: &[u8], body_start: usize, encoding: Encoding) -> Result<Body<'_>, ImportError> {
+    Ok(match encoding {
         Encoding::Ascii => Body::Ascii {
             lines: std::str::from_utf8(&bytes[body_start..])
                 .map_err(|_| malformed("an ASCII PLY body must be text"))?
@@ -453,53 +523,25 @@ pub fn parse(bytes: &[u8]) -> Result<TriangleMesh, ImportError> {
             pos: 0,
             big_endian,
         },
-    };
-    let mut mesh = TriangleMesh {
-        vertices: Vec::with_capacity(vertex_count as usize),
-        triangles: Vec::with_capacity((face_count as usize).min(1 << 20)),
-    };
-    let (mut scalars, mut list) = (Vec::new(), Vec::new());
-    for (e, element) in elements.iter().enumerate() {
-        let wanted_list = if Some(e) == face_at { index_list } else { None };
-        for i in 0..element.count {
-            body.read(element, &mut scalars, wanted_list, &mut list)
-                .map_err(|err| match err {
-                    ReadError::Truncated => ImportError::Truncated {
-                        format: FORMAT,
-                        message: format!(
-                            "it ends at {} {i} of {}",
-                            element.name, element.count
-                        ),
-                    },
-                    ReadError::Tokens { line, message } => ImportError::WrongCount {
-                        format: FORMAT,
-                        message: format!(
-                            "line {line}: {message} ({} {i}); does the header's count match the file?",
-                            element.name
-                        ),
-                    },
-                    ReadError::Value(message) => {
-                        malformed(format!("{} {i}: {message}", element.name))
-                    }
-                })?;
-            if e == vertex_at {
-                mesh.vertices
-                    .push([scalars[xyz[0]], scalars[xyz[1]], scalars[xyz[2]]]);
-            } else if Some(e) == face_at {
-                add_face(&mut mesh.triangles, &list, i, vertex_count)?;
-            }
-        }
-    }
-    if let Some(extra) = body.leftover() {
-        return Err(ImportError::WrongCount {
+    })
+}
+
+/// The import error for a failed read of instance `i` of `element`.
+fn read_error(err: ReadError, element: &Element, i: u64) -> ImportError {
+    match err {
+        ReadError::Truncated => ImportError::Truncated {
+            format: FORMAT,
+            message: format!("it ends at {} {i} of {}", element.name, element.count),
+        },
+        ReadError::Tokens { line, message } => ImportError::WrongCount {
             format: FORMAT,
             message: format!(
-                "the header declares {vertex_count} vertices and {face_count} faces, but the file has {extra} after them"
+                "line {line}: {message} ({} {i}); does the header's count match the file?",
+                element.name
             ),
-        });
+        },
+        ReadError::Value(message) => malformed(format!("{} {i}: {message}", element.name)),
     }
-    mesh.validate(FORMAT)?;
-    Ok(mesh)
 }
 
 /// Appends face `i` (its vertex indices) as a fan of triangles.

@@ -11,7 +11,29 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     let (l, t, r, b) = layout.area();
     ctx.set_fill_style_str("#ffffff");
     ctx.fill_rect(0.0, 0.0, w, h);
-    // Grid and ticks.
+    axes(ctx, layout, scene.z_unit);
+    // Clip the data to the plotting area.
+    ctx.save();
+    ctx.begin_path();
+    ctx.rect(l, t, r - l, b - t);
+    ctx.clip();
+    data(ctx, layout, scene);
+    ctx.restore();
+    // Hover read-out.
+    if let Some(p) = scene.hovered.and_then(|i| scene.front.get(i)) {
+        readout(
+            ctx,
+            layout,
+            *p,
+            &format!("T = {}, E = {}", p.t, format_value(p.e)),
+        );
+    }
+}
+
+/// The grid, the ticks with their labels, the frame and the axis titles (E in `z_unit`).
+fn axes(ctx: &CanvasRenderingContext2d, layout: &Layout, z_unit: &str) {
+    let h = layout.height;
+    let (l, t, r, b) = layout.area();
     ctx.set_font("11px system-ui, sans-serif");
     ctx.set_line_width(1.0);
     ctx.set_stroke_style_str("#e6e6e6");
@@ -46,19 +68,18 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     let _ = ctx.translate(12.0, (t + b) / 2.0);
     let _ = ctx.rotate(-std::f64::consts::FRAC_PI_2);
     ctx.set_text_baseline("top");
-    let unit = if scene.z_unit.is_empty() {
+    let unit = if z_unit.is_empty() {
         "z units".to_string()
     } else {
-        scene.z_unit.to_string()
+        z_unit.to_string()
     };
     let scale = if layout.log_e { ", log scale" } else { "" };
     let _ = ctx.fill_text(&format!("E = Σ|z − z̃| ({unit}{scale})"), 0.0, -10.0);
     ctx.restore();
-    // Clip the data to the plotting area.
-    ctx.save();
-    ctx.begin_path();
-    ctx.rect(l, t, r - l, b - t);
-    ctx.clip();
+}
+
+/// The population coloured by rank, the archive front, and the hovered and selected members.
+fn data(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     for (p, rank) in scene.population {
         let (x, y) = layout.to_pixel(*p);
         ctx.set_fill_style_str(rank_colour(*rank));
@@ -102,16 +123,6 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
             let _ = ctx.arc(x, y, radius, 0.0, std::f64::consts::TAU);
             ctx.stroke();
         }
-    }
-    ctx.restore();
-    // Hover read-out.
-    if let Some(p) = scene.hovered.and_then(|i| scene.front.get(i)) {
-        readout(
-            ctx,
-            layout,
-            *p,
-            &format!("T = {}, E = {}", p.t, format_value(p.e)),
-        );
     }
 }
 

@@ -27,9 +27,11 @@
 //! ([`Evaluator::compose_parts`](crate::evaluator::Evaluator::compose_parts)) instead of a summed-area
 //! lookup and a circle search.
 
+mod crossing;
 mod part_classes;
 mod spoiling;
 
+pub use crossing::Crossing;
 pub use part_classes::PartClasses;
 pub(crate) use spoiling::{counted_in, next_stamp, overlap};
 
@@ -97,26 +99,22 @@ impl MeshState {
         self.compose_with(hf, [a, b], Labels::Bits(from_b), scratch, None)
     }
 
-    /// [`compose`](Self::compose) for the child that takes each part of `classes` from `b`
-    /// where bit `part` of `levels` is set and from `a` elsewhere, with both parents'
-    /// triangles classified once for all such children ([`PartClasses::new`]). The same mesh
-    /// and bits as [`compose`](Self::compose) with the equivalent bitset. Returns `None`, with
-    /// `self` unscored, also when `classes` was not made for `a` and `b`.
-    #[allow(clippy::too_many_arguments)] // the parents, their classification, and two scratches
+    /// [`compose`](Self::compose) for the child of `crossing` that takes each part from B
+    /// where bit `part` of `levels` is set and from A elsewhere, with both parents' triangles
+    /// classified once for all such children ([`PartClasses::new`]). The same mesh and bits as
+    /// [`compose`](Self::compose) with the equivalent bitset. Returns `None`, with `self`
+    /// unscored, also when the classification was not made for the parents.
     pub(crate) fn compose_parts(
         &mut self,
-        hf: &Arc<Heightfield>,
-        a: &MeshState,
-        b: &MeshState,
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         levels: u32,
         scratch: &mut ComposeScratch,
         memo: &mut TriangleMemo,
     ) -> Option<Score> {
         self.compose_with(
-            hf,
-            [a, b],
-            Labels::Parts(classes, levels),
+            crossing.hf,
+            crossing.parents,
+            Labels::Parts(crossing.classes, levels),
             scratch,
             Some(memo),
         )

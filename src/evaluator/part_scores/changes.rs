@@ -18,7 +18,7 @@ use super::shared::{
     ChangeScratch, Changes, PartScores, RowScratch, class_of, on_grid_border, score_from_scratch,
     score_of,
 };
-use crate::evaluator::compose::PartClasses;
+use crate::evaluator::compose::Crossing;
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::{Lattice, in_circle};
 use crate::evaluator::mesh::canonical_form::canonical;
@@ -31,17 +31,19 @@ impl PartScores {
     /// Turns R (`scratch.points`, `scratch.open`) and the reused triangles' `totals` and count
     /// of the child with the classes `scratch.taken` into the mutant's (see the module docs).
     /// `None` when a parent's mesh is not as its classification says.
-    #[allow(clippy::too_many_arguments)] // the parents, their classification, the child, scratch
     pub(crate) fn change(
         &self,
-        hf: &Heightfield,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         changes: Changes<'_>,
         scratch: &mut RowScratch,
         totals: &mut ErrorTotals,
         taken_count: &mut u32,
     ) -> Option<()> {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
         let lattice = Lattice::new(hf.width());
         let RowScratch {
             taken,
@@ -55,7 +57,7 @@ impl PartScores {
             taken[class_of(classes, &self.special, side, t as usize) as usize]
         };
         find_dropped(parents, lattice, changes, work, reused)?;
-        self.drop_totals(parents, classes, taken, work, totals, taken_count);
+        self.drop_totals(crossing, taken, work, totals, taken_count);
         // R's boundary: a dropped triangle's edge with R across is inside R now; one with a
         // remaining reused triangle across is on R's boundary, seen from that triangle; one
         // with another dropped triangle across is inside; one on the grid border stays there.
@@ -101,13 +103,15 @@ impl PartScores {
     /// without its dropped triangles where one of them may have held it.
     fn drop_totals(
         &self,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         taken: &[bool],
         work: &mut ChangeScratch,
         totals: &mut ErrorTotals,
         taken_count: &mut u32,
     ) {
+        let Crossing {
+            parents, classes, ..
+        } = crossing;
         work.classes.clear();
         for &(side, t) in &work.dropped {
             let own = &parents[side].totals[t as usize];

@@ -28,13 +28,12 @@
 //! the fresh) one. Level sets make a child's pass several times cheaper, and a crossover, which
 //! has 7 children or more, prepares them in the pass that finds the candidate edges.
 
-use crate::evaluator::compose::{PartClasses, counted_in, next_stamp, overlap};
+use crate::evaluator::compose::{Crossing, PartClasses, counted_in, next_stamp, overlap};
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::mesh::canonical_form::canonical;
 use crate::evaluator::mesh::canonical_triangulation::{NONE, edge_from, next};
 use crate::evaluator::mesh::state::MeshState;
 use crate::evaluator::score::Score;
-use crate::heightfield::Heightfield;
 
 mod changes;
 mod shared;
@@ -48,36 +47,35 @@ use shared::{
 pub use shared::{Changes, PartScores};
 
 impl PartScores {
-    /// Was this made from `classes`, for parents `a` and `b` as they are now?
-    pub fn is_for(&self, classes: &PartClasses, a: &MeshState, b: &MeshState) -> bool {
-        self.made_from == classes.id && classes.id != 0 && classes.is_for(a, b)
+    /// Was this made from the classification of `crossing`, for its parents as they are now?
+    pub fn is_for(&self, crossing: Crossing<'_>) -> bool {
+        let id = crossing.classes.id;
+        self.made_from == id && id != 0 && crossing.classes_fit()
     }
 
-    /// Prepares the children of `classes` (made for `a` and `b`, scored on `hf`) to be scored
-    /// by [`score`](Self::score). False (and unusable) when `classes` is not for `a` and `b`.
-    pub fn prepare(
-        &mut self,
-        hf: &Heightfield,
-        a: &MeshState,
-        b: &MeshState,
-        classes: &PartClasses,
-    ) -> bool {
+    /// Prepares the children of `crossing` to be scored by [`score`](Self::score). False (and
+    /// unusable) when its classification is not for its parents.
+    pub fn prepare(&mut self, crossing: Crossing<'_>) -> bool {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
+        let [a, b] = parents;
         self.made_from = 0;
-        let n = hf.len();
         let ready = |s: &MeshState| s.lookup_valid && s.sat_valid;
-        if !classes.is_for(a, b) || classes.part.len() != n || !ready(a) || !ready(b) {
+        if !crossing.classes_fit() || classes.part.len() != hf.len() || !ready(a) || !ready(b) {
             return false;
         }
-        let parents = [a, b];
         self.units = ErrorUnits::of(hf);
         let plain = self.add_plain_classes(classes);
-        self.find_variable_points(parents, classes, plain, n);
-        self.find_candidate_edges(parents, classes, n);
-        self.resolve_crossing_edges(parents, classes);
+        self.find_variable_points(crossing, plain);
+        self.find_candidate_edges(crossing);
+        self.resolve_crossing_edges(crossing);
         if classes.rects.len() <= LEVEL_SET_PARTS {
             self.find_r_points(classes);
         }
-        self.count_kept_per_part(hf, parents, classes);
+        self.count_kept_per_part(crossing);
         self.made_from = classes.id;
         true
     }
@@ -103,13 +101,13 @@ impl PartScores {
     /// The other classes, only among the triangles near a block's edge, with their totals;
     /// and the variable points: the vertices of a triangle whose class is not its own part's
     /// plain one, which is near a block's edge.
-    fn find_variable_points(
-        &mut self,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
-        plain: usize,
-        n: usize,
-    ) {
+    fn find_variable_points(&mut self, crossing: Crossing<'_>, plain: usize) {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
+        let n = hf.len();
         let part = &classes.part[..n];
         let parts = classes.rects.len();
         if parts <= LEVEL_SET_PARTS {
@@ -184,7 +182,13 @@ impl PartScores {
     /// vertex variable for at least one of them, being outside its home part). With level
     /// sets, each such triangle marks the children that reuse it on its vertices, and each
     /// candidate edge is kept with the children on whose R boundary it lies, in the same pass.
-    fn find_candidate_edges(&mut self, parents: [&MeshState; 2], classes: &PartClasses, n: usize) {
+    fn find_candidate_edges(&mut self, crossing: Crossing<'_>) {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
+        let n = hf.len();
         let [va, vb] = &self.is_variable;
         self.either.clear();
         self.either.extend(va.iter().zip(vb).map(|(a, b)| a | b));
@@ -206,9 +210,9 @@ impl PartScores {
             self.coverage[side].clear();
             let len = self.find_covering(parent);
             if level_sets {
-                self.stage_boundary_edges(side, parents, classes, len);
+                self.stage_boundary_edges(side, crossing, len);
             } else {
-                self.collect_candidates(side, parent, classes, len);
+                self.collect_candidates(side, crossing, len);
             }
         }
     }
@@ -237,13 +241,10 @@ impl PartScores {
     /// it on its vertices, and stages each edge with the children that reuse it but not the
     /// triangle across (none across the grid border: the triangle itself stands in); the
     /// staged edges go to `r_edges`, or to `crossing` when the other parent may have them.
-    fn stage_boundary_edges(
-        &mut self,
-        side: usize,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
-        covering_len: usize,
-    ) {
+    fn stage_boundary_edges(&mut self, side: usize, crossing: Crossing<'_>, covering_len: usize) {
+        let Crossing {
+            parents, classes, ..
+        } = crossing;
         let m = &parents[side].mesh;
         let covering = &self.covering[..covering_len];
         // Without branches: the classes of neighbours near a block's edge follow no pattern.
@@ -285,14 +286,9 @@ impl PartScores {
 
     /// Without level sets: the covering triangles of parent `side` with their classes, and
     /// the edges between triangles of different classes as candidates.
-    fn collect_candidates(
-        &mut self,
-        side: usize,
-        parent: &MeshState,
-        classes: &PartClasses,
-        covering_len: usize,
-    ) {
-        let m = &parent.mesh;
+    fn collect_candidates(&mut self, side: usize, crossing: Crossing<'_>, covering_len: usize) {
+        let classes = crossing.classes;
+        let m = &crossing.parents[side].mesh;
         let coverage = &mut self.coverage[side];
         for &t in &self.covering[..covering_len] {
             let t = t as usize;
@@ -321,7 +317,10 @@ impl PartScores {
     /// around an endpoint variable in either parent (all its triangles there have just been
     /// read, where a walk from the other endpoint would read cold memory); the edges still on
     /// some child's R boundary go to `r_edges`.
-    fn resolve_crossing_edges(&mut self, parents: [&MeshState; 2], classes: &PartClasses) {
+    fn resolve_crossing_edges(&mut self, crossing: Crossing<'_>) {
+        let Crossing {
+            parents, classes, ..
+        } = crossing;
         for &(side, u, v, set) in &self.crossing {
             let side = usize::from(side);
             let other = parents[1 - side];
@@ -360,12 +359,12 @@ impl PartScores {
 
     /// Kept points per part, and those on the grid border, for Euler's count: from each
     /// parent's summed-area table.
-    fn count_kept_per_part(
-        &mut self,
-        hf: &Heightfield,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
-    ) {
+    fn count_kept_per_part(&mut self, crossing: Crossing<'_>) {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
         let (w, h) = (hf.width(), hf.height());
         for (side, parent) in parents.into_iter().enumerate() {
             let count = |r: [usize; 4]| counted_in(&parent.kept_sat, w, r);
@@ -385,21 +384,19 @@ impl PartScores {
         }
     }
 
-    /// The score of the child that takes part `p` from `b` where bit `p` of `levels` is set and
-    /// from `a` elsewhere: bit for bit what [`compose_parts`](crate::evaluator::Evaluator::compose_parts)
-    /// (and a fresh evaluation) gives, without building the child's mesh. `None` when this was
-    /// not prepared for `a` and `b` as they are now, or when a guard fails (the caller then
-    /// scores the child another way).
+    /// The score of the child of `crossing` that takes part `p` from B where bit `p` of
+    /// `levels` is set and from A elsewhere: bit for bit what
+    /// [`compose_parts`](crate::evaluator::Evaluator::compose_parts) (and a fresh evaluation)
+    /// gives, without building the child's mesh. `None` when this was not prepared for the
+    /// crossing's parents as they are now, or when a guard fails (the caller then scores the
+    /// child another way).
     pub fn score(
         &mut self,
-        hf: &Heightfield,
-        a: &MeshState,
-        b: &MeshState,
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         levels: u32,
         scratch: &mut RowScratch,
     ) -> Option<Score> {
-        self.score_changed(hf, a, b, classes, levels, Changes::default(), scratch)
+        self.score_changed(crossing, levels, Changes::default(), scratch)
     }
 
     /// [`score`](Self::score) for that child with `changes` made to its kept points (a mutant
@@ -408,54 +405,42 @@ impl PartScores {
     /// is inside, join R. `None` also when a removed point is not the child's or an inserted
     /// one is.
     #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
-    #[allow(clippy::too_many_arguments)] // the parents, their classification, the child, scratch
     pub fn score_changed(
         &mut self,
-        hf: &Heightfield,
-        a: &MeshState,
-        b: &MeshState,
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         levels: u32,
         changes: Changes<'_>,
         scratch: &mut RowScratch,
     ) -> Option<Score> {
-        if !self.is_for(classes, a, b) {
+        if !self.is_for(crossing) {
             return None;
         }
+        let Crossing { hf, classes, .. } = crossing;
         let changed = !changes.removed.is_empty() || !changes.inserted.is_empty();
         let n = hf.len();
-        let parents = [a, b];
         let (mut totals, mut taken_count) = self.reused_totals(classes, levels, scratch);
         if taken_count == 0 {
             // Nothing to reuse (say, a corners-only parent whose corner 0 is labelled for the
             // other): the child is scored from scratch.
-            return Some(self.fresh(hf, parents, classes, levels, changes, scratch));
+            return Some(self.fresh(crossing, levels, changes, scratch));
         }
-        let expected = self.euler_count(hf, parents, classes, levels, changes)?;
+        let expected = self.euler_count(crossing, levels, changes)?;
         scratch.listed.resize(n, false);
         scratch.points.clear();
         scratch.open.clear();
         if classes.rects.len() <= LEVEL_SET_PARTS {
             self.r_by_level_sets(levels, scratch);
         } else {
-            self.r_by_search(hf, parents, classes, levels, scratch);
+            self.r_by_search(crossing, levels, scratch);
         }
         if changed {
-            self.change(
-                hf,
-                parents,
-                classes,
-                changes,
-                scratch,
-                &mut totals,
-                &mut taken_count,
-            )?;
+            self.change(crossing, changes, scratch, &mut totals, &mut taken_count)?;
             if taken_count == 0 {
                 // The changes dropped every reused triangle (a sparse child on a small grid).
                 for &p in &scratch.points {
                     scratch.listed[p as usize] = false;
                 }
-                return Some(self.fresh(hf, parents, classes, levels, changes, scratch));
+                return Some(self.fresh(crossing, levels, changes, scratch));
             }
         }
         for &p in &scratch.points {
@@ -466,7 +451,7 @@ impl PartScores {
             return (taken_count == expected && scratch.points.is_empty())
                 .then(|| score_of(self.units, &totals, taken_count, n));
         }
-        add_region_totals(hf, a, scratch, taken_count, expected, &mut totals)?;
+        add_region_totals(crossing, scratch, taken_count, expected, &mut totals)?;
         Some(score_of(self.units, &totals, expected, n))
     }
 
@@ -500,12 +485,15 @@ impl PartScores {
     /// `None` when a removed point is not the child's or an inserted one is.
     fn euler_count(
         &self,
-        hf: &Heightfield,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         levels: u32,
         changes: Changes<'_>,
     ) -> Option<u32> {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
         let label = |part: u8| ((levels >> part) & 1) as u8;
         let (mut vertices, mut on_border) = (0u32, 0u32);
         for p in 0..classes.rects.len() {
@@ -536,18 +524,23 @@ impl PartScores {
 /// Tiles R (its points and boundary edges in `scratch`) and adds its triangles' totals, through
 /// the memo, to `totals`; `None` when R's triangles do not complete the `expected` count.
 fn add_region_totals(
-    hf: &Heightfield,
-    a: &MeshState,
+    crossing: Crossing<'_>,
     scratch: &mut RowScratch,
     taken_count: u32,
     expected: u32,
     totals: &mut ErrorTotals,
 ) -> Option<()> {
+    let Crossing {
+        hf,
+        parents: [a, _],
+        ..
+    } = crossing;
     let region = &mut scratch.region;
     region.wrap(hf.width(), hf.height(), &scratch.points, &scratch.open)?;
-    scratch
-        .memo
-        .prepare(a.hf.as_ref().filter(|f| std::ptr::eq(f.as_ref(), hf)));
+    scratch.memo.prepare(
+        a.hf.as_ref()
+            .filter(|f| std::ptr::eq(f.as_ref(), hf.as_ref())),
+    );
     if taken_count + region.triangles.len() as u32 != expected {
         debug_assert!(false, "R's triangles do not complete the child");
         return None;
@@ -585,14 +578,12 @@ impl PartScores {
     /// R's points and boundary edges of the child with `levels`, found from the reused
     /// triangles near the blocks' edges, the variable points and the candidate edges.
     #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
-    fn r_by_search(
-        &mut self,
-        hf: &Heightfield,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
-        levels: u32,
-        scratch: &mut RowScratch,
-    ) {
+    fn r_by_search(&mut self, crossing: Crossing<'_>, levels: u32, scratch: &mut RowScratch) {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
         let n = hf.len();
         let label = |part: u8| ((levels >> part) & 1) as u8;
         let taken = &scratch.taken;
@@ -652,13 +643,16 @@ impl PartScores {
     /// scratch.
     fn fresh(
         &self,
-        hf: &Heightfield,
-        parents: [&MeshState; 2],
-        classes: &PartClasses,
+        crossing: Crossing<'_>,
         levels: u32,
         changes: Changes<'_>,
         scratch: &mut RowScratch,
     ) -> Score {
+        let Crossing {
+            hf,
+            parents,
+            classes,
+        } = crossing;
         scratch.points.clear();
         for (i, &part) in classes.part.iter().enumerate() {
             if parents[((levels >> part) & 1) as usize].kept[i] {

@@ -7,7 +7,7 @@ use super::Scorer;
 use super::deferred::{ClassesAt, Recipe};
 use super::pool::Key;
 use super::profile::Profile;
-use crate::evaluator::{PartClasses, Score};
+use crate::evaluator::{Crossing, PartClasses, Score};
 use crate::evolution::chromosome::Chromosome;
 use crate::evolution::oax::Parentage;
 
@@ -74,11 +74,13 @@ impl Scorer {
     ) -> Option<Score> {
         let [a, b] = self.crossing_parents;
         let (pa, pb) = (&self.pool[a].state, &self.pool[b].state);
-        if !self.crossing_scores.is_for(&self.crossing, pa, pb) {
-            let hf = self.evaluator.heightfield().clone();
-            if !self.crossing_scores.prepare(&hf, pa, pb, &self.crossing) {
-                return None;
-            }
+        let crossing = Crossing {
+            hf: self.evaluator.heightfield(),
+            parents: [pa, pb],
+            classes: &self.crossing,
+        };
+        if !self.crossing_scores.is_for(crossing) && !self.crossing_scores.prepare(crossing) {
+            return None;
         }
         let score = self.evaluator.score_parts(
             pa,

@@ -17,23 +17,7 @@ pub(super) fn compare_plot(ui: &mut Ui) {
     let Some((ctx, cw, ch)) = dom::canvas_2d("compare-plot") else {
         return;
     };
-    ui.compare.points.clear();
-    if let Some(run) = &ui.compare.run {
-        for k in 0..METHODS.len() {
-            for (i, s) in run
-                .front(k)
-                .map_or(&[][..], |f| f.solutions())
-                .iter()
-                .enumerate()
-            {
-                let p = PlotPoint {
-                    t: s.t as f64,
-                    e: s.e_sum,
-                };
-                ui.compare.points.push((k, i, p));
-            }
-        }
-    }
+    list_points(ui);
     let layout = Layout::fit_scaled(
         cw,
         ch,
@@ -62,7 +46,7 @@ pub(super) fn compare_plot(ui: &mut Ui) {
     ctx.begin_path();
     ctx.rect(l, t, r - l, b - t);
     ctx.clip();
-    for k in 0..METHODS.len() {
+    for (k, method_picks) in picks.iter().enumerate() {
         let front: Vec<PlotPoint> = ui
             .compare
             .points
@@ -70,40 +54,7 @@ pub(super) fn compare_plot(ui: &mut Ui) {
             .filter(|(m, _, _)| *m == k)
             .map(|(_, _, p)| *p)
             .collect();
-        // The staircase: the region the front dominates.
-        ctx.set_stroke_style_str(COLOURS[k]);
-        ctx.set_fill_style_str(COLOURS[k]);
-        ctx.set_line_width(1.5);
-        ctx.begin_path();
-        for (i, p) in front.iter().enumerate() {
-            let (x, y) = layout.to_pixel(*p);
-            if i == 0 {
-                ctx.move_to(x, y);
-            } else {
-                let (_, prev_y) = layout.to_pixel(front[i - 1]);
-                ctx.line_to(x, prev_y);
-                ctx.line_to(x, y);
-            }
-        }
-        ctx.stroke();
-        for p in &front {
-            let (x, y) = layout.to_pixel(*p);
-            marker(&ctx, k, x, y, 3.5);
-            ctx.fill();
-        }
-        // The picks: a ring in the method's colour.
-        if let Some(p) = &picks[k] {
-            ctx.set_line_width(2.0);
-            for (_, pick) in named_picks(p) {
-                let (x, y) = layout.to_pixel(PlotPoint {
-                    t: pick.t as f64,
-                    e: pick.e,
-                });
-                ctx.begin_path();
-                let _ = ctx.arc(x, y, 8.0, 0.0, std::f64::consts::TAU);
-                ctx.stroke();
-            }
-        }
+        draw_front(&ctx, &layout, k, &front, method_picks.as_ref());
     }
     // The selection (on every front that has it) and the hovered member.
     if let Some(sel) = ui.app.selected() {
@@ -111,40 +62,108 @@ pub(super) fn compare_plot(ui: &mut Ui) {
         ctx.set_line_width(2.0);
         for (_, _, p) in &ui.compare.points {
             if p.t == sel.t as f64 && p.e == sel.e_sum {
-                let (x, y) = layout.to_pixel(*p);
-                ctx.begin_path();
-                let _ = ctx.arc(x, y, 11.0, 0.0, std::f64::consts::TAU);
-                ctx.stroke();
+                ring(&ctx, layout.to_pixel(*p), 11.0);
             }
         }
     }
     let hovered = ui.compare.hovered.and_then(|h| ui.compare.points.get(h));
     if let Some((_, _, p)) = hovered {
-        let (x, y) = layout.to_pixel(*p);
         ctx.set_stroke_style_str("#ff0000");
         ctx.set_line_width(2.0);
-        ctx.begin_path();
-        let _ = ctx.arc(x, y, 6.0, 0.0, std::f64::consts::TAU);
-        ctx.stroke();
+        ring(&ctx, layout.to_pixel(*p), 6.0);
     }
     ctx.restore();
     if let Some(&(k, _, p)) = hovered {
-        let mut text = format!(
-            "{} · T = {}, E = {}",
-            METHODS[k].label(),
-            p.t,
-            plot::format_value(p.e)
-        );
-        if let Some(picks) = &picks[k] {
-            for (name, pick) in named_picks(picks) {
-                if super::is_pick(&pick, p.t, p.e) {
-                    let _ = write!(text, " · {name}");
-                }
-            }
-        }
-        plot_canvas::readout(&ctx, &layout, p, &text);
+        plot_canvas::readout(&ctx, &layout, p, &readout_text(k, p, picks[k].as_ref()));
     }
     ui.compare.layout = Some(layout);
+}
+
+/// Lists every method's front members in `ui.compare.points` as (method, index, point).
+fn list_points(ui: &mut Ui) {
+    ui.compare.points.clear();
+    if let Some(run) = &ui.compare.run {
+        for k in 0..METHODS.len() {
+            for (i, s) in run
+                .front(k)
+                .map_or(&[][..], |f| f.solutions())
+                .iter()
+                .enumerate()
+            {
+                let p = PlotPoint {
+                    t: s.t as f64,
+                    e: s.e_sum,
+                };
+                ui.compare.points.push((k, i, p));
+            }
+        }
+    }
+}
+
+/// Method `k`'s `front` in its colour: the staircase of the region it dominates, a marker per
+/// member and a ring around each of its `picks`.
+fn draw_front(
+    ctx: &CanvasRenderingContext2d,
+    layout: &Layout,
+    k: usize,
+    front: &[PlotPoint],
+    picks: Option<&Picks>,
+) {
+    ctx.set_stroke_style_str(COLOURS[k]);
+    ctx.set_fill_style_str(COLOURS[k]);
+    ctx.set_line_width(1.5);
+    ctx.begin_path();
+    for (i, p) in front.iter().enumerate() {
+        let (x, y) = layout.to_pixel(*p);
+        if i == 0 {
+            ctx.move_to(x, y);
+        } else {
+            let (_, prev_y) = layout.to_pixel(front[i - 1]);
+            ctx.line_to(x, prev_y);
+            ctx.line_to(x, y);
+        }
+    }
+    ctx.stroke();
+    for p in front {
+        let (x, y) = layout.to_pixel(*p);
+        marker(ctx, k, x, y, 3.5);
+        ctx.fill();
+    }
+    if let Some(p) = picks {
+        ctx.set_line_width(2.0);
+        for (_, pick) in named_picks(p) {
+            let at = layout.to_pixel(PlotPoint {
+                t: pick.t as f64,
+                e: pick.e,
+            });
+            ring(ctx, at, 8.0);
+        }
+    }
+}
+
+/// Strokes a circle of `radius` around the pixel `(x, y)`.
+fn ring(ctx: &CanvasRenderingContext2d, (x, y): (f64, f64), radius: f64) {
+    ctx.begin_path();
+    let _ = ctx.arc(x, y, radius, 0.0, std::f64::consts::TAU);
+    ctx.stroke();
+}
+
+/// The hover read-out of method `k`'s member at `p`, naming the picks it is.
+fn readout_text(k: usize, p: PlotPoint, picks: Option<&Picks>) -> String {
+    let mut text = format!(
+        "{} · T = {}, E = {}",
+        METHODS[k].label(),
+        p.t,
+        plot::format_value(p.e)
+    );
+    if let Some(picks) = picks {
+        for (name, pick) in named_picks(picks) {
+            if super::is_pick(&pick, p.t, p.e) {
+                let _ = write!(text, " · {name}");
+            }
+        }
+    }
+    text
 }
 
 /// Traces method `k`'s marker shape at (`x`, `y`) with half-size `r` (call fill or stroke).
