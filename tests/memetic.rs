@@ -205,7 +205,7 @@ fn pairs(front: &Front) -> Vec<(u64, usize, Vec<u32>)> {
 #[test]
 fn a_seed_reproduces_the_run_however_it_is_sliced() {
     let hf = fixture("camera_33x33");
-    let budget = 2 * hf.len() as u64 + 2500;
+    let budget = 2 * hf.len() as u64 + 5000;
     let mut whole = Memetic::new(hf.clone(), params(budget), 9).unwrap();
     let end = whole.run_to_end();
     assert!(end.generation >= 2, "the run got past seeding: {end:?}");
@@ -228,6 +228,29 @@ fn a_seed_reproduces_the_run_however_it_is_sliced() {
         pairs(other.front()),
         pairs(whole.front()),
         "another seed, another run"
+    );
+}
+
+/// The browser shows the front while the greedy sweeps still run: on a large grid a sweep takes
+/// seconds, and a front that appeared only when it ended would leave the plot empty that long.
+#[test]
+fn the_front_grows_from_the_first_units_of_seeding() {
+    let hf = fixture("jacksboro_65x65");
+    let mut run = Memetic::new(hf.clone(), MemeticParams::default(), 1).unwrap();
+    run.step(20);
+    assert!(!run.front().is_empty(), "a front after 20 insertions");
+    let early = run.front().len();
+    // Still inside the first sweep (one insertion per grid point), with more meshes recorded.
+    run.step(hf.len() as u64 / 2);
+    assert!(run.progress().evaluations < hf.len() as u64);
+    assert!(
+        run.front().len() > early,
+        "the front grows during the sweep"
+    );
+    let sparsest = &run.front().solutions()[0];
+    assert_eq!(
+        sparsest.t, 2,
+        "the corners-only mesh is the first recording"
     );
 }
 
@@ -386,7 +409,7 @@ fn run_without_algo_is_memetic_and_its_front_rescores() {
 #[test]
 fn each_ablation_switch_changes_the_run_and_keeps_it_reproducible_and_honest() {
     let hf = fixture("camera_33x33");
-    let budget = 2 * hf.len() as u64 + 600;
+    let budget = 2 * hf.len() as u64 + 5000;
     let mut full = Memetic::new(hf.clone(), params(budget), 4).unwrap();
     full.run_to_end();
     let corners = hf.corners();

@@ -127,14 +127,8 @@ impl Memetic {
 
     fn advance(&mut self) {
         if self.total_evaluations() >= self.budget {
-            // A budget smaller than the seeding still ends with a front: the sweep's
-            // recordings so far.
-            if let Some(front) = self.seeding.partial_front() {
-                for s in front.solutions() {
-                    self.archive.offer(s.clone());
-                    self.seed_front.offer(s.clone());
-                }
-            }
+            // A budget smaller than the seeding still ends with a front: the sweeps'
+            // recordings so far, already offered.
             self.done = true;
             return;
         }
@@ -147,12 +141,11 @@ impl Memetic {
                 return;
             }
         } else if !self.seeding.is_done() {
-            if let Some(front) = self.seeding.unit() {
-                for s in front.solutions() {
-                    self.archive.offer(s.clone());
-                    self.seed_front.offer(s.clone());
-                }
-            }
+            let (archive, seed_front) = (&mut self.archive, &mut self.seed_front);
+            self.seeding.unit(|s| {
+                archive.offer(s.clone());
+                seed_front.offer(s.clone());
+            });
             if self.seeding.is_done() {
                 self.seeds = self.seeding.seeds(self.params.population);
                 self.seeds.reverse();

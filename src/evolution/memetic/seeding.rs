@@ -14,7 +14,7 @@
 //! Unit: one greedy insertion (one evaluation).
 
 use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
-use crate::front::Front;
+use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
 use rand::RngExt;
@@ -35,6 +35,8 @@ pub struct Seeding {
     fronts: Vec<Front>,
     /// Insertions of the finished runs.
     finished_evaluations: u64,
+    /// Recordings of the run in progress already handed out by [`unit`](Self::unit).
+    handed_out: usize,
 }
 
 impl Seeding {
@@ -45,6 +47,7 @@ impl Seeding {
             current: None,
             fronts: Vec::new(),
             finished_evaluations: 0,
+            handed_out: 0,
         }
     }
 
@@ -62,17 +65,13 @@ impl Seeding {
                 .map_or(0, |(_, run)| run.progress().evaluations)
     }
 
-    /// The recorded meshes of the run in progress, if any: what a run stopped by its budget
-    /// in the middle of seeding can still offer.
-    pub fn partial_front(&self) -> Option<&Front> {
-        self.current.as_ref().map(|(_, run)| run.front())
-    }
-
-    /// One insertion (starting the next run when none is in progress). Returns a finished
-    /// run's front when this unit finished it.
-    pub fn unit(&mut self) -> Option<&Front> {
+    /// One insertion (starting the next run when none is in progress). Hands each mesh the
+    /// run records to `record` as soon as it is recorded, so a front shows from the first
+    /// units on, however large the grid; every mesh of the runs' fronts passes through it, in
+    /// the order the runs record them.
+    pub fn unit(&mut self, mut record: impl FnMut(&Solution)) {
         if self.is_done() {
-            return None;
+            return;
         }
         let next = self.fronts.len();
         let hf = self.hf.clone();
@@ -88,13 +87,17 @@ impl Seeding {
             )
         });
         run.unit();
+        for s in &run.recorded()[self.handed_out..] {
+            record(s);
+        }
+        self.handed_out = run.recorded().len();
         if !run.progress().done {
-            return None;
+            return;
         }
         self.finished_evaluations += run.progress().evaluations;
         self.fronts.push(run.front().clone());
         self.current = None;
-        self.fronts.last()
+        self.handed_out = 0;
     }
 
     /// The kept sets of the seeds: `population` of them when the fronts have that many
