@@ -8,13 +8,15 @@
 //!
 //! as many of each as the mesh has kept points over [`POINTS_PER_CANDIDATE`] (within
 //! [`MIN_CANDIDATES`] and [`MAX_CANDIDATES`]);
-//! - moves: [`MOVES`] vertices of triangles drawn in proportion to their error sum, each to
-//!   each of its free grid neighbours.
+//! - moves: the vertices of the [`MOVE_TRIANGLES`] largest triangles, each to the best of its
+//!   free grid neighbours; and, when nothing else improves, [`MOVES`] vertices of triangles
+//!   drawn in proportion to their error sum, each to each of its free grid neighbours.
 //!
-//! A round scores each removal and each insertion alone ([`mutation::trial`]), pairs the best
-//! insertions with the cheapest removals while the gain exceeds the loss and no two paired
-//! edits touch the same vertices (so their effects add up), and applies the batch if it
-//! improves, else its better half, and so on; only when no batch improves are the moves tried.
+//! A round scores each removal, insertion and move alone ([`mutation::trial`]), pairs the best
+//! insertions with the cheapest removals while the gain exceeds the loss, adds the moves that
+//! pay, keeping only edits that touch no vertex another one touches (so their effects add up),
+//! and applies the batch, best edits first, if it improves, else its better half, and so on;
+//! only when no batch improves are the drawn moves tried.
 //! A visit runs rounds on one member until a round finds nothing or [`ROUNDS_PER_VISIT`] are
 //! done. The single trials are remembered between the rounds of a visit ([`Memo`]) and only
 //! those near the last edit are scored again, so a round costs about as many evaluations as
@@ -45,14 +47,18 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 /// Removal (and insertion) candidates per round: one per [`POINTS_PER_CANDIDATE`] kept points,
 /// at least [`MIN_CANDIDATES`] and at most [`MAX_CANDIDATES`], so that a round on a dense mesh
-/// can make many swaps at once.
-pub const POINTS_PER_CANDIDATE: usize = 8;
+/// can make many swaps at once. The remembered trials keep a long list cheap after the first
+/// round, and each applied batch rebuilds the mesh's guide once for many swaps.
+pub const POINTS_PER_CANDIDATE: usize = 4;
 /// See [`POINTS_PER_CANDIDATE`].
 pub const MIN_CANDIDATES: usize = 16;
 /// See [`POINTS_PER_CANDIDATE`].
-pub const MAX_CANDIDATES: usize = 256;
+pub const MAX_CANDIDATES: usize = 1024;
 /// Vertices tried at every free neighbour per round.
 pub const MOVES: usize = 2;
+/// A round's largest triangles whose vertices are tried at each free grid neighbour, their
+/// best moves remembered and batched with the swaps.
+pub const MOVE_TRIANGLES: usize = 1;
 /// Most rounds per visit.
 pub const ROUNDS_PER_VISIT: usize = 20;
 /// Target triangle counts per sweep.
@@ -204,9 +210,10 @@ fn padding(hf: &Heightfield, member: &mut Member, count: usize) -> Edit {
 ///
 /// Scoring every removal × insertion pair would cost their product; instead each removal's
 /// loss and each insertion's gain is scored alone, the best insertions are paired with the
-/// cheapest removals while the gain exceeds the loss, and the pairs are tried together (they
-/// are mostly far apart, so their effects nearly add up), then the first half of them, and so
-/// on down to the best pair alone. Only when no batch improves are the moves tried.
+/// cheapest removals while the gain exceeds the loss, the moves of the largest triangle's
+/// vertices that pay join them ([`independent_edits`]), and the edits are tried together (they
+/// are apart, so their effects nearly add up), then the better half of them, and so on down to
+/// the best edit alone. Only when no batch improves are the drawn moves tried.
 fn round(
     evaluator: &mut Evaluator,
     member: &mut Member,
@@ -222,10 +229,10 @@ fn round(
     // Held apart from the member while the trials borrow it, and given back unless it goes stale.
     let guide: Guide = member.guide.take().expect("just made");
     let removals = guide.cheapest_removals(candidates, |i| !on_border(&hf, i));
+    let corners = hf.corners();
     let largest = guide.largest_triangles(candidates.div_ceil(2));
     let guide_triangles = &guide.triangles;
     let mut moved: Vec<u32> = Vec::with_capacity(MOVES);
-    let corners = hf.corners();
     for _ in 0..MOVES {
         if let Some(t) = guide.triangle_at(rng.random::<f64>()) {
             let tri = guide.triangles[t];
@@ -257,7 +264,7 @@ fn round(
         .collect();
     // Two insertion candidates per triangle: its worst point and its error's centre.
     let mut gains: Vec<(f64, u32, usize)> = Vec::with_capacity(2 * largest.len());
-    for t in largest {
+    for &t in &largest {
         let key = guide_triangles[t];
         let tried = memo.insertions.entry(key).or_insert_with(|| {
             let mut points = vec![guide.worst_point(&hf, t), guide.centre_point(&hf, t)];
@@ -276,21 +283,56 @@ fn round(
         });
         gains.extend(tried.iter().map(|&(p, gain)| (gain, p, t)));
     }
+    // Moves of the vertices of the largest triangles, each to its best free grid neighbour.
+    let mut movers: Vec<u32> = Vec::new();
+    for &t in largest.iter().take(MOVE_TRIANGLES) {
+        for v in guide_triangles[t] {
+            if !corners.contains(&v) && !movers.contains(&v) {
+                movers.push(v);
+            }
+        }
+    }
+    let mut moves: Vec<(f64, u32, u32)> = Vec::with_capacity(movers.len());
+    for &v in &movers {
+        let best = *memo.moves.entry(v).or_insert_with(|| {
+            let mut best: Option<(u32, f64)> = None;
+            for n in mutation::free_neighbours(&hf, member, v) {
+                let edit = Edit {
+                    remove: vec![v],
+                    insert: vec![n],
+                };
+                let gain = e - scored(evaluator, &edit);
+                if best.is_none_or(|b| gain > b.1) {
+                    best = Some((n, gain));
+                }
+            }
+            best
+        });
+        if let Some((n, gain)) = best
+            && gain > 0.0
+            && !member.state.is_kept(n)
+        {
+            moves.push((gain, v, n));
+        }
+    }
     losses.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     gains.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    let (remove, insert) = independent_pairs(hf.len(), guide_triangles, &losses, &gains);
-    let mut pairs = remove.len();
+    moves.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let batch = independent_edits(hf.len(), guide_triangles, &losses, &gains, &moves);
+    let mut count = batch.len();
     let mut chosen: Option<Edit> = None;
-    while pairs > 0 {
-        let edit = Edit {
-            remove: remove[..pairs].to_vec(),
-            insert: insert[..pairs].to_vec(),
+    while count > 0 {
+        let mut edit = Edit {
+            remove: batch[..count].iter().map(|u| u.1).collect(),
+            insert: batch[..count].iter().map(|u| u.2).collect(),
         };
+        edit.remove.sort_unstable();
+        edit.insert.sort_unstable();
         if scored(evaluator, &edit) < e {
             chosen = Some(edit);
             break;
         }
-        pairs /= 2;
+        count /= 2;
     }
     if chosen.is_none() {
         let mut best = e;
@@ -371,6 +413,9 @@ pub struct Memo {
     /// Per triangle, its insertion candidates with the drop of E_sum when each alone is
     /// inserted.
     insertions: IndexMap<[u32; 3], Vec<(u32, f64)>>,
+    /// Per kept point, its best move to a free grid neighbour with the drop of E_sum it
+    /// brings (`None` when no neighbour is free).
+    moves: IndexMap<u32, Option<(u32, f64)>>,
 }
 
 impl Memo {
@@ -378,6 +423,7 @@ impl Memo {
     /// stale: removals of those points, insertions into triangles with one of them as a vertex.
     fn forget(&mut self, changed: &IndexSet<u32>) {
         self.losses.retain(|v, _| !changed.contains(v));
+        self.moves.retain(|v, _| !changed.contains(v));
         self.insertions
             .retain(|tri, _| tri.iter().all(|v| !changed.contains(v)));
     }
@@ -388,33 +434,19 @@ impl Memo {
 /// candidate whose edit would touch the same vertices as one already paired: the removal of a
 /// vertex changes its star, an insertion the triangle holding it and its surroundings, and
 /// only edits that stay apart add up to what their single trials promised. Returns the
-/// removals and insertions, best pair first.
+/// removals, the insertions and the promised drops of E_sum, best pair first, and leaves in
+/// `touched` the points the pairs touch.
 fn independent_pairs(
     grid_len: usize,
     triangles: &[[u32; 3]],
     losses: &[(f64, u32)],
     gains: &[(f64, u32, usize)],
-) -> (Vec<u32>, Vec<u32>) {
+    touched: &mut IndexSet<u32>,
+) -> (Vec<u32>, Vec<u32>, Vec<f64>) {
     // Each removal candidate's neighbours, indexed like `losses`.
-    let mut star: Vec<Vec<u32>> = vec![Vec::new(); losses.len()];
-    with_marks(grid_len, |marks| {
-        for (k, l) in losses.iter().enumerate() {
-            marks[l.1 as usize] = k as u32;
-        }
-        for tri in triangles {
-            for k in 0..3 {
-                let at = marks[tri[k] as usize];
-                if at != u32::MAX {
-                    star[at as usize].extend([tri[(k + 1) % 3], tri[(k + 2) % 3]]);
-                }
-            }
-        }
-        for l in losses {
-            marks[l.1 as usize] = u32::MAX;
-        }
-    });
-    let mut touched: IndexSet<u32> = IndexSet::default();
-    let (mut remove, mut insert) = (Vec::new(), Vec::new());
+    let removals: Vec<u32> = losses.iter().map(|l| l.1).collect();
+    let star = stars(grid_len, triangles, &removals);
+    let (mut remove, mut insert, mut drops) = (Vec::new(), Vec::new(), Vec::new());
     let (mut g, mut l) = (gains.iter(), losses.iter().enumerate());
     while let Some(&(gain, p, t)) = g.find(|c| triangles[c.2].iter().all(|v| !touched.contains(v)))
     {
@@ -434,12 +466,74 @@ fn independent_pairs(
             break;
         }
         touched.extend(near);
+        touched.insert(p);
         touched.insert(r);
         touched.extend(star[k].iter().copied());
         remove.push(r);
         insert.push(p);
+        drops.push(gain - loss);
     }
-    (remove, insert)
+    (remove, insert, drops)
+}
+
+/// The edits of one batch, best first by their promised drop of E_sum: the swaps
+/// [`independent_pairs`] makes, then the `moves` (drop, vertex, target, best first) whose
+/// vertex and star stay apart from every edit already taken. Each is (drop, removed,
+/// inserted).
+fn independent_edits(
+    grid_len: usize,
+    triangles: &[[u32; 3]],
+    losses: &[(f64, u32)],
+    gains: &[(f64, u32, usize)],
+    moves: &[(f64, u32, u32)],
+) -> Vec<(f64, u32, u32)> {
+    let mut touched: IndexSet<u32> = IndexSet::default();
+    let (remove, insert, drops) =
+        independent_pairs(grid_len, triangles, losses, gains, &mut touched);
+    let mut batch: Vec<(f64, u32, u32)> = drops
+        .into_iter()
+        .zip(remove)
+        .zip(insert)
+        .map(|((d, r), i)| (d, r, i))
+        .collect();
+    let movers: Vec<u32> = moves.iter().map(|m| m.1).collect();
+    let star = stars(grid_len, triangles, &movers);
+    for (k, &(gain, v, n)) in moves.iter().enumerate() {
+        if touched.contains(&v)
+            || touched.contains(&n)
+            || star[k].iter().any(|u| touched.contains(u))
+        {
+            continue;
+        }
+        touched.insert(v);
+        touched.insert(n);
+        touched.extend(star[k].iter().copied());
+        batch.push((gain, v, n));
+    }
+    batch.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    batch
+}
+
+/// Per point of `points` (kept vertices), its neighbours in `triangles` (with repeats).
+fn stars(grid_len: usize, triangles: &[[u32; 3]], points: &[u32]) -> Vec<Vec<u32>> {
+    let mut star: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+    with_marks(grid_len, |marks| {
+        for (k, &p) in points.iter().enumerate() {
+            marks[p as usize] = k as u32;
+        }
+        for tri in triangles {
+            for k in 0..3 {
+                let at = marks[tri[k] as usize];
+                if at != u32::MAX {
+                    star[at as usize].extend([tri[(k + 1) % 3], tri[(k + 2) % 3]]);
+                }
+            }
+        }
+        for &p in points {
+            marks[p as usize] = u32::MAX;
+        }
+    });
+    star
 }
 
 /// A multiply-rotate hasher for grid indices and their triples: the maps of a round are keyed
@@ -504,13 +598,16 @@ mod tests {
         let gains = [(10.0, 100, 0), (9.0, 101, 1), (8.0, 102, 5)];
         // Removing 3 touches 1..=5 (its star), removing 7 touches 5 and 6.
         let losses = [(1.0, 3), (2.0, 7), (3.0, 6)];
-        let (remove, insert) = independent_pairs(200, &triangles, &losses, &gains);
+        let mut touched = IndexSet::default();
+        let (remove, insert, _) = independent_pairs(200, &triangles, &losses, &gains, &mut touched);
         // The best insertion (into 0-1-2) cannot pair with removing 3, whose star holds 1 and
         // 2: it pairs with 7. The second insertion shares vertices with the first, the third
         // with removing 7.
         assert_eq!((remove, insert), (vec![7], vec![100]));
         // A gain that does not exceed the loss ends the pairing.
-        let (remove, insert) = independent_pairs(200, &triangles, &[(20.0, 7)], &gains);
+        let mut touched = IndexSet::default();
+        let (remove, insert, _) =
+            independent_pairs(200, &triangles, &[(20.0, 7)], &gains, &mut touched);
         assert!(remove.is_empty() && insert.is_empty());
     }
 
