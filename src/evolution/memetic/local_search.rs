@@ -242,114 +242,21 @@ fn round(
             }
         }
     }
-    let e = member.score.e_sum;
-    let mut scored = |evaluator: &mut Evaluator, edit: &Edit| {
-        *evaluations += 1;
-        mutation::trial(evaluator, member, edit).e_sum
+    let mut trials = Trials {
+        member,
+        e: member.score.e_sum,
+        evaluations,
     };
-    let mut losses: Vec<(f64, u32)> = removals
-        .iter()
-        .map(|&r| {
-            if let Some(&loss) = memo.losses.get(&r) {
-                return (loss, r);
-            }
-            let edit = Edit {
-                remove: vec![r],
-                insert: Vec::new(),
-            };
-            let loss = scored(evaluator, &edit) - e;
-            memo.losses.insert(r, loss);
-            (loss, r)
-        })
-        .collect();
-    // Two insertion candidates per triangle: its worst point and its error's centre.
-    let mut gains: Vec<(f64, u32, usize)> = Vec::with_capacity(2 * largest.len());
-    for &t in &largest {
-        let key = guide_triangles[t];
-        let tried = memo.insertions.entry(key).or_insert_with(|| {
-            let mut points = vec![guide.worst_point(&hf, t), guide.centre_point(&hf, t)];
-            points.retain(|&p| p != NO_POINT && !on_border(&hf, p));
-            points.dedup();
-            points
-                .into_iter()
-                .map(|p| {
-                    let edit = Edit {
-                        remove: Vec::new(),
-                        insert: vec![p],
-                    };
-                    (p, e - scored(evaluator, &edit))
-                })
-                .collect()
-        });
-        gains.extend(tried.iter().map(|&(p, gain)| (gain, p, t)));
-    }
-    // Moves of the vertices of the largest triangles, each to its best free grid neighbour.
-    let mut movers: Vec<u32> = Vec::new();
-    for &t in largest.iter().take(MOVE_TRIANGLES) {
-        for v in guide_triangles[t] {
-            if !corners.contains(&v) && !movers.contains(&v) {
-                movers.push(v);
-            }
-        }
-    }
-    let mut moves: Vec<(f64, u32, u32)> = Vec::with_capacity(movers.len());
-    for &v in &movers {
-        let best = *memo.moves.entry(v).or_insert_with(|| {
-            let mut best: Option<(u32, f64)> = None;
-            for n in mutation::free_neighbours(&hf, member, v) {
-                let edit = Edit {
-                    remove: vec![v],
-                    insert: vec![n],
-                };
-                let gain = e - scored(evaluator, &edit);
-                if best.is_none_or(|b| gain > b.1) {
-                    best = Some((n, gain));
-                }
-            }
-            best
-        });
-        if let Some((n, gain)) = best
-            && gain > 0.0
-            && !member.state.is_kept(n)
-        {
-            moves.push((gain, v, n));
-        }
-    }
+    let mut losses = trials.removal_losses(evaluator, memo, &removals);
+    let mut gains = trials.insertion_gains(evaluator, memo, &guide, &largest);
+    let mut moves = trials.vertex_moves(evaluator, memo, guide_triangles, &largest);
     losses.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     gains.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     moves.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let batch = independent_edits(hf.len(), guide_triangles, &losses, &gains, &moves);
-    let mut count = batch.len();
-    let mut chosen: Option<Edit> = None;
-    while count > 0 {
-        let mut edit = Edit {
-            remove: batch[..count].iter().map(|u| u.1).collect(),
-            insert: batch[..count].iter().map(|u| u.2).collect(),
-        };
-        edit.remove.sort_unstable();
-        edit.insert.sort_unstable();
-        if scored(evaluator, &edit) < e {
-            chosen = Some(edit);
-            break;
-        }
-        count /= 2;
-    }
-    if chosen.is_none() {
-        let mut best = e;
-        for &v in &moved {
-            for n in mutation::free_neighbours(&hf, member, v) {
-                let edit = Edit {
-                    remove: vec![v],
-                    insert: vec![n],
-                };
-                let after = scored(evaluator, &edit);
-                if after < best {
-                    best = after;
-                    chosen = Some(edit);
-                }
-            }
-        }
-    }
+    let chosen = trials
+        .improving_batch(evaluator, &batch)
+        .or_else(|| trials.best_neighbour_move(evaluator, &moved));
     let Some(edit) = chosen else {
         member.guide = Some(guide);
         return false;
@@ -368,6 +275,168 @@ fn round(
     );
     memo.forget(&changed);
     true
+}
+
+/// What a round's trials share: the member they edit (unchanged until the round commits), its
+/// E_sum before the round, and the run's evaluation count.
+struct Trials<'a> {
+    member: &'a Member,
+    e: f64,
+    evaluations: &'a mut u64,
+}
+
+impl Trials<'_> {
+    /// E_sum of the member after `edit` (one evaluation).
+    fn e_after(&mut self, evaluator: &mut Evaluator, edit: &Edit) -> f64 {
+        *self.evaluations += 1;
+        mutation::trial(evaluator, self.member, edit).e_sum
+    }
+
+    /// (rise of E_sum, vertex) for removing each of `removals`, remembered in `memo`.
+    fn removal_losses(
+        &mut self,
+        evaluator: &mut Evaluator,
+        memo: &mut Memo,
+        removals: &[u32],
+    ) -> Vec<(f64, u32)> {
+        removals
+            .iter()
+            .map(|&r| {
+                if let Some(&loss) = memo.losses.get(&r) {
+                    return (loss, r);
+                }
+                let edit = Edit {
+                    remove: vec![r],
+                    insert: Vec::new(),
+                };
+                let loss = self.e_after(evaluator, &edit) - self.e;
+                memo.losses.insert(r, loss);
+                (loss, r)
+            })
+            .collect()
+    }
+
+    /// (drop of E_sum, point, triangle) for inserting two candidates of each of the `largest`
+    /// triangles: its worst point and its error's centre, remembered in `memo`.
+    fn insertion_gains(
+        &mut self,
+        evaluator: &mut Evaluator,
+        memo: &mut Memo,
+        guide: &Guide,
+        largest: &[usize],
+    ) -> Vec<(f64, u32, usize)> {
+        let hf = evaluator.heightfield().clone();
+        let mut gains = Vec::with_capacity(2 * largest.len());
+        for &t in largest {
+            let key = guide.triangles[t];
+            let tried = memo.insertions.entry(key).or_insert_with(|| {
+                let mut points = vec![guide.worst_point(&hf, t), guide.centre_point(&hf, t)];
+                points.retain(|&p| p != NO_POINT && !on_border(&hf, p));
+                points.dedup();
+                points
+                    .into_iter()
+                    .map(|p| {
+                        let edit = Edit {
+                            remove: Vec::new(),
+                            insert: vec![p],
+                        };
+                        (p, self.e - self.e_after(evaluator, &edit))
+                    })
+                    .collect()
+            });
+            gains.extend(tried.iter().map(|&(p, gain)| (gain, p, t)));
+        }
+        gains
+    }
+
+    /// (drop of E_sum, vertex, neighbour) for the paying moves of the vertices of the largest
+    /// triangles, each to its best free grid neighbour, remembered in `memo`.
+    fn vertex_moves(
+        &mut self,
+        evaluator: &mut Evaluator,
+        memo: &mut Memo,
+        triangles: &[[u32; 3]],
+        largest: &[usize],
+    ) -> Vec<(f64, u32, u32)> {
+        let hf = evaluator.heightfield().clone();
+        let corners = hf.corners();
+        let mut movers: Vec<u32> = Vec::new();
+        for &t in largest.iter().take(MOVE_TRIANGLES) {
+            for v in triangles[t] {
+                if !corners.contains(&v) && !movers.contains(&v) {
+                    movers.push(v);
+                }
+            }
+        }
+        let mut moves = Vec::with_capacity(movers.len());
+        for &v in &movers {
+            let best = *memo.moves.entry(v).or_insert_with(|| {
+                let mut best: Option<(u32, f64)> = None;
+                for n in mutation::free_neighbours(&hf, self.member, v) {
+                    let edit = Edit {
+                        remove: vec![v],
+                        insert: vec![n],
+                    };
+                    let gain = self.e - self.e_after(evaluator, &edit);
+                    if best.is_none_or(|b| gain > b.1) {
+                        best = Some((n, gain));
+                    }
+                }
+                best
+            });
+            if let Some((n, gain)) = best
+                && gain > 0.0
+                && !self.member.state.is_kept(n)
+            {
+                moves.push((gain, v, n));
+            }
+        }
+        moves
+    }
+
+    /// The largest leading part of `batch` (halved until one does) whose edits together lower
+    /// E_sum.
+    fn improving_batch(
+        &mut self,
+        evaluator: &mut Evaluator,
+        batch: &[(f64, u32, u32)],
+    ) -> Option<Edit> {
+        let mut count = batch.len();
+        while count > 0 {
+            let mut edit = Edit {
+                remove: batch[..count].iter().map(|u| u.1).collect(),
+                insert: batch[..count].iter().map(|u| u.2).collect(),
+            };
+            edit.remove.sort_unstable();
+            edit.insert.sort_unstable();
+            if self.e_after(evaluator, &edit) < self.e {
+                return Some(edit);
+            }
+            count /= 2;
+        }
+        None
+    }
+
+    /// The best move of one of `moved` to a free grid neighbour, if any lowers E_sum.
+    fn best_neighbour_move(&mut self, evaluator: &mut Evaluator, moved: &[u32]) -> Option<Edit> {
+        let hf = evaluator.heightfield().clone();
+        let mut best = self.e;
+        let mut chosen = None;
+        for &v in moved {
+            for n in mutation::free_neighbours(&hf, self.member, v) {
+                let edit = Edit {
+                    remove: vec![v],
+                    insert: vec![n],
+                };
+                let after = self.e_after(evaluator, &edit);
+                if after < best {
+                    best = after;
+                    chosen = Some(edit);
+                }
+            }
+        }
+        chosen
+    }
 }
 
 /// Adds to `out` the vertices of the `triangles` that have one of `points` as a vertex.
