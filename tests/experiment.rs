@@ -6,7 +6,7 @@
 //! input.
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::experiment::{Budget, Dataset, Method, Results, Settings, run_all};
+use paretomesh::experiment::{Budget, Dataset, DatasetResults, Method, Results, Settings, run_all};
 use paretomesh::heightfield;
 use paretomesh::metrics::{self, Normalization, Point};
 use std::path::{Path, PathBuf};
@@ -132,6 +132,45 @@ fn assert_4dp(cell: (f64, Option<f64>), want: (f64, Option<f64>), what: &str) {
     }
 }
 
+/// A data set's numbers recomputed with the metrics module alone, independently of the report.
+struct Recomputed {
+    /// Per method, its runs' normalised fronts.
+    runs: Vec<Vec<Vec<Point>>>,
+    /// Per method, its runs merged into one front.
+    merged: Vec<Vec<Point>>,
+    /// Every method's merged front merged: the reference front of the HVRs.
+    reference: Vec<Point>,
+    /// Per method, each run's HVR against `reference`.
+    hvr: Vec<Vec<f64>>,
+}
+
+fn recompute(d: &DatasetResults, paper: &Normalization, reference_point: [f64; 2]) -> Recomputed {
+    let runs: Vec<Vec<Vec<Point>>> = d
+        .methods
+        .iter()
+        .map(|m| m.runs.iter().map(|r| paper.solutions(&r.front)).collect())
+        .collect();
+    let merged: Vec<Vec<Point>> = runs
+        .iter()
+        .map(|r| metrics::merge(r.iter().map(Vec::as_slice)).unwrap())
+        .collect();
+    let reference = metrics::merge(merged.iter().map(Vec::as_slice)).unwrap();
+    let hvr = runs
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|f| metrics::hypervolume_ratio(f, &reference, reference_point).unwrap())
+                .collect()
+        })
+        .collect();
+    Recomputed {
+        runs,
+        merged,
+        reference,
+        hvr,
+    }
+}
+
 #[test]
 fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     let dir = scratch("e2e");
@@ -193,24 +232,12 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
 
     // Independent recomputation with the metrics module.
     let reference_point = results.settings.reference_point;
-    let runs: Vec<Vec<Vec<Point>>> = d
-        .methods
-        .iter()
-        .map(|m| m.runs.iter().map(|r| paper.solutions(&r.front)).collect())
-        .collect();
-    let merged: Vec<Vec<Point>> = runs
-        .iter()
-        .map(|r| metrics::merge(r.iter().map(Vec::as_slice)).unwrap())
-        .collect();
-    let reference = metrics::merge(merged.iter().map(Vec::as_slice)).unwrap();
-    let hvr: Vec<Vec<f64>> = runs
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|f| metrics::hypervolume_ratio(f, &reference, reference_point).unwrap())
-                .collect()
-        })
-        .collect();
+    let Recomputed {
+        runs,
+        merged,
+        reference,
+        hvr,
+    } = recompute(d, &paper, reference_point);
 
     // Table II: per-run HVR, then the merged fronts' HVR.
     let t2 = rows(&report, "## Table II.", &["Data set"]);
@@ -865,27 +892,7 @@ fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_f
         let (_, removes) = m.spec().ablation.unwrap();
         assert!(report.contains(removes), "{m} is not explained:\n{report}");
     }
-    let runs: Vec<Vec<Vec<Point>>> = d
-        .methods
-        .iter()
-        .map(|m| m.runs.iter().map(|r| paper.solutions(&r.front)).collect())
-        .collect();
-    let merged: Vec<Vec<Point>> = runs
-        .iter()
-        .map(|r| metrics::merge(r.iter().map(Vec::as_slice)).unwrap())
-        .collect();
-    let reference = metrics::merge(merged.iter().map(Vec::as_slice)).unwrap();
-    let hvr: Vec<Vec<f64>> = runs
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|f| {
-                    metrics::hypervolume_ratio(f, &reference, results.settings.reference_point)
-                        .unwrap()
-                })
-                .collect()
-        })
-        .collect();
+    let hvr = recompute(d, &paper, results.settings.reference_point).hvr;
     let table = rows(&report, "## Ablations", &["Data set"]);
     assert_eq!(table.len(), 4, "{report}");
     for (k, row) in table.iter().enumerate() {
