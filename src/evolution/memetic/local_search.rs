@@ -243,6 +243,7 @@ fn round(
         }
     }
     let mut trials = Trials {
+        hf: &hf,
         member,
         e: member.score.e_sum,
         evaluations,
@@ -277,9 +278,10 @@ fn round(
     true
 }
 
-/// What a round's trials share: the member they edit (unchanged until the round commits), its
+/// What a round's trials share: the height field, the member they edit (unchanged until the round commits), its
 /// E_sum before the round, and the run's evaluation count.
 struct Trials<'a> {
+    hf: &'a Heightfield,
     member: &'a Member,
     e: f64,
     evaluations: &'a mut u64,
@@ -325,13 +327,13 @@ impl Trials<'_> {
         guide: &Guide,
         largest: &[usize],
     ) -> Vec<(f64, u32, usize)> {
-        let hf = evaluator.heightfield().clone();
+        let hf = self.hf;
         let mut gains = Vec::with_capacity(2 * largest.len());
         for &t in largest {
             let key = guide.triangles[t];
             let tried = memo.insertions.entry(key).or_insert_with(|| {
-                let mut points = vec![guide.worst_point(&hf, t), guide.centre_point(&hf, t)];
-                points.retain(|&p| p != NO_POINT && !on_border(&hf, p));
+                let mut points = vec![guide.worst_point(hf, t), guide.centre_point(hf, t)];
+                points.retain(|&p| p != NO_POINT && !on_border(hf, p));
                 points.dedup();
                 points
                     .into_iter()
@@ -358,7 +360,7 @@ impl Trials<'_> {
         triangles: &[[u32; 3]],
         largest: &[usize],
     ) -> Vec<(f64, u32, u32)> {
-        let hf = evaluator.heightfield().clone();
+        let hf = self.hf;
         let corners = hf.corners();
         let mut movers: Vec<u32> = Vec::new();
         for &t in largest.iter().take(MOVE_TRIANGLES) {
@@ -372,7 +374,7 @@ impl Trials<'_> {
         for &v in &movers {
             let best = *memo.moves.entry(v).or_insert_with(|| {
                 let mut best: Option<(u32, f64)> = None;
-                for n in mutation::free_neighbours(&hf, self.member, v) {
+                for n in mutation::free_neighbours(hf, self.member, v) {
                     let edit = Edit {
                         remove: vec![v],
                         insert: vec![n],
@@ -419,11 +421,11 @@ impl Trials<'_> {
 
     /// The best move of one of `moved` to a free grid neighbour, if any lowers E_sum.
     fn best_neighbour_move(&mut self, evaluator: &mut Evaluator, moved: &[u32]) -> Option<Edit> {
-        let hf = evaluator.heightfield().clone();
+        let hf = self.hf;
         let mut best = self.e;
         let mut chosen = None;
         for &v in moved {
-            for n in mutation::free_neighbours(&hf, self.member, v) {
+            for n in mutation::free_neighbours(hf, self.member, v) {
                 let edit = Edit {
                     remove: vec![v],
                     insert: vec![n],
