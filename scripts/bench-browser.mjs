@@ -12,7 +12,7 @@
 // Needs the built app (bash scripts/build-web.sh).
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
-import { withApp, newPage, waitForApp, dropFiles } from '../tests/e2e/harness.mjs';
+import { withApp, newPage, waitForApp, dropFiles, startFrameLog, frameCount, stopFrameLog } from '../tests/e2e/harness.mjs';
 
 /// A seeded terrain: ridges, valleys and a few sharp features, so that no constant fits it.
 function terrain(w, h) {
@@ -74,13 +74,7 @@ if (gridArg) {
 
 async function runUntil(page, algorithm, done, timeout) {
   await page.selectOption('#algorithm', algorithm);
-  await page.evaluate(() => {
-    window.__frames = [];
-    window.__stopFrames = false;
-    let last = performance.now();
-    const tick = (t) => { window.__frames.push(t - last); last = t; if (!window.__stopFrames) requestAnimationFrame(tick); };
-    requestAnimationFrame(tick);
-  });
+  await startFrameLog(page);
   const t0 = Date.now();
   await page.click('#run');
   await page.waitForFunction(done, null, { timeout, polling: 50 });
@@ -103,11 +97,11 @@ await withApp(async ({ browser, url }) => {
   // E0: the corner-only mesh's E (greedy insertion's first snapshot).
   const e0 = (greedy.find(([t]) => t === 2) ?? greedy.reduce((a, b) => (a[1] > b[1] ? a : b)))[1];
   const hvGreedy = hypervolume(greedy, fullT, e0);
-  await page.evaluate(() => { window.__stopFrames = true; });
+  await stopFrameLog(page);
 
   await page.selectOption('#algorithm', 'memetic');
   const seedMs = await runUntil(page, 'memetic', () => window.paretomesh.frontLength() > 0, 600000);
-  const seedFrames = await page.evaluate(() => window.__frames.length);
+  const seedFrames = await frameCount(page);
   const t1 = Date.now();
   let beatMs = null, hv = 0, doneFrames = null;
   // Runs for 20 s (or until the front beats greedy insertion's, if later), sampling the front.
@@ -115,11 +109,11 @@ await withApp(async ({ browser, url }) => {
     hv = hypervolume(pairs(await page.evaluate(() => window.paretomesh.frontObjectives())), fullT, e0);
     if (beatMs === null && hv > hvGreedy) beatMs = seedMs + Date.now() - t1;
     if (doneFrames === null && (await page.locator('#status').textContent()).startsWith('done')) {
-      doneFrames = await page.evaluate(() => window.__frames.length);
+      doneFrames = await frameCount(page);
     }
     await page.waitForTimeout(250);
   }
-  const all = await page.evaluate(() => { window.__stopFrames = true; return window.__frames; });
+  const all = await stopFrameLog(page);
   // Frames while the optimiser runs: from Run until the status says done.
   const frames = all.slice(2, doneFrames ?? all.length);
   const after = all.slice(seedFrames, doneFrames ?? all.length);
@@ -138,7 +132,7 @@ await withApp(async ({ browser, url }) => {
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   const loadMs = Date.now() - t2;
   const frontMs = await runUntil(page, 'memetic', () => window.paretomesh.frontLength() > 0, 600000);
-  await page.evaluate(() => { window.__stopFrames = true; });
+  await stopFrameLog(page);
   await page.click('#pause');
   console.log(`${big[0].name}: loaded and drawn ${loadMs} ms after the drop; first front ${frontMs} ms after Run (${loadMs + frontMs} ms in all)`);
 });

@@ -9,7 +9,7 @@
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, wavyObj } from './harness.mjs';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, wavyObj, startFrameLog, stopFrameLog } from './harness.mjs';
 
 const DROP_FILES = (process.env.E2E_DROP ?? 'tests/data/volcano_87x61.ply').split(',');
 
@@ -57,19 +57,14 @@ await withApp(async ({ browser, url }) => {
   // 3. Run NSGA-II until the front has at least 10 points, measuring frame intervals.
   await page.selectOption('#algorithm', 'nsga2');
   assert.deepEqual(await shown(fields), [true, true, true, true, true, true], 'NSGA-II: every field');
-  await page.evaluate(() => {
-    window.__frames = [];
-    let last = performance.now();
-    const tick = (t) => { window.__frames.push(t - last); last = t; if (!window.__stopFrames) requestAnimationFrame(tick); };
-    requestAnimationFrame(tick);
-  });
+  await startFrameLog(page);
   await page.click('#run');
   await page.waitForFunction(
     () => window.paretomesh.frontLength() >= 10 || document.getElementById('run-message').textContent !== '',
     null, { timeout: 120000 });
   assert.equal(await page.locator('#run-message').textContent(), '', 'NSGA-II runs');
   await page.waitForTimeout(1500); // a little longer, for the frame statistics
-  const frames = await page.evaluate(() => { window.__stopFrames = true; return window.__frames; });
+  const frames = await stopFrameLog(page);
   const runStatus = await status(page);
   await page.click('#pause');
   await page.screenshot({ path: path.join(shots, '03-front.png') });

@@ -75,6 +75,23 @@ export async function waitForApp(page) {
   await page.waitForFunction(() => performance.getEntriesByName('paretomesh-first-paint').length > 0, null, { timeout: 30000 });
 }
 
+// Starts logging the intervals between animation frames in the page (a fresh log each call).
+export async function startFrameLog(page) {
+  await page.evaluate(() => {
+    window.__frames = [];
+    window.__stopFrames = false;
+    let last = performance.now();
+    const tick = (t) => { window.__frames.push(t - last); last = t; if (!window.__stopFrames) requestAnimationFrame(tick); };
+    requestAnimationFrame(tick);
+  });
+}
+
+// The number of frame intervals logged so far.
+export const frameCount = (page) => page.evaluate(() => window.__frames.length);
+
+// Stops the frame log and returns its intervals (ms).
+export const stopFrameLog = (page) => page.evaluate(() => { window.__stopFrames = true; return window.__frames; });
+
 // Drops files (name → bytes) on the drop zone through a real DataTransfer.
 export async function dropFiles(page, files) {
   const payload = files.map(({ name, bytes }) => ({ name, b64: Buffer.from(bytes).toString('base64') }));
