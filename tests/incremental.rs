@@ -387,3 +387,48 @@ fn a_mutant_that_is_not_one_is_refused() {
     assert!(refused(&[], &[25], &mut ev), "out of range");
     assert!(!refused(&[12], &[13], &mut ev), "a real mutant");
 }
+
+#[test]
+fn every_single_removal_and_insertion_finds_the_largest_error_left() {
+    // A mutant that drops the triangle holding E_max must find the largest error among the
+    // triangles it keeps: exhaustive single-point mutants, on integer heights (many triangles
+    // tie at the maximum) and on real ones (one triangle holds it), with meshes of more
+    // triangles than the mesh keeps maxima for and of fewer.
+    for (hf, density) in [
+        (synthetic(17, 13, 2), 0.15),
+        (synthetic(17, 13, 3), 0.15),
+        (synthetic(9, 9, 2), 0.05),
+        (fixture("volcano_33x33"), 0.06),
+    ] {
+        let mut rng = Pcg64Mcg::seed_from_u64(11);
+        let mut ev = Evaluator::new(hf.clone());
+        let n = hf.len() as u32;
+        let corners = hf.corners();
+        let mut kept = random_kept(hf.len(), density, &mut rng);
+        kept.extend(corners);
+        kept.sort_unstable();
+        kept.dedup();
+        let mut base = MeshState::default();
+        ev.score_into(&kept, &mut base).unwrap();
+        base.ensure_lookups();
+        for p in (0..n).filter(|p| !corners.contains(p)) {
+            let (removed, inserted) = as_edit(&base, [p]);
+            let changes = Changes {
+                removed: &removed,
+                inserted: &inserted,
+            };
+            let score = ev
+                .score_mutant(&base, changes)
+                .expect("a single flip is scored");
+            let mutant: Vec<u32> = (0..n).filter(|&i| base.is_kept(i) != (i == p)).collect();
+            let fresh = ev.evaluate(&mutant).unwrap();
+            assert_eq!(
+                bits(score),
+                bits(fresh.score),
+                "{}×{} flip {p}",
+                hf.width(),
+                hf.height()
+            );
+        }
+    }
+}

@@ -9,10 +9,13 @@ mod common;
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
 use paretomesh::evaluator::Evaluator;
+use paretomesh::evolution::memetic::decimation::Decimation;
 use paretomesh::evolution::memetic::local_search::LocalSearch;
 use paretomesh::evolution::memetic::member::Member;
 use paretomesh::evolution::memetic::mutation;
 use paretomesh::evolution::memetic::neighbour_mating::{self, Cut};
+use paretomesh::evolution::memetic::seeding::densest_seed;
+use paretomesh::evolution::memetic::seeding_budget;
 use paretomesh::evolution::{Memetic, MemeticParams};
 use paretomesh::front::{Front, dominates};
 use paretomesh::heightfield::Heightfield;
@@ -205,7 +208,7 @@ fn pairs(front: &Front) -> Vec<(u64, usize, Vec<u32>)> {
 #[test]
 fn a_seed_reproduces_the_run_however_it_is_sliced() {
     let hf = fixture("camera_33x33");
-    let budget = 2 * hf.len() as u64 + 5000;
+    let budget = seeding_budget(&hf) + 5000;
     let mut whole = Memetic::new(hf.clone(), params(budget), 9).unwrap();
     let end = whole.run_to_end();
     assert!(end.generation >= 2, "the run got past seeding: {end:?}");
@@ -257,7 +260,7 @@ fn the_front_grows_from_the_first_units_of_seeding() {
 #[test]
 fn the_front_weakly_dominates_its_greedy_seed_front_and_scores_honestly() {
     let hf = fixture("jacksboro_33x33");
-    let mut run = Memetic::new(hf.clone(), params(2 * hf.len() as u64 + 3000), 1).unwrap();
+    let mut run = Memetic::new(hf.clone(), params(seeding_budget(&hf) + 3000), 1).unwrap();
     run.run_to_end();
     let seeds = run.seed_front();
     assert!(seeds.len() > 20);
@@ -289,18 +292,19 @@ fn the_front_weakly_dominates_its_greedy_seed_front_and_scores_honestly() {
 }
 
 #[test]
-fn members_between_uses_hold_no_per_grid_point_arrays_and_seeds_stay_below_a_quarter() {
+fn members_between_uses_hold_no_per_grid_point_arrays_and_seeds_stay_below_the_densest_seed() {
     // A stowed member's mesh lends its per-grid-point arrays to the members being edited, so
     // the population's memory grows with its meshes, not with the grid; the seeds are at most
-    // a quarter of the full mesh.
+    // the densest seed (a quarter of the full mesh on this grid).
     let hf = fixture("volcano_33x33");
-    let mut run = Memetic::new(hf.clone(), params(2 * hf.len() as u64 + 2000), 3).unwrap();
+    let mut run = Memetic::new(hf.clone(), params(seeding_budget(&hf) + 2000), 3).unwrap();
     let (mut checked, mut seeds_seen) = (0, false);
     // Slices of one unit, so that the population is seen as soon as the last seed joins.
     while !run.step(1).done {
         if !seeds_seen && run.population().len() == 8 {
-            let quarter = hf.full_triangles() / 4;
-            assert!(run.population().iter().all(|m| m.score.t <= quarter));
+            assert_eq!(densest_seed(&hf), hf.full_triangles() / 4);
+            let densest = densest_seed(&hf);
+            assert!(run.population().iter().all(|m| m.score.t <= densest));
             seeds_seen = true;
         }
         for m in run.population() {
@@ -409,7 +413,7 @@ fn run_without_algo_is_memetic_and_its_front_rescores() {
 #[test]
 fn each_ablation_switch_changes_the_run_and_keeps_it_reproducible_and_honest() {
     let hf = fixture("camera_33x33");
-    let budget = 2 * hf.len() as u64 + 5000;
+    let budget = seeding_budget(&hf) + 5000;
     let mut full = Memetic::new(hf.clone(), params(budget), 4).unwrap();
     full.run_to_end();
     let corners = hf.corners();
@@ -506,4 +510,65 @@ fn run_honours_the_population_and_crossover_probability_and_refuses_what_it_woul
     // The --gens refusal says what to use instead.
     let gens = run(&["--gens", "5"]);
     assert!(String::from_utf8_lossy(&gens.stderr).contains("--evals"));
+}
+
+#[test]
+fn decimation_removes_the_cheapest_vertex_per_triangle_saved_and_records_honest_meshes() {
+    // Brute force: before each removal every other vertex's removal is scored from scratch,
+    // and the decimation must take one of least rise of E_sum per triangle saved (border
+    // vertices save one triangle, interior ones two).
+    let hf = fixture("volcano_33x33");
+    let mut rng = Pcg64Mcg::seed_from_u64(4);
+    let mut start = random_kept(hf.len(), 0.08, &mut rng);
+    start.extend(hf.corners());
+    start.sort_unstable();
+    start.dedup();
+    let mut ev = Evaluator::new(hf.clone());
+    let mut fresh_ev = Evaluator::new(hf.clone());
+    let mut run = Decimation::new(&mut ev, start.clone());
+    let corners = hf.corners();
+    assert!(start.len() > 60, "a start with room to choose");
+    let mut records: Vec<(Vec<u32>, paretomesh::evaluator::Score)> = Vec::new();
+    let mut removals = 0;
+    while !run.is_done() {
+        let before = run.member().kept.clone();
+        let score = run.member().score;
+        let cost = |ev: &mut Evaluator, v: u32| {
+            let kept: Vec<u32> = before.iter().copied().filter(|&u| u != v).collect();
+            let after = ev.score(&kept).unwrap();
+            (after.e_sum - score.e_sum) / (score.t - after.t) as f64
+        };
+        run.unit(&mut ev, |kept, score| records.push((kept.to_vec(), *score)));
+        let after = &run.member().kept;
+        if after.len() == before.len() {
+            continue;
+        }
+        let removed: Vec<u32> = before
+            .iter()
+            .copied()
+            .filter(|v| !after.contains(v))
+            .collect();
+        assert_eq!(removed.len(), 1, "one vertex per removal");
+        let least = (before.iter().copied())
+            .filter(|v| !corners.contains(v))
+            .map(|v| cost(&mut fresh_ev, v))
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(cost(&mut fresh_ev, removed[0]), least, "removal {removals}");
+        removals += 1;
+    }
+    assert_eq!(removals, start.len() - 4, "down to the corners");
+    // Every recording is honest, keeps the corners and is at most 98 % of the T before it.
+    assert_eq!(records[0].0, start);
+    assert_eq!(records.last().unwrap().1.t, 2);
+    for pair in records.windows(2) {
+        assert!(pair[1].1.t as f64 <= pair[0].1.t as f64 * 0.98 || pair[1].1.t < pair[0].1.t);
+    }
+    for (kept, score) in &records {
+        assert!(corners.iter().all(|c| kept.binary_search(c).is_ok()));
+        let fresh = fresh_ev.score(kept).unwrap();
+        assert_eq!(
+            (fresh.e_sum.to_bits(), fresh.t),
+            (score.e_sum.to_bits(), score.t)
+        );
+    }
 }

@@ -45,11 +45,19 @@ pub struct MeshState {
     /// The sum of every triangle's totals, made with the score: what a mutant's score starts
     /// from, so that scoring it costs the triangles it drops, not all of them.
     pub(crate) all: ErrorTotals,
+    /// The [`LARGEST_MAXIMA`] largest per-triangle maxima with their slots, largest first,
+    /// made with `all` (zero maxima pad a mesh with fewer nonzero ones): a mutant that drops
+    /// the triangle holding the maximum finds the next one here instead of in a pass over the
+    /// mesh.
+    pub(crate) largest: [(f64, u32); LARGEST_MAXIMA],
     /// Changes whenever the mesh does (a new number from [`next_revision`] at every scoring),
     /// so that what was derived from one mesh ([`PartClasses`](crate::evaluator::PartClasses))
     /// can tell it from later ones; 0 until scored. A copy keeps it: it is the same mesh.
     pub(crate) revision: u64,
 }
+
+/// See [`MeshState::largest`].
+pub const LARGEST_MAXIMA: usize = 16;
 
 /// A mesh state's arrays indexed by grid point (kept marks, hints, kept bitset), taken out of a
 /// state that is not being edited ([`MeshState::detach_lookups`]) and lent to one that is
@@ -88,6 +96,7 @@ impl Clone for MeshState {
         self.score = source.score;
         self.revision = source.revision;
         self.all = source.all;
+        self.largest = source.largest;
         // A copy is about to be edited (that is what the scorer copies for): the disc boxes and
         // the kept points' bitset, which an edit keeps up to date, are copied (cheaper than
         // making them again); the summed-area table, which it does not, is not.
@@ -164,6 +173,28 @@ impl MeshState {
                     .all(|&(u, v)| predicates::orient(u, v, p) >= 0)
             })
             .expect("the grid rectangle is covered by the triangles")
+    }
+
+    /// The kept points that share a triangle with kept point `v`, each once, counter-clockwise
+    /// around it: a walk around its star from the triangle its hint names. The state must
+    /// hold its lookups ([`has_lookups`](Self::has_lookups)).
+    pub fn neighbours(&self, v: u32) -> Vec<u32> {
+        let hf = self.hf.as_ref().expect("a scored state");
+        let lattice = Lattice::new(hf.width());
+        let t = self.locate(lattice, self.hint[v as usize], lattice.point(v));
+        let e = self
+            .mesh
+            .leaving(t, v)
+            .expect("a kept point is a vertex of every triangle whose closed area holds it");
+        let mut out = Vec::with_capacity(8);
+        for e in self.mesh.fan(e) {
+            for u in self.mesh.triangle((e / 3) as usize) {
+                if u != v && !out.contains(&u) {
+                    out.push(u);
+                }
+            }
+        }
+        out
     }
 
     /// Does this state hold its per-grid-point arrays (a build, an edit or a composition gives

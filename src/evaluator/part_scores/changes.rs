@@ -393,6 +393,25 @@ fn drop_from_base(
     Some(())
 }
 
+/// The largest maximum among `base`'s triangles that are not dropped: the first of its
+/// [`largest`](MeshState::largest) maxima that is not (every triangle outside that list has a
+/// maximum no larger than its last), else a pass over the mesh.
+fn next_maximum(base: &MeshState, is_dropped: &impl Fn(usize) -> bool) -> f64 {
+    for &(max, slot) in &base.largest {
+        if max <= 0.0 {
+            // Padding: no other triangle has a nonzero maximum.
+            return 0.0;
+        }
+        if !is_dropped(slot as usize) {
+            return max;
+        }
+    }
+    (base.totals[..base.mesh.len()].iter().enumerate())
+        .filter(|&(t, _)| !is_dropped(t))
+        .map(|(_, own)| own.max)
+        .fold(0.0, f64::max)
+}
+
 /// The reused triangles' totals: all of the base's but the dropped ones (a sum over the base's
 /// triangles is cheaper than the copy an edit needs). Sums subtract; the maximum is made again
 /// without the dropped triangles only when one of them may have held it.
@@ -410,10 +429,7 @@ fn reused_base_totals(base: &MeshState, work: &ChangeScratch) -> ErrorTotals {
         max_dropped |= own.max >= totals.max;
     }
     if max_dropped {
-        totals.max = (all.iter().enumerate())
-            .filter(|&(t, _)| !is_dropped(t))
-            .map(|(_, own)| own.max)
-            .fold(0.0, f64::max);
+        totals.max = next_maximum(base, &is_dropped);
     }
     totals
 }

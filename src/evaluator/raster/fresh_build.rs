@@ -6,7 +6,7 @@ use super::triangle_memo::TriangleMemo;
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::Lattice;
 use crate::evaluator::mesh::canonical_form::canonical;
-use crate::evaluator::mesh::state::{MeshState, next_revision};
+use crate::evaluator::mesh::state::{LARGEST_MAXIMA, MeshState, next_revision};
 use crate::evaluator::score::Score;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
@@ -91,10 +91,17 @@ impl MeshState {
         self.revision = next_revision();
         let units = ErrorUnits::of(hf);
         let mut all = ErrorTotals::default();
-        for t in &self.totals[..self.mesh.len()] {
+        let mut largest = [(0.0, 0); LARGEST_MAXIMA];
+        for (slot, t) in self.totals[..self.mesh.len()].iter().enumerate() {
             all.add(t);
+            if t.max > largest[LARGEST_MAXIMA - 1].0 {
+                let at = largest.partition_point(|&(m, _)| m >= t.max);
+                largest.copy_within(at..LARGEST_MAXIMA - 1, at + 1);
+                largest[at] = (t.max, slot as u32);
+            }
         }
         self.all = all;
+        self.largest = largest;
         self.score_from(units.values(&all), hf.len())
     }
 

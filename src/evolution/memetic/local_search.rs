@@ -23,8 +23,8 @@
 //! the last edit changed, not as many as there are candidates.
 //!
 //! Spreading the budget over the front: visits go to triangle counts on a geometric sweep
-//! from the sparsest useful mesh to a quarter of the full mesh (denser meshes have errors near
-//! zero, so little to gain), [`TARGETS`] per sweep, each sweep
+//! from the sparsest useful mesh to the densest seed ([`densest_seed`]; denser meshes have
+//! errors near zero, or are too large to search for what a visit gains), [`TARGETS`] per sweep, each sweep
 //! shifted by the next term of a van der Corput sequence so later sweeps fall between the
 //! earlier ones. A visit takes the archive member with the most triangles at or below its
 //! target and pads it up to the target with the worst points of its largest-error triangles,
@@ -37,6 +37,7 @@
 use super::guide::{Guide, NO_POINT};
 use super::member::{Edit, Member, offer, on_border};
 use super::mutation;
+use super::seeding::densest_seed;
 use crate::evaluator::Evaluator;
 use crate::front::Front;
 use crate::heightfield::Heightfield;
@@ -81,10 +82,10 @@ pub struct LocalSearch {
 }
 
 impl LocalSearch {
-    /// Targets from 8 triangles (or fewer on a tiny grid) to a quarter of `hf`'s full mesh.
+    /// Targets from 8 triangles (or fewer on a tiny grid) to the densest seed
+    /// ([`densest_seed`]: a quarter of `hf`'s full mesh up to a 257×257 grid).
     pub fn new(hf: &Heightfield) -> Self {
-        let full = hf.full_triangles() as f64;
-        let high = (full / 4.0).max(2.0);
+        let high = densest_seed(hf) as f64;
         Self {
             visits: 0,
             subject: None,

@@ -4,6 +4,8 @@
 //!
 //! - [`seeding`]: the initial population from two greedy-insertion sweeps (max-error rule and
 //!   worst point of the largest-error-sum triangle); the mix is documented there.
+//! - [`decimation`]: exact-cost decimation of a dense greedy mesh, whose recordings join the
+//!   archive and the seeds.
 //! - [`mutation`]: error-guided insertion, removal and vertex moves, each a local edit scored
 //!   incrementally ([`Evaluator::edit`](crate::evaluator::Evaluator::edit),
 //!   [`Evaluator::score_mutant`](crate::evaluator::Evaluator::score_mutant)).
@@ -35,6 +37,7 @@
 //!
 //! [`Optimizer::front`]: crate::optimizer::Optimizer::front
 
+pub mod decimation;
 pub mod guide;
 pub mod local_search;
 pub mod member;
@@ -45,4 +48,4 @@ pub mod params;
 pub mod seeding;
 
 pub use optimizer::Memetic;
-pub use params::{MemeticParams, MemeticParamsError, default_budget};
+pub use params::{MemeticParams, MemeticParamsError, default_budget, seeding_budget};

@@ -1,5 +1,6 @@
 //! The memetic optimizer: NSGA-II's loop with guided operators and local search.
 
+use super::decimation::{self, Decimation};
 use super::local_search::LocalSearch;
 use super::member::{LookupPool, Member, offer};
 use super::mutation::{self, Operator};
@@ -38,6 +39,8 @@ pub struct Memetic {
     rng: Pcg64Mcg,
     evaluator: Evaluator,
     seeding: Seeding,
+    /// The decimation of the first greedy run's dense mesh, once seeding is done.
+    decimation: Option<Decimation>,
     /// Both greedy runs' fronts merged: what the memetic front must weakly dominate.
     seed_front: Front,
     /// The seeds' kept sets, once seeding is done, in the order they join.
@@ -72,6 +75,7 @@ impl Memetic {
             rng: Pcg64Mcg::seed_from_u64(seed),
             evaluator: Evaluator::new(hf.clone()),
             seeding: Seeding::new(hf.clone()),
+            decimation: None,
             seed_front: Front::default(),
             seeds: Vec::new(),
             randomly_seeded: false,
@@ -122,7 +126,9 @@ impl Memetic {
     }
 
     fn total_evaluations(&self) -> u64 {
-        self.seeding.evaluations() + self.evaluations
+        self.seeding.evaluations()
+            + self.decimation.as_ref().map_or(0, Decimation::evaluations)
+            + self.evaluations
     }
 
     fn advance(&mut self) {
@@ -146,8 +152,21 @@ impl Memetic {
                 archive.offer(s.clone());
                 seed_front.offer(s.clone());
             });
-            if self.seeding.is_done() {
-                self.seeds = self.seeding.seeds(self.params.population);
+            return;
+        } else if !self.decimation.as_ref().is_some_and(Decimation::is_done) {
+            let (seeding, evaluator) = (&self.seeding, &mut self.evaluator);
+            let run = self.decimation.get_or_insert_with(|| {
+                let hf = evaluator.heightfield().clone();
+                let start = seeding.decimation_start(decimation::start_triangles(&hf));
+                Decimation::new(evaluator, start)
+            });
+            let archive = &mut self.archive;
+            run.unit(evaluator, |kept, score| {
+                offer(archive, kept, score);
+            });
+            if run.is_done() {
+                let hf = self.evaluator.heightfield().clone();
+                self.seeds = seeding::seeds(&hf, &self.archive, self.params.population);
                 self.seeds.reverse();
             }
             return;

@@ -1,6 +1,8 @@
 //! Parameters of the memetic algorithm. They are serialised into front.json, so every field
 //! has a stable name.
 
+use super::decimation::start_triangles;
+use super::seeding::densest_seed;
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -60,18 +62,32 @@ impl Default for MemeticParams {
     }
 }
 
-/// The default evaluation budget on `hf`: the two seeding sweeps (one evaluation per grid
-/// point each), then [`SEARCH_EVALUATIONS`] plus one per grid point, up to
-/// [`SEARCH_GRID_CAP`] of them, for the evolution and the local search. The search grows with
-/// the grid because the front has more to improve on a larger one, but more slowly than the
-/// grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more (its mesh is
+/// The default evaluation budget on `hf`: the two seeding sweeps (one evaluation per point
+/// they insert: every grid point, then half as many as the densest seed has triangles,
+/// [`densest_seed`]), the decimation ([`DECIMATION_EVALUATIONS`] per triangle of the mesh it
+/// starts from, [`start_triangles`]), then [`SEARCH_EVALUATIONS`] plus one per grid point, up
+/// to [`SEARCH_GRID_CAP`] of them, for the evolution and the local search. The search grows
+/// with the grid because the front has more to improve on a larger one, but more slowly than
+/// the grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more (its mesh is
 /// larger), so a search that grew with the grid would make the run grow faster than the
 /// sweeps do. Measured on one core: under 1 s on a 65×65 grid, a few seconds on a 257×257
 /// one, under a minute on a 1025×1025 one (see docs/performance.md).
 pub fn default_budget(hf: &Heightfield) -> u64 {
     let n = hf.len() as u64;
-    2 * n + SEARCH_EVALUATIONS + n.min(SEARCH_GRID_CAP)
+    seeding_budget(hf) + SEARCH_EVALUATIONS + n.min(SEARCH_GRID_CAP)
 }
+
+/// The part of [`default_budget`] that the seeding sweeps and the decimation take (an
+/// estimate: the decimation's count depends on the surface).
+pub fn seeding_budget(hf: &Heightfield) -> u64 {
+    hf.len() as u64
+        + densest_seed(hf) as u64 / 2
+        + DECIMATION_EVALUATIONS * start_triangles(hf) as u64
+}
+
+/// See [`default_budget`]: a decimation costs about 3.8 evaluations per triangle of its start
+/// mesh (a first cost per vertex, then a removal and its neighbours' new costs).
+pub const DECIMATION_EVALUATIONS: u64 = 4;
 
 /// See [`default_budget`].
 pub const SEARCH_EVALUATIONS: u64 = 36_000;

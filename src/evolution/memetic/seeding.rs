@@ -1,19 +1,24 @@
-//! The initial population, from two greedy-insertion sweeps.
+//! The initial population, from two greedy-insertion sweeps and the decimation of one.
 //!
-//! The mix: two greedy-insertion runs from the corners to every grid point, one with the
-//! classic max-error rule ([`InsertionRule::MaxError`]) and one that inserts the worst point
-//! of the triangle with the largest error sum ([`InsertionRule::WorstTriangle`]), which suits a
-//! sum-type error such as E_sum. Each records its mesh at [`RECORDS`] geometrically spaced
+//! The mix: two greedy-insertion runs from the corners, one with the classic max-error rule
+//! ([`InsertionRule::MaxError`]) to every grid point, and one that inserts the worst point of
+//! the triangle with the largest error sum ([`InsertionRule::WorstTriangle`]), which suits a
+//! sum-type error such as E_sum, to [`densest_seed`] triangles. Each records its mesh at [`RECORDS`] geometrically spaced
 //! triangle counts (twice greedy insertion's default, so that the seed front has no wide gaps
 //! in T). Every recorded mesh of both runs is offered to the archive (so the final front
-//! weakly dominates both greedy fronts), and the population takes ⌈μ/2⌉ seeds from the first
-//! run's front and ⌊μ/2⌋ from the second's, at evenly spaced positions of each front's members
-//! of at most [`densest_seed`] triangles (by increasing T, so evenly in log T, from the
-//! sparsest mesh to a quarter of the full one).
+//! weakly dominates both greedy fronts). Then the first run's mesh at
+//! [`start_triangles`] is decimated by exact costs down to
+//! the corners ([`decimation`](super::decimation)), each of its recordings offered to the
+//! archive too, and the population takes μ [`seeds`] at evenly spaced positions of the
+//! archive's members of at most [`densest_seed`] triangles (by increasing T, so evenly in
+//! log T, from the sparsest mesh to half the decimation's start).
 //!
 //! Unit: one greedy insertion (one evaluation).
 
-use crate::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
+use super::decimation::start_triangles;
+use crate::baselines::greedy_insertion::{
+    GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
+};
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
@@ -76,9 +81,18 @@ impl Seeding {
         let next = self.fronts.len();
         let hf = self.hf.clone();
         let (_, run) = self.current.get_or_insert_with(|| {
+            // The first run goes on to the full mesh, so the archive spans the whole front;
+            // the second stops at the densest seed, past which it adds nothing the first does
+            // not.
+            let stop = if next == 0 {
+                GreedyStop::AllPoints
+            } else {
+                GreedyStop::Triangles(densest_seed(&hf))
+            };
             let params = GreedyParams {
                 rule: RULES[next],
                 records: RECORDS,
+                stop,
                 ..GreedyParams::default()
             };
             (
@@ -100,32 +114,36 @@ impl Seeding {
         self.handed_out = 0;
     }
 
-    /// The kept sets of the seeds: `population` of them when the fronts have that many
-    /// members of at most [`densest_seed`] triangles (fewer otherwise), ⌈μ/2⌉ from the first
-    /// front, the rest from the second, each at evenly spaced positions of those members.
-    pub fn seeds(&self, population: usize) -> Vec<Vec<u32>> {
-        let shares = [population.div_ceil(2), population / 2];
-        let densest = densest_seed(&self.hf);
-        let mut seeds = Vec::with_capacity(population);
-        for (front, share) in self.fronts.iter().zip(shares) {
-            let all = front.solutions();
-            // The front is sorted by increasing T.
-            let members = &all[..all.partition_point(|s| s.t <= densest).max(1)];
-            for index in spread(members.len(), share) {
-                seeds.push(members[index].kept.clone());
-            }
-        }
-        seeds
+    /// The kept set [`decimation`](super::decimation) starts from: the first run's recorded
+    /// mesh with the most triangles up to `triangles` (its sparsest one when none is that
+    /// sparse). Both runs must be done.
+    pub fn decimation_start(&self, triangles: usize) -> Vec<u32> {
+        let members = self.fronts[0].solutions();
+        let at = members.partition_point(|s| s.t <= triangles).max(1);
+        members[at - 1].kept.clone()
     }
 }
 
-/// The most triangles a seed has: a quarter of the full mesh, where the local search's targets
-/// end too. Denser meshes have errors near zero, so the search gains little there, while their
-/// meshes are the largest and every copy, guide and trial on them costs in proportion (on a
-/// 1025×1025 grid a full mesh has 2 M triangles). The archive still holds the sweeps' denser
-/// meshes.
+/// The kept sets of `population` seeds (fewer when `front` has fewer members of at most
+/// [`densest_seed`] triangles on `hf`), at evenly spaced positions of those members.
+pub fn seeds(hf: &Heightfield, front: &Front, population: usize) -> Vec<Vec<u32>> {
+    let all = front.solutions();
+    // The front is sorted by increasing T.
+    let members = &all[..all.partition_point(|s| s.t <= densest_seed(hf)).max(1)];
+    spread(members.len(), population)
+        .into_iter()
+        .map(|index| members[index].kept.clone())
+        .collect()
+}
+
+/// The most triangles a seed has: half the mesh the decimation starts from
+/// ([`start_triangles`]), so a quarter of the full mesh up to a 257×257 grid, where the local
+/// search's targets end too. Denser meshes have errors near zero, or (on a larger grid) come
+/// from greedy insertion alone, while their meshes are the largest and every copy, guide and
+/// trial on them costs in proportion (on a 1025×1025 grid a full mesh has 2 M triangles). The
+/// archive still holds the sweeps' and the decimation's denser meshes.
 pub fn densest_seed(hf: &Heightfield) -> usize {
-    hf.full_triangles() / 4
+    (start_triangles(hf) / 2).max(2)
 }
 
 /// min(`s`, `n`) distinct indices of 0..`n` at evenly spaced positions, round(j·(n−1)/(s−1)),
