@@ -419,6 +419,37 @@ mod app_stepping {
     }
 
     #[test]
+    fn a_slow_call_keeps_the_next_frames_from_starting_a_call_late() {
+        // Calls take 1 ms, but the fourth takes 6 ms (a large mesh's fresh build, say). The
+        // frame after it expects 3 ms of a call (the 6 ms, faded once) and stops when that
+        // would not fit in its 8 ms, at six calls instead of eight; as the memory of the slow
+        // call fades, frames fill their budget again.
+        let mut app = app();
+        app.run().unwrap();
+        let (mut now, mut readings) = (0.0, 0);
+        let mut clock = move || {
+            readings += 1;
+            // Reading 1 starts the first frame; reading k + 1 ends call k of it.
+            now += if readings == 5 {
+                6.0
+            } else if readings == 1 {
+                0.0
+            } else {
+                1.0
+            };
+            now
+        };
+        assert_eq!(
+            app.tick(8.0, &mut clock).steps,
+            4,
+            "stopped after the slow call"
+        );
+        assert_eq!(app.tick(8.0, &mut clock).steps, 6);
+        let later: Vec<u32> = (0..5).map(|_| app.tick(8.0, &mut clock).steps).collect();
+        assert_eq!(later.last(), Some(&8), "{later:?}");
+    }
+
+    #[test]
     fn a_clock_too_coarse_to_see_a_step_does_not_let_a_tick_run_away() {
         // performance.now() is coarsened: steps can look instantaneous. The chunk then grows
         // by doubling only, so after k zero-time calls the next call spends at most 2^k

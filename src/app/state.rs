@@ -20,6 +20,10 @@ use std::sync::Arc;
 /// Default time budget of one frame's optimisation slice, in milliseconds.
 pub const DEFAULT_BUDGET_MS: f64 = 8.0;
 
+/// How much of the longest recent step call a tick still expects of its next call, per frame
+/// since it was seen (see [`App::tick`]).
+pub const SLOW_CALL_FADE: f64 = 0.5;
+
 /// What the user chose: serialisable, so a share link can carry it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunConfig {
@@ -85,6 +89,8 @@ pub struct App {
     elapsed_ms: f64,
     /// Evaluations per step call, adapted so a call takes about a tenth of the budget.
     chunk: u64,
+    /// The longest step call of recent frames, in ms, fading by [`SLOW_CALL_FADE`] per frame.
+    slowest_call_ms: f64,
     selected: Option<Solution>,
     revision: u64,
     /// While re-running a shared run: the generation to stop at, and the front index to select
@@ -111,6 +117,7 @@ impl App {
             running: false,
             elapsed_ms: 0.0,
             chunk: 1,
+            slowest_call_ms: 0.0,
             selected: None,
             revision: 0,
             reproduction: None,
@@ -148,6 +155,7 @@ impl App {
         self.running = false;
         self.elapsed_ms = 0.0;
         self.chunk = 1;
+        self.slowest_call_ms = 0.0;
         self.selected = None;
         self.reproduction = None;
         self.revision += 1;
@@ -247,7 +255,10 @@ impl App {
     /// its chunk (for the genetic algorithms a unit is one evaluation). A call is not started
     /// when the slowest evaluation seen in this frame, times the chunk, would not fit in what is
     /// left of the budget: evaluations of dense meshes cost several times those of sparse ones,
-    /// so stopping only once the budget is gone would let the last call run well past it.
+    /// so stopping only once the budget is gone would let the last call run well past it. Nor
+    /// is one started when the longest call of recent frames would not fit: some units cost far
+    /// more than their evaluations say (a fresh build of a large mesh is one evaluation), and
+    /// they come back every few frames.
     pub fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> TickReport {
         let mut report = TickReport::default();
         if !self.running {
@@ -258,6 +269,7 @@ impl App {
             return report;
         };
         let start = clock();
+        self.slowest_call_ms *= SLOW_CALL_FADE;
         let before = optimizer.progress().evaluations;
         let mut now = start;
         // The slowest evaluation of this frame so far, in ms.
@@ -274,6 +286,7 @@ impl App {
             report.steps += 1;
             let spent = p.evaluations - evals_before;
             let took = now - call_start;
+            self.slowest_call_ms = self.slowest_call_ms.max(took);
             // Aim for a tenth of the budget per call so the last call overshoots little. The
             // chunk at most doubles per call: a call faster than the timer's resolution
             // (performance.now() is coarsened) must not make the next call run away.
@@ -300,7 +313,7 @@ impl App {
             if !self.running {
                 break;
             }
-            let expected_next = slowest_eval * self.chunk as f64;
+            let expected_next = (slowest_eval * self.chunk as f64).max(self.slowest_call_ms);
             if now - start + expected_next > budget_ms {
                 break;
             }

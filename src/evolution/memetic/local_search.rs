@@ -62,6 +62,10 @@ pub const MOVES: usize = 2;
 pub const MOVE_TRIANGLES: usize = 1;
 /// Most rounds per visit.
 pub const ROUNDS_PER_VISIT: usize = 20;
+/// New single trials a unit scores at most: a round with more candidates than this goes on
+/// over several units (its trials remembered between them), so that no unit of a large mesh
+/// holds up a browser frame.
+pub const TRIALS_PER_UNIT: usize = 128;
 /// Target triangle counts per sweep.
 pub const TARGETS: usize = 32;
 /// Padding inserts at most one point per this many kept points at a time (about 2 % more
@@ -165,12 +169,15 @@ impl LocalSearch {
             }
             return;
         }
-        let improved = round(evaluator, member, &mut visit.memo, rng, evaluations);
-        if improved {
+        let end = round(evaluator, member, &mut visit.memo, rng, evaluations);
+        if end == RoundEnd::Unfinished {
+            return;
+        }
+        if end == RoundEnd::Improved {
             offer(archive, &member.kept, &member.score);
         }
         visit.rounds -= 1;
-        if !improved || visit.rounds == 0 {
+        if end == RoundEnd::NoGain || visit.rounds == 0 {
             visit.carrying = true;
         }
     }
@@ -207,7 +214,19 @@ fn padding(hf: &Heightfield, member: &mut Member, count: usize) -> Edit {
     }
 }
 
-/// One round on `member`; true when it improved (and was changed).
+/// How a call of [`round`] ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RoundEnd {
+    /// The member improved (and was changed).
+    Improved,
+    /// Nothing improved; the member is unchanged.
+    NoGain,
+    /// The single trials left after [`TRIALS_PER_UNIT`] of them wait for the next call (the
+    /// member is unchanged and the trials made are remembered).
+    Unfinished,
+}
+
+/// One round on `member`, or the part of it that [`TRIALS_PER_UNIT`] trials allow.
 ///
 /// Scoring every removal × insertion pair would cost their product; instead each removal's
 /// loss and each insertion's gain is scored alone, the best insertions are paired with the
@@ -221,7 +240,7 @@ fn round(
     memo: &mut Memo,
     rng: &mut Pcg64Mcg,
     evaluations: &mut u64,
-) -> bool {
+) -> RoundEnd {
     let hf = evaluator.heightfield().clone();
     member.ready_for_trials();
     let candidates =
@@ -248,10 +267,15 @@ fn round(
         member,
         e: member.score.e_sum,
         evaluations,
+        left: TRIALS_PER_UNIT,
     };
     let mut losses = trials.removal_losses(evaluator, memo, &removals);
     let mut gains = trials.insertion_gains(evaluator, memo, &guide, &largest);
     let mut moves = trials.vertex_moves(evaluator, memo, guide_triangles, &largest);
+    if trials.left == 0 {
+        member.guide = Some(guide);
+        return RoundEnd::Unfinished;
+    }
     losses.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     gains.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     moves.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
@@ -261,7 +285,7 @@ fn round(
         .or_else(|| trials.best_neighbour_move(evaluator, &moved));
     let Some(edit) = chosen else {
         member.guide = Some(guide);
-        return false;
+        return RoundEnd::NoGain;
     };
     // The single trials that stay exact are those whose surroundings the edit left alone: the
     // removed points' old neighbours and the inserted points' new ones bound what changed.
@@ -276,7 +300,7 @@ fn round(
         &mut changed,
     );
     memo.forget(&changed);
-    true
+    RoundEnd::Improved
 }
 
 /// What a round's trials share: the height field, the member they edit (unchanged until the round commits), its
@@ -286,6 +310,9 @@ struct Trials<'a> {
     member: &'a Member,
     e: f64,
     evaluations: &'a mut u64,
+    /// New single trials this call may still make (see [`TRIALS_PER_UNIT`]); at 0 the lists
+    /// skip the candidates not yet tried.
+    left: usize,
 }
 
 impl Trials<'_> {
@@ -304,17 +331,21 @@ impl Trials<'_> {
     ) -> Vec<(f64, u32)> {
         removals
             .iter()
-            .map(|&r| {
+            .filter_map(|&r| {
                 if let Some(&loss) = memo.losses.get(&r) {
-                    return (loss, r);
+                    return Some((loss, r));
                 }
+                if self.left == 0 {
+                    return None;
+                }
+                self.left -= 1;
                 let edit = Edit {
                     remove: vec![r],
                     insert: Vec::new(),
                 };
                 let loss = self.e_after(evaluator, &edit) - self.e;
                 memo.losses.insert(r, loss);
-                (loss, r)
+                Some((loss, r))
             })
             .collect()
     }
@@ -332,6 +363,13 @@ impl Trials<'_> {
         let mut gains = Vec::with_capacity(2 * largest.len());
         for &t in largest {
             let key = guide.triangles[t];
+            if !memo.insertions.contains_key(&key) {
+                if self.left < 2 {
+                    self.left = 0;
+                    continue;
+                }
+                self.left -= 2;
+            }
             let tried = memo.insertions.entry(key).or_insert_with(|| {
                 let mut points = vec![guide.worst_point(hf, t), guide.centre_point(hf, t)];
                 points.retain(|&p| p != NO_POINT && !on_border(hf, p));
@@ -373,6 +411,13 @@ impl Trials<'_> {
         }
         let mut moves = Vec::with_capacity(movers.len());
         for &v in &movers {
+            if !memo.moves.contains_key(&v) {
+                if self.left < 8 {
+                    self.left = 0;
+                    continue;
+                }
+                self.left -= 8;
+            }
             let best = *memo.moves.entry(v).or_insert_with(|| {
                 let mut best: Option<(u32, f64)> = None;
                 for n in mutation::free_neighbours(hf, self.member, v) {
