@@ -28,7 +28,8 @@ use std::time::Instant;
 /// The algorithms `run` knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Algo {
-    /// Memetic NSGA-II: greedy seeding, error-guided operators and local search (default).
+    /// Memetic NSGA-II: greedy and decimation seeding, error-guided operators and local search
+    /// (default).
     Memetic,
     /// NSGA-II with orthogonal-array crossover.
     Nsga2,

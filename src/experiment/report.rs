@@ -84,11 +84,11 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
         let which = memetic.join(", ");
         p.push_str(&match s.budget {
             Budget::Equal { evaluations } => format!(
-                " The memetic method ({which}) gets the same {evaluations} evaluations per run, its greedy seeding sweeps included, with its own population of {}.",
+                " The memetic method ({which}) gets the same {evaluations} evaluations per run, its seeding (greedy sweeps and decimation) included, with its own population of {}.",
                 MemeticParams::default().population
             ),
             Budget::PerWeight => format!(
-                " The memetic method ({which}) runs to an evaluation budget, not generations: it gets the NSGA-II run's budget, {} evaluations per run, its greedy seeding sweeps included (what an NSGA-II run of population {} for {} generations spends, taken as {DEFAULT_EQUAL_EVALUATIONS} for the paper's 100 × 50 and in proportion otherwise), with its own population of {}.",
+                " The memetic method ({which}) runs to an evaluation budget, not generations: it gets the NSGA-II run's budget, {} evaluations per run, its seeding (greedy sweeps and decimation) included (what an NSGA-II run of population {} for {} generations spends, taken as {DEFAULT_EQUAL_EVALUATIONS} for the paper's 100 × 50 and in proportion otherwise), with its own population of {}.",
                 registry::nsga2_equivalent_evaluations(s),
                 s.population,
                 s.generations,
