@@ -8,7 +8,7 @@
 
 pub mod edge_decimation;
 pub mod greedy_insertion;
-mod queue;
+pub(crate) mod queue;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
 pub use greedy_insertion::{GreedyInsertion, GreedyParams, GreedyStop, InsertionRule};

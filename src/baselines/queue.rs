@@ -1,4 +1,5 @@
-//! A priority-queue entry with lazy invalidation, shared by both baselines.
+//! A priority-queue entry with lazy invalidation, shared by both baselines and the memetic
+//! method's decimation.
 
 use std::cmp::Ordering;
 

@@ -18,9 +18,9 @@
 
 use super::member::{Edit, Member};
 use super::mutation;
+use crate::baselines::queue::Entry;
 use crate::evaluator::{Evaluator, Score};
 use crate::heightfield::Heightfield;
-use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 
 /// The mesh is recorded whenever its T has fallen to this fraction of the last recorded T (or
@@ -41,25 +41,6 @@ pub fn start_triangles(hf: &Heightfield) -> usize {
 /// See [`start_triangles`]: 2¹⁶ triangles, half a 257×257 grid's full mesh.
 pub const START_CAP: usize = 1 << 16;
 
-/// A removal cost in the queue: the rise of E_sum per triangle saved, ordered by
-/// `f64::total_cmp`, then by the vertex (so the order is total and runs are reproducible).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Cost(f64);
-
-impl Eq for Cost {}
-
-impl PartialOrd for Cost {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Cost {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.0.total_cmp(&other.0)
-    }
-}
-
 /// A decimation in progress; see the module doc.
 pub struct Decimation {
     member: Member,
@@ -67,8 +48,9 @@ pub struct Decimation {
     pending: Vec<u32>,
     /// Next of `pending` to score.
     next_pending: usize,
-    /// (cost, vertex, version), cheapest first.
-    queue: BinaryHeap<Reverse<(Cost, u32, u32)>>,
+    /// Removal costs, cheapest first: the key is the cost negated, `point` and `slot` the
+    /// vertex, `stamp` its version when the cost was scored (ties go to the smaller vertex).
+    queue: BinaryHeap<Entry>,
     /// Per grid point, the version of its latest queued cost: one array for the run, like the
     /// greedy sweeps' own state.
     version: Vec<u32>,
@@ -164,8 +146,9 @@ impl Decimation {
 
     /// Pops stale entries until the cheapest current one, and returns its vertex.
     fn cheapest(&mut self) -> Option<u32> {
-        while let Some(Reverse((_, v, version))) = self.queue.pop() {
-            if version == self.version[v as usize] && self.member.state.is_kept(v) {
+        while let Some(entry) = self.queue.pop() {
+            let v = entry.point;
+            if entry.stamp == self.version[v as usize] && self.member.state.is_kept(v) {
                 return Some(v);
             }
         }
@@ -184,7 +167,12 @@ impl Decimation {
         let cost = (after.e_sum - self.member.score.e_sum) / saved as f64;
         let version = &mut self.version[v as usize];
         *version = version.wrapping_add(1);
-        self.queue.push(Reverse((Cost(cost), v, *version)));
+        self.queue.push(Entry {
+            key: -cost,
+            point: v,
+            slot: v,
+            stamp: *version,
+        });
     }
 
     fn record_if_due(&mut self, record: &mut impl FnMut(&[u32], &Score)) {
