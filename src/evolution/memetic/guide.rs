@@ -13,7 +13,7 @@ thread_local! {
     static KEPT_POSITION: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// [`Guide::worst`] of a triangle that owns no grid point with a nonzero error.
+/// [`Guide::worst_point`] of a triangle that owns no grid point with a nonzero error.
 pub const NO_POINT: u32 = u32::MAX;
 
 /// The error landscape of one mesh; see the module doc. The sums come from the totals the mesh

@@ -522,7 +522,7 @@ fn with_marks<R>(len: usize, f: impl FnOnce(&mut [u32]) -> R) -> R {
 }
 
 /// Single-edit trials of one visit's member, kept between its rounds while they stay exact
-/// (see [`round`]), so that a round scores only the candidates near the last edit.
+/// (see `round`), so that a round scores only the candidates near the last edit.
 #[derive(Debug, Default)]
 pub struct Memo {
     /// Per kept point, the rise of E_sum when it alone is removed.

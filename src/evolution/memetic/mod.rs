@@ -24,7 +24,7 @@
 //! and more until the local search has spent its share of the evaluations
 //! ([`LOCAL_SEARCH_SHARE`](optimizer::LOCAL_SEARCH_SHARE)).
 //! Every evaluated kept set is offered to the archive ([`Optimizer::front`]), which starts as
-//! both greedy fronts.
+//! both greedy fronts and the decimation's recordings.
 //!
 //! Each component can be switched off in [`MemeticParams`] (greedy seeding, guided mutation,
 //! mating among neighbours, local search), so that an experiment can measure what each one

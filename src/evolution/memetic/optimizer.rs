@@ -347,10 +347,11 @@ fn rank_and_crowd(population: &mut [Member]) {
 }
 
 impl Optimizer for Memetic {
-    /// Unit: one greedy insertion while seeding; then one seed's scoring, one child (a
-    /// crossover and a mutation, up to 10 evaluations with a move's trials), or one
-    /// local-search step (a visit's start, one padding step, or one round: at most two trials
-    /// per candidate, fewer once its trials are remembered).
+    /// Unit: one greedy insertion while seeding, then one decimation unit (a batch of first
+    /// costs, or one removal with its neighbours' new costs); then one seed's scoring, one
+    /// child (a crossover and a mutation, up to 10 evaluations with a move's trials), or one
+    /// local-search step (a visit's start, one padding step, or a round or the part of it that
+    /// its [`TRIALS_PER_UNIT`](super::local_search::TRIALS_PER_UNIT) new trials allow).
     fn unit(&mut self) {
         self.advance();
     }
