@@ -8,7 +8,7 @@ mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
 use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
-use paretomesh::evaluator::Evaluator;
+use paretomesh::evaluator::{Evaluator, Score};
 use paretomesh::evolution::memetic::decimation::Decimation;
 use paretomesh::evolution::memetic::local_search::LocalSearch;
 use paretomesh::evolution::memetic::member::Member;
@@ -38,15 +38,17 @@ fn greedy_members(hf: &Arc<Heightfield>, ev: &mut Evaluator) -> Vec<Member> {
 
 /// `member`'s score is a fresh evaluation's, bit for bit, and it keeps the corners.
 fn check(ev: &mut Evaluator, hf: &Heightfield, member: &Member, what: &str) {
+    check_kept(ev, hf, &member.kept, member.score, what);
+}
+
+/// [`check`] for a kept set and the score it was given.
+fn check_kept(ev: &mut Evaluator, hf: &Heightfield, kept: &[u32], score: Score, what: &str) {
     for c in hf.corners() {
-        assert!(
-            member.kept.binary_search(&c).is_ok(),
-            "{what}: corner {c} lost"
-        );
+        assert!(kept.binary_search(&c).is_ok(), "{what}: corner {c} lost");
     }
-    assert!(member.kept.is_sorted(), "{what}: kept list out of order");
-    let fresh = ev.score(&member.kept).unwrap();
-    assert_eq!(bits(member.score), bits(fresh), "{what}");
+    assert!(kept.is_sorted(), "{what}: kept list out of order");
+    let fresh = ev.score(kept).unwrap();
+    assert_eq!(bits(score), bits(fresh), "{what}");
 }
 
 #[test]
@@ -528,7 +530,7 @@ fn decimation_removes_the_cheapest_vertex_per_triangle_saved_and_records_honest_
     let mut run = Decimation::new(&mut ev, start.clone());
     let corners = hf.corners();
     assert!(start.len() > 60, "a start with room to choose");
-    let mut records: Vec<(Vec<u32>, paretomesh::evaluator::Score)> = Vec::new();
+    let mut records: Vec<(Vec<u32>, Score)> = Vec::new();
     let mut removals = 0;
     while !run.is_done() {
         let before = run.member().kept.clone();
@@ -557,18 +559,17 @@ fn decimation_removes_the_cheapest_vertex_per_triangle_saved_and_records_honest_
         removals += 1;
     }
     assert_eq!(removals, start.len() - 4, "down to the corners");
-    // Every recording is honest, keeps the corners and is at most 98 % of the T before it.
+    // Every recording is honest and keeps the corners. Each is the first mesh at or below 98 %
+    // of the T before it (at least one triangle less), so no gap is wider than 2 % plus the
+    // one removal (of one or two triangles) that crossed the mark.
     assert_eq!(records[0].0, start);
     assert_eq!(records.last().unwrap().1.t, 2);
     for pair in records.windows(2) {
-        assert!(pair[1].1.t as f64 <= pair[0].1.t as f64 * 0.98 || pair[1].1.t < pair[0].1.t);
+        let (before, t) = (pair[0].1.t, pair[1].1.t);
+        let mark = ((before as f64 * 0.98) as usize).min(before - 1);
+        assert!(t <= mark && t + 1 >= mark, "{before} then {t}");
     }
-    for (kept, score) in &records {
-        assert!(corners.iter().all(|c| kept.binary_search(c).is_ok()));
-        let fresh = fresh_ev.score(kept).unwrap();
-        assert_eq!(
-            (fresh.e_sum.to_bits(), fresh.t),
-            (score.e_sum.to_bits(), score.t)
-        );
+    for (k, (kept, score)) in records.iter().enumerate() {
+        check_kept(&mut fresh_ev, &hf, kept, *score, &format!("recording {k}"));
     }
 }
