@@ -27,7 +27,7 @@ use std::collections::BinaryHeap;
 /// below), so the front it leaves has no gap wider than 2 % in T.
 pub const RECORD_RATIO: f64 = 0.98;
 
-/// Costs of the starting mesh scored per unit.
+/// Kept points of the starting mesh whose first costs a unit scores (corners are skipped).
 pub const INITIAL_TRIALS: usize = 32;
 
 /// The densest mesh decimation starts from: half the full mesh, at most [`START_CAP`]
@@ -44,10 +44,9 @@ pub const START_CAP: usize = 1 << 16;
 /// A decimation in progress; see the module doc.
 pub struct Decimation {
     member: Member,
-    /// Vertices whose first cost is still to score, in kept order.
-    pending: Vec<u32>,
-    /// Next of `pending` to score.
-    next_pending: usize,
+    /// The position in the starting mesh's kept list of the next vertex whose first cost is
+    /// to be scored (the list does not change until every first cost is).
+    next_first: usize,
     /// Removal costs, cheapest first: the key is the cost negated, `point` and `slot` the
     /// vertex, `stamp` its version when the cost was scored (ties go to the smaller vertex).
     queue: BinaryHeap<Entry>,
@@ -63,25 +62,22 @@ pub struct Decimation {
 impl Decimation {
     /// Decimation of the kept set `kept` (increasing, corners included; one evaluation).
     pub fn new(evaluator: &mut Evaluator, kept: Vec<u32>) -> Self {
-        let hf = evaluator.heightfield().clone();
-        let corners = hf.corners();
-        let pending: Vec<u32> = kept
-            .iter()
-            .copied()
-            .filter(|v| !corners.contains(v))
-            .collect();
+        let grid_len = evaluator.heightfield().len();
         let member = Member::fresh(evaluator, kept);
-        let done = pending.is_empty();
-        Self {
+        let mut run = Self {
             next_record: member.score.t,
             member,
-            pending,
-            next_pending: 0,
+            next_first: 0,
             queue: BinaryHeap::new(),
-            version: vec![0; hf.len()],
+            version: vec![0; grid_len],
             evaluations: 1,
-            done,
+            done: false,
+        };
+        if run.member.kept.len() <= 4 {
+            // Only the corners: nothing to remove.
+            run.finish();
         }
+        run
     }
 
     /// The mesh as decimated so far.
@@ -106,20 +102,23 @@ impl Decimation {
             return;
         }
         self.member.ready_for_trials();
-        if self.next_pending < self.pending.len() {
-            if self.next_pending == 0 {
+        let corners = evaluator.heightfield().corners();
+        if self.next_first < self.member.kept.len() {
+            if self.next_first == 0 {
                 self.record_if_due(&mut record);
             }
-            let end = (self.next_pending + INITIAL_TRIALS).min(self.pending.len());
-            for k in self.next_pending..end {
-                let v = self.pending[k];
-                self.queue_cost(evaluator, v);
+            let end = (self.next_first + INITIAL_TRIALS).min(self.member.kept.len());
+            for k in self.next_first..end {
+                let v = self.member.kept[k];
+                if !corners.contains(&v) {
+                    self.queue_cost(evaluator, v);
+                }
             }
-            self.next_pending = end;
+            self.next_first = end;
             return;
         }
         let Some(v) = self.cheapest() else {
-            self.done = true;
+            self.finish();
             return;
         };
         let neighbours = self.member.state.neighbours(v);
@@ -132,7 +131,6 @@ impl Decimation {
         );
         self.evaluations += 1;
         self.member.ready_for_trials();
-        let corners = evaluator.heightfield().corners();
         for u in neighbours {
             if !corners.contains(&u) {
                 self.queue_cost(evaluator, u);
@@ -140,8 +138,17 @@ impl Decimation {
         }
         self.record_if_due(&mut record);
         if self.queue.is_empty() {
-            self.done = true;
+            self.finish();
         }
+    }
+
+    /// Ends the run and lets go of what only the removals needed: the per-grid-point versions
+    /// and the mesh's per-grid-point arrays (the run is kept for its count of evaluations).
+    fn finish(&mut self) {
+        self.done = true;
+        self.queue = BinaryHeap::new();
+        self.version = Vec::new();
+        self.member.state.detach_lookups();
     }
 
     /// Pops stale entries until the cheapest current one, and returns its vertex.
