@@ -110,6 +110,9 @@ pub fn dominates(a: [f64; 2], b: [f64; 2]) -> bool {
 /// assert!(!front.offer(s(11.0, 6))); // dominated
 /// assert!(front.offer(s(3.0, 4)));   // dominates (4, 6)
 /// assert_eq!(front.solutions().iter().map(|s| s.t).collect::<Vec<_>>(), vec![2, 4]);
+/// // The least error within 5 triangles is the member with 4; none has 1 or fewer.
+/// assert_eq!(front.within(5).map(|s| s.t), Some(4));
+/// assert!(front.within(1).is_none());
 /// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Front {
@@ -141,14 +144,21 @@ impl Front {
     pub fn offer_score(&mut self, score: Score, kept: impl FnOnce() -> Vec<u32>) -> bool {
         // Sorted by increasing T and decreasing E: the member with the largest T ≤ score.t is
         // the only one that can dominate or equal the score.
-        let at = self.solutions.partition_point(|m| m.t <= score.t);
-        if at > 0 && self.solutions[at - 1].e_sum <= score.e_sum {
+        if self.within(score.t).is_some_and(|m| m.e_sum <= score.e_sum) {
             return false;
         }
         self.offer(Solution {
             score,
             kept: kept(),
         })
+    }
+
+    /// The member with the most triangles at most `t`, which is the one of least E among
+    /// them (the members are sorted by increasing T and so decreasing E); `None` when every
+    /// member has more.
+    pub fn within(&self, t: usize) -> Option<&Solution> {
+        let at = self.solutions.partition_point(|m| m.t <= t);
+        at.checked_sub(1).map(|k| &self.solutions[k])
     }
 
     /// The members, by increasing T.

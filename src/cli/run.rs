@@ -315,9 +315,7 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
 
 /// The smallest E on `front` among solutions with at most `t` triangles.
 fn best_e_within(front: &Front, t: usize) -> Option<f64> {
-    let members = front.solutions();
-    let at = members.partition_point(|s| s.t <= t);
-    (at > 0).then(|| members[at - 1].e_sum)
+    front.within(t).map(|s| s.e_sum)
 }
 
 /// One status line: generation, evaluations, front size, best E at a few triangle counts.

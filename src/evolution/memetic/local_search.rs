@@ -126,9 +126,7 @@ impl LocalSearch {
         let Some(visit) = self.subject.as_mut() else {
             let target = self.target(self.visits);
             self.visits += 1;
-            let members = archive.solutions();
-            let at = members.partition_point(|s| s.t <= target).max(1);
-            let Some(start) = members.get(at - 1) else {
+            let Some(start) = archive.within(target).or(archive.solutions().first()) else {
                 return;
             };
             let member = Member::fresh(evaluator, start.kept.clone());

@@ -3,7 +3,7 @@
 
 use super::guide::Guide;
 use crate::evaluator::{Evaluator, GridLookups, MeshState, Score};
-use crate::front::{Front, Solution};
+use crate::front::Front;
 use crate::heightfield::Heightfield;
 
 /// Per-grid-point arrays lent to the members being edited ([`Member::unstow`]) and taken back
@@ -140,19 +140,10 @@ impl Edit {
     }
 }
 
-/// Offers a scored kept set to the archive, copying the kept list only when it enters.
+/// Offers a scored kept set to the archive, copying the kept list only when it enters
+/// ([`Front::offer_score`]).
 pub fn offer(archive: &mut Front, kept: &[u32], score: &Score) -> bool {
-    let members = archive.solutions();
-    // The front is sorted by increasing T and so decreasing E: the member with the largest
-    // T ≤ t has the smallest E of those that could dominate (or equal) the new one.
-    let at = members.partition_point(|s| s.t <= score.t);
-    if at > 0 && members[at - 1].e_sum <= score.e_sum {
-        return false;
-    }
-    archive.offer(Solution {
-        score: *score,
-        kept: kept.to_vec(),
-    })
+    archive.offer_score(*score, || kept.to_vec())
 }
 
 /// Is grid point `i` on the grid's border? Swapping a border point for an interior one (or

@@ -118,9 +118,9 @@ impl Seeding {
     /// mesh with the most triangles up to `triangles` (its sparsest one when none is that
     /// sparse). Both runs must be done.
     pub fn decimation_start(&self, triangles: usize) -> Vec<u32> {
-        let members = self.fronts[0].solutions();
-        let at = members.partition_point(|s| s.t <= triangles).max(1);
-        members[at - 1].kept.clone()
+        let front = &self.fronts[0];
+        let start = front.within(triangles).or(front.solutions().first());
+        start.expect("a run records its first mesh").kept.clone()
     }
 }
 
