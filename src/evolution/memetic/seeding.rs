@@ -3,13 +3,13 @@
 //! The mix: two greedy-insertion runs from the corners, one with the classic max-error rule
 //! ([`InsertionRule::MaxError`]) to every grid point, and one that inserts the worst point of
 //! the triangle with the largest error sum ([`InsertionRule::WorstTriangle`]), which suits a
-//! sum-type error such as E_sum, to [`densest_seed`] triangles. Each records its mesh at [`RECORDS`] geometrically spaced
-//! triangle counts (twice greedy insertion's default, so that the seed front has no wide gaps
-//! in T). Every recorded mesh of both runs is offered to the archive (so the final front
-//! weakly dominates both greedy fronts). Then the first run's mesh at
-//! [`start_triangles`] is decimated by exact costs down to
-//! the corners ([`decimation`](super::decimation)), each of its recordings offered to the
-//! archive too, and the population takes μ [`seeds`] at evenly spaced positions of the
+//! sum-type error such as E_sum, to [`densest_seed`] triangles. Each records its mesh at
+//! [`RECORDS`] geometrically spaced triangle counts (twice greedy insertion's default, so that
+//! the seed front has no wide gaps in T). Every recorded mesh of both runs is offered to the
+//! archive (so the final front weakly dominates both greedy fronts). Then the first run's mesh
+//! at [`start_triangles`] is decimated by exact costs down to the corners
+//! ([`decimation`](super::decimation)), each of its recordings offered to the archive too,
+//! and the population takes μ [`seeds`] at evenly spaced positions of the
 //! archive's members of at most [`densest_seed`] triangles (by increasing T, so evenly in
 //! log T, from the sparsest mesh to half the decimation's start).
 //!
