@@ -321,8 +321,8 @@ fn compare_pair(
 pub(crate) mod tests {
     use super::*;
     use crate::experiment::method::Method;
-    use crate::experiment::protocol::{Budget, Settings};
     use crate::experiment::results::{GridSummary, MethodRuns, RESULTS_FORMAT, RunRecord, Scales};
+    use crate::experiment::settings::{Budget, Settings};
 
     fn run(run: usize, points: &[(f64, usize)]) -> RunRecord {
         RunRecord {

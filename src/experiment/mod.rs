@@ -25,6 +25,7 @@ pub mod protocol;
 pub mod registry;
 pub mod report;
 pub mod results;
+pub mod settings;
 pub mod stats;
 pub mod svg;
 
@@ -34,15 +35,13 @@ pub use analysis::{
 pub use contender::Contender;
 pub use external::{MeshInput, rescore};
 pub use method::Method;
-pub use protocol::{
-    Budget, DEFAULT_EQUAL_EVALUATIONS, Dataset, Job, Settings, assemble, check_methods, plan,
-    run_all, run_job, run_seed,
-};
+pub use protocol::{Dataset, Job, assemble, check_methods, plan, run_all, run_job, run_seed};
 pub use report::{format_significant, format_summary, report_markdown};
 pub use results::{
     DatasetResults, ExternalFront, GridSummary, MethodRuns, RESULTS_FORMAT, RejectedMesh, Results,
     RunRecord, RunTiming, Scales, Timings,
 };
+pub use settings::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 pub use stats::Summary;
 pub use svg::fronts_svg;
 

@@ -11,7 +11,7 @@
 
 use super::ExperimentError;
 use super::method::{BudgetKind, Method};
-use super::protocol::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
+use super::settings::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 use crate::catalogue::{Algorithm, BudgetKind as CatalogueBudget, Params, Running};
 use crate::heightfield::Heightfield;
 use std::sync::Arc;

@@ -8,9 +8,9 @@
 use super::analysis::{Analysis, DatasetAnalysis, MethodAnalysis, SIGNIFICANCE_LEVEL};
 use super::contender::Contender;
 use super::method::Method;
-use super::protocol::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 use super::registry;
 use super::results::{DatasetResults, Results};
+use super::settings::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 use super::stats::Summary;
 use crate::evolution::memetic::MemeticParams;
 use std::fmt::Write;

@@ -5,7 +5,7 @@
 //! be compared byte for byte with that one field removed.
 
 use super::method::Method;
-use super::protocol::Settings;
+use super::settings::Settings;
 use crate::front::Solution;
 use serde::{Deserialize, Serialize};
 

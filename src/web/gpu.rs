@@ -2,22 +2,12 @@
 //! WebGL2 ([`super::webgl`]). It draws named layers of [`Geometry`] each frame in three styles:
 //! shaded fill (pushed back by a depth bias so the wireframe shows), lines, and translucent fill.
 
+use super::style::{BACKGROUND, LIGHT, Style};
 use super::webgl::GlRenderer;
 use crate::app::camera::OrbitCamera;
 use crate::app::geometry::{Geometry, Vertex};
 use web_sys::HtmlCanvasElement;
 use wgpu::util::DeviceExt;
-
-/// How a layer is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Style {
-    /// Opaque shaded triangles.
-    Fill,
-    /// Lines (index pairs).
-    Lines,
-    /// Translucent triangles drawn after the opaque ones.
-    Translucent,
-}
 
 struct Layer {
     style: Style,
@@ -306,17 +296,6 @@ async fn sleep_ms(ms: i32) {
     });
     let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
 }
-
-/// The direction of the light the fill is shaded by (both faces lit alike).
-pub const LIGHT: [f32; 3] = [0.3, -0.5, 0.8];
-
-/// The view's background colour.
-pub const BACKGROUND: wgpu::Color = wgpu::Color {
-    r: 0.93,
-    g: 0.94,
-    b: 0.96,
-    a: 1.0,
-};
 
 /// GPU buffers of `layers` (empty ones left out).
 fn upload(device: &wgpu::Device, layers: Vec<(Style, Geometry)>) -> Vec<Layer> {

@@ -19,6 +19,7 @@ pub mod page;
 pub mod plot_canvas;
 pub mod preview;
 pub mod share_view;
+pub mod style;
 pub mod teaching_view;
 pub mod transfer;
 pub mod ui;

@@ -3,7 +3,8 @@
 //! reading the form, the view toggles, the surface and selection lines, and the 3-D layers.
 
 use super::dom::{self, by_id, listen};
-use super::gpu::{Renderer, Style};
+use super::gpu::Renderer;
+use super::style::Style;
 use crate::app::algorithms::{self, Algorithm, Field};
 use crate::app::camera::OrbitCamera;
 use crate::app::compare::{self, CompareRun};

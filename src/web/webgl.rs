@@ -4,7 +4,7 @@
 //! with its WGSL reader and GLSL writer) in the browser build: over a megabyte for two small
 //! shaders.
 
-use super::gpu::{BACKGROUND, LIGHT, Style};
+use super::style::{BACKGROUND, LIGHT, Style};
 use crate::app::camera::OrbitCamera;
 use crate::app::geometry::{Geometry, Vertex};
 use wasm_bindgen::{JsCast, JsValue};

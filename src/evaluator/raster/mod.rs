@@ -11,6 +11,8 @@ mod fresh_build;
 pub(crate) mod span_sum;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod span_sum_avx2;
+#[cfg(test)]
+mod span_sum_tests;
 pub(crate) mod triangle_memo;
 
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
