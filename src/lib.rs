@@ -31,6 +31,7 @@ pub mod experiment;
 pub mod export;
 pub mod front;
 pub mod heightfield;
+pub(crate) mod lazy_queue;
 pub mod metrics;
 pub mod optimizer;
 pub mod run_file;

@@ -23,7 +23,6 @@
 //! reductions reached.
 
 use super::ParamsError;
-use super::queue::Entry;
 use crate::evaluator::Evaluator;
 use crate::evaluator::exact::predicates::{GridPoint, Lattice};
 use crate::evaluator::mesh::canonical_form::canonical;
@@ -32,6 +31,7 @@ use crate::evaluator::mesh::hole_fill as hole;
 use crate::evaluator::raster::Grid;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
+use crate::lazy_queue::Entry;
 use crate::optimizer::{Optimizer, Progress};
 use serde::{Deserialize, Serialize};
 use std::collections::BinaryHeap;

@@ -17,7 +17,6 @@
 //! solutions.
 
 use super::ParamsError;
-use super::queue::Entry;
 use crate::evaluator::Evaluator;
 use crate::evaluator::exact::predicates::{self, GridPoint};
 use crate::evaluator::mesh::canonical_form::canonical;
@@ -25,6 +24,7 @@ use crate::evaluator::mesh::canonical_triangulation::Triangulation;
 use crate::evaluator::raster::Grid;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
+use crate::lazy_queue::Entry;
 use crate::optimizer::{Optimizer, Progress};
 use serde::{Deserialize, Serialize};
 use std::collections::BinaryHeap;

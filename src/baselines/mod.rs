@@ -8,7 +8,6 @@
 
 pub mod edge_decimation;
 pub mod greedy_insertion;
-pub(crate) mod queue;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
 pub use greedy_insertion::{GreedyInsertion, GreedyParams, GreedyStop, InsertionRule};

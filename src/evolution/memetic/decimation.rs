@@ -18,9 +18,9 @@
 
 use super::member::{Edit, Member};
 use super::mutation;
-use crate::baselines::queue::Entry;
 use crate::evaluator::{Evaluator, Score};
 use crate::heightfield::Heightfield;
+use crate::lazy_queue::Entry;
 use std::collections::BinaryHeap;
 
 /// The mesh is recorded whenever its T has fallen to this fraction of the last recorded T (or
