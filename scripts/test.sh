@@ -40,6 +40,11 @@ stage "native tests"
 cargo test --all-targets
 cargo test --doc
 
+# Every method's front.json on every tests/data grid, byte for byte against tests/fronts.sha256,
+# with the debug CLI the native tests just built (small budgets: seconds on 2 cores).
+stage "front hashes"
+bash scripts/check-fronts.sh
+
 stage "wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web
