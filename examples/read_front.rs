@@ -11,9 +11,9 @@
 
 use paretomesh::baselines::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Evaluator;
+use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield;
 use paretomesh::optimizer::Optimizer;
-use paretomesh::run_file::RunFile;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -30,7 +30,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut run = GreedyInsertion::new(hf.clone(), params.clone())?;
             let progress = run.run_to_end();
             let mut ev = Evaluator::new(hf);
-            let mut file = RunFile::new(
+            let mut file = FrontFile::new(
                 &mut ev,
                 "greedy",
                 serde_json::to_value(params)?,
@@ -46,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         _ => return Err("usage: read_front [FRONT.json GRID]".into()),
     };
 
-    let file: RunFile = serde_json::from_str(&json)?;
+    let file: FrontFile = serde_json::from_str(&json)?;
     println!(
         "{} on a {}×{} grid, seed {}, {} evaluations: {} solutions",
         file.algorithm,

@@ -14,7 +14,7 @@
 //! - [`baselines`]: greedy insertion and edge decimation.
 //! - [`catalogue`]: every method with its names, budget kind, the parameters it reads and how
 //!   it is built; the CLI, the experiment and the app take their methods from it.
-//! - [`run_file`]: front.json, the self-contained result of a run.
+//! - [`front_file`]: front.json, the self-contained result of a run.
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
@@ -30,11 +30,11 @@ pub mod evolution;
 pub mod experiment;
 pub mod export;
 pub mod front;
+pub mod front_file;
 pub mod heightfield;
 pub(crate) mod lazy_queue;
 pub mod metrics;
 pub mod optimizer;
-pub mod run_file;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -11,9 +11,9 @@ use paretomesh::evolution::{
     CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,
 };
 use paretomesh::front::{Front, dominates};
+use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::{self, Heightfield};
 use paretomesh::optimizer::Optimizer;
-use paretomesh::run_file::RunFile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -543,7 +543,8 @@ fn cli_run_writes_a_front_json_that_rescores_identically() {
             stderr.contains("evaluations"),
             "progress on stderr: {stderr}"
         );
-        let file: RunFile = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let file: FrontFile =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
         assert_eq!((file.grid.width, file.grid.height), (33, 33));
         assert_eq!((file.algorithm.as_str(), file.seed), (algo, 3));
         assert_eq!(file.params["population"], 6);

@@ -1,6 +1,6 @@
 //! The 2-D plot of E against T as data: the data ↔ pixel mapping ([`Layout`]), ticks and value
 //! labels, the marks of teaching and comparison scenes, and hit-testing. The canvas drawing is
-//! in the browser layer (`web::plot_canvas`).
+//! in the browser layer (`web::plot_view`).
 
 /// One point to plot, in data units: T (triangles) and E (Σ|z − z̃|).
 #[derive(Clone, Copy, Debug, PartialEq)]

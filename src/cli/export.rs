@@ -2,15 +2,15 @@
 //! [--format ply|obj|stl|glb] --out FILE [--grid GRID] [import options]`: writes one member of a
 //! front as a mesh in the input's own coordinates (map coordinates for a georeferenced GeoTIFF).
 
-use super::front_file::{self, Selector, find_grid, select};
+use super::front_reader::{self, Selector, find_grid, select};
 use super::input::ImportArgs;
 use clap::{ArgGroup, Args, ValueEnum};
 use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::export::glb::{GlbMesh, vertex_normals, write_glb};
 use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::{obj::to_obj, ply::to_ply, stl::to_stl};
+use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::{self, Heightfield};
-use paretomesh::run_file::RunFile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -89,7 +89,7 @@ impl ExportArgs {
 /// would not be the member.
 fn member_mesh(
     hf: Arc<Heightfield>,
-    file: &RunFile,
+    file: &FrontFile,
     index: usize,
     front_path: &Path,
     grid_path: &Path,
@@ -168,7 +168,7 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
             )
         })?,
     };
-    let file = front_file::read(&args.front)?;
+    let file = front_reader::read(&args.front)?;
     let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
     let index = select(&scores, args.selector(), file.seed)?;
     let grid_path = match &args.grid {

@@ -3,7 +3,7 @@
 mod eval;
 mod experiment;
 mod export;
-mod front_file;
+mod front_reader;
 mod info;
 mod input;
 mod run;

@@ -13,9 +13,9 @@ use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::CrossoverKind;
 use paretomesh::export::csv::front_csv;
 use paretomesh::front::Front;
+use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::Progress;
-use paretomesh::run_file::RunFile;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -257,7 +257,7 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     // Re-triangulating the front and writing it are timed apart from the run.
     let writing = Instant::now();
     let mut evaluator = Evaluator::new(hf);
-    let mut file = RunFile::new(
+    let mut file = FrontFile::new(
         &mut evaluator,
         args.algo.name(),
         params,

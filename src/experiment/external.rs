@@ -2,7 +2,7 @@
 //! the same tables as the project's methods.
 //!
 //! Inputs (read from bytes here; the command line finds the files):
-//! - a front.json ([`RunFile`]): every member, its kept grid indices and, when listed, triangles;
+//! - a front.json ([`FrontFile`]): every member, its kept grid indices and, when listed, triangles;
 //! - a JSON list of meshes `[{"vertices": [grid indices], "triangles": [[a, b, c], …]}, …]`, the
 //!   triangles indexing `vertices` (0-based); without `triangles` the mesh is the project's
 //!   Delaunay triangulation of its vertices, which must include the four grid corners;
@@ -20,8 +20,8 @@
 use super::results::{ExternalFront, RejectedMesh};
 use crate::evaluator::{Evaluator, is_delaunay};
 use crate::front::{Front, Solution};
+use crate::front_file::FrontFile;
 use crate::heightfield::{TriangleMesh, obj, ply};
-use crate::run_file::RunFile;
 use serde::Deserialize;
 
 /// How far (in grid units) a PLY or OBJ vertex may lie from its grid point: far below a grid
@@ -65,7 +65,7 @@ pub fn from_json(bytes: &[u8], width: usize, height: usize) -> Result<Vec<MeshIn
         serde_json::from_slice(bytes).map_err(|e| format!("not JSON: {e}"))?;
     match value {
         serde_json::Value::Object(ref o) if o.contains_key("front") => {
-            let file: RunFile = serde_json::from_value(value)
+            let file: FrontFile = serde_json::from_value(value)
                 .map_err(|e| format!("not a front.json as `paretomesh run` writes it: {e}"))?;
             if (file.grid.width, file.grid.height) != (width, height) {
                 return Err(format!(

@@ -5,7 +5,7 @@
 //! - [`ui`]: start-up, the frame, loading, exports and the main listeners.
 //! - [`share_view`], [`teaching_view`], [`compare_view`], [`oax_panel`]: the panels.
 //! - [`page`]: the page state every view works on.
-//! - [`dom`]: the page's controls; [`plot_canvas`]: the plot's drawing; [`preview`]: the import
+//! - [`dom`]: the page's controls; [`plot_view`]: the plot's drawing; [`preview`]: the import
 //!   preview; [`transfer`]: height fields to and from the Worker.
 //! - [`gpu`]: the 3-D view: WebGPU through wgpu where the browser offers an adapter, else
 //!   WebGL2 ([`webgl`], on web-sys).
@@ -16,7 +16,7 @@ pub mod dom;
 pub mod gpu;
 pub mod oax_panel;
 pub mod page;
-pub mod plot_canvas;
+pub mod plot_view;
 pub mod preview;
 pub mod share_view;
 pub mod style;

@@ -5,7 +5,7 @@
 
 use super::dom::{self, by_id, listen};
 use super::page::{Ui, on_event};
-use super::{oax_panel, plot_canvas};
+use super::{oax_panel, plot_view};
 use crate::app::algorithms::Algorithm;
 use crate::app::oax_panel::meshes;
 use crate::app::plot::{self, Layout, PlotPoint, Scene};
@@ -209,7 +209,7 @@ pub(super) fn draw_teaching_plot(
         dom::checked("plot-log-e"),
     );
     let empty: [PlotPoint; 0] = [];
-    plot_canvas::draw(
+    plot_view::draw(
         ctx,
         &layout,
         &Scene {
@@ -220,7 +220,7 @@ pub(super) fn draw_teaching_plot(
             z_unit,
         },
     );
-    plot_canvas::draw_marks(ctx, &layout, &scene.marks, &scene.legend, hovered);
+    plot_view::draw_marks(ctx, &layout, &scene.marks, &scene.legend, hovered);
     Some(layout)
 }
 

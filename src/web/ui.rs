@@ -6,7 +6,7 @@
 use super::dom::{self, by_id, listen};
 use super::gpu::{BackendChoice, Renderer};
 use super::page::{HIT_RADIUS, Ui, on_event, performance_now, z_unit};
-use super::{compare_view, plot_canvas, share_view, teaching_view};
+use super::{compare_view, plot_view, share_view, teaching_view};
 use crate::app::algorithms;
 use crate::app::camera::OrbitCamera;
 use crate::app::geometry;
@@ -21,8 +21,8 @@ use crate::export::mesh::WorldMesh;
 use crate::export::obj::to_obj;
 use crate::export::ply::to_ply;
 use crate::export::stl::to_stl;
+use crate::front_file::FrontFile;
 use crate::heightfield::Heightfield;
-use crate::run_file::RunFile;
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -160,7 +160,7 @@ fn draw_plot(ui: &mut Ui) {
             .chain(population.iter().map(|(p, _)| p)),
         dom::checked("plot-log-e"),
     );
-    plot_canvas::draw(
+    plot_view::draw(
         &ctx,
         &ui.plot_layout,
         &Scene {
@@ -230,7 +230,7 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
     let front = ui.app.front().ok_or(EMPTY_FRONT)?;
     let config = ui.app.config();
     let status = ui.app.status();
-    let file = RunFile::new(
+    let file = FrontFile::new(
         &mut Evaluator::new(ui.app.surface().heightfield.clone()),
         config.algorithm.name(),
         algorithms::params_json(config.algorithm, &config.params),

@@ -7,7 +7,7 @@ use crate::app::compare_html::{colour, named_picks};
 use crate::app::plot::{self, Layout, PlotPoint, Scene};
 use crate::web::dom;
 use crate::web::page::{Ui, z_unit};
-use crate::web::plot_canvas;
+use crate::web::plot_view;
 use std::fmt::Write;
 use web_sys::CanvasRenderingContext2d;
 
@@ -26,7 +26,7 @@ pub(super) fn compare_plot(ui: &mut Ui) {
     );
     let unit = z_unit(&ui.app.surface().heightfield);
     // The axes, grid and titles of the single-run plot, with no data.
-    plot_canvas::draw(
+    plot_view::draw(
         &ctx,
         &layout,
         &Scene {
@@ -74,7 +74,7 @@ pub(super) fn compare_plot(ui: &mut Ui) {
     }
     ctx.restore();
     if let Some(&(k, _, p)) = hovered {
-        plot_canvas::readout(&ctx, &layout, p, &readout_text(k, p, picks[k].as_ref()));
+        plot_view::readout(&ctx, &layout, p, &readout_text(k, p, picks[k].as_ref()));
     }
     ui.compare.layout = Some(layout);
 }

@@ -2,15 +2,15 @@
 //! was made on, and the member a selector picks.
 
 use paretomesh::evaluator::Score;
+use paretomesh::front_file::FrontFile;
 use paretomesh::metrics::trade_off_pick;
-use paretomesh::run_file::RunFile;
 use std::path::{Path, PathBuf};
 
 /// Reads and parses the front.json at `path` (members with or without triangles); the error
 /// names the file.
-pub fn read(path: &Path) -> Result<RunFile, String> {
+pub fn read(path: &Path) -> Result<FrontFile, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let file: RunFile = serde_json::from_slice(&bytes)
+    let file: FrontFile = serde_json::from_slice(&bytes)
         .map_err(|e| format!("{} is not a front.json: {e}", path.display()))?;
     if file.front.is_empty() {
         return Err(format!("{} has no members in its front", path.display()));

@@ -8,7 +8,7 @@
 //!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept":[…]},…]}
 //! ```
 //!
-//! Triangles are listed only on request ([`RunFile::add_triangles`], `paretomesh run
+//! Triangles are listed only on request ([`FrontFile::add_triangles`], `paretomesh run
 //! --triangles`), as `"triangles":[[a,b,c],…]` after `kept`: on large grids they are most of the
 //! file, and the kept set determines them (the canonical Delaunay triangulation, which
 //! `paretomesh eval --keep` reproduces).
@@ -44,7 +44,7 @@ pub struct RunSolution {
 
 /// The whole file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RunFile {
+pub struct FrontFile {
     /// The grid.
     pub grid: GridInfo,
     /// The algorithm's name as the CLI spells it (`nsga2`, `weighted`, …).
@@ -61,7 +61,7 @@ pub struct RunFile {
     pub front: Vec<RunSolution>,
 }
 
-impl RunFile {
+impl FrontFile {
     /// Builds the file of a run that produced `front` on `evaluator`'s height field, without
     /// triangles ([`add_triangles`](Self::add_triangles) adds them). Fails only when a kept
     /// index is out of range ([`EvaluateError::IndexOutOfRange`]).
@@ -229,7 +229,7 @@ mod tests {
         }
         let mut ev = Evaluator::new(hf.clone());
         let mut file =
-            RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
         assert_eq!(file.front.len(), 40);
         file.add_triangles(&mut ev).unwrap();
         let mut fresh = Evaluator::new(hf);
@@ -250,20 +250,20 @@ mod tests {
         front.offer(Solution::recorded(4.0, 4.0, 2, vec![0, 2, 6, 8]));
         let mut ev = Evaluator::new(hf);
         let mut file =
-            RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
         let json = serde_json::to_string(&file).unwrap();
         assert!(
             json.ends_with(r#""front":[{"E_sum":4.0,"E_max":4.0,"T":2,"kept":[0,2,6,8]}]}"#),
             "{json}"
         );
-        assert_eq!(serde_json::from_str::<RunFile>(&json).unwrap(), file);
+        assert_eq!(serde_json::from_str::<FrontFile>(&json).unwrap(), file);
         file.add_triangles(&mut ev).unwrap();
         let json = serde_json::to_string(&file).unwrap();
         assert!(
             json.ends_with(r#""kept":[0,2,6,8],"triangles":[[0,2,6],[2,8,6]]}]}"#),
             "{json}"
         );
-        assert_eq!(serde_json::from_str::<RunFile>(&json).unwrap(), file);
+        assert_eq!(serde_json::from_str::<FrontFile>(&json).unwrap(), file);
     }
 
     #[test]
@@ -274,7 +274,7 @@ mod tests {
         front.offer(Solution::recorded(1.0, 1.0, 2, vec![0, 2, 6, 8]));
         front.offer(Solution::recorded(0.0, 0.0, 4, vec![0, 2, 6, 8, 9]));
         let mut ev = Evaluator::new(hf);
-        let made = RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front);
+        let made = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front);
         assert!(
             matches!(made, Err(EvaluateError::IndexOutOfRange { .. })),
             "{made:?}"
