@@ -70,8 +70,7 @@ impl Default for MemeticParams {
 /// with the grid because the front has more to improve on a larger one, but more slowly than
 /// the grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more (its mesh is
 /// larger), so a search that grew with the grid would make the run grow faster than the
-/// sweeps do. Measured on one core: under 1 s on a 65×65 grid, a few seconds on a 257×257
-/// one, under a minute on a 1025×1025 one (see docs/performance.md).
+/// sweeps do. docs/performance.md gives what it costs on grids of several sizes.
 pub fn default_budget(hf: &Heightfield) -> u64 {
     let n = hf.len() as u64;
     seeding_budget(hf) + SEARCH_EVALUATIONS + n.min(SEARCH_GRID_CAP)
