@@ -4,7 +4,7 @@
 //! Runs are kept tiny (a 17×17 crop, populations of about a dozen) because the tests run in a
 //! debug build.
 
-use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams};
+use paretomesh::baselines::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Score;
 use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::evolution::{

@@ -7,7 +7,7 @@
 mod common;
 
 use common::{bits, fixture, random_kept, synthetic};
-use paretomesh::baselines::greedy_insertion::{GreedyInsertion, GreedyParams, InsertionRule};
+use paretomesh::baselines::{GreedyInsertion, GreedyParams, InsertionRule};
 use paretomesh::evaluator::{Evaluator, Score};
 use paretomesh::evolution::memetic::decimation::Decimation;
 use paretomesh::evolution::memetic::local_search::LocalSearch;

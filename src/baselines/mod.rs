@@ -6,8 +6,8 @@
 //! of every solution they report from a fresh `Evaluator::score` of its kept set. Both are
 //! deterministic: ties in their priority queues are broken by grid index.
 
-pub mod edge_decimation;
-pub mod greedy_insertion;
+pub(crate) mod edge_decimation;
+pub(crate) mod greedy_insertion;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
 pub use greedy_insertion::{GreedyInsertion, GreedyParams, GreedyStop, InsertionRule};

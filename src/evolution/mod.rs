@@ -15,16 +15,16 @@
 pub mod chromosome;
 mod mating;
 pub mod memetic;
-pub mod nsga2;
+pub(crate) mod nsga2;
 pub mod oax;
-pub mod operators;
-pub mod orthogonal_array;
-pub mod params;
+pub(crate) mod operators;
+pub(crate) mod orthogonal_array;
+pub(crate) mod params;
 pub mod ranking;
-pub mod scalarisation;
-pub mod scorer;
+pub(crate) mod scalarisation;
+pub(crate) mod scorer;
 pub mod trace;
-pub mod weighted_sum;
+pub(crate) mod weighted_sum;
 
 pub use memetic::{Memetic, MemeticParams};
 pub use nsga2::{Individual, Nsga2};

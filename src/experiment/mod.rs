@@ -17,17 +17,17 @@
 //! Results never depend on the thread count: each job is a pure function of its seed, and the
 //! records are put back in plan order.
 
-pub mod analysis;
-pub mod contender;
+pub(crate) mod analysis;
+pub(crate) mod contender;
 pub mod external;
-pub mod method;
-pub mod protocol;
-pub mod registry;
-pub mod report;
-pub mod results;
-pub mod settings;
-pub mod stats;
-pub mod svg;
+pub(crate) mod method;
+pub(crate) mod protocol;
+pub(crate) mod registry;
+pub(crate) mod report;
+pub(crate) mod results;
+pub(crate) mod settings;
+pub(crate) mod stats;
+pub(crate) mod svg;
 
 pub use analysis::{
     Analysis, DatasetAnalysis, Mark, MethodAnalysis, PairAnalysis, Pick, SIGNIFICANCE_LEVEL,

@@ -27,10 +27,7 @@ mod profile;
 #[cfg(test)]
 mod tests;
 
-pub use path::{
-    COMPOSE_MIN_GENES, COMPOSE_TRIANGLES_PER_GENE, EDIT_LIMIT_PER_POINT, ROW_EDIT_GENES,
-};
-pub use pool::{CROSSED_POOLED, POOL_BYTES, POOL_PER_MEMBER, POOL_STATES};
+pub use pool::{POOL_PER_MEMBER, POOL_STATES};
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
