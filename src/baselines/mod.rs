@@ -9,6 +9,7 @@
 pub mod edge_decimation;
 pub mod greedy_insertion;
 pub(crate) mod queue;
+pub(crate) mod slot_heap;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
 pub use greedy_insertion::{GreedyInsertion, GreedyParams, GreedyStop, InsertionRule};
