@@ -67,6 +67,15 @@ impl SlotHeap {
         self.heap.first().copied()
     }
 
+    /// The key of `slot`'s entry, or 0 when it has none.
+    #[inline]
+    pub(crate) fn key_of(&self, slot: u32) -> f64 {
+        match self.position.get(slot as usize) {
+            Some(&at) if at != ABSENT => self.heap[at as usize].key,
+            _ => 0.0,
+        }
+    }
+
     /// The queued entries, in no particular order.
     #[cfg(test)]
     pub(crate) fn items(&self) -> &[Item] {
@@ -201,11 +210,11 @@ mod tests {
                     heap.set(item);
                     live[slot as usize] = Some(item);
                 }
-                let best =
-                    live.iter()
-                        .flatten()
-                        .copied()
-                        .reduce(|a, b| if b.before(&a) { b } else { a });
+                let best = live
+                    .iter()
+                    .flatten()
+                    .copied()
+                    .reduce(|a, b| if b.before(&a) { b } else { a });
                 assert_eq!(heap.top(), best, "round {round}");
             }
             let mut expected: Vec<Item> = live.iter().flatten().copied().collect();
