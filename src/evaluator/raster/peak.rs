@@ -127,6 +127,7 @@ impl<const FLOAT_SUM: bool> PeakKernel for ScalarPeak<FLOAT_SUM> {
 
 /// The better of two peaks of disjoint point sets: the larger error, the smaller index on a
 /// tie (so merging in any order gives the one-pass answer).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(crate) fn better(a: (f64, u32), b: (f64, u32)) -> (f64, u32) {
     if b.0 > a.0 || (b.0 == a.0 && b.1 < a.1) {
@@ -298,16 +299,17 @@ mod tests {
             let units = ErrorUnits::new((w * h) as usize, 12.0);
             let expected = by_definition(&grid, units, tri);
             with_points += usize::from(expected.at != NO_POINT);
-            let mut finders = vec![
-                PeakFinder::Scalar(ScalarPeak(units)),
-                PeakFinder::FloatSum(ScalarPeak(units)),
-                PeakFinder::new(units, false),
-            ];
             #[cfg(target_arch = "x86_64")]
-            if let Some(k) = super::super::peak_avx2::Avx2Peak::detect(units) {
-                finders.push(PeakFinder::Avx2(k));
-            }
-            for finder in finders {
+            let avx2 = super::super::peak_avx2::Avx2Peak::detect(units).map(PeakFinder::Avx2);
+            #[cfg(not(target_arch = "x86_64"))]
+            let avx2 = None;
+            let finders = [
+                Some(PeakFinder::Scalar(ScalarPeak(units))),
+                Some(PeakFinder::FloatSum(ScalarPeak(units))),
+                Some(PeakFinder::new(units, false)),
+                avx2,
+            ];
+            for finder in finders.into_iter().flatten() {
                 let mut got = None;
                 finder.peaks(&grid, [((), tri)], |_, p| got = Some(p));
                 let got = got.unwrap();
