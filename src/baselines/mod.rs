@@ -8,6 +8,7 @@
 
 pub(crate) mod edge_decimation;
 pub(crate) mod greedy_insertion;
+pub(crate) mod slot_heap;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
 pub use greedy_insertion::{GreedyInsertion, GreedyParams, GreedyStop, InsertionRule};

@@ -126,17 +126,6 @@ impl Evaluator {
         Ok(self.state.score_once(&self.hf))
     }
 
-    /// The score of `mesh`, the canonical triangulation of its vertices on this evaluator's
-    /// grid (as greedy insertion keeps it): [`score`](Self::score)'s bits for that kept set (the
-    /// triangulation is unique and the totals are exact integers), without triangulating again.
-    pub(crate) fn score_canonical(&mut self, mesh: &Triangulation) -> Score {
-        let own = self.state.mesh_mut();
-        own.vertices.clear();
-        own.vertices.extend_from_slice(&mesh.vertices);
-        own.twin.clear();
-        self.state.score_once(&self.hf)
-    }
-
     /// Like [`score`](Self::score), but builds the mesh into `state`, which can then be edited
     /// ([`edit`](Self::edit)) to score nearby kept sets.
     pub fn score_into(

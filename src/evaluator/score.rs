@@ -18,6 +18,20 @@ pub struct Score {
     pub t: usize,
 }
 
+impl Score {
+    /// The score of a mesh of `t` triangles on a grid of `n` points whose errors total
+    /// (Σ error, Σ error², max error), as [`ErrorUnits::values`](crate::evaluator::exact::fixed_point::ErrorUnits::values)
+    /// gives them: how every path turns exact totals into a score.
+    pub(crate) fn from_values((sum, sum_sq, max): (f64, f64, f64), n: usize, t: usize) -> Self {
+        Self {
+            e_sum: sum,
+            e_max: max,
+            rms: (sum_sq / n as f64).sqrt(),
+            t,
+        }
+    }
+}
+
 /// A score and the triangles it was measured on (grid-index triples, counter-clockwise).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Evaluation {

@@ -105,13 +105,8 @@ impl MeshState {
         self.score_from(units.values(&all), hf.len())
     }
 
-    fn score_from(&mut self, (sum, sum_sq, max): (f64, f64, f64), n: usize) -> Score {
-        let score = Score {
-            e_sum: sum,
-            e_max: max,
-            rms: (sum_sq / n as f64).sqrt(),
-            t: self.mesh.len(),
-        };
+    fn score_from(&mut self, values: (f64, f64, f64), n: usize) -> Score {
+        let score = Score::from_values(values, n, self.mesh.len());
         self.score = Some(score);
         score
     }

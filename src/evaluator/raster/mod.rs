@@ -8,6 +8,9 @@
 //! they are kept points and their error is zero by definition.
 
 mod fresh_build;
+pub(crate) mod peak;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod peak_avx2;
 pub(crate) mod span_sum;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod span_sum_avx2;
