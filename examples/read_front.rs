@@ -6,8 +6,9 @@
 //! cargo run --release --example read_front -- front.json GRID     # a front from the command line
 //! ```
 //!
-//! front.json is self-contained: each member lists its kept grid indices and its triangles, so
-//! any tool can re-score it. GRID must be the grid the front was made on.
+//! front.json is self-contained: each member lists its kept grid indices (packed, see
+//! `paretomesh::kept_codec`) and, with `run --triangles`, its triangles, so any tool can
+//! re-score it. GRID must be the grid the front was made on.
 
 use paretomesh::baselines::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Evaluator;

@@ -10,6 +10,7 @@ use paretomesh::front::{Front, Solution, dominates};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
+use paretomesh::run_file::RunFile;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -472,7 +473,8 @@ fn cli_run_greedy_and_decimation_write_fronts_that_rescore() {
             serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
         std::fs::remove_file(&out).unwrap();
         assert_eq!(file["algorithm"], algo);
-        let front: Vec<Solution> = serde_json::from_value(file["front"].clone()).unwrap();
+        let run: RunFile = serde_json::from_value(file.clone()).unwrap();
+        let front: Vec<Solution> = run.front.into_iter().map(|m| m.solution).collect();
         assert!(!front.is_empty());
         assert_rescores(&hf, &front);
         match k {
