@@ -470,3 +470,76 @@ fn truncate_last_strip(bytes: &[u8], big: bool) -> Vec<u8> {
     }
     panic!("no StripByteCounts tag");
 }
+
+/// A little-endian classic TIFF of float32 `values` (`width × height`) in uncompressed tiles of
+/// `tile × tile` samples, padded at the right and bottom edges as TIFF requires: the `tiff`
+/// crate's encoder writes strips only.
+fn tiled(width: u32, height: u32, tile: u32, values: &[f32]) -> Vec<u8> {
+    let (across, down) = (width.div_ceil(tile), height.div_ceil(tile));
+    let tile_bytes = tile * tile * 4;
+    let mut data = Vec::new();
+    for ty in 0..down {
+        for tx in 0..across {
+            for r in 0..tile {
+                for c in 0..tile {
+                    let (x, y) = (tx * tile + c, ty * tile + r);
+                    let v = if x < width && y < height {
+                        values[(y * width + x) as usize]
+                    } else {
+                        -9999.0
+                    };
+                    data.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+    }
+    let count = across * down;
+    let data_at = 8u32;
+    let offsets_at = data_at + data.len() as u32;
+    let counts_at = offsets_at + 4 * count;
+    let ifd_at = counts_at + 4 * count;
+    let mut out = b"II*\0".to_vec();
+    out.extend_from_slice(&ifd_at.to_le_bytes());
+    out.extend_from_slice(&data);
+    for k in 0..count {
+        out.extend_from_slice(&(data_at + k * tile_bytes).to_le_bytes());
+    }
+    for _ in 0..count {
+        out.extend_from_slice(&tile_bytes.to_le_bytes());
+    }
+    // (tag, type, count, value): SHORT = 3, LONG = 4; entries in increasing tag order.
+    let entries: [(u16, u16, u32, u32); 11] = [
+        (256, 4, 1, width),
+        (257, 4, 1, height),
+        (258, 3, 1, 32),
+        (259, 3, 1, 1),
+        (262, 3, 1, 1),
+        (277, 3, 1, 1),
+        (322, 4, 1, tile),
+        (323, 4, 1, tile),
+        (324, 4, count, offsets_at),
+        (325, 4, count, counts_at),
+        (339, 3, 1, 3),
+    ];
+    out.extend_from_slice(&(entries.len() as u16).to_le_bytes());
+    for (tag, kind, n, value) in entries {
+        out.extend_from_slice(&tag.to_le_bytes());
+        out.extend_from_slice(&kind.to_le_bytes());
+        out.extend_from_slice(&n.to_le_bytes());
+        out.extend_from_slice(&value.to_le_bytes());
+    }
+    out.extend_from_slice(&0u32.to_le_bytes());
+    out
+}
+
+#[test]
+fn tiles_land_in_place_including_the_padded_edge_tiles() {
+    // 40×24 in 16×16 tiles: 3×2 tiles, the right column and bottom row padded.
+    let (w, h) = (40u32, 24u32);
+    let values: Vec<f32> = (0..w * h).map(|i| i as f32 * 0.5 - 7.0).collect();
+    let hf = parse(&tiled(w, h, 16, &values)).unwrap();
+    assert_eq!((hf.width(), hf.height()), (40, 24));
+    let expected: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
+    assert_eq!(hf.z(), expected);
+    assert_eq!(hf.filled(), 0);
+}
