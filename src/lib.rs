@@ -33,6 +33,8 @@ pub mod front;
 pub mod front_file;
 pub mod heightfield;
 pub(crate) mod lazy_queue;
+pub mod import;
+pub mod kept_codec;
 pub mod metrics;
 pub mod optimizer;
 

@@ -624,7 +624,7 @@ impl Optimizer for GreedyInsertion {
 mod tests {
     use super::*;
     use crate::evaluator::Evaluator;
-    use crate::heightfield::raw;
+    use crate::import::raw;
 
     fn camera() -> Arc<Heightfield> {
         let data = include_bytes!("../../tests/data/camera_33x33.f32");

@@ -21,7 +21,7 @@ use super::results::{ExternalFront, RejectedMesh};
 use crate::evaluator::{Evaluator, is_delaunay};
 use crate::front::{Front, Solution};
 use crate::front_file::FrontFile;
-use crate::heightfield::{TriangleMesh, obj, ply};
+use crate::import::{TriangleMesh, obj, ply};
 use serde::Deserialize;
 
 /// How far (in grid units) a PLY or OBJ vertex may lie from its grid point: far below a grid

@@ -38,7 +38,7 @@ pub use wire::{decode, encode};
 use super::algorithms::{Algorithm, Params};
 use super::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
 use super::loader;
-use crate::heightfield::MAX_POINTS;
+use super::loader::MAX_TAB_POINTS;
 use serde::{Deserialize, Serialize};
 
 /// Version tag that starts every link this module writes.
@@ -54,9 +54,9 @@ pub const MAX_NAME_LEN: usize = 255;
 pub const MAX_SEED: u64 = (1 << 53) - 1;
 /// Most generations (or sweeps) a link may ask to re-run. A run stops at its own end anyway;
 /// the cap bounds the classical methods, whose sweeps are bounded by the number of points.
-pub const MAX_GENERATIONS_RUN: u64 = MAX_POINTS as u64;
+pub const MAX_GENERATIONS_RUN: u64 = MAX_TAB_POINTS as u64;
 /// Largest selected index: a front has at most 2N members (T < 2N on N points).
-pub const MAX_SELECTED: usize = 2 * MAX_POINTS;
+pub const MAX_SELECTED: usize = 2 * MAX_TAB_POINTS;
 /// Largest file size a fingerprint may state: 4 GiB.
 pub const MAX_FILE_SIZE: u64 = 1 << 32;
 /// Largest |yaw| in radians (yaw accumulates while orbiting; any sane view is far below this).

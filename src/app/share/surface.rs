@@ -51,9 +51,9 @@ impl ImportChoice {
         }
         let (w, h) = (self.width as usize, self.height as usize);
         let side = 2..=MAX_SIDE;
-        if !side.contains(&w) || !side.contains(&h) || w * h > MAX_POINTS {
+        if !side.contains(&w) || !side.contains(&h) || w * h > MAX_TAB_POINTS {
             return bad(format!(
-                "a {w}×{h} grid; sides must be 2 to {MAX_SIDE} and the grid at most {MAX_POINTS} points"
+                "a {w}×{h} grid; sides must be 2 to {MAX_SIDE} and the grid at most {MAX_TAB_POINTS} points"
             ));
         }
         Ok(())

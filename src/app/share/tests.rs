@@ -10,7 +10,8 @@ use crate::app::share::{
 };
 use crate::evolution::CrossoverKind;
 use crate::export::mesh::WorldMesh;
-use crate::heightfield::{Georeference, Heightfield, ImportOptions};
+use crate::heightfield::{Georeference, Heightfield};
+use crate::import::ImportOptions;
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use rand::{RngExt, SeedableRng};
