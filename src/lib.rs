@@ -19,6 +19,7 @@
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
 //!   the app.
+//! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
 //! - [`app`]: the browser app's logic without the DOM (state, share links, plot layout, ...).
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU.
 
@@ -37,6 +38,7 @@ pub mod import;
 pub mod kept_codec;
 pub mod metrics;
 pub mod optimizer;
+pub mod tiling;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;
