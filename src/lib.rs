@@ -13,6 +13,7 @@
 //! - [`optimizer`]: the steppable interface every algorithm implements.
 //! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA.
 //! - [`baselines`]: greedy insertion and edge decimation.
+//! - [`pick`]: choosing one member of a front (index, trade-off, knee, limits on T or error).
 //! - [`run_file`]: front.json, the self-contained result of a run.
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
@@ -30,6 +31,7 @@ pub mod front;
 pub mod heightfield;
 pub mod metrics;
 pub mod optimizer;
+pub mod pick;
 pub mod run_file;
 
 #[cfg(target_arch = "wasm32")]

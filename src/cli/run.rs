@@ -118,6 +118,9 @@ pub struct RunArgs {
     /// [default: insert every point, or stop after --evals insertions].
     #[arg(long)]
     max_error_fraction: Option<f64>,
+    /// Greedy insertion: stop once E_max ≤ X, in the surface's own z units (hmm's -e).
+    #[arg(long, value_name = "X")]
+    max_vertical_error: Option<f64>,
     /// Where to write front.json.
     #[arg(long)]
     out: PathBuf,
@@ -172,6 +175,7 @@ fn given_options(args: &RunArgs) -> Vec<&'static str> {
         ("--factors", args.factors.is_some()),
         ("--rule", args.rule.is_some()),
         ("--max-error-fraction", args.max_error_fraction.is_some()),
+        ("--max-vertical-error", args.max_vertical_error.is_some()),
     ]
     .into_iter()
     .filter_map(|(name, given)| given.then_some(name))
@@ -183,7 +187,10 @@ fn given_options(args: &RunArgs) -> Vec<&'static str> {
 fn refuse_foreign_options(args: &RunArgs) -> Result<(), String> {
     let algo = args.algo;
     for option in given_options(args) {
-        let greedy_option = matches!(option, "--rule" | "--max-error-fraction");
+        let greedy_option = matches!(
+            option,
+            "--rule" | "--max-error-fraction" | "--max-vertical-error"
+        );
         let refusal = match algo {
             Algo::Memetic => match option {
                 "--pop" | "--pc" => None,
@@ -265,19 +272,25 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
             }
         }
         Algo::Greedy => {
-            let stop = match (args.max_error_fraction, args.evals) {
-                (Some(_), Some(_)) => {
-                    return Err(
-                        "greedy insertion stops on --max-error-fraction or on --evals, not both"
-                            .to_string(),
-                    );
-                }
-                (Some(f), None) => GreedyStop::MaxErrorFraction(f),
+            let stops = [
+                args.max_error_fraction.is_some(),
+                args.max_vertical_error.is_some(),
+                args.evals.is_some(),
+            ];
+            if stops.iter().filter(|&&given| given).count() > 1 {
+                return Err(
+                    "greedy insertion stops on one of --max-error-fraction, --max-vertical-error or --evals, not several"
+                        .to_string(),
+                );
+            }
+            let stop = match (args.max_error_fraction, args.max_vertical_error, args.evals) {
+                (Some(f), _, _) => GreedyStop::MaxErrorFraction(f),
+                (_, Some(x), _) => GreedyStop::MaxError(x),
                 // One evaluation is one insertion, after the four corners.
-                (None, Some(n)) => GreedyStop::Points(
+                (_, _, Some(n)) => GreedyStop::Points(
                     4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)),
                 ),
-                (None, None) => GreedyStop::AllPoints,
+                _ => GreedyStop::AllPoints,
             };
             let p = GreedyParams {
                 rule: match args.rule.unwrap_or(RuleArg::MaxError) {
@@ -405,7 +418,8 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
         millis,
         optimizer.front(),
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| e.to_string())?
+    .with_import(&args.input.import.options());
     if args.triangles {
         file.add_triangles(&mut evaluator)
             .map_err(|e| e.to_string())?;
