@@ -1,0 +1,223 @@
+//! Printable solids: closed, manifold and outward-facing on real grids and kept sets, in every
+//! placement that has a flat side; the 3MF package reads back with an independent reader as the
+//! same triangles; bad options are refused.
+
+use paretomesh::evaluator::Evaluator;
+use paretomesh::export::mesh::WorldMesh;
+use paretomesh::export::solid::{SolidError, SolidOptions, signed_volume, solid};
+use paretomesh::export::threemf::to_3mf;
+use paretomesh::heightfield::{Heightfield, Placement, raw};
+use std::collections::HashMap;
+use std::io::Cursor;
+use std::sync::Arc;
+
+fn grid(name: &str) -> Arc<Heightfield> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
+    let z = std::fs::read(format!("{dir}{name}.f32")).unwrap();
+    let sidecar = std::fs::read(format!("{dir}{name}.json")).unwrap();
+    Arc::new(raw::parse(&z, &sidecar, name).unwrap())
+}
+
+/// The canonical triangles of `kept` on `hf`.
+fn triangles(hf: &Arc<Heightfield>, kept: &[u32]) -> Vec<[u32; 3]> {
+    Evaluator::new(hf.clone()).evaluate(kept).unwrap().triangles
+}
+
+/// Kept sets from sparse to full: every `step`-th grid point plus a few on the border.
+fn kept_sets(hf: &Heightfield) -> Vec<Vec<u32>> {
+    let n = hf.len() as u32;
+    [97, 13, 5, 1]
+        .iter()
+        .map(|&step| (0..n).filter(|i| i % step == 0).collect())
+        .chain(std::iter::once(vec![1, 2, hf.width() as u32 + 1]))
+        .collect()
+}
+
+/// Asserts that `mesh` is closed, manifold and consistently oriented: every directed edge is
+/// used by exactly one face and its reverse by exactly one other, no face is degenerate, and
+/// no two vertices share a position (so a reader that welds by position sees the same mesh).
+fn assert_closed_and_oriented(mesh: &WorldMesh, what: &str) {
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in &mesh.triangles {
+        assert!(
+            t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
+            "{what}: face {t:?}"
+        );
+        for k in 0..3 {
+            *directed.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    for (&(a, b), &count) in &directed {
+        assert_eq!(count, 1, "{what}: edge {a}→{b} used {count} times");
+        assert_eq!(
+            directed.get(&(b, a)),
+            Some(&1),
+            "{what}: edge {a}→{b} has no opposite"
+        );
+    }
+    let mut positions: Vec<[u64; 3]> = mesh.vertices.iter().map(|p| p.map(f64::to_bits)).collect();
+    positions.sort_unstable();
+    positions.dedup();
+    assert_eq!(
+        positions.len(),
+        mesh.vertices.len(),
+        "{what}: welded vertices"
+    );
+    // Euler characteristic of a sphere: V − E + F = 2.
+    let (v, e, f) = (
+        mesh.vertices.len() as i64,
+        directed.len() as i64 / 2,
+        mesh.triangles.len() as i64,
+    );
+    assert_eq!(v - e + f, 2, "{what}: V − E + F");
+}
+
+#[test]
+fn solids_of_real_grids_are_closed_manifold_and_face_outwards() {
+    for name in ["volcano_33x33", "jacksboro_65x65", "bunny_33x33"] {
+        let hf = grid(name);
+        let (lo, hi) = hf.z_range();
+        for kept in kept_sets(&hf) {
+            let tris = triangles(&hf, &kept);
+            let mesh = solid(&hf, &tris, &SolidOptions::default()).unwrap();
+            let what = format!("{name} with {} kept", kept.len());
+            assert_closed_and_oriented(&mesh, &what);
+            // The surface is kept as it is, on top of the walls and the bottom.
+            assert_eq!(&mesh.triangles[..tris.len()].len(), &tris.len());
+            let volume = signed_volume(&mesh);
+            assert!(volume > 0.0, "{what}: volume {volume}");
+            // The bottom lies 5 % of the z range under the lowest point, and the volume is at
+            // least the base slab's.
+            let bottom = mesh
+                .vertices
+                .iter()
+                .map(|p| p[2])
+                .fold(f64::INFINITY, f64::min);
+            assert!((bottom - (lo - 0.05 * (hi - lo))).abs() < 1e-9, "{what}");
+            let area = ((hf.width() - 1) as f64 * hf.spacing()[0])
+                * ((hf.height() - 1) as f64 * hf.spacing()[1]);
+            assert!(volume >= 0.05 * (hi - lo) * area * (1.0 - 1e-9), "{what}");
+        }
+    }
+}
+
+#[test]
+fn base_height_and_z_scale_move_the_bottom_and_the_top() {
+    let hf = grid("volcano_33x33");
+    let (lo, hi) = hf.z_range();
+    let tris = triangles(&hf, &kept_sets(&hf)[1]);
+    let options = SolidOptions {
+        base_height: Some(7.0),
+        z_scale: 2.0,
+    };
+    let mesh = solid(&hf, &tris, &options).unwrap();
+    let z = |f: fn(f64, f64) -> f64, init| mesh.vertices.iter().map(|p| p[2]).fold(init, f);
+    assert_eq!(z(f64::min, f64::INFINITY), 2.0 * lo - 7.0);
+    assert!(z(f64::max, f64::NEG_INFINITY) <= 2.0 * hi);
+    // The surface's vertices come first, by increasing grid index, at twice their height.
+    let mut corners: Vec<u32> = tris.iter().flatten().copied().collect();
+    corners.sort_unstable();
+    corners.dedup();
+    for (k, &g) in corners.iter().enumerate() {
+        assert_eq!(mesh.vertices[k][2], 2.0 * hf.z()[g as usize]);
+    }
+    assert_closed_and_oriented(&mesh, "scaled");
+}
+
+#[test]
+fn a_mirrored_planar_placement_still_faces_outwards() {
+    // A plane whose axes u, v, n form a left-handed frame turns the surface's triangles
+    // clockwise in the world; the solid must turn them back.
+    let base = grid("camera_33x33");
+    let (w, h) = (base.width(), base.height());
+    for n in [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]] {
+        let hf = Arc::new(
+            Heightfield::new(w, h, base.z().to_vec())
+                .unwrap()
+                .with_placement(Placement::Planar {
+                    origin: [10.0, -3.0, 2.0],
+                    u: [1.0, 0.0, 0.0],
+                    v: [0.0, 1.0, 0.0],
+                    n,
+                }),
+        );
+        let tris = triangles(&hf, &kept_sets(&hf)[2]);
+        let mesh = solid(&hf, &tris, &SolidOptions::default()).unwrap();
+        assert_closed_and_oriented(&mesh, "planar");
+        assert!(signed_volume(&mesh) > 0.0, "normal {n:?}");
+    }
+}
+
+#[test]
+fn bad_options_and_cylinders_are_refused_with_their_reason() {
+    let hf = grid("volcano_33x33");
+    let tris = triangles(&hf, &[]);
+    for (options, expected) in [
+        (
+            SolidOptions {
+                base_height: Some(-1.0),
+                z_scale: 1.0,
+            },
+            SolidError::BadBaseHeight(-1.0),
+        ),
+        (
+            SolidOptions {
+                base_height: None,
+                z_scale: 0.0,
+            },
+            SolidError::BadZScale(0.0),
+        ),
+    ] {
+        assert_eq!(solid(&hf, &tris, &options), Err(expected.clone()));
+        assert!(expected.to_string().contains("greater than 0"));
+    }
+    let cylinder = Arc::new(
+        Heightfield::new(hf.width(), hf.height(), hf.z().to_vec())
+            .unwrap()
+            .with_placement(Placement::Cylindrical {
+                origin: [0.0; 3],
+                axis: [0.0, 0.0, 1.0],
+                reference: [1.0, 0.0, 0.0],
+            }),
+    );
+    let out = solid(&cylinder, &tris, &SolidOptions::default()).unwrap_err();
+    assert!(out.to_string().contains("cylindrical unwrap"), "{out}");
+    // Two separate triangles have two borders, not one.
+    let out = solid(
+        &hf,
+        &[[0, 1, 33], [500, 501, 534]],
+        &SolidOptions::default(),
+    )
+    .unwrap_err();
+    assert!(out.to_string().contains("more than one piece"), "{out}");
+}
+
+#[test]
+fn a_3mf_package_reads_back_as_the_same_triangles() {
+    let hf = grid("jacksboro_65x65");
+    let tris = triangles(&hf, &kept_sets(&hf)[1]);
+    let mesh = solid(&hf, &tris, &SolidOptions::default()).unwrap();
+    let bytes = to_3mf(&mesh, "jacksboro <solid> & \"base\"").unwrap();
+    let models = threemf::read(Cursor::new(&bytes)).unwrap();
+    assert_eq!(models.len(), 1);
+    let object = &models[0].resources.object[0];
+    assert_eq!(object.name.as_deref(), Some("jacksboro <solid> & \"base\""));
+    let read = object.mesh.as_ref().unwrap();
+    let vertices: Vec<[f64; 3]> = read
+        .vertices
+        .vertex
+        .iter()
+        .map(|v| [v.x, v.y, v.z])
+        .collect();
+    let triangles: Vec<[u32; 3]> = read
+        .triangles
+        .triangle
+        .iter()
+        .map(|t| [t.v1, t.v2, t.v3].map(|i| i as u32))
+        .collect();
+    assert_eq!(vertices, mesh.vertices);
+    assert_eq!(triangles, mesh.triangles);
+    // The model part has the name slicers look for.
+    let text = String::from_utf8_lossy(&bytes);
+    assert!(text.contains("3D/3dmodel.model"));
+}
