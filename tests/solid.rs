@@ -2,6 +2,8 @@
 //! placement that has a flat side; the 3MF package reads back with an independent reader as the
 //! same triangles; bad options are refused.
 
+#![cfg(not(target_arch = "wasm32"))]
+
 use paretomesh::evaluator::Evaluator;
 use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::solid::{SolidError, SolidOptions, signed_volume, solid};
