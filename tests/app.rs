@@ -929,6 +929,31 @@ mod share_links {
     }
 
     #[test]
+    fn an_import_choice_is_the_import_options_front_json_records() {
+        use paretomesh::heightfield::{ImportOptions, Projection, Surface};
+        let choice = ImportChoice {
+            projection: "cylindrical".into(),
+            width: 48,
+            height: 40,
+            surface: Some("outer".into()),
+        };
+        assert_eq!(
+            choice.options(),
+            Ok(ImportOptions {
+                projection: Projection::Cylindrical,
+                grid_size: Some((48, 40)),
+                surface: Surface::Outer,
+                terrain_rgb: false,
+            })
+        );
+        let bad = ImportChoice {
+            surface: Some("inner".into()),
+            ..choice
+        };
+        assert!(bad.options().unwrap_err().contains("inner"));
+    }
+
+    #[test]
     fn a_mesh_files_import_choice_travels_and_is_checked() {
         // A mesh that had to be resampled carries how: projection and the grid size it gave.
         let mut fingerprint = FileFingerprint::of("face.stl", VOLCANO);

@@ -29,7 +29,9 @@
 use super::algorithms::{Algorithm, Params};
 use super::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
 use super::loader;
-use crate::heightfield::{Georeference, Heightfield, MAX_POINTS, MAX_SIDE, Placement};
+use crate::heightfield::{
+    Georeference, Heightfield, ImportOptions, MAX_POINTS, MAX_SIDE, Placement,
+};
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
@@ -157,6 +159,16 @@ impl ImportChoice {
             ));
         }
         Ok(())
+    }
+
+    /// The import options this choice stands for (as `paretomesh run` would be given them),
+    /// for the front.json the app writes.
+    pub fn options(&self) -> Result<ImportOptions, String> {
+        let mut options = loader::options(&self.projection, self.width, self.height)?;
+        if let Some(surface) = self.surface.as_deref() {
+            options.surface = loader::surface(surface)?;
+        }
+        Ok(options)
     }
 }
 

@@ -24,7 +24,7 @@ use crate::export::ply::to_ply;
 use crate::export::solid::{SolidOptions, solid};
 use crate::export::stl::to_stl;
 use crate::front::Solution;
-use crate::heightfield::Heightfield;
+use crate::heightfield::{Heightfield, ImportOptions};
 use crate::pick::Pick;
 use crate::run_file::RunFile;
 use std::cell::RefCell;
@@ -261,6 +261,15 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
         front,
     )
     .map_err(|e| e.to_string())?;
+    // A mesh resampled through the import dialog records that choice, so that `paretomesh
+    // export` reads the file into the same grid.
+    let file = match &ui.origin {
+        Origin::File(FileFingerprint {
+            import: Some(choice),
+            ..
+        }) => file.with_import(&choice.options()?),
+        _ => file.with_import(&ImportOptions::default()),
+    };
     let json = serde_json::to_string_pretty(&file).map_err(|e| e.to_string())?;
     dom::download(
         &format!("{stem}_front.json"),
