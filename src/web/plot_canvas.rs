@@ -89,8 +89,9 @@ fn data(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
         ctx.fill_rect(x - 2.0, y - 2.0, 4.0, 4.0);
     }
     ctx.set_global_alpha(1.0);
-    // The archive front as a staircase (the region it dominates) and dots.
-    if !scene.front.is_empty() {
+    // The archive front as a staircase (the region it dominates) and dots; on the E_max axis
+    // the front (non-dominated in E_sum) dominates nothing, so it is dots alone.
+    if !scene.front.is_empty() && scene.e_axis != EAxis::Max {
         ctx.set_stroke_style_str("#d62728");
         ctx.set_line_width(1.5);
         ctx.begin_path();
@@ -105,13 +106,13 @@ fn data(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
             }
         }
         ctx.stroke();
-        ctx.set_fill_style_str("#d62728");
-        for p in scene.front {
-            let (x, y) = layout.to_pixel(*p);
-            ctx.begin_path();
-            let _ = ctx.arc(x, y, 3.0, 0.0, std::f64::consts::TAU);
-            ctx.fill();
-        }
+    }
+    ctx.set_fill_style_str("#d62728");
+    for p in scene.front {
+        let (x, y) = layout.to_pixel(*p);
+        ctx.begin_path();
+        let _ = ctx.arc(x, y, 3.0, 0.0, std::f64::consts::TAU);
+        ctx.fill();
     }
     for (index, colour, radius) in [
         (scene.hovered, "#ff9900", 6.0),
