@@ -150,6 +150,80 @@ fn a_mirrored_planar_placement_still_faces_outwards() {
     }
 }
 
+/// A real grid as a cylindrical unwrap (radius = its heights) over nearly one turn, as an
+/// import of a closed mesh gives it, with its axis along `axis`.
+fn as_cylinder(hf: &Heightfield, axis: [f64; 3], reference: [f64; 3]) -> Arc<Heightfield> {
+    let turn = std::f64::consts::TAU;
+    Arc::new(
+        Heightfield::new(hf.width(), hf.height(), hf.z().to_vec())
+            .unwrap()
+            .with_geometry([0.3, -4.0], [turn / hf.width() as f64, 0.5])
+            .unwrap()
+            .with_placement(Placement::Cylindrical {
+                origin: [10.0, -3.0, 2.0],
+                axis,
+                reference,
+            }),
+    )
+}
+
+#[test]
+fn solids_of_cylindrical_unwraps_are_closed_by_seam_and_caps() {
+    for name in ["volcano_33x33", "bunny_33x33"] {
+        let flat = grid(name);
+        // Both handednesses of the unwrap's frame.
+        for reference in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+            let hf = as_cylinder(&flat, [0.0, 0.0, 1.0], reference);
+            let hf = if flat.z_range().0 > 0.0 {
+                hf
+            } else {
+                // Radii must be positive: lift the bunny's heights off the axis.
+                let (lo, hi) = flat.z_range();
+                let z = flat.z().iter().map(|z| z - lo + (hi - lo)).collect();
+                let lifted = Heightfield::new(flat.width(), flat.height(), z).unwrap();
+                as_cylinder(&lifted, [0.0, 0.0, 1.0], reference)
+            };
+            for (k, kept) in kept_sets(&hf).iter().enumerate() {
+                let tris = triangles(&hf, kept);
+                let what = format!("{name} cylinder {reference:?} kept set {k}");
+                let w = hf.width() as u32;
+                let last_row = (hf.height() - 1) as u32 * w;
+                let on_row = |row: u32| {
+                    let mut on: Vec<u32> = tris
+                        .iter()
+                        .flatten()
+                        .copied()
+                        .filter(|&g| g / w == row / w)
+                        .collect();
+                    on.sort_unstable();
+                    on.dedup();
+                    on.len()
+                };
+                let ring = on_row(0).min(on_row(last_row));
+                let result = solid(&hf, &tris, &SolidOptions::default());
+                if ring < 3 {
+                    assert_eq!(result, Err(SolidError::ThinRing(ring)), "{what}");
+                    continue;
+                }
+                let mesh = result.unwrap();
+                assert_closed_and_oriented(&mesh, &what);
+                let v = signed_volume(&mesh);
+                assert!(v > 0.0, "{what}: volume {v}");
+                // The surface, a seam strip and two caps: one face more per kept point on
+                // the seam columns and the end rings (minus the shared corners).
+                assert!(mesh.triangles.len() > tris.len() + 2 * ring, "{what}");
+                // Inside the cylinder of the largest radius.
+                let (_, hi) = hf.z_range();
+                let length = (hf.height() - 1) as f64 * 0.5;
+                assert!(
+                    v < std::f64::consts::PI * hi * hi * length,
+                    "{what}: volume {v} for radii up to {hi}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn bad_options_and_cylinders_are_refused_with_their_reason() {
     let hf = grid("volcano_33x33");
@@ -182,7 +256,12 @@ fn bad_options_and_cylinders_are_refused_with_their_reason() {
                 reference: [1.0, 0.0, 0.0],
             }),
     );
-    let out = solid(&cylinder, &tris, &SolidOptions::default()).unwrap_err();
+    let with_base = SolidOptions {
+        base_height: Some(2.0),
+        z_scale: 1.0,
+    };
+    let out = solid(&cylinder, &tris, &with_base).unwrap_err();
+    assert_eq!(out, SolidError::BaseOnCylinder(2.0));
     assert!(out.to_string().contains("cylindrical unwrap"), "{out}");
     // Two separate triangles have two borders, not one.
     let out = solid(

@@ -1,7 +1,8 @@
 //! A simplified surface closed into a printable solid: the surface on top, vertical walls down
 //! from its border vertices, and a flat bottom triangulated from those border vertices alone
-//! (no full-resolution bottom). The result is closed, manifold and consistently oriented with
-//! outward normals, so slicers print it as it is.
+//! (no full-resolution bottom). A cylindrical unwrap is closed differently: its seam is stitched
+//! across the angular gap and its two end rings are capped by fans to the axis. The result is
+//! closed, manifold and consistently oriented with outward normals, so slicers print it as it is.
 
 use super::mesh::{WorldMesh, area_normal};
 use crate::evaluator::Triangulation;
@@ -17,9 +18,11 @@ pub const DEFAULT_BASE_FRACTION: f64 = 0.05;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolidOptions {
     /// How far the flat bottom lies below the lowest grid point, in output z units (after
-    /// `z_scale`); `None` for [`DEFAULT_BASE_FRACTION`] of the scaled z range.
+    /// `z_scale`); `None` for [`DEFAULT_BASE_FRACTION`] of the scaled z range. A cylindrical
+    /// unwrap has no base and refuses one.
     pub base_height: Option<f64>,
-    /// Heights are multiplied by this (1 keeps the input's z units).
+    /// Heights are multiplied by this (1 keeps the input's z units); the radius in a
+    /// cylindrical unwrap.
     pub z_scale: f64,
 }
 
@@ -39,8 +42,10 @@ pub enum SolidError {
     BadBaseHeight(f64),
     /// The z scale is zero, negative or not finite.
     BadZScale(f64),
-    /// The grid is a cylindrical unwrap, which has no flat side to stand on.
-    Cylindrical,
+    /// A base height was given for a cylindrical unwrap, which is closed by caps instead.
+    BaseOnCylinder(f64),
+    /// An end ring of a cylindrical unwrap keeps fewer than 3 points, so its cap would be flat.
+    ThinRing(usize),
     /// The triangles do not have one closed border (a mesh that is not a triangulation of the
     /// grid's rectangle).
     Border(String),
@@ -57,9 +62,13 @@ impl fmt::Display for SolidError {
                 f,
                 "the z scale of a solid must be a number greater than 0, got {s}"
             ),
-            Self::Cylindrical => write!(
+            Self::BaseOnCylinder(h) => write!(
                 f,
-                "a solid needs a surface over a plane, but this grid is a cylindrical unwrap; export the surface without --solid"
+                "a base height ({h}) applies to a surface over a plane, but this grid is a cylindrical unwrap, closed by caps at its ends; leave out --base-height"
+            ),
+            Self::ThinRing(n) => write!(
+                f,
+                "an end of this cylindrical unwrap keeps only {n} points, too few to close it; take a member with more triangles"
             ),
             Self::Border(why) => write!(f, "cannot close the surface into a solid: {why}"),
         }
@@ -95,7 +104,10 @@ pub fn solid(
 ) -> Result<WorldMesh, SolidError> {
     options.check()?;
     if matches!(hf.placement(), Placement::Cylindrical { .. }) {
-        return Err(SolidError::Cylindrical);
+        return match options.base_height {
+            Some(h) => Err(SolidError::BaseOnCylinder(h)),
+            None => cylinder(hf, triangles, options.z_scale),
+        };
     }
     let mut kept: Vec<u32> = triangles.iter().flatten().copied().collect();
     kept.sort_unstable();
@@ -145,6 +157,84 @@ pub fn solid(
     floor.rebuild_delaunay(hf.width(), &sorted);
     for [a, b, c] in floor.triangles() {
         faces.push([below(a), below(c), below(b)]);
+    }
+    let mut mesh = WorldMesh {
+        vertices,
+        triangles: faces,
+    };
+    if signed_volume(&mesh) < 0.0 {
+        for t in &mut mesh.triangles {
+            t.swap(1, 2);
+        }
+    }
+    Ok(mesh)
+}
+
+/// The solid of a cylindrical unwrap (grid x = angle, grid y = along the axis, z = radius): the
+/// surface, a strip across the seam from its last column (largest angle) to its first (the same
+/// side of the unwrap's angular gap, one turn on), and on each end ring a fan to the axis. Every
+/// ring vertex has its own angle, so each fan is a flat star around the axis that cannot fold.
+fn cylinder(
+    hf: &Heightfield,
+    triangles: &[[u32; 3]],
+    z_scale: f64,
+) -> Result<WorldMesh, SolidError> {
+    let (w, h) = (hf.width() as u32, hf.height() as u32);
+    let mut kept: Vec<u32> = triangles.iter().flatten().copied().collect();
+    kept.sort_unstable();
+    kept.dedup();
+    let local = |g: u32| kept.binary_search(&g).expect("every corner is kept") as u32;
+    // The seam and the caps follow the grid's rectangle, so the surface's border must be
+    // exactly the kept points on it, as one loop.
+    let border = border_loop(triangles)?;
+    let on_rim = |g: &&u32| {
+        let (x, y) = (**g % w, **g / w);
+        x == 0 || x == w - 1 || y == 0 || y == h - 1
+    };
+    if border.len() != kept.iter().filter(on_rim).count() {
+        return Err(SolidError::Border(
+            "the border does not run along the grid's rectangle".into(),
+        ));
+    }
+    let column = |x: u32| -> Vec<u32> { kept.iter().copied().filter(|g| g % w == x).collect() };
+    let row = |y: u32| -> Vec<u32> { kept.iter().copied().filter(|g| g / w == y).collect() };
+    let (first, last) = (column(0), column(w - 1));
+    let (bottom, top) = (row(0), row(h - 1));
+    let thinnest = bottom.len().min(top.len());
+    if thinnest < 3 {
+        return Err(SolidError::ThinRing(thinnest));
+    }
+
+    let mut vertices: Vec<[f64; 3]> = kept
+        .iter()
+        .map(|&g| hf.to_world(g, hf.z()[g as usize] * z_scale))
+        .collect();
+    let mut faces: Vec<[u32; 3]> = triangles.iter().map(|t| t.map(local)).collect();
+    // The seam strip, counter-clockwise as if the first column lay one column past the last:
+    // walk up both columns, always to the lower of the two next points.
+    let (mut i, mut j) = (0, 0);
+    while i + 1 < last.len() || j + 1 < first.len() {
+        let up_last =
+            j + 1 == first.len() || (i + 1 < last.len() && last[i + 1] / w <= first[j + 1] / w);
+        if up_last {
+            faces.push([last[i], first[j], last[i + 1]].map(local));
+            i += 1;
+        } else {
+            faces.push([last[i], first[j], first[j + 1]].map(local));
+            j += 1;
+        }
+    }
+    // The surface and the strip run along the bottom ring by increasing angle and along the top
+    // ring by decreasing angle; each cap runs the other way, so every edge is used both ways.
+    for (ring, forward) in [(bottom, true), (top, false)] {
+        let centre = vertices.len() as u32;
+        vertices.push(hf.to_world(ring[0], 0.0));
+        let n = ring.len();
+        for k in 0..n {
+            let (a, b) = (ring[k], ring[(k + 1) % n]);
+            let (a, b) = if forward { (a, b) } else { (b, a) };
+            faces.push([local(b), local(a), centre]);
+        }
     }
     let mut mesh = WorldMesh {
         vertices,
