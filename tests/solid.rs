@@ -302,3 +302,180 @@ fn a_3mf_package_reads_back_as_the_same_triangles() {
     let text = String::from_utf8_lossy(&bytes);
     assert!(text.contains("3D/3dmodel.model"));
 }
+
+/// An ASCII STL of a closed bumpy tube around the z axis: radius 1 + 0.15·sin 5θ·cos ζ on
+/// ζ ∈ [−2, 2], closed by flat discs; longer than wide, so its principal axis is z.
+fn bumpy_tube_stl() -> String {
+    let (turns, rings) = (48, 21);
+    let at = |i: usize, j: usize| {
+        let theta = std::f64::consts::TAU * (i % turns) as f64 / turns as f64;
+        let zeta = -2.0 + 4.0 * j as f64 / (rings - 1) as f64;
+        let r = 1.0 + 0.15 * (5.0 * theta).sin() * zeta.cos();
+        [r * theta.cos(), r * theta.sin(), zeta]
+    };
+    let mut faces: Vec<[[f64; 3]; 3]> = Vec::new();
+    for j in 0..rings - 1 {
+        for i in 0..turns {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            faces.push([a, b, c]);
+            faces.push([a, c, d]);
+        }
+    }
+    for i in 0..turns {
+        faces.push([[0.0, 0.0, -2.0], at(i + 1, 0), at(i, 0)]);
+        faces.push([[0.0, 0.0, 2.0], at(i, rings - 1), at(i + 1, rings - 1)]);
+    }
+    let mut stl = String::from("solid tube\n");
+    for f in faces {
+        stl.push_str("facet normal 0 0 0\n outer loop\n");
+        for p in f {
+            stl.push_str(&format!("  vertex {} {} {}\n", p[0], p[1], p[2]));
+        }
+        stl.push_str(" endloop\nendfacet\n");
+    }
+    stl.push_str("endsolid tube\n");
+    stl
+}
+
+fn paretomesh(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .args(args)
+        .output()
+        .expect("the paretomesh binary runs")
+}
+
+/// A binary STL's triangles, with corners welded by their exact position.
+fn read_binary_stl(bytes: &[u8]) -> WorldMesh {
+    let count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * count);
+    let mut index: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut mesh = WorldMesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    for t in 0..count {
+        let record = &bytes[84 + 50 * t..84 + 50 * (t + 1)];
+        let corner = |k: usize| -> [u32; 3] {
+            std::array::from_fn(|c| {
+                let at = 12 + 12 * k + 4 * c;
+                u32::from_le_bytes(record[at..at + 4].try_into().unwrap())
+            })
+        };
+        let face = [0, 1, 2].map(|k| {
+            let bits = corner(k);
+            let next = index.len() as u32;
+            *index.entry(bits).or_insert_with(|| {
+                mesh.vertices.push(bits.map(|b| f32::from_bits(b) as f64));
+                next
+            })
+        });
+        mesh.triangles.push(face);
+    }
+    mesh
+}
+
+#[test]
+fn a_closed_scan_goes_from_file_to_a_printable_3mf_and_stl() {
+    let dir = std::env::temp_dir().join(format!("paretomesh-solid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let input = dir.join("tube.stl");
+    std::fs::write(&input, bumpy_tube_stl()).unwrap();
+    let front = dir.join("front.json");
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_owned();
+    let run = paretomesh(&[
+        "run",
+        &s(&input),
+        "--surface",
+        "outer",
+        "--grid-size",
+        "48x24",
+        "--algo",
+        "greedy",
+        "--out",
+        &s(&front),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+
+    let three = dir.join("tube.3mf");
+    let out = paretomesh(&[
+        "export",
+        &s(&front),
+        "--tradeoff",
+        "--solid",
+        "--format",
+        "3mf",
+        "--out",
+        &s(&three),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let models = threemf::read(std::fs::File::open(&three).unwrap()).unwrap();
+    let read = models[0].resources.object[0].mesh.as_ref().unwrap();
+    let from_3mf = WorldMesh {
+        vertices: read
+            .vertices
+            .vertex
+            .iter()
+            .map(|v| [v.x, v.y, v.z])
+            .collect(),
+        triangles: read
+            .triangles
+            .triangle
+            .iter()
+            .map(|t| [t.v1, t.v2, t.v3].map(|i| i as u32))
+            .collect(),
+    };
+    assert_closed_and_oriented(&from_3mf, "3MF");
+    let v = signed_volume(&from_3mf);
+    // The tube's volume is 4π (its bumps cancel to first order); a simplified member inscribes
+    // its surface, so somewhat less.
+    let tube = 4.0 * std::f64::consts::PI;
+    assert!(v > 0.6 * tube && v < 1.05 * tube, "volume {v}");
+
+    let stl = dir.join("tube.stl.out");
+    let out = paretomesh(&[
+        "export",
+        &s(&front),
+        "--tradeoff",
+        "--solid",
+        "--format",
+        "stl",
+        "--out",
+        &s(&stl),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let from_stl = read_binary_stl(&std::fs::read(&stl).unwrap());
+    assert_closed_and_oriented(&from_stl, "STL");
+    assert_eq!(from_stl.triangles.len(), from_3mf.triangles.len());
+    let w = signed_volume(&from_stl);
+    assert!((w - v).abs() < 1e-4 * v, "STL volume {w}, 3MF volume {v}");
+
+    // A base height has no meaning for it, and says so before writing anything.
+    let refused = dir.join("refused.3mf");
+    let out = paretomesh(&[
+        "export",
+        &s(&front),
+        "--tradeoff",
+        "--solid",
+        "--base-height",
+        "1",
+        "--out",
+        &s(&refused),
+    ]);
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("cylindrical unwrap"), "{stderr}");
+    assert!(!refused.exists());
+    std::fs::remove_dir_all(dir).ok();
+}
