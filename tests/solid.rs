@@ -7,7 +7,7 @@
 use paretomesh::evaluator::Evaluator;
 use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::solid::{SolidError, SolidOptions, signed_volume, solid};
-use paretomesh::export::threemf::to_3mf;
+use paretomesh::export::threemf::{to_3mf, to_3mf_deflated};
 use paretomesh::heightfield::{Heightfield, Placement, raw};
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -278,8 +278,24 @@ fn a_3mf_package_reads_back_as_the_same_triangles() {
     let hf = grid("jacksboro_65x65");
     let tris = triangles(&hf, &kept_sets(&hf)[1]);
     let mesh = solid(&hf, &tris, &SolidOptions::default()).unwrap();
-    let bytes = to_3mf(&mesh, "jacksboro <solid> & \"base\"").unwrap();
-    let models = threemf::read(Cursor::new(&bytes)).unwrap();
+    // The zip crate's package natively, the browser's own writer's, the same model in both.
+    for write in [to_3mf, to_3mf_deflated] {
+        reads_back(
+            &mesh,
+            &write(&mesh, "jacksboro <solid> & \"base\"").unwrap(),
+        );
+    }
+    // The browser's package is deflated, not stored.
+    let own = to_3mf_deflated(&mesh, "jacksboro").unwrap();
+    assert!(
+        own.len() * 3 < 64 * mesh.triangles.len(),
+        "{} bytes",
+        own.len()
+    );
+}
+
+fn reads_back(mesh: &WorldMesh, bytes: &[u8]) {
+    let models = threemf::read(Cursor::new(bytes)).unwrap();
     assert_eq!(models.len(), 1);
     let object = &models[0].resources.object[0];
     assert_eq!(object.name.as_deref(), Some("jacksboro <solid> & \"base\""));
@@ -299,7 +315,7 @@ fn a_3mf_package_reads_back_as_the_same_triangles() {
     assert_eq!(vertices, mesh.vertices);
     assert_eq!(triangles, mesh.triangles);
     // The model part has the name slicers look for.
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     assert!(text.contains("3D/3dmodel.model"));
 }
 

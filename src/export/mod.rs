@@ -1,5 +1,5 @@
 //! File writers shared by the command line and the browser app: the simplified mesh in the
-//! input's own coordinates ([`mesh::WorldMesh`]) as PLY, OBJ, STL, binary glTF or (natively) 3MF,
+//! input's own coordinates ([`mesh::WorldMesh`]) as PLY, OBJ, STL, binary glTF or 3MF,
 //! closed into a printable solid on request ([`solid`]), and the front as CSV.
 
 pub mod csv;
@@ -9,5 +9,5 @@ pub mod obj;
 pub mod ply;
 pub mod solid;
 pub mod stl;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod threemf;
+pub mod zip_archive;

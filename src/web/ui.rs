@@ -23,6 +23,7 @@ use crate::export::obj::to_obj;
 use crate::export::ply::to_ply;
 use crate::export::solid::{SolidOptions, solid};
 use crate::export::stl::to_stl;
+use crate::export::threemf::to_3mf;
 use crate::front::Solution;
 use crate::heightfield::{Heightfield, ImportOptions};
 use crate::pick::Pick;
@@ -280,7 +281,8 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
 
 /// Downloads the shown mesh (the full grid when nothing is selected) in the input's own
 /// coordinates as `kind`: PLY, OBJ, STL or binary glTF (with the error map as vertex colours
-/// when it is shown); closed into a printable solid when "solid" is ticked.
+/// when it is shown); closed into a printable solid when "solid" is ticked. A 3MF, which is
+/// for printing, is always the solid.
 fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
     let s = ui.app.surface();
     let hf = &s.heightfield;
@@ -288,7 +290,7 @@ fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
         Some(m) => m.clone(),
         None => shown_mesh(hf, &ui.app.shown_kept())?,
     };
-    let as_solid = dom::checked("export-solid");
+    let as_solid = kind == "3mf" || dom::checked("export-solid");
     let world = if as_solid {
         solid(hf, &mesh.triangles, &SolidOptions::default()).map_err(|e| e.to_string())?
     } else {
@@ -326,6 +328,11 @@ fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
         ),
         "obj" => dom::download(&name, "text/plain", to_obj(&world, &note).as_bytes()),
         "stl" => dom::download(&name, "application/octet-stream", &to_stl(&world, &note)),
+        "3mf" => dom::download(
+            &name,
+            "model/3mf",
+            &to_3mf(&world, &format!("{} solid", s.name))?,
+        ),
         "glb" => dom::download(
             &name,
             "model/gltf-binary",
@@ -425,7 +432,7 @@ fn wire_controls(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             ui.redraw = true;
         }),
     )?;
-    for kind in ["ply", "obj", "stl", "glb", "csv", "json"] {
+    for kind in ["ply", "obj", "stl", "glb", "3mf", "csv", "json"] {
         on(
             &format!("export-{kind}"),
             "click",
