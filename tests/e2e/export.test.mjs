@@ -1,12 +1,37 @@
 // End-to-end test of where a mesh leaves the app, in headless Chromium: a finished run selects
 // the knee of its front, the Trade-off and Knee buttons switch between the two picks, the E
 // axis shows sum, mean or max and hovering a member reads out all three, "printable solid"
-// exports a closed, outward-facing STL, and ticking the teaching view switches the method to
+// exports a closed, outward-facing STL, 3MF downloads as a zip package of the same solid, and
+// ticking the teaching view switches the method to
 // NSGA-II in one action.
 import { readFileSync } from 'node:fs';
+import { inflateRawSync } from 'node:zlib';
 import path from 'node:path';
 import assert from 'node:assert/strict';
 import { shots, withApp, newPage, realErrors, waitForApp, tradeOffCandidates, kneeIndex } from './harness.mjs';
+
+/// The entries of a zip archive by name, inflated as text, read through its central directory.
+function unzip(zip) {
+  const end = zip.lastIndexOf(Buffer.from([0x50, 0x4b, 0x05, 0x06]));
+  assert.ok(end >= 0, 'a zip archive ends with its directory record');
+  const entries = zip.readUInt16LE(end + 10);
+  let at = zip.readUInt32LE(end + 16);
+  const out = {};
+  for (let k = 0; k < entries; k++) {
+    assert.equal(zip.readUInt32LE(at), 0x02014b50);
+    const method = zip.readUInt16LE(at + 10);
+    const packed = zip.readUInt32LE(at + 20);
+    const nameLength = zip.readUInt16LE(at + 28);
+    const skip = nameLength + zip.readUInt16LE(at + 30) + zip.readUInt16LE(at + 32);
+    const local = zip.readUInt32LE(at + 42);
+    const name = zip.toString('utf8', at + 46, at + 46 + nameLength);
+    const start = local + 30 + zip.readUInt16LE(local + 26) + zip.readUInt16LE(local + 28);
+    const data = zip.subarray(start, start + packed);
+    out[name] = (method === 8 ? inflateRawSync(data) : data).toString('utf8');
+    at += 46 + skip;
+  }
+  return out;
+}
 
 const pairs = (flat) => Array.from({ length: flat.length / 2 }, (_, i) => [flat[2 * i], flat[2 * i + 1]]);
 
@@ -92,6 +117,19 @@ await withApp(async ({ browser, url }) => {
   assert.ok(count > tSelected, `${count} faces: the surface's ${tSelected} and the walls and bottom`);
   await page.uncheck('#export-solid');
 
+  // 4b. 3MF is always the solid: a zip package whose model part holds the STL's faces.
+  const [package3mf] = await Promise.all([page.waitForEvent('download'), page.click('#export-3mf')]);
+  assert.match(package3mf.suggestedFilename(), /_solid\.3mf$/);
+  const zip = readFileSync(await package3mf.path());
+  const parts = unzip(zip);
+  assert.deepEqual(Object.keys(parts).sort(), ['3D/3dmodel.model', '[Content_Types].xml', '_rels/.rels']);
+  const model = parts['3D/3dmodel.model'];
+  assert.match(model, /^<\?xml[^>]*>\s*<model unit="millimeter"/);
+  const modelTriangles = (model.match(/<triangle /g) ?? []).length;
+  const modelVertices = (model.match(/<vertex /g) ?? []).length;
+  assert.equal(modelTriangles, count, 'the 3MF holds the solid STL\'s faces');
+  assert.equal(modelVertices, ids.size, 'and its welded corners');
+
   // 5. The teaching view from the default method: one tick switches to NSGA-II.
   await page.click('#reset');
   await page.selectOption('#algorithm', 'memetic');
@@ -103,5 +141,5 @@ await withApp(async ({ browser, url }) => {
   await page.waitForFunction(() => (window.paretomesh.teachingState() ?? [])[0] === 'selection', null, { timeout: 60000 });
 
   assert.deepEqual(realErrors(page), [], 'no page errors');
-  console.log(`export e2e: knee ${knee}, trade-off ${tradeOff} of ${front.length}; solid STL of ${count} faces, volume ${volume.toFixed(0)}`);
+  console.log(`export e2e: knee ${knee}, trade-off ${tradeOff} of ${front.length}; solid STL of ${count} faces, volume ${volume.toFixed(0)}; 3MF of ${zip.length} bytes`);
 });
