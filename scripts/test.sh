@@ -63,6 +63,7 @@ node tests/e2e/webgpu.test.mjs
 node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
 node tests/e2e/compare.test.mjs
+node tests/e2e/export.test.mjs
 
 stage ""
 echo "== stage times (total $SECONDS s)"

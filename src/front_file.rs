@@ -23,6 +23,7 @@ use crate::evaluator::{EvaluateError, Evaluator, MeshState, canonical_set, check
 use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
+use crate::import::{ImportOptions, Projection, Surface};
 use serde::{Deserialize, Serialize};
 
 /// The grid a run was made on.
@@ -34,6 +35,63 @@ pub struct GridInfo {
     pub height: usize,
     /// How the grid was made (the height field's source note).
     pub source: String,
+    /// The import options the grid was read with, so that a reader of the file (`export`, the
+    /// app) reads the same file into the same grid; absent in files written before it was
+    /// recorded, and for grids made in memory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub import: Option<ImportRecord>,
+}
+
+/// The import options of a run's grid as front.json records them: every choice that changes
+/// the grid a file becomes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ImportRecord {
+    /// How a mesh became a grid: `auto`, `planar` or `cylindrical`.
+    pub projection: String,
+    /// The grid size asked for, `[W, H]`, or `null` for the importer's own choice.
+    pub grid_size: Option<[usize; 2]>,
+    /// Which surface of a folding mesh was kept: `single` or `outer`.
+    pub surface: String,
+    /// An RGB PNG read as Mapbox terrain-RGB.
+    pub terrain_rgb: bool,
+}
+
+impl ImportRecord {
+    /// The record of `options`.
+    pub fn of(options: &ImportOptions) -> Self {
+        Self {
+            projection: options.projection.name().to_string(),
+            grid_size: options.grid_size.map(|(w, h)| [w, h]),
+            surface: options.surface.name().to_string(),
+            terrain_rgb: options.terrain_rgb,
+        }
+    }
+
+    /// The options this record names; fails on a projection or surface name no importer knows.
+    pub fn options(&self) -> Result<ImportOptions, String> {
+        let projection = match self.projection.as_str() {
+            "auto" => Projection::Auto,
+            "planar" => Projection::Planar,
+            "cylindrical" => Projection::Cylindrical,
+            other => {
+                return Err(format!(
+                    "unknown projection {other:?} in the import options"
+                ));
+            }
+        };
+        let surface = match self.surface.as_str() {
+            "single" => Surface::Single,
+            "outer" => Surface::Outer,
+            other => return Err(format!("unknown surface {other:?} in the import options")),
+        };
+        Ok(ImportOptions {
+            projection,
+            grid_size: self.grid_size.map(|[w, h]| (w, h)),
+            surface,
+            terrain_rgb: self.terrain_rgb,
+            ..ImportOptions::default()
+        })
+    }
 }
 
 /// One front member, with its triangles when the file lists them.
@@ -186,6 +244,7 @@ impl FrontFile {
             width: hf.width(),
             height: hf.height(),
             source: hf.source().to_string(),
+            import: None,
         };
         for s in front.solutions() {
             check_indices(&s.kept, hf.len())?;
@@ -207,6 +266,12 @@ impl FrontFile {
             millis,
             front: members,
         })
+    }
+
+    /// Records the import options the grid was read with (see [`GridInfo::import`]).
+    pub fn with_import(mut self, options: &ImportOptions) -> Self {
+        self.grid.import = Some(ImportRecord::of(options));
+        self
     }
 
     /// Lists every member's triangles, recomputed with `evaluator` (on the file's grid).
@@ -373,6 +438,42 @@ mod tests {
             "{json}"
         );
         assert_eq!(serde_json::from_str::<FrontFile>(&json).unwrap(), file);
+    }
+
+    #[test]
+    fn the_import_options_are_recorded_and_read_back() {
+        let hf = Arc::new(Heightfield::new(3, 3, vec![0.0; 9]).unwrap());
+        let mut front = Front::default();
+        front.offer(Solution::recorded(0.0, 0.0, 2, vec![0, 2, 6, 8]));
+        let mut ev = Evaluator::new(hf);
+        let options = ImportOptions {
+            projection: Projection::Cylindrical,
+            grid_size: Some((65, 33)),
+            surface: Surface::Outer,
+            terrain_rgb: true,
+            ..ImportOptions::default()
+        };
+        let file = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front)
+            .unwrap()
+            .with_import(&options);
+        let json = serde_json::to_string(&file).unwrap();
+        assert!(
+            json.contains(r#""import":{"projection":"cylindrical","grid_size":[65,33],"surface":"outer","terrain_rgb":true}"#),
+            "{json}"
+        );
+        let read: FrontFile = serde_json::from_str(&json).unwrap();
+        assert_eq!(read.grid.import.unwrap().options(), Ok(options));
+        // A file without the record reads as before; a bad name is an error, not a default.
+        let old = json.replace(r#","import":{"projection":"cylindrical","grid_size":[65,33],"surface":"outer","terrain_rgb":true}"#, "");
+        assert_eq!(
+            serde_json::from_str::<FrontFile>(&old).unwrap().grid.import,
+            None
+        );
+        let bad = ImportRecord {
+            surface: "inner".into(),
+            ..ImportRecord::of(&ImportOptions::default())
+        };
+        assert!(bad.options().unwrap_err().contains("\"inner\""));
     }
 
     #[test]

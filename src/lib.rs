@@ -15,6 +15,7 @@
 //! - [`catalogue`]: every method with its names, budget kind, the parameters it reads and how
 //!   it is built; the CLI, the experiment and the app take their methods from it.
 //! - [`front_file`]: front.json, the self-contained result of a run.
+//! - [`pick`]: choosing one member of a front (index, trade-off, knee, limits on T or error).
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
@@ -39,6 +40,7 @@ pub mod kept_codec;
 pub mod metrics;
 pub mod optimizer;
 pub mod tiling;
+pub mod pick;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -79,6 +79,63 @@ mod plot_hit_testing {
     }
 
     #[test]
+    fn axis_titles_never_overlap_their_tick_labels() {
+        // E from a 2048² grid's corner-only mesh (a billion) down to small errors, linear and
+        // log, on small and wide canvases: every E tick label ends before the plotting area
+        // and starts after the E title's band; the T labels end above the T title.
+        use paretomesh::app::plot::{
+            E_TITLE_LEFT, TICK_FONT_PX, TICK_GAP, TITLE_LINE, format_value, label_width,
+        };
+        for top in [3.5, 950.0, 12_345.0, 1.0e6, 1.0e9, 1.234_567e9, 4.2e12] {
+            for log in [false, true] {
+                for (w, h) in [(320.0, 200.0), (900.0, 400.0)] {
+                    let points = [pt(2.0, top), pt(4000.0, top / 1000.0), pt(8_000_000.0, 0.0)];
+                    let layout = Layout::fit_scaled(w, h, &points, log);
+                    let (l, _, _, b) = layout.area();
+                    let ticks = layout.e_ticks();
+                    assert!(!ticks.is_empty());
+                    for v in ticks {
+                        let text = format_value(v);
+                        let left = l - TICK_GAP - label_width(&text);
+                        assert!(
+                            left >= E_TITLE_LEFT + TITLE_LINE,
+                            "E = {top}, log {log}: label {text:?} starts at {left}"
+                        );
+                    }
+                    // T labels hang below the area; the T title sits on the canvas's bottom.
+                    assert!(b + TICK_GAP + TICK_FONT_PX + 2.0 <= h - 2.0 - TITLE_LINE);
+                }
+            }
+        }
+        assert_eq!(format_value(1.0e9), "1G");
+        assert_eq!(format_value(1.25e6), "1.25M");
+        assert_eq!(format_value(1000.0e6), "1G");
+        assert_eq!(format_value(12_500.0), "12.5k");
+    }
+
+    #[test]
+    fn the_e_axis_shows_sum_mean_or_max_and_hover_gives_all_three() {
+        use paretomesh::app::plot::{EAxis, hover_text};
+        use paretomesh::evaluator::Score;
+        let score = Score {
+            e_sum: 2500.0,
+            e_max: 3.25,
+            rms: f64::NAN,
+            t: 40,
+        };
+        assert_eq!(EAxis::from_key("sum").unwrap().value(&score, 100), 2500.0);
+        assert_eq!(EAxis::from_key("mean").unwrap().value(&score, 100), 25.0);
+        assert_eq!(EAxis::from_key("max").unwrap().value(&score, 100), 3.25);
+        assert_eq!(EAxis::from_key("median"), None);
+        assert!(EAxis::Max.title("m", false).starts_with("E_max"));
+        assert!(EAxis::Mean.title("", true).contains("(z units, log scale)"));
+        assert_eq!(
+            hover_text(&score, 100, "m"),
+            "T = 40 · E_sum = 2500 · mean = 25 m · E_max = 3.25 m"
+        );
+    }
+
+    #[test]
     fn ticks_are_round_numbers_inside_the_range() {
         assert_eq!(ticks(0.0, 10.0, 5), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
         let t = ticks(13.0, 987.0, 6);
@@ -502,7 +559,7 @@ mod app_stepping {
         tick_until_idle(&mut app, 50.0, &mut ticking_clock());
         let n = app.front().unwrap().len();
         assert!(n >= 3, "front of {n}");
-        // The finished run selected its trade-off pick; start from no selection.
+        // The finished run selected its knee; start from no selection.
         app.select_front_index(None);
         app.move_selection(1);
         assert_eq!(app.selected_front_index(), Some(0));
@@ -578,6 +635,28 @@ mod app_stepping {
         assert_eq!(app.selected(), None);
     }
 
+    /// The knee of `app`'s front, computed by brute force: each objective scaled to [0, 1]
+    /// over the front, the member nearest (0, 0).
+    fn expected_knee(app: &App) -> usize {
+        let members = app.front().unwrap().solutions();
+        let span = |f: &dyn Fn(usize) -> f64| {
+            let values: Vec<f64> = (0..members.len()).map(f).collect();
+            let lo = values.iter().cloned().fold(f64::INFINITY, f64::min);
+            let hi = values.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+            (lo, hi - lo)
+        };
+        let (e0, de) = span(&|i| members[i].e_sum);
+        let (t0, dt) = span(&|i| members[i].t as f64);
+        let distance = |i: usize| {
+            let e = (members[i].e_sum - e0) / de;
+            let t = (members[i].t as f64 - t0) / dt;
+            (e * e + t * t).sqrt()
+        };
+        (0..members.len())
+            .min_by(|&i, &j| distance(i).total_cmp(&distance(j)))
+            .unwrap()
+    }
+
     /// The paper's trade-off pick of `app`'s front, computed from the metric itself.
     fn expected_trade_off(app: &App) -> usize {
         let points: Vec<_> = app
@@ -593,7 +672,17 @@ mod app_stepping {
     }
 
     #[test]
-    fn a_finished_run_selects_its_trade_off_pick() {
+    fn the_trade_off_pick_is_one_call_away() {
+        let mut app = app();
+        while !app.step_once().unwrap().done {}
+        assert!(app.select_by(paretomesh::pick::Pick::TradeOff));
+        assert_eq!(app.selected_front_index(), Some(expected_trade_off(&app)));
+        assert!(app.select_by(paretomesh::pick::Pick::Knee));
+        assert_eq!(app.selected_front_index(), Some(expected_knee(&app)));
+    }
+
+    #[test]
+    fn a_finished_run_selects_its_knee() {
         let mut app = app();
         app.run().unwrap();
         let mut clock = ticking_clock();
@@ -607,7 +696,7 @@ mod app_stepping {
         tick_until_idle(&mut app, 8.0, &mut clock);
         assert!(app.status().done);
         let n = app.front().unwrap().len();
-        let pick = expected_trade_off(&app);
+        let pick = expected_knee(&app);
         assert!(
             n >= 3 && pick > 0 && pick < n - 1,
             "a middle member: {pick} of {n}"
@@ -620,10 +709,10 @@ mod app_stepping {
     }
 
     #[test]
-    fn a_run_finished_by_stepping_selects_its_trade_off_pick() {
+    fn a_run_finished_by_stepping_selects_its_knee() {
         let mut app = app();
         while !app.step_once().unwrap().done {}
-        assert_eq!(app.selected_front_index(), Some(expected_trade_off(&app)));
+        assert_eq!(app.selected_front_index(), Some(expected_knee(&app)));
     }
 
     #[test]
@@ -654,7 +743,7 @@ mod app_stepping {
         .unwrap();
         tick_until_idle(&mut app, 8.0, &mut ticking_clock());
         assert!(app.status().done);
-        assert_ne!(expected_trade_off(&app), 0, "the test must tell them apart");
+        assert_ne!(expected_knee(&app), 0, "the test must tell them apart");
         assert_eq!(app.selected_front_index(), Some(0));
     }
 

@@ -207,3 +207,67 @@ fn a_closed_thick_mesh_needs_surface_outer() {
     assert!(lo > 0.99 && hi <= 1.0 + 1e-9, "{range}");
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
+    // Like hmm's -e: insertion stops at the first mesh whose largest vertical error is at most
+    // X, so that mesh (the front's last) is within X and every earlier member is not.
+    let out = scratch("vertical").join("front.json");
+    let grid = data("volcano_33x33.f32");
+    let x = 4.0;
+    let run = paretomesh(&[
+        "run",
+        grid.to_str().unwrap(),
+        "--algo",
+        "greedy",
+        "--max-vertical-error",
+        &x.to_string(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let file: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    let front = file["front"].as_array().unwrap();
+    let e_max: Vec<f64> = front.iter().map(|m| m["E_max"].as_f64().unwrap()).collect();
+    let (last, earlier) = e_max.split_last().unwrap();
+    assert!(*last <= x, "{e_max:?}");
+    assert!(
+        !earlier.is_empty() && earlier.iter().all(|&e| e > x),
+        "{e_max:?}"
+    );
+    assert!(front.last().unwrap()["T"].as_u64().unwrap() < 2 * 32 * 32);
+
+    // One stop at a time, and only for greedy insertion.
+    for (extra, expected) in [
+        (
+            vec![
+                "--algo",
+                "greedy",
+                "--max-vertical-error",
+                "1",
+                "--evals",
+                "9",
+            ],
+            "not several",
+        ),
+        (
+            vec!["--algo", "nsga2", "--max-vertical-error", "1"],
+            "--max-vertical-error does not apply to --algo nsga2",
+        ),
+    ] {
+        let mut args = vec![
+            "run",
+            grid.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let refused = paretomesh(&args);
+        assert_eq!(refused.status.code(), Some(1));
+        assert!(
+            text(&refused.stderr).contains(expected),
+            "{}",
+            text(&refused.stderr)
+        );
+    }
+}

@@ -30,8 +30,9 @@ fn triangle_count_follows_euler() {
     let kept = random_subset(hf.len(), 0.2, &mut rng);
     let e = ev.evaluate(&kept).unwrap();
     let w = hf.width() as u32;
-    let on_hull =
-        |i: u32| i % w == 0 || i % w == w - 1 || i / w == 0 || i / w == hf.height() as u32 - 1;
+    let on_hull = |i: u32| {
+        i.is_multiple_of(w) || i % w == w - 1 || i / w == 0 || i / w == hf.height() as u32 - 1
+    };
     let n = ev.kept().len();
     let h = ev.kept().iter().filter(|&&i| on_hull(i)).count();
     assert_eq!(e.score.t, 2 * n - h - 2);

@@ -2,11 +2,13 @@
 //! right member, every format reads back as that member's mesh (whose kept set `eval` scores as
 //! the front recorded), and bad requests get a message, not a panic.
 
+use paretomesh::evaluator::Score;
 use paretomesh::evaluator::canonical_set;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::metrics::trade_off_pick;
 use paretomesh::front_file::FrontFile;
+use paretomesh::pick::knee;
 use serde_json::Value;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -501,10 +503,10 @@ fn bad_requests_get_a_clear_message() {
         e.contains("no member has at most 1 triangles") && e.contains("smallest member has 2"),
         "{e}"
     );
-    // Greedy insertion ends at the full grid (E_sum 0): only a negative budget finds nothing.
+    // Greedy insertion ends at the full grid (E_sum 0): a negative budget is refused as such.
     let e = refused(&["export", f, "--max-error=-0.5", "--out", o]);
     assert!(
-        e.contains("no member has E_sum at most -0.5") && e.contains("most accurate member has 0"),
+        e.contains("--max-error") && e.contains("at least 0, got -0.5"),
         "{e}"
     );
     let other = data("volcano_87x61.f32");
@@ -639,4 +641,282 @@ fn a_georeferenced_geotiff_exports_in_map_coordinates() {
             assert_eq!(steps, steps.round(), "{v:?}");
         }
     }
+}
+
+/// (E_sum, E_max, T) of every member of a front.json, in the file's order.
+fn scores(front: &Path) -> Vec<Score> {
+    read_json(front)["front"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| Score {
+            e_sum: m["E_sum"].as_f64().unwrap(),
+            e_max: m["E_max"].as_f64().unwrap(),
+            rms: f64::NAN,
+            t: m["T"].as_u64().unwrap() as usize,
+        })
+        .collect()
+}
+
+#[test]
+fn errors_in_the_surfaces_units_and_the_knee_pick_their_member() {
+    let front = front();
+    let all = scores(front);
+    let n = 33.0 * 33.0;
+    let out = scratch("units").join("m.ply");
+    let fewest_within = |ok: &dyn Fn(&Score) -> bool| {
+        (0..all.len())
+            .filter(|&i| ok(&all[i]))
+            .min_by_key(|&i| all[i].t)
+            .unwrap()
+    };
+    for k in [1, all.len() / 3, all.len() / 2, all.len() - 2] {
+        let x = all[k].e_max;
+        let picked = export(front, &["--max-vertical-error", &x.to_string()], &out, &[]);
+        assert_eq!(picked, fewest_within(&|s| s.e_max <= x), "E_max ≤ {x}");
+        assert!(all[picked].e_max <= x);
+        let mean = all[k].e_sum / n * 1.001;
+        let picked = export(front, &["--max-mean-error", &mean.to_string()], &out, &[]);
+        assert_eq!(
+            picked,
+            fewest_within(&|s| s.e_sum / n <= mean),
+            "mean ≤ {mean}"
+        );
+    }
+    let picked = export(front, &["--knee"], &out, &[]);
+    assert_eq!(picked, knee(&all));
+    assert!(
+        picked > 0 && picked < all.len() - 1,
+        "a middle member: {picked}"
+    );
+
+    // Without the full grid on the front, a limit under every member's E_max names the
+    // smallest one on offer.
+    let mut json = read_json(front);
+    let members = json["front"].as_array_mut().unwrap();
+    members.truncate(members.len() / 2);
+    let least = members
+        .iter()
+        .map(|m| m["E_max"].as_f64().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    let dir = scratch("units-short");
+    let short = dir.join("short.json");
+    std::fs::write(&short, json.to_string()).unwrap();
+    let o = dir.join("m.stl");
+    let e = refused(&[
+        "export",
+        s(&short),
+        "--max-vertical-error",
+        &(least / 2.0).to_string(),
+        "--grid",
+        GRID,
+        "--out",
+        s(&o),
+    ]);
+    assert!(
+        e.contains("--max-vertical-error")
+            && e.contains(&format!("smallest E_max on offer is {least}")),
+        "{e}"
+    );
+    assert!(!o.exists());
+}
+
+/// Directed edges of indexed triangles, each with its count.
+fn directed_edges(triangles: &[[u32; 3]]) -> HashMap<(u32, u32), usize> {
+    let mut edges = HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            *edges.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    edges
+}
+
+fn volume(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> f64 {
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0])
+        })
+        .sum::<f64>()
+        / 6.0
+}
+
+#[test]
+fn solids_in_every_format_are_closed_and_face_outwards() {
+    let front = front();
+    let dir = scratch("solid");
+    let ply = dir.join("knee.ply");
+    let k = export(front, &["--knee", "--solid"], &ply, &[]);
+    let (vertices, triangles) = read_ply(&std::fs::read_to_string(&ply).unwrap());
+    let edges = directed_edges(&triangles);
+    for (&(a, b), &count) in &edges {
+        assert_eq!(count, 1, "edge {a}→{b}");
+        assert_eq!(edges.get(&(b, a)), Some(&1), "edge {a}→{b} has no opposite");
+    }
+    let v = volume(&vertices, &triangles);
+    assert!(v > 0.0, "volume {v}");
+    // The surface's triangles are the member's; walls and bottom add the rest.
+    assert!(triangles.len() > scores(front)[k].t);
+
+    // Every other format holds the same solid.
+    let obj = dir.join("knee.obj");
+    assert_eq!(export(front, &["--knee", "--solid"], &obj, &[]), k);
+    assert_eq!(
+        read_obj(&std::fs::read_to_string(&obj).unwrap()),
+        (vertices.clone(), triangles.clone())
+    );
+    let three = dir.join("knee.3mf");
+    assert_eq!(export(front, &["--knee", "--solid"], &three, &[]), k);
+    let models = threemf::read(std::fs::File::open(&three).unwrap()).unwrap();
+    let mesh = models[0].resources.object[0].mesh.as_ref().unwrap();
+    let read: Vec<[u32; 3]> = mesh
+        .triangles
+        .triangle
+        .iter()
+        .map(|t| [t.v1, t.v2, t.v3].map(|i| i as u32))
+        .collect();
+    assert_eq!(read, triangles);
+    assert_eq!(mesh.vertices.vertex.len(), vertices.len());
+    let stl = dir.join("knee.stl");
+    assert_eq!(export(front, &["--knee", "--solid"], &stl, &[]), k);
+    assert_eq!(
+        std::fs::read(&stl).unwrap().len(),
+        84 + 50 * triangles.len()
+    );
+    let glb = dir.join("knee.glb");
+    assert_eq!(export(front, &["--knee", "--solid"], &glb, &[]), k);
+    let file = gltf::Gltf::from_slice(&std::fs::read(&glb).unwrap()).expect("a valid .glb");
+    let prim = file.meshes().next().unwrap().primitives().next().unwrap();
+    let blob = file.blob.as_deref();
+    let reader = prim.reader(|buffer| match buffer.source() {
+        gltf::buffer::Source::Bin => blob,
+        _ => None,
+    });
+    assert_eq!(
+        reader.read_indices().unwrap().into_u32().count(),
+        3 * triangles.len()
+    );
+
+    // Bad solid options are refused before anything is written.
+    let o = dir.join("bad.stl");
+    let e = refused(&[
+        "export",
+        s(front),
+        "--knee",
+        "--solid",
+        "--base-height",
+        "-2",
+        "--out",
+        s(&o),
+    ]);
+    assert!(
+        e.contains("base height") && e.contains("greater than 0, got -2"),
+        "{e}"
+    );
+    assert!(!o.exists());
+    let result = paretomesh(&[
+        "export",
+        s(front),
+        "--knee",
+        "--base-height",
+        "2",
+        "--out",
+        s(&o),
+    ]);
+    assert_eq!(result.status.code(), Some(2), "--base-height needs --solid");
+}
+
+/// A closed UV sphere of radius `r` around (0, 0, 5) as ASCII STL facets, outward facing.
+fn sphere_facets(r: f64, rings: usize, segments: usize) -> String {
+    let point = |i: usize, j: usize| {
+        let theta = std::f64::consts::PI * i as f64 / rings as f64;
+        let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
+        [
+            r * theta.sin() * phi.cos(),
+            r * theta.sin() * phi.sin(),
+            5.0 + r * theta.cos(),
+        ]
+    };
+    let mut out = String::new();
+    let mut facet = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+        out.push_str("facet normal 0 0 0\nouter loop\n");
+        for p in [a, b, c] {
+            out.push_str(&format!("vertex {} {} {}\n", p[0], p[1], p[2]));
+        }
+        out.push_str("endloop\nendfacet\n");
+    };
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b) = (point(i, j), point(i, j + 1));
+            let (c, d) = (point(i + 1, j), point(i + 1, j + 1));
+            if i > 0 {
+                facet(a, c, b);
+            }
+            if i + 1 < rings {
+                facet(b, c, d);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_closed_mesh_run_with_its_outer_surface_exports_with_the_same_options() {
+    // front.json records `--surface outer`; export reads the grid the same way without being
+    // told, where the default (a single surface) would refuse the closed mesh.
+    let dir = scratch("closed");
+    // A thick shell (two nested spheres) folds over itself in every projection.
+    let stl = dir.join("sphere.stl");
+    let shell = format!(
+        "solid shell\n{}{}endsolid shell\n",
+        sphere_facets(10.0, 16, 24),
+        sphere_facets(8.0, 12, 18)
+    );
+    std::fs::write(&stl, shell).unwrap();
+    let front = dir.join("front.json");
+    let run = paretomesh_in(
+        &dir,
+        &[
+            "run",
+            "sphere.stl",
+            "--surface",
+            "outer",
+            "--grid-size",
+            "25x25",
+            "--algo",
+            "greedy",
+            "--out",
+            "front.json",
+        ],
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    let import = &read_json(&front)["grid"]["import"];
+    assert_eq!(import["surface"], "outer");
+    assert_eq!(import["grid_size"], serde_json::json!([25, 25]));
+    let glb = dir.join("bust.glb");
+    let out = paretomesh(&[
+        "export",
+        s(&front),
+        "--tradeoff",
+        "--format",
+        "glb",
+        "--out",
+        s(&glb),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(gltf::Gltf::from_slice(&std::fs::read(&glb).unwrap()).is_ok());
+    // An option given on the command line still wins over the recorded one.
+    let e = refused(&[
+        "export",
+        s(&front),
+        "--tradeoff",
+        "--surface",
+        "single",
+        "--out",
+        s(&dir.join("single.glb")),
+    ]);
+    assert!(e.contains("fold"), "{e}");
 }

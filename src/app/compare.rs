@@ -24,6 +24,7 @@ use crate::experiment::{
 };
 use crate::front::{Front, Solution};
 use crate::metrics::{DEFAULT_REFERENCE_POINT, Normalization, Point};
+use crate::pick::{self, pick_in_front};
 use serde::Serialize;
 
 /// The compared methods: every method of the catalogue, in the order of the experiment's
@@ -260,7 +261,7 @@ impl CompareRun {
         report
     }
 
-    /// The paper's trade-off pick (see [`super::pick`]) of the five fronts merged, with the
+    /// The paper's trade-off pick ([`pick::Pick::TradeOff`]) of the five fronts merged, with the
     /// weights drawn from the run's seed: the best balance any method found. `None` while every
     /// front is empty.
     pub fn trade_off_solution(&self) -> Option<Solution> {
@@ -270,8 +271,9 @@ impl CompareRun {
                 .filter_map(|l| l.app.front())
                 .flat_map(|f| f.solutions()),
         );
-        super::pick::trade_off_index(&merged, self.params.seed)
-            .map(|i| merged.solutions()[i].clone())
+        pick_in_front(&merged, pick::Pick::TradeOff, self.params.seed, 0)
+            .ok()
+            .cloned()
     }
 
     /// The methods, in [`METHODS`] order.

@@ -11,7 +11,7 @@
 //! - [`camera`] and [`geometry`]: the 3-D view's orbit camera and vertex data.
 //! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image;
 //!   [`handoff`] the parsed surface as plain parts, for the import Worker's hand-off.
-//! - [`pick`]: the mesh selected when a run ends; [`glb_export`]: the shown mesh as `.glb`.
+//! - [`glb_export`]: the shown mesh as `.glb`.
 
 pub mod algorithms;
 pub mod camera;
@@ -23,7 +23,6 @@ pub mod glb_export;
 pub mod handoff;
 pub mod loader;
 pub mod oax_panel;
-pub mod pick;
 pub mod plot;
 pub mod preview;
 pub mod share;

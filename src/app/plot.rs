@@ -2,20 +2,106 @@
 //! labels, the marks of teaching and comparison scenes, and hit-testing. The canvas drawing is
 //! in the browser layer (`web::plot_view`).
 
-/// One point to plot, in data units: T (triangles) and E (Σ|z − z̃|).
+use crate::evaluator::Score;
+
+/// One point to plot, in data units: T (triangles) and E (by default Σ|z − z̃|; see
+/// [`EAxis`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlotPoint {
     /// Triangles.
     pub t: f64,
-    /// Error sum.
+    /// The error the E axis shows.
     pub e: f64,
 }
 
-/// Margins around the plotting area, in CSS pixels (room for tick labels and axis titles).
+/// Which error the plot's E axis shows; the front is the same in all three (a member of least
+/// E_sum for its T), only its drawing changes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EAxis {
+    /// E_sum = Σ|z − z̃| over every grid point, the objective the methods minimise.
+    #[default]
+    Sum,
+    /// E_sum / N, the mean error per grid point, in the surface's z units.
+    Mean,
+    /// E_max, the largest vertical error at any grid point, in the surface's z units.
+    Max,
+}
+
+impl EAxis {
+    /// The axis a key names (`sum`, `mean`, `max`), as the page's menu spells it.
+    pub fn from_key(key: &str) -> Option<Self> {
+        match key {
+            "sum" => Some(Self::Sum),
+            "mean" => Some(Self::Mean),
+            "max" => Some(Self::Max),
+            _ => None,
+        }
+    }
+
+    /// The value of `score` on this axis, on a grid of `grid_points` points.
+    pub fn value(self, score: &Score, grid_points: usize) -> f64 {
+        match self {
+            Self::Sum => score.e_sum,
+            Self::Mean => score.e_sum / grid_points.max(1) as f64,
+            Self::Max => score.e_max,
+        }
+    }
+
+    /// The axis title, with the surface's z unit (`""` when unknown) and the scale.
+    pub fn title(self, z_unit: &str, log: bool) -> String {
+        let unit = if z_unit.is_empty() { "z units" } else { z_unit };
+        let scale = if log { ", log scale" } else { "" };
+        match self {
+            Self::Sum => format!("E = Σ|z − z̃| ({unit}{scale})"),
+            Self::Mean => format!("mean |z − z̃| ({unit}{scale})"),
+            Self::Max => format!("E_max = max |z − z̃| ({unit}{scale})"),
+        }
+    }
+}
+
+/// The hover read-out of a member: T and its error as a sum, a mean per grid point and a
+/// maximum, the last two in the surface's units.
+pub fn hover_text(score: &Score, grid_points: usize, z_unit: &str) -> String {
+    let unit = if z_unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {z_unit}")
+    };
+    format!(
+        "T = {} · E_sum = {} · mean = {}{unit} · E_max = {}{unit}",
+        score.t,
+        format_value(score.e_sum),
+        format_value(EAxis::Mean.value(score, grid_points)),
+        format_value(score.e_max),
+    )
+}
+
+/// Margins around the plotting area, in CSS pixels (room for tick labels and axis titles); the
+/// left one grows with the widest E tick label (see [`Layout::area`]).
 const MARGIN_LEFT: f64 = 64.0;
 const MARGIN_RIGHT: f64 = 14.0;
 const MARGIN_TOP: f64 = 12.0;
 const MARGIN_BOTTOM: f64 = 42.0;
+/// Tick labels are drawn in an 11 px font, this far from the plotting area.
+pub const TICK_FONT_PX: f64 = 11.0;
+/// The gap between a tick label and the plotting area.
+pub const TICK_GAP: f64 = 4.0;
+/// The rotated E-axis title's band: it starts this far from the canvas's left edge and is one
+/// line (the font plus its descent) wide.
+pub const E_TITLE_LEFT: f64 = 2.0;
+/// Width of one line of axis-title text.
+pub const TITLE_LINE: f64 = 15.0;
+/// Clear space between the E-axis title and the widest tick label.
+const TITLE_GAP: f64 = 4.0;
+
+/// An upper bound of `text`'s width in CSS pixels at [`TICK_FONT_PX`] in a sans-serif font
+/// (digits are about 6.1 px, capitals up to 9.5 px): the margin is sized from it, so a label
+/// never reaches the axis title whatever the font renders.
+pub fn label_width(text: &str) -> f64 {
+    text.chars()
+        .map(|c| if c.is_ascii_uppercase() { 10.0 } else { 7.0 })
+        .sum()
+}
 
 /// How data maps to the canvas: the plotting rectangle and the data ranges it shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,6 +118,8 @@ pub struct Layout {
     pub log_e: bool,
     /// On a log axis, E below this (E = 0 included) is drawn at this value.
     e_floor: f64,
+    /// The left margin: room for the E-axis title and the widest E tick label.
+    margin_left: f64,
 }
 
 impl Layout {
@@ -71,6 +159,7 @@ impl Layout {
             e_range: (0.0, 1.0),
             log_e,
             e_floor,
+            margin_left: MARGIN_LEFT,
         };
         let (mut t0, mut t1, mut e0, mut e1) = (
             f64::INFINITY,
@@ -95,6 +184,13 @@ impl Layout {
         };
         layout.t_range = pad(t0, t1, Some(0.0));
         layout.e_range = pad(e0, e1, (!log_e).then_some(0.0));
+        let widest = layout
+            .e_ticks()
+            .iter()
+            .map(|&v| label_width(&format_value(v)))
+            .fold(0.0, f64::max);
+        layout.margin_left =
+            MARGIN_LEFT.max(E_TITLE_LEFT + TITLE_LINE + TITLE_GAP + widest + TICK_GAP);
         layout
     }
 
@@ -130,9 +226,9 @@ impl Layout {
     /// The plotting rectangle: (left, top, right, bottom) in CSS pixels.
     pub fn area(&self) -> (f64, f64, f64, f64) {
         (
-            MARGIN_LEFT,
+            self.margin_left,
             MARGIN_TOP,
-            (self.width - MARGIN_RIGHT).max(MARGIN_LEFT + 1.0),
+            (self.width - MARGIN_RIGHT).max(self.margin_left + 1.0),
             (self.height - MARGIN_BOTTOM).max(MARGIN_TOP + 1.0),
         )
     }
@@ -189,15 +285,19 @@ pub fn ticks(lo: f64, hi: f64, count: usize) -> Vec<f64> {
     out
 }
 
-/// A compact label for a tick value (1.2k, 35, 0.5).
+/// A compact label for a tick value (1.2k, 35, 0.5, 1.05G).
 pub fn format_value(v: f64) -> String {
     let a = v.abs();
-    if a >= 1e6 {
-        format!("{:.3}M", v / 1e6)
+    let trimmed = |x: f64| {
+        format!("{x:.3}")
             .trim_end_matches('0')
             .trim_end_matches('.')
             .to_string()
-            + ""
+    };
+    if a >= 1e9 {
+        trimmed(v / 1e9) + "G"
+    } else if a >= 1e6 {
+        trimmed(v / 1e6) + "M"
     } else if a >= 1e4 {
         format!("{:.1}k", v / 1e3)
     } else if a >= 100.0 || v == v.round() {
@@ -230,6 +330,10 @@ pub struct Scene<'a> {
     pub hovered: Option<usize>,
     /// Unit of z, for the E axis title ("" when unknown).
     pub z_unit: &'a str,
+    /// Which error the E axis shows.
+    pub e_axis: EAxis,
+    /// The hover read-out of each member of `front` (empty: T and E alone).
+    pub labels: &'a [String],
 }
 
 /// The shape of a [`Mark`].

@@ -8,12 +8,12 @@
 //! CLI reaches with the same seed.
 
 use super::algorithms::{self, Algorithm, Params, Running};
-use super::pick;
 use crate::evaluator::Evaluator;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Progress;
+use crate::pick::{Pick, pick_in_front};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -385,18 +385,30 @@ impl App {
         self.revision += 1;
     }
 
-    /// Selects the front's trade-off pick (see [`super::pick`]) when nothing is selected; a
-    /// selection already made stays.
+    /// Selects the front's knee ([`crate::pick::knee`]) when nothing is selected: a choice of
+    /// the user's or a share link's always wins.
     fn select_at_run_end(&mut self) {
+        if self.selected.is_none() {
+            self.select_by(Pick::Knee);
+        }
+    }
+
+    /// Selects the member of the current front that `rule` picks (the trade-off pick's weights
+    /// drawn with the run's seed); returns whether a member was found.
+    pub fn select_by(&mut self, rule: Pick) -> bool {
         let Some(front) = self.front() else {
-            return;
+            return false;
         };
-        let chosen =
-            pick::selection_at_run_end(self.selected.as_ref(), front, self.config.params.seed);
-        if chosen.as_ref() != self.selected.as_ref() {
-            self.selected = chosen;
+        let grid_points = self.surface.heightfield.len();
+        let Ok(chosen) = pick_in_front(front, rule, self.config.params.seed, grid_points) else {
+            return false;
+        };
+        let chosen = chosen.clone();
+        if Some(&chosen) != self.selected.as_ref() {
+            self.selected = Some(chosen);
             self.revision += 1;
         }
+        true
     }
 
     /// Selects `solution` (a compare run's trade-off pick, say) unless something is selected

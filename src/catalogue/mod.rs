@@ -175,7 +175,12 @@ impl Algorithm {
                 phrase: "greedy insertion",
                 stochastic: false,
                 budget: BudgetKind::OwnRule,
-                reads: &[Param::Rule, Param::MaxErrorFraction, Param::MaxEvaluations],
+                reads: &[
+                    Param::Rule,
+                    Param::MaxErrorFraction,
+                    Param::MaxVerticalError,
+                    Param::MaxEvaluations,
+                ],
                 refusals: &[],
                 colour: "#CC79A7",
                 cost: 1,
@@ -265,6 +270,7 @@ impl Algorithm {
             ),
             (Param::Rule, params.rule.is_some()),
             (Param::MaxErrorFraction, params.max_error_fraction.is_some()),
+            (Param::MaxVerticalError, params.max_vertical_error.is_some()),
             (Param::Without, params.without.is_some()),
         ] {
             if let (true, Some(why)) = (set, self.refusal(param)) {
@@ -279,19 +285,29 @@ impl Algorithm {
             }),
             Algorithm::Decimation => Config::Decimation(DecimationParams::default()),
             Algorithm::Greedy => {
-                let stop = match (params.max_error_fraction, params.max_evaluations) {
-                    (Some(_), Some(_)) => {
-                        return Err(
-                            "greedy insertion stops on --max-error-fraction or on --evals, not both"
-                                .to_string(),
-                        );
-                    }
-                    (Some(f), None) => GreedyStop::MaxErrorFraction(f),
+                let stops = [
+                    params.max_error_fraction.is_some(),
+                    params.max_vertical_error.is_some(),
+                    params.max_evaluations.is_some(),
+                ];
+                if stops.iter().filter(|&&given| given).count() > 1 {
+                    return Err(
+                        "greedy insertion stops on one of --max-error-fraction, --max-vertical-error or --evals, not several"
+                            .to_string(),
+                    );
+                }
+                let stop = match (
+                    params.max_error_fraction,
+                    params.max_vertical_error,
+                    params.max_evaluations,
+                ) {
+                    (Some(f), _, _) => GreedyStop::MaxErrorFraction(f),
+                    (_, Some(x), _) => GreedyStop::MaxError(x),
                     // One evaluation is one insertion, after the four corners.
-                    (None, Some(n)) => GreedyStop::Points(
+                    (_, _, Some(n)) => GreedyStop::Points(
                         4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)),
                     ),
-                    (None, None) => GreedyStop::AllPoints,
+                    _ => GreedyStop::AllPoints,
                 };
                 Config::Greedy(GreedyParams {
                     rule: params.rule.unwrap_or(InsertionRule::MaxError),

@@ -28,6 +28,8 @@ pub enum Param {
     Rule,
     /// [`Params::max_error_fraction`].
     MaxErrorFraction,
+    /// [`Params::max_vertical_error`].
+    MaxVerticalError,
     /// [`Params::without`].
     Without,
 }
@@ -36,7 +38,7 @@ impl Param {
     /// Which methods a parameter belongs to, in the words of a refusal ("it belongs to …").
     pub fn owner(self) -> &'static str {
         match self {
-            Param::Rule | Param::MaxErrorFraction => "greedy insertion",
+            Param::Rule | Param::MaxErrorFraction | Param::MaxVerticalError => "greedy insertion",
             Param::Without => "the memetic method",
             _ => "the evolutionary methods",
         }
@@ -68,6 +70,8 @@ pub struct Params {
     pub rule: Option<InsertionRule>,
     /// Greedy insertion: stop once E_max ≤ this fraction of the z range.
     pub max_error_fraction: Option<f64>,
+    /// Greedy insertion: stop once E_max ≤ this height, in the surface's units (hmm's `-e`).
+    pub max_vertical_error: Option<f64>,
     /// Memetic: a component switched off (an ablation).
     pub without: Option<Component>,
 }

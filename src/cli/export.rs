@@ -1,18 +1,23 @@
-//! `paretomesh export FRONT.json (--member K | --tradeoff | --max-triangles N | --max-error E)
-//! [--format ply|obj|stl|glb] --out FILE [--grid GRID] [import options]`: writes one member of a
-//! front as a mesh in the input's own coordinates (map coordinates for a georeferenced GeoTIFF).
+//! `paretomesh export FRONT.json (--member K | --knee | --tradeoff | --max-triangles N |
+//! --max-error E | --max-mean-error X | --max-vertical-error X) [--solid [--base-height H]
+//! [--z-scale S]] [--format ply|obj|stl|glb|3mf] --out FILE [--grid GRID] [import options]`:
+//! writes one member of a front as a mesh in the input's own coordinates (map coordinates for a
+//! georeferenced GeoTIFF), as its surface or closed into a printable solid.
 
-use super::front_reader::{self, AnyFront, Selector, find_grid, select};
-use super::input::ImportArgs;
+use super::front_reader::{self, AnyFront, find_grid};
+use super::input::ImportOverrides;
 use clap::{ArgGroup, Args, ValueEnum};
 use paretomesh::evaluator::{Evaluator, Score, canonical_set};
 use paretomesh::export::glb::{GlbMesh, vertex_normals, write_glb};
 use paretomesh::export::mesh::WorldMesh;
+use paretomesh::export::solid::{SolidOptions, solid};
+use paretomesh::export::threemf::to_3mf;
 use paretomesh::export::{obj::to_obj, ply::to_ply, stl::to_stl};
 use paretomesh::front::Solution;
-use paretomesh::heightfield::Heightfield;
-use paretomesh::import;
 use paretomesh::front_file::FrontFile;
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import::{self, ImportOptions};
+use paretomesh::pick::{Pick, pick};
 use paretomesh::tiling::TiledFrontFile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -28,6 +33,9 @@ pub enum MeshFormat {
     Stl,
     /// Binary glTF 2.0 with vertex normals.
     Glb,
+    /// 3MF, the printing package slicers prefer.
+    #[value(name = "3mf")]
+    ThreeMf,
 }
 
 impl MeshFormat {
@@ -43,7 +51,15 @@ impl MeshFormat {
 #[command(group(
     ArgGroup::new("choice")
         .required(true)
-        .args(["member", "tradeoff", "max_triangles", "max_error"])
+        .args([
+            "member",
+            "knee",
+            "tradeoff",
+            "max_triangles",
+            "max_error",
+            "max_mean_error",
+            "max_vertical_error",
+        ])
 ))]
 pub struct ExportArgs {
     /// The front.json that `paretomesh run` (or the app) wrote.
@@ -51,15 +67,50 @@ pub struct ExportArgs {
     /// Export the member at this index of the front, in the file's order (0 = first).
     #[arg(long, value_name = "K")]
     member: Option<usize>,
+    /// Export the knee of the front: the member nearest the ideal point once E_sum and T are
+    /// each scaled to [0, 1] over the front (what the app selects after a run).
+    #[arg(long)]
+    knee: bool,
     /// Export the paper's trade-off pick (eq. 9), its random weights drawn with the run's seed.
     #[arg(long)]
     tradeoff: bool,
     /// Export the member with the lowest E_sum among those with at most N triangles.
     #[arg(long, value_name = "N")]
     max_triangles: Option<usize>,
-    /// Export the member with the fewest triangles among those with E_sum at most E.
+    /// Export the member with the fewest triangles among those with E_sum at most E, where
+    /// E_sum is the error summed over all W·H grid points (see --max-mean-error and
+    /// --max-vertical-error for limits in the surface's own units).
     #[arg(long, value_name = "E")]
     max_error: Option<f64>,
+    /// Export the member with the fewest triangles among those whose mean error per grid point
+    /// (E_sum / (W·H)) is at most X, in the surface's z units.
+    #[arg(long, value_name = "X")]
+    max_mean_error: Option<f64>,
+    /// Export the member with the fewest triangles among those whose largest vertical error at
+    /// any grid point (E_max) is at most X, in the surface's z units.
+    #[arg(long, value_name = "X")]
+    max_vertical_error: Option<f64>,
+    /// Close the surface into a printable solid: vertical walls down from its border and a flat
+    /// bottom.
+    #[arg(long)]
+    solid: bool,
+    /// With --solid: how far the bottom lies below the lowest point, in output z units
+    /// [default: 5 % of the z range].
+    #[arg(
+        long,
+        value_name = "H",
+        requires = "solid",
+        allow_negative_numbers = true
+    )]
+    base_height: Option<f64>,
+    /// With --solid: multiply heights by S (e.g. to exaggerate a terrain's relief) [default: 1].
+    #[arg(
+        long,
+        value_name = "S",
+        requires = "solid",
+        allow_negative_numbers = true
+    )]
+    z_scale: Option<f64>,
     /// Mesh format [default: from the extension of --out].
     #[arg(long, value_enum)]
     format: Option<MeshFormat>,
@@ -70,20 +121,37 @@ pub struct ExportArgs {
     /// named, then beside front.json].
     #[arg(long)]
     grid: Option<PathBuf>,
-    /// How to import the grid: the options the front was made with.
+    /// How to import the grid: front.json records the options the front was made with, and
+    /// an option given here replaces the recorded one.
     #[command(flatten)]
-    import: ImportArgs,
+    import: ImportOverrides,
 }
 
 impl ExportArgs {
-    fn selector(&self) -> Selector {
-        match (self.member, self.max_triangles, self.max_error) {
-            (Some(k), _, _) => Selector::Index(k),
-            (_, Some(n), _) => Selector::MaxTriangles(n),
-            (_, _, Some(e)) => Selector::MaxError(e),
+    fn rule(&self) -> Pick {
+        if let Some(k) = self.member {
+            Pick::Index(k)
+        } else if self.knee {
+            Pick::Knee
+        } else if let Some(n) = self.max_triangles {
+            Pick::MaxTriangles(n)
+        } else if let Some(e) = self.max_error {
+            Pick::MaxErrorSum(e)
+        } else if let Some(x) = self.max_mean_error {
+            Pick::MaxMeanError(x)
+        } else if let Some(x) = self.max_vertical_error {
+            Pick::MaxVerticalError(x)
+        } else {
             // The argument group requires exactly one choice.
-            _ => Selector::TradeOff,
+            Pick::TradeOff
         }
+    }
+
+    fn solid_options(&self) -> Option<SolidOptions> {
+        self.solid.then(|| SolidOptions {
+            base_height: self.base_height,
+            z_scale: self.z_scale.unwrap_or(1.0),
+        })
     }
 }
 
@@ -169,11 +237,7 @@ fn vertices_of(triangles: &[[u32; 3]]) -> Vec<u32> {
     vertices
 }
 
-fn encode(
-    format: MeshFormat,
-    mesh: &WorldMesh,
-    note: &str,
-) -> Result<Vec<u8>, paretomesh::export::glb::GlbError> {
+fn encode(format: MeshFormat, mesh: &WorldMesh, note: &str) -> Result<Vec<u8>, String> {
     Ok(match format {
         MeshFormat::Ply => to_ply(mesh, note).into_bytes(),
         MeshFormat::Obj => to_obj(mesh, note).into_bytes(),
@@ -186,8 +250,10 @@ fn encode(
                 normals: &normals,
                 indices: &indices,
                 colors: None,
-            })?
+            })
+            .map_err(|e| e.to_string())?
         }
+        MeshFormat::ThreeMf => to_3mf(mesh, note)?,
     })
 }
 
@@ -196,11 +262,16 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         Some(f) => f,
         None => MeshFormat::of_path(&args.out).ok_or_else(|| {
             format!(
-                "cannot tell the mesh format from {}: name it .ply, .obj, .stl or .glb, or give --format",
+                "cannot tell the mesh format from {}: name it .ply, .obj, .stl, .glb or .3mf, or give --format",
                 args.out.display()
             )
         })?,
     };
+    // Bad options are refused before any file is read or written.
+    let solid_options = args.solid_options();
+    if let Some(options) = &solid_options {
+        options.check().map_err(|e| e.to_string())?;
+    }
     let file = front_reader::read(&args.front)?;
     let (grid, seed) = match &file {
         AnyFront::Untiled(f) => (&f.grid, f.seed),
@@ -215,12 +286,31 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
             .map(|m| Solution::recorded(m.e_sum, m.e_max, m.t as usize, Vec::new()).score)
             .collect(),
     };
-    let index = select(&scores, args.selector(), seed)?;
+    let grid_points = grid.width * grid.height;
+    let index = pick(&scores, args.rule(), seed, grid_points).map_err(|e| {
+        let flag = match args.rule() {
+            Pick::Index(_) => "--member",
+            Pick::TradeOff => "--tradeoff",
+            Pick::Knee => "--knee",
+            Pick::MaxTriangles(_) => "--max-triangles",
+            Pick::MaxErrorSum(_) => "--max-error",
+            Pick::MaxMeanError(_) => "--max-mean-error",
+            Pick::MaxVerticalError(_) => "--max-vertical-error",
+        };
+        format!("{flag}: {e}")
+    })?;
     let grid_path = match &args.grid {
         Some(path) => path.clone(),
         None => find_grid(&args.front, &grid.source)?,
     };
-    let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
+    let recorded = match &grid.import {
+        Some(record) => record
+            .options()
+            .map_err(|e| format!("{}: {e}", args.front.display()))?,
+        None => ImportOptions::default(),
+    };
+    let hf =
+        import::load_with(&grid_path, &args.import.over(recorded)).map_err(|e| e.to_string())?;
     let (w, h) = (grid.width, grid.height);
     if (hf.width(), hf.height()) != (w, h) {
         return Err(format!(
@@ -236,25 +326,39 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         AnyFront::Untiled(f) => member_mesh(hf.clone(), f, index, &args.front, &grid_path)?,
         AnyFront::Tiled(f) => tiled_member_mesh(&hf, f, index, &args.front, &grid_path)?,
     };
-    let mesh = WorldMesh::new(&hf, &vertices_of(&triangles), &triangles)?;
+    let mesh = match &solid_options {
+        Some(options) => solid(&hf, &triangles, options).map_err(|e| e.to_string())?,
+        None => WorldMesh::new(&hf, &vertices_of(&triangles), &triangles)?,
+    };
     let member = &scores[index];
     let note = format!(
-        "ParetoMesh member {index} of {}: {} vertices, {} triangles, E_sum = {}",
+        "ParetoMesh member {index} of {}{}: {} vertices, {} triangles, E_sum = {}",
         args.front
             .file_name()
             .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+        if solid_options.is_some() {
+            " as a solid"
+        } else {
+            ""
+        },
         mesh.vertices.len(),
-        member.t,
+        mesh.triangles.len(),
         member.e_sum
     );
-    let bytes = encode(format, &mesh, &note).map_err(|e| e.to_string())?;
+    let bytes = encode(format, &mesh, &note)?;
     std::fs::write(&args.out, bytes)
         .map_err(|e| format!("cannot write {}: {e}", args.out.display()))?;
     eprintln!(
-        "wrote member {index} of {} (T = {}, E_sum = {}, {} vertices) to {} as {}",
+        "wrote member {index} of {} (T = {}, E_sum = {}, E_max = {}{}, {} vertices) to {} as {}",
         scores.len(),
         member.t,
         member.e_sum,
+        member.e_max,
+        if solid_options.is_some() {
+            format!(", closed into a solid of {} faces", mesh.triangles.len())
+        } else {
+            String::new()
+        },
         mesh.vertices.len(),
         args.out.display(),
         format

@@ -1,9 +1,7 @@
-//! A front.json as `export` reads it: the members with or without their triangles, the grid it
-//! was made on, and the member a selector picks.
+//! A front.json as `export` reads it: the members with or without their triangles, and the grid
+//! it was made on.
 
-use paretomesh::evaluator::Score;
 use paretomesh::front_file::FrontFile;
-use paretomesh::metrics::trade_off_pick;
 use paretomesh::tiling::TiledFrontFile;
 use std::path::{Path, PathBuf};
 
@@ -40,63 +38,6 @@ pub fn read(path: &Path) -> Result<AnyFront, String> {
         return Err(format!("{} has no members in its front", path.display()));
     }
     Ok(file)
-}
-
-/// How the member to export is chosen.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Selector {
-    /// The member at this index in the file's order.
-    Index(usize),
-    /// The paper's trade-off pick (eq. 7–9), its weights drawn with the front's seed.
-    TradeOff,
-    /// The lowest E_sum among members with at most this many triangles.
-    MaxTriangles(usize),
-    /// The fewest triangles among members with E_sum at most this.
-    MaxError(f64),
-}
-
-/// The index of the member `selector` picks from the members' scores `members` (in the file's
-/// order); `seed` draws the trade-off pick's weights. Ties go to the earlier member after the secondary objective,
-/// so the pick depends on the file alone.
-pub fn select(members: &[Score], selector: Selector, seed: u64) -> Result<usize, String> {
-    let count = members.len();
-    match selector {
-        Selector::Index(k) if k < count => Ok(k),
-        Selector::Index(k) => Err(format!(
-            "--member {k} is out of range: the front has {count} members, numbered 0 to {}",
-            count - 1
-        )),
-        Selector::TradeOff => {
-            let points: Vec<[f64; 2]> = members.iter().map(Score::objectives).collect();
-            trade_off_pick(&points, seed)
-                .map(|pick| pick.index)
-                .map_err(|e| format!("no trade-off pick: {e}"))
-        }
-        Selector::MaxTriangles(n) => (0..count)
-            .filter(|&i| members[i].t <= n)
-            .min_by(|&i, &j| {
-                let (a, b) = (&members[i], &members[j]);
-                a.e_sum.total_cmp(&b.e_sum).then(a.t.cmp(&b.t))
-            })
-            .ok_or_else(|| {
-                let fewest = members.iter().map(|m| m.t).min().unwrap_or(0);
-                format!("no member has at most {n} triangles: the smallest member has {fewest}")
-            }),
-        Selector::MaxError(e) => (0..count)
-            .filter(|&i| members[i].e_sum <= e)
-            .min_by(|&i, &j| {
-                let (a, b) = (&members[i], &members[j]);
-                a.t.cmp(&b.t).then(a.e_sum.total_cmp(&b.e_sum))
-            })
-            .ok_or_else(|| {
-                let least = members
-                    .iter()
-                    .map(|m| m.e_sum)
-                    .min_by(f64::total_cmp)
-                    .unwrap_or(f64::NAN);
-                format!("no member has E_sum at most {e}: the most accurate member has {least}")
-            }),
-    }
 }
 
 /// Supported grid file extensions, to spot a file name inside a source note.
@@ -180,63 +121,6 @@ pub fn find_grid(front_path: &Path, note: &str) -> Result<PathBuf, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn member(e: f64, t: usize) -> Score {
-        paretomesh::front::Solution::recorded(e, e, t, vec![]).score
-    }
-
-    #[test]
-    fn selectors_pick_by_their_rule_in_the_files_order() {
-        // Not sorted by T, with a tie in E under the triangle limit and a tie in T under the
-        // error limit: the secondary objective decides, then the earlier member.
-        let members = [
-            member(5.0, 10),
-            member(9.0, 4),
-            member(5.0, 8),
-            member(2.0, 30),
-            member(5.0, 8),
-        ];
-        let pick = |s| select(&members, s, 1);
-        assert_eq!(pick(Selector::Index(3)), Ok(3));
-        assert_eq!(pick(Selector::MaxTriangles(10)), Ok(2));
-        assert_eq!(pick(Selector::MaxTriangles(4)), Ok(1));
-        assert_eq!(pick(Selector::MaxTriangles(1000)), Ok(3));
-        assert_eq!(pick(Selector::MaxError(5.0)), Ok(2));
-        assert_eq!(pick(Selector::MaxError(100.0)), Ok(1));
-        assert_eq!(pick(Selector::MaxError(2.0)), Ok(3));
-    }
-
-    #[test]
-    fn selectors_that_find_nothing_say_what_the_front_has() {
-        let members = [member(5.0, 10), member(9.0, 4)];
-        let out = select(&members, Selector::Index(2), 1).unwrap_err();
-        assert!(out.contains("2 members, numbered 0 to 1"), "{out}");
-        let out = select(&members, Selector::MaxTriangles(3), 1).unwrap_err();
-        assert!(
-            out.contains("at most 3 triangles") && out.contains("has 4"),
-            "{out}"
-        );
-        let out = select(&members, Selector::MaxError(4.5), 1).unwrap_err();
-        assert!(
-            out.contains("at most 4.5") && out.contains("has 5"),
-            "{out}"
-        );
-    }
-
-    #[test]
-    fn the_trade_off_selector_is_the_metrics_pick() {
-        let members = [
-            member(100.0, 2),
-            member(20.0, 10),
-            member(5.0, 40),
-            member(1.0, 200),
-        ];
-        let points: Vec<[f64; 2]> = members.iter().map(Score::objectives).collect();
-        for seed in [1, 7] {
-            let expected = trade_off_pick(&points, seed).unwrap().index;
-            assert_eq!(select(&members, Selector::TradeOff, seed), Ok(expected));
-        }
-    }
 
     #[test]
     fn file_names_are_found_in_every_importers_note() {

@@ -69,20 +69,32 @@ fn parse_grid_size(text: &str) -> Result<(usize, usize), String> {
     ))
 }
 
+impl From<ProjectionArg> for Projection {
+    fn from(arg: ProjectionArg) -> Self {
+        match arg {
+            ProjectionArg::Auto => Projection::Auto,
+            ProjectionArg::Planar => Projection::Planar,
+            ProjectionArg::Cylindrical => Projection::Cylindrical,
+        }
+    }
+}
+
+impl From<SurfaceArg> for Surface {
+    fn from(arg: SurfaceArg) -> Self {
+        match arg {
+            SurfaceArg::Single => Surface::Single,
+            SurfaceArg::Outer => Surface::Outer,
+        }
+    }
+}
+
 impl ImportArgs {
     /// The import options these arguments ask for.
     pub fn options(&self) -> ImportOptions {
         ImportOptions {
-            projection: match self.projection {
-                ProjectionArg::Auto => Projection::Auto,
-                ProjectionArg::Planar => Projection::Planar,
-                ProjectionArg::Cylindrical => Projection::Cylindrical,
-            },
+            projection: self.projection.into(),
             grid_size: self.grid_size,
-            surface: match self.surface {
-                SurfaceArg::Single => Surface::Single,
-                SurfaceArg::Outer => Surface::Outer,
-            },
+            surface: self.surface.into(),
             terrain_rgb: self.terrain_rgb,
             max_points: None,
             memory_budget: available_memory(),
@@ -97,6 +109,37 @@ fn available_memory() -> Option<u64> {
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
+}
+
+/// Import options that change those a front.json records (`export`): each one given wins, the
+/// others keep the recorded choice.
+#[derive(Args, Clone, Debug)]
+pub struct ImportOverrides {
+    /// How a mesh becomes a height field [default: as the front was made].
+    #[arg(long, value_enum)]
+    pub projection: Option<ProjectionArg>,
+    /// Grid size WxH for resampling a mesh or a GeoTIFF [default: as the front was made].
+    #[arg(long, value_name = "WxH", value_parser = parse_grid_size)]
+    pub grid_size: Option<(usize, usize)>,
+    /// Which surface a mesh that folds over itself keeps [default: as the front was made].
+    #[arg(long, value_enum)]
+    pub surface: Option<SurfaceArg>,
+    /// Read an RGB PNG as Mapbox terrain-RGB [default: as the front was made].
+    #[arg(long)]
+    pub terrain_rgb: bool,
+}
+
+impl ImportOverrides {
+    /// `recorded` with every option given here put in its place.
+    pub fn over(&self, recorded: ImportOptions) -> ImportOptions {
+        ImportOptions {
+            projection: self.projection.map_or(recorded.projection, Into::into),
+            grid_size: self.grid_size.or(recorded.grid_size),
+            surface: self.surface.map_or(recorded.surface, Into::into),
+            terrain_rgb: self.terrain_rgb || recorded.terrain_rgb,
+            ..recorded
+        }
+    }
 }
 
 impl InputArgs {

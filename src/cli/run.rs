@@ -16,7 +16,7 @@ use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::Progress;
-use paretomesh::front_file::GridInfo;
+use paretomesh::front_file::{GridInfo, ImportRecord};
 use paretomesh::tiling::{
     DEFAULT_TILE, TilePlan, TiledFrontFile, check_tile, run_tiled_with_progress,
 };
@@ -92,6 +92,9 @@ pub struct RunArgs {
     /// [default: insert every point, or stop after --evals insertions].
     #[arg(long)]
     max_error_fraction: Option<f64>,
+    /// Greedy insertion: stop once E_max ≤ X, in the surface's own z units (hmm's -e).
+    #[arg(long, value_name = "X")]
+    max_vertical_error: Option<f64>,
     /// Where to write front.json.
     #[arg(long)]
     out: PathBuf,
@@ -134,6 +137,7 @@ fn params(args: &RunArgs) -> Params {
             RuleArg::WorstTriangle => InsertionRule::WorstTriangle,
         }),
         max_error_fraction: args.max_error_fraction,
+        max_vertical_error: args.max_vertical_error,
         without: None,
     }
 }
@@ -154,6 +158,11 @@ fn given_options(args: &RunArgs) -> Vec<(&'static str, Param)> {
             args.max_error_fraction.is_some(),
         ),
         ("--evals", Param::MaxEvaluations, args.evals.is_some()),
+        (
+            "--max-vertical-error",
+            Param::MaxVerticalError,
+            args.max_vertical_error.is_some(),
+        ),
     ]
     .into_iter()
     .filter_map(|(name, param, given)| given.then_some((name, param)))
@@ -287,7 +296,8 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
         millis,
         optimizer.front(),
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| e.to_string())?
+    .with_import(&args.input.import.options());
     if args.triangles {
         file.add_triangles(&mut evaluator)
             .map_err(|e| e.to_string())?;
@@ -375,6 +385,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
             width: hf.width(),
             height: hf.height(),
             source: hf.source().to_string(),
+            import: Some(ImportRecord::of(&args.input.import.options())),
         },
         algorithm: name.to_string(),
         params,

@@ -118,7 +118,7 @@ fn check(mesh: &GlbMesh<'_>) -> Result<(), GlbError> {
             });
         }
     }
-    if mesh.indices.len() % 3 != 0 {
+    if !mesh.indices.len().is_multiple_of(3) {
         return Err(GlbError::PartialTriangle {
             indices: mesh.indices.len(),
         });
@@ -151,7 +151,7 @@ fn check(mesh: &GlbMesh<'_>) -> Result<(), GlbError> {
 
 /// Appends `bytes` to `bin` at a 4-byte boundary and returns its buffer view.
 fn push_view(bin: &mut Vec<u8>, bytes: &[u8], target: u32, stride: Option<usize>) -> Value {
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let mut view = json!({
@@ -305,7 +305,7 @@ fn buffers(mesh: &GlbMesh<'_>, local: &[[f32; 3]]) -> Buffers {
                               "normalized": true, "count": n, "type": kind}));
         attributes["COLOR_0"] = json!(3);
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     Buffers {
@@ -319,7 +319,7 @@ fn buffers(mesh: &GlbMesh<'_>, local: &[[f32; 3]]) -> Buffers {
 /// The GLB container: the 12-byte header, the JSON chunk (space-padded) and the binary chunk.
 fn container(document: &Value, bin: &[u8]) -> Result<Vec<u8>, GlbError> {
     let mut text = document.to_string().into_bytes();
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let total = 12 + 8 + text.len() + 8 + bin.len();

@@ -86,11 +86,11 @@ pub fn to_heightfield(
         Projection::Auto => lattice(&mesh.vertices),
         _ => None,
     };
-    if let Some(grid) = grid {
-        if let Some(hf) = from_lattice(mesh, format, &summary, grid, options)? {
-            return Ok(hf);
-        }
-        // A lattice whose triangles fold in (x, y) (unusual faces): the general path decides.
+    // A lattice whose triangles fold in (x, y) (unusual faces): the general path decides.
+    if let Some(grid) = grid
+        && let Some(hf) = from_lattice(mesh, format, &summary, grid, options)?
+    {
+        return Ok(hf);
     }
     if mesh.triangles.is_empty() {
         return Err(ImportError::EmptyMesh { format });

@@ -175,6 +175,20 @@ impl WebApp {
         Some(vec![x, y])
     }
 
+    /// The plot's read-out of the front member under the mouse (T, E_sum, mean and E_max in the
+    /// surface's units), if any.
+    #[wasm_bindgen(js_name = hoveredText)]
+    pub fn hovered_text(&self) -> Option<String> {
+        let ui = self.ui.borrow();
+        let member = ui.app.front()?.solutions().get(ui.hovered?)?;
+        let hf = &ui.app.surface().heightfield;
+        Some(crate::app::plot::hover_text(
+            member,
+            hf.len(),
+            &super::page::z_unit(hf),
+        ))
+    }
+
     /// Vertices of the selected mesh (kept points, corners included), if one is selected.
     #[wasm_bindgen(js_name = selectedVertexCount)]
     pub fn selected_vertex_count(&self) -> Option<usize> {

@@ -377,7 +377,7 @@ pub(super) fn test_scene(scene: &str) -> Result<Vec<(Style, Geometry)>, String> 
         "mesh" => {
             let w = hf.width() as u32;
             let kept: Vec<u32> = (0..hf.len() as u32)
-                .filter(|i| (i % w) % 8 == 0 && (i / w) % 8 == 0)
+                .filter(|i| (i % w).is_multiple_of(8) && (i / w).is_multiple_of(8))
                 .collect();
             let mesh = shown_mesh(&hf, &kept)?;
             let max_error = mesh.point_error.iter().cloned().fold(0.0, f64::max);

@@ -2,7 +2,10 @@
 //! non-domination rank, the archive front, the selection, hover read-outs, and the marks of the
 //! teaching and comparison scenes. Layout and hit-testing are in [`crate::app::plot`].
 
-use crate::app::plot::{Layout, Mark, PlotPoint, Scene, Shape, format_value, rank_colour, ticks};
+use crate::app::plot::{
+    E_TITLE_LEFT, EAxis, Layout, Mark, PlotPoint, Scene, Shape, TICK_GAP, format_value,
+    rank_colour, ticks,
+};
 use web_sys::CanvasRenderingContext2d;
 
 /// Draws `scene` on `ctx` (already scaled to CSS pixels) with `layout`.
@@ -11,7 +14,7 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     let (l, t, r, b) = layout.area();
     ctx.set_fill_style_str("#ffffff");
     ctx.fill_rect(0.0, 0.0, w, h);
-    axes(ctx, layout, scene.z_unit);
+    axes(ctx, layout, scene.z_unit, scene.e_axis);
     // Clip the data to the plotting area.
     ctx.save();
     ctx.begin_path();
@@ -20,18 +23,21 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     data(ctx, layout, scene);
     ctx.restore();
     // Hover read-out.
-    if let Some(p) = scene.hovered.and_then(|i| scene.front.get(i)) {
-        readout(
-            ctx,
-            layout,
-            *p,
-            &format!("T = {}, E = {}", p.t, format_value(p.e)),
-        );
+    if let Some(i) = scene.hovered
+        && let Some(p) = scene.front.get(i)
+    {
+        let text = scene
+            .labels
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("T = {}, E = {}", p.t, format_value(p.e)));
+        readout(ctx, layout, *p, &text);
     }
 }
 
-/// The grid, the ticks with their labels, the frame and the axis titles (E in `z_unit`).
-fn axes(ctx: &CanvasRenderingContext2d, layout: &Layout, z_unit: &str) {
+/// The grid, the ticks with their labels, the frame and the axis titles (E in `z_unit`). The
+/// layout's left margin leaves the E title its own band beside the widest tick label.
+fn axes(ctx: &CanvasRenderingContext2d, layout: &Layout, z_unit: &str, e_axis: EAxis) {
     let h = layout.height;
     let (l, t, r, b) = layout.area();
     ctx.set_font("11px system-ui, sans-serif");
@@ -56,7 +62,7 @@ fn axes(ctx: &CanvasRenderingContext2d, layout: &Layout, z_unit: &str) {
             e: v,
         });
         line(ctx, l, y, r, y);
-        let _ = ctx.fill_text(&format_value(v), l - 4.0, y);
+        let _ = ctx.fill_text(&format_value(v), l - TICK_GAP, y);
     }
     ctx.set_stroke_style_str("#555");
     ctx.stroke_rect(l, t, r - l, b - t);
@@ -65,16 +71,12 @@ fn axes(ctx: &CanvasRenderingContext2d, layout: &Layout, z_unit: &str) {
     ctx.set_text_baseline("bottom");
     let _ = ctx.fill_text("T (triangles)", (l + r) / 2.0, h - 2.0);
     ctx.save();
-    let _ = ctx.translate(12.0, (t + b) / 2.0);
+    // Rotated a quarter turn, the text hangs from its top line towards +x: it fills the band
+    // from E_TITLE_LEFT one line wide.
+    let _ = ctx.translate(E_TITLE_LEFT, (t + b) / 2.0);
     let _ = ctx.rotate(-std::f64::consts::FRAC_PI_2);
     ctx.set_text_baseline("top");
-    let unit = if z_unit.is_empty() {
-        "z units".to_string()
-    } else {
-        z_unit.to_string()
-    };
-    let scale = if layout.log_e { ", log scale" } else { "" };
-    let _ = ctx.fill_text(&format!("E = Σ|z − z̃| ({unit}{scale})"), 0.0, -10.0);
+    let _ = ctx.fill_text(&e_axis.title(z_unit, layout.log_e), 0.0, 0.0);
     ctx.restore();
 }
 
@@ -87,8 +89,9 @@ fn data(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
         ctx.fill_rect(x - 2.0, y - 2.0, 4.0, 4.0);
     }
     ctx.set_global_alpha(1.0);
-    // The archive front as a staircase (the region it dominates) and dots.
-    if !scene.front.is_empty() {
+    // The archive front as a staircase (the region it dominates) and dots; on the E_max axis
+    // the front (non-dominated in E_sum) dominates nothing, so it is dots alone.
+    if !scene.front.is_empty() && scene.e_axis != EAxis::Max {
         ctx.set_stroke_style_str("#d62728");
         ctx.set_line_width(1.5);
         ctx.begin_path();
@@ -103,13 +106,13 @@ fn data(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
             }
         }
         ctx.stroke();
-        ctx.set_fill_style_str("#d62728");
-        for p in scene.front {
-            let (x, y) = layout.to_pixel(*p);
-            ctx.begin_path();
-            let _ = ctx.arc(x, y, 3.0, 0.0, std::f64::consts::TAU);
-            ctx.fill();
-        }
+    }
+    ctx.set_fill_style_str("#d62728");
+    for p in scene.front {
+        let (x, y) = layout.to_pixel(*p);
+        ctx.begin_path();
+        let _ = ctx.arc(x, y, 3.0, 0.0, std::f64::consts::TAU);
+        ctx.fill();
     }
     for (index, colour, radius) in [
         (scene.hovered, "#ff9900", 6.0),

@@ -8,7 +8,7 @@ use super::page::{Ui, on_event};
 use super::{oax_panel, plot_view};
 use crate::app::algorithms::Algorithm;
 use crate::app::oax_panel::meshes;
-use crate::app::plot::{self, Layout, PlotPoint, Scene};
+use crate::app::plot::{self, EAxis, Layout, PlotPoint, Scene};
 use crate::app::teaching::{Step, TeachingScene, scene};
 use crate::evolution::trace::Phase;
 use std::cell::RefCell;
@@ -90,7 +90,7 @@ pub(super) fn teaching_frame(ui: &mut Ui, now: f64) {
     if !teaching_applies(ui) {
         dom::set_text(
             "teach-caption",
-            "The teaching view follows NSGA-II: choose NSGA-II as the method.",
+            "The teaching view follows NSGA-II: untick and tick it again to switch the method to NSGA-II.",
         );
         return;
     }
@@ -218,6 +218,8 @@ pub(super) fn draw_teaching_plot(
             selected: None,
             hovered: None,
             z_unit,
+            e_axis: EAxis::Sum,
+            labels: &[],
         },
     );
     plot_view::draw_marks(ctx, &layout, &scene.marks, &scene.legend, hovered);
@@ -279,6 +281,13 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             // Teaching goes at the teacher's pace.
             ui.app.pause();
             ui.teaching.playing = false;
+            // The view follows NSGA-II: ticking it is the one action that gets there.
+            if !teaching_applies(ui)
+                && let Ok(menu) = by_id::<web_sys::HtmlSelectElement>("algorithm")
+            {
+                menu.set_value(Algorithm::Nsga2.key());
+                ui.apply_form();
+            }
         }
     })?;
     on("teach-phase", "click", |ui| {

@@ -12,17 +12,23 @@ use crate::app::camera::OrbitCamera;
 use crate::app::geometry;
 use crate::app::glb_export::mesh_glb;
 use crate::app::loader;
-use crate::app::plot::{self, Layout, PlotPoint, Scene};
+use crate::app::plot::{self, EAxis, Layout, PlotPoint, Scene};
 use crate::app::share::{FileFingerprint, ImportChoice, Origin};
 use crate::app::state::{App, RunConfig, Surface, shown_mesh};
 use crate::evaluator::Evaluator;
 use crate::export::csv::front_csv;
+use crate::export::glb::{GlbMesh, vertex_normals, write_glb};
 use crate::export::mesh::WorldMesh;
 use crate::export::obj::to_obj;
 use crate::export::ply::to_ply;
+use crate::export::solid::{SolidOptions, solid};
 use crate::export::stl::to_stl;
+use crate::export::threemf::to_3mf;
+use crate::front::Solution;
 use crate::front_file::FrontFile;
 use crate::heightfield::Heightfield;
+use crate::import::ImportOptions;
+use crate::pick::Pick;
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -129,29 +135,36 @@ fn draw_plot(ui: &mut Ui) {
         ui.front_points.clear();
         return;
     }
-    ui.front_points = ui
-        .app
-        .front()
-        .map(|f| {
-            f.solutions()
-                .iter()
-                .map(|s| PlotPoint {
-                    t: s.t as f64,
-                    e: s.e_sum,
-                })
-                .collect()
+    let e_axis = e_axis();
+    let grid_points = ui.app.surface().heightfield.len();
+    let members: &[Solution] = ui.app.front().map_or(&[], |f| f.solutions());
+    ui.front_points = members
+        .iter()
+        .map(|s| PlotPoint {
+            t: s.t as f64,
+            e: e_axis.value(s, grid_points),
         })
-        .unwrap_or_default();
-    let population: Vec<(PlotPoint, usize)> = ui
-        .app
-        .optimizer()
-        .map(|o| {
-            o.population_points()
-                .into_iter()
-                .map(|(t, e, rank)| (PlotPoint { t, e }, rank))
-                .collect()
-        })
-        .unwrap_or_default();
+        .collect();
+    let labels: Vec<String> = members
+        .iter()
+        .map(|s| plot::hover_text(s, grid_points, &unit))
+        .collect();
+    // The population carries E_sum only: it is drawn on the sum and mean axes.
+    let population: Vec<(PlotPoint, usize)> = match (e_axis, ui.app.optimizer()) {
+        (EAxis::Max, _) | (_, None) => Vec::new(),
+        (_, Some(o)) => o
+            .population_points()
+            .into_iter()
+            .map(|(t, e, rank)| {
+                let e = if e_axis == EAxis::Mean {
+                    e / grid_points.max(1) as f64
+                } else {
+                    e
+                };
+                (PlotPoint { t, e }, rank)
+            })
+            .collect(),
+    };
     ui.plot_layout = Layout::fit_scaled(
         cw,
         ch,
@@ -169,8 +182,18 @@ fn draw_plot(ui: &mut Ui) {
             selected: ui.app.selected_front_index(),
             hovered: ui.hovered,
             z_unit: &unit,
+            e_axis,
+            labels: &labels,
         },
     );
+}
+
+/// The error the plot's E axis shows, from the page's menu (E_sum when it is missing).
+fn e_axis() -> EAxis {
+    dom::by_id::<web_sys::HtmlSelectElement>("plot-e-axis")
+        .ok()
+        .and_then(|menu| EAxis::from_key(&menu.value()))
+        .unwrap_or_default()
 }
 
 /// Shows a parsed file whose bytes have `fingerprint`; when a share link waits for a file,
@@ -210,7 +233,7 @@ fn export(ui: &Ui, kind: &str) -> Result<(), String> {
     let name = &ui.app.surface().name;
     let stem = name.rsplit_once('.').map_or(name.as_str(), |(a, _)| a);
     match kind {
-        "json" => export_run_file(ui, stem),
+        "json" => export_front_file(ui, stem),
         "csv" => {
             let front = ui.app.front().ok_or(EMPTY_FRONT)?;
             dom::download(
@@ -226,7 +249,7 @@ fn export(ui: &Ui, kind: &str) -> Result<(), String> {
 const EMPTY_FRONT: &str = "run an algorithm first: the front is empty";
 
 /// Downloads the front as front.json, the file `paretomesh run` writes.
-fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
+fn export_front_file(ui: &Ui, stem: &str) -> Result<(), String> {
     let front = ui.app.front().ok_or(EMPTY_FRONT)?;
     let config = ui.app.config();
     let status = ui.app.status();
@@ -240,6 +263,15 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
         front,
     )
     .map_err(|e| e.to_string())?;
+    // A mesh resampled through the import dialog records that choice, so that `paretomesh
+    // export` reads the file into the same grid.
+    let file = match &ui.origin {
+        Origin::File(FileFingerprint {
+            import: Some(choice),
+            ..
+        }) => file.with_import(&choice.options()?),
+        _ => file.with_import(&ImportOptions::default()),
+    };
     let json = serde_json::to_string_pretty(&file).map_err(|e| e.to_string())?;
     dom::download(
         &format!("{stem}_front.json"),
@@ -250,7 +282,8 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
 
 /// Downloads the shown mesh (the full grid when nothing is selected) in the input's own
 /// coordinates as `kind`: PLY, OBJ, STL or binary glTF (with the error map as vertex colours
-/// when it is shown).
+/// when it is shown); closed into a printable solid when "solid" is ticked. A 3MF, which is
+/// for printing, is always the solid.
 fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
     let s = ui.app.surface();
     let hf = &s.heightfield;
@@ -258,7 +291,12 @@ fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
         Some(m) => m.clone(),
         None => shown_mesh(hf, &ui.app.shown_kept())?,
     };
-    let world = WorldMesh::new(hf, &mesh.kept, &mesh.triangles)?;
+    let as_solid = kind == "3mf" || dom::checked("export-solid");
+    let world = if as_solid {
+        solid(hf, &mesh.triangles, &SolidOptions::default()).map_err(|e| e.to_string())?
+    } else {
+        WorldMesh::new(hf, &mesh.kept, &mesh.triangles)?
+    };
     let note = format!(
         "ParetoMesh simplification of {}: {} vertices, {} triangles, E = {}",
         s.name,
@@ -266,8 +304,24 @@ fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
         mesh.triangles.len(),
         mesh.e_sum
     );
-    let name = format!("{stem}_{}t.{kind}", mesh.triangles.len());
+    let name = format!(
+        "{stem}_{}t{}.{kind}",
+        mesh.triangles.len(),
+        if as_solid { "_solid" } else { "" }
+    );
     match kind {
+        "glb" if as_solid => {
+            let indices: Vec<u32> = world.triangles.iter().flatten().copied().collect();
+            let normals = vertex_normals(&world.vertices, &indices);
+            let bytes = write_glb(&GlbMesh {
+                positions: &world.vertices,
+                normals: &normals,
+                indices: &indices,
+                colors: None,
+            })
+            .map_err(|e| e.to_string())?;
+            dom::download(&name, "model/gltf-binary", &bytes)
+        }
         "ply" => dom::download(
             &name,
             "application/octet-stream",
@@ -275,6 +329,11 @@ fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
         ),
         "obj" => dom::download(&name, "text/plain", to_obj(&world, &note).as_bytes()),
         "stl" => dom::download(&name, "application/octet-stream", &to_stl(&world, &note)),
+        "3mf" => dom::download(
+            &name,
+            "model/3mf",
+            &to_3mf(&world, &format!("{} solid", s.name))?,
+        ),
         "glb" => dom::download(
             &name,
             "model/gltf-binary",
@@ -352,6 +411,20 @@ fn wire_controls(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
     for id in ["show-original", "show-error", "show-kept"] {
         on(id, "change", Box::new(|ui| ui.update_layers()))?;
     }
+    for (id, rule) in [
+        ("select-knee", Pick::Knee),
+        ("select-tradeoff", Pick::TradeOff),
+    ] {
+        on(
+            id,
+            "click",
+            Box::new(move |ui| {
+                if ui.app.select_by(rule) {
+                    ui.update_layers();
+                }
+            }),
+        )?;
+    }
     on(
         "reset-view",
         "click",
@@ -360,7 +433,7 @@ fn wire_controls(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             ui.redraw = true;
         }),
     )?;
-    for kind in ["ply", "obj", "stl", "glb", "csv", "json"] {
+    for kind in ["ply", "obj", "stl", "glb", "3mf", "csv", "json"] {
         on(
             &format!("export-{kind}"),
             "click",

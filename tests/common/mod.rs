@@ -23,7 +23,7 @@ pub fn synthetic(width: usize, height: usize, seed: u64) -> Arc<Heightfield> {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);
     let z = (0..width * height)
         .map(|_| {
-            if seed % 2 == 0 {
+            if seed.is_multiple_of(2) {
                 rng.random_range(0..5) as f64
             } else {
                 rng.random::<f64>() * 100.0 - 50.0

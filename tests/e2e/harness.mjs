@@ -165,6 +165,26 @@ export function tradeOffCandidates(front) {
   return picks;
 }
 
+// The front index of the knee of `front` ([T, E] pairs): each objective scaled to [0, 1] over
+// the front, the member nearest (0, 0); ties to the fewer triangles (the library's rule).
+export function kneeIndex(front) {
+  const span = (k) => {
+    const v = front.map((p) => p[k]);
+    const lo = Math.min(...v);
+    return [lo, Math.max(...v) - lo];
+  };
+  const [[t0, dt], [e0, de]] = [span(0), span(1)];
+  const scaled = (v, lo, d) => (d > 0 ? (v - lo) / d : 0);
+  let best = 0;
+  front.forEach(([t, e], i) => {
+    const d = Math.hypot(scaled(t, t0, dt), scaled(e, e0, de));
+    const [bt, be] = front[best];
+    const db = Math.hypot(scaled(bt, t0, dt), scaled(be, e0, de));
+    if (d < db || (d === db && t < bt)) best = i;
+  });
+  return best;
+}
+
 // A closed, thick tube along z as OBJ: an outer wall of radius 1 + 0.1·sin 3θ + 0.1·cos ζ, an
 // inner wall 5 % inside it, and annular caps joining them; like a printable scan's shell, it
 // folds over itself in every projection, but its outer wall is a cylindrical height field.

@@ -2,7 +2,7 @@
 // driving /usr/bin/chromium). Serves the built app (www/pkg must exist: scripts/build-web.sh),
 // then: a GeoTIFF DEM with nodata cells from tests/data loads as it is, with its
 // georeferencing and filled cells reported → a small NSGA-II run to the end selects the
-// trade-off pick and shows it, and its PLY export lies in the DEM's map coordinates → a
+// knee and shows it, and its PLY export lies in the DEM's map coordinates → a
 // GeoTIFF over the grid limit opens the import dialog with its georeferencing, and the chosen
 // grid size is used → a closed, thick mesh (folding in every projection) opens the dialog on
 // its outer surface, saying how much of the grid was covered more than once. Screenshots go
@@ -32,7 +32,7 @@ await withApp(async ({ browser, url }) => {
   // The page's surface kept the georeferencing the Worker read, not only its summary.
   assert.match(source, /georeferencing: pixel size 10 × 10 map units · pixel \(0, 0\) corner at map \(2667400, 6478710\)/, source);
 
-  // 2. Run to the end: the trade-off pick is selected and drawn.
+  // 2. Run to the end: the knee is selected and drawn.
   await page.selectOption('#algorithm', 'nsga2');
   await page.fill('#population', '16');
   await page.fill('#generations', '4');

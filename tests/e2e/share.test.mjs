@@ -17,7 +17,7 @@ import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj, tradeOffCandidates, int16GeoTiff } from './harness.mjs';
+import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj, kneeIndex, int16GeoTiff } from './harness.mjs';
 
 const cli = path.join(root, 'target/debug/paretomesh');
 assert.ok(existsSync(cli), 'build the CLI first: cargo build --bin paretomesh');
@@ -83,7 +83,7 @@ await withApp(async ({ browser, url }) => {
   assert.equal(await page.evaluate(() => window.paretomesh.generation()), 20);
   assert.deepEqual(browserFront, expected, 'the link reproduces the CLI front exactly (T and E)');
   const [index, t, e] = await page.evaluate(() => window.paretomesh.selectedObjectives());
-  // The run ended at its last generation: the link's own selection wins over the trade-off pick.
+  // The run ended at its last generation: the link's own selection wins over the knee.
   assert.equal(index, 30, 'the link selects front member 30');
   assert.deepEqual([t, e], expected[30], 'the selected solution is the CLI front member 30');
   assert.ok(await page.isChecked('#show-original'), 'the link turned the original-surface toggle on');
@@ -132,11 +132,10 @@ await withApp(async ({ browser, url }) => {
   await dropFiles(author, dropped);
   await author.waitForFunction(() => window.paretomesh.surfaceName() === 'bunny_33x33.f32', null, { timeout: 30000 });
   const authorFront = await runSmall(author, { generations: 5, seed: 11 });
-  // The finished run selected its trade-off pick and shows it in 3-D.
+  // The finished run selected the knee of its front and shows it in 3-D.
   await author.waitForFunction(() => window.paretomesh.selectedVertexCount() !== undefined, null, { timeout: 10000 });
   const [autoIndex, autoT, autoE] = await author.evaluate(() => window.paretomesh.selectedObjectives());
-  const candidates = tradeOffCandidates(pairs(authorFront));
-  assert.ok(candidates.has(autoIndex), `the run's end selects the trade-off pick (${autoIndex}; eq. 9 allows ${[...candidates]})`);
+  assert.equal(autoIndex, kneeIndex(pairs(authorFront)), "the run's end selects the knee");
   assert.deepEqual([autoT, autoE], pairs(authorFront)[autoIndex]);
   assert.match(await author.locator('#selection-info').textContent(), new RegExp(`T = ${autoT} triangles`));
   const [x, y] = await author.evaluate(() => window.paretomesh.frontPointPosition(3));

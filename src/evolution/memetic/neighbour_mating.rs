@@ -67,7 +67,7 @@ impl Cut {
         // Bits from..to: single bits up to a word boundary, whole words, single bits after.
         let mut set = |from: usize, to: usize| {
             let mut i = from;
-            while i < to && i % 64 != 0 {
+            while i < to && !i.is_multiple_of(64) {
                 bits[i / 64] |= 1 << (i % 64);
                 i += 1;
             }

@@ -4,7 +4,7 @@
 
 use crate::app::compare::{METHODS, Picks};
 use crate::app::compare_html::{colour, named_picks};
-use crate::app::plot::{self, Layout, PlotPoint, Scene};
+use crate::app::plot::{self, EAxis, Layout, PlotPoint, Scene};
 use crate::web::dom;
 use crate::web::page::{Ui, z_unit};
 use crate::web::plot_view;
@@ -35,6 +35,8 @@ pub(super) fn compare_plot(ui: &mut Ui) {
             selected: None,
             hovered: None,
             z_unit: &unit,
+            e_axis: EAxis::Sum,
+            labels: &[],
         },
     );
     let picks: Vec<Option<Picks>> = match ui.compare.run.as_ref().and_then(|r| r.table()) {

@@ -32,7 +32,7 @@ pub fn next(e: u32) -> u32 {
 /// The previous half-edge of the same triangle.
 #[inline]
 pub fn prev(e: u32) -> u32 {
-    if e % 3 == 0 { e + 2 } else { e - 1 }
+    if e.is_multiple_of(3) { e + 2 } else { e - 1 }
 }
 
 mod insertion_order;
