@@ -17,6 +17,7 @@
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL) and the front as CSV, for the CLI and the app.
+//! - [`pyramid`]: a 3D Tiles pyramid of a front's members, placed on the globe when georeferenced.
 //! - [`app`]: the browser app's logic without the DOM (state, share links, plot layout, ...).
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU.
 
@@ -30,6 +31,7 @@ pub mod front;
 pub mod heightfield;
 pub mod metrics;
 pub mod optimizer;
+pub mod pyramid;
 pub mod run_file;
 
 #[cfg(target_arch = "wasm32")]
