@@ -189,7 +189,10 @@ impl Frame {
             return (Self::Local, Some(why));
         };
         if *hf.placement() != Placement::Grid {
-            return (Self::Local, Some("the grid is not in its map's plane".into()));
+            return (
+                Self::Local,
+                Some("the grid is not in its map's plane".into()),
+            );
         }
         let [ox, oy] = hf.origin();
         let [sx, sy] = hf.spacing();
@@ -224,8 +227,8 @@ impl Frame {
             Self::Globe { origin, axes, .. } => {
                 let [e, n, u] = axes;
                 Some([
-                    e[0], e[1], e[2], 0.0, n[0], n[1], n[2], 0.0, u[0], u[1], u[2], 0.0,
-                    origin[0], origin[1], origin[2], 1.0,
+                    e[0], e[1], e[2], 0.0, n[0], n[1], n[2], 0.0, u[0], u[1], u[2], 0.0, origin[0],
+                    origin[1], origin[2], 1.0,
                 ])
             }
         }

@@ -115,7 +115,10 @@ pub fn plan(
     }
     let better = |&i: &usize, &j: &usize| {
         let (a, b): (&Score, &Score) = (&members[i], &members[j]);
-        a.e_sum.total_cmp(&b.e_sum).then(a.t.cmp(&b.t)).then(i.cmp(&j))
+        a.e_sum
+            .total_cmp(&b.e_sum)
+            .then(a.t.cmp(&b.t))
+            .then(i.cmp(&j))
     };
     let finest = (0..members.len()).min_by(better).expect("two members");
     let mut picks = vec![finest; levels];
@@ -263,7 +266,11 @@ mod tests {
             })
         );
         assert_eq!(plan(&two, 0, 33, 33), Err(PyramidError::NoLevels));
-        let many = scores(&(1..40).map(|t| (100.0 / t as f64, t * 2)).collect::<Vec<_>>());
+        let many = scores(
+            &(1..40)
+                .map(|t| (100.0 / t as f64, t * 2))
+                .collect::<Vec<_>>(),
+        );
         let err = plan(&many, 6, 33, 33).unwrap_err();
         assert_eq!(
             err,

@@ -155,14 +155,26 @@ mod tests {
 
     #[test]
     fn the_deepest_level_keeps_two_cells_per_tile_side() {
-        for (w, h) in [(3, 3), (5, 9), (33, 33), (87, 61), (3601, 3601), (2048, 2048)] {
+        for (w, h) in [
+            (3, 3),
+            (5, 9),
+            (33, 33),
+            (87, 61),
+            (3601, 3601),
+            (2048, 2048),
+        ] {
             let level = Level::new(w, h, max_level(w, h));
             assert!(level.tiles().iter().all(|t| {
                 let (tw, th) = t.size();
                 tw >= 3 && th >= 3
             }));
             let deeper = Level::new(w, h, max_level(w, h) + 1);
-            assert!(deeper.tiles().iter().any(|t| t.size().0 < 3 || t.size().1 < 3));
+            assert!(
+                deeper
+                    .tiles()
+                    .iter()
+                    .any(|t| t.size().0 < 3 || t.size().1 < 3)
+            );
         }
     }
 

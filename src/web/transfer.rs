@@ -48,7 +48,8 @@ fn georeference_to_js(geo: &Georeference) -> Result<JsValue, JsValue> {
     set(
         &o,
         "epsg",
-        &geo.epsg.map_or(JsValue::NULL, |c| JsValue::from(f64::from(c))),
+        &geo.epsg
+            .map_or(JsValue::NULL, |c| JsValue::from(f64::from(c))),
     )?;
     Ok(o.into())
 }
