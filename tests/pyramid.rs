@@ -3,6 +3,7 @@
 //! against GDAL's and proj4rs's conversions.
 
 use paretomesh::heightfield;
+use paretomesh::pyramid::borders::with_border_points;
 use paretomesh::pyramid::globe::{Frame, MapSystem, ecef};
 use paretomesh::pyramid::quadtree::Level;
 use paretomesh::pyramid::tile_mesh::tile_mesh;
@@ -176,7 +177,9 @@ fn neighbour_tiles_share_their_border_edges_exactly() {
     let member = &file.front[file.front.len() / 2].solution;
     for depth in 1..=3 {
         let level = Level::new(w, hf.height(), depth);
-        let shares = level.share_out(&member.kept);
+        let kept = with_border_points(&hf, &level, &member.kept, member.score.e_max);
+        assert!(member.kept.iter().all(|g| kept.binary_search(g).is_ok()));
+        let shares = level.share_out(&kept);
         let tiles = level.tiles();
         let meshes: Vec<_> = tiles
             .iter()

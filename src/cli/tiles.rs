@@ -6,6 +6,7 @@ use super::front_file::{self, find_grid};
 use super::input::ImportArgs;
 use clap::Args;
 use paretomesh::heightfield;
+use paretomesh::pyramid::borders::with_border_points;
 use paretomesh::pyramid::globe::Frame;
 use paretomesh::pyramid::quadtree::Level;
 use paretomesh::pyramid::tileset::{content_uri, tile_content, tileset_json};
@@ -97,7 +98,9 @@ pub fn run(args: &TilesArgs) -> Result<(), String> {
     let mut contents = Vec::with_capacity(levels);
     for (depth, &member) in picks.iter().enumerate() {
         let level = Level::new(w, h, depth as u32);
-        let shares = level.share_out(&file.front[member].solution.kept);
+        let solution = &file.front[member].solution;
+        let kept = with_border_points(&hf, &level, &solution.kept, solution.score.e_max);
+        let shares = level.share_out(&kept);
         let tiles = level.tiles();
         let level_contents = tiles
             .par_iter()

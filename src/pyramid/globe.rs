@@ -72,17 +72,15 @@ fn shape() -> (f64, f64) {
     (WGS84_F / (2.0 - WGS84_F), WGS84_F * (2.0 - WGS84_F))
 }
 
-/// Longitude and latitude (radians) of a UTM-scaled transverse Mercator point, `x` east and
-/// `y` north of the origin on central meridian `central` (radians).
-fn transverse_mercator_inverse(x: f64, y: f64, central: f64) -> (f64, f64) {
-    let (n, e2) = shape();
+/// The rectifying radius of WGS84 and the coefficients β₁…β₆ of the series from the rectifying
+/// to the conformal sphere (Karney 2011, eq. 36), sixth order in n.
+fn series() -> (f64, [f64; 6]) {
+    let (n, _) = shape();
     let n2 = n * n;
     let n3 = n2 * n;
     let n4 = n3 * n;
     let n5 = n4 * n;
     let n6 = n5 * n;
-    // The rectifying radius and the coefficients of the series from the rectifying to the
-    // conformal sphere.
     let radius = WGS84_A / (1.0 + n) * (1.0 + n2 / 4.0 + n4 / 64.0 + n6 / 256.0);
     let beta = [
         n / 2.0 - 2.0 * n2 / 3.0 + 37.0 * n3 / 96.0 - n4 / 360.0 - 81.0 * n5 / 512.0
@@ -94,14 +92,34 @@ fn transverse_mercator_inverse(x: f64, y: f64, central: f64) -> (f64, f64) {
         4583.0 * n5 / 161_280.0 - 108_847.0 * n6 / 3_991_680.0,
         20_648_693.0 * n6 / 638_668_800.0,
     ];
+    (radius, beta)
+}
+
+/// Longitude and latitude (radians) of a UTM-scaled transverse Mercator point, `x` east and
+/// `y` north of the origin on central meridian `central` (radians).
+fn transverse_mercator_inverse(x: f64, y: f64, central: f64) -> (f64, f64) {
+    let (_, e2) = shape();
+    let (radius, beta) = series();
     let xi = y / (UTM_K0 * radius);
     let eta = x / (UTM_K0 * radius);
-    let (mut xi1, mut eta1) = (xi, eta);
-    for (j, b) in beta.iter().enumerate() {
-        let k = 2.0 * (j + 1) as f64;
-        xi1 -= b * (k * xi).sin() * (k * eta).cosh();
-        eta1 -= b * (k * xi).cos() * (k * eta).sinh();
+    // ζ' = ζ − Σ βⱼ sin(2jζ) for complex ζ = ξ + iη, summed by Clenshaw's recurrence so that
+    // one complex sine and cosine of 2ζ serve every term.
+    let (s, c) = (2.0 * xi).sin_cos();
+    let (sh, ch) = ((2.0 * eta).sinh(), (2.0 * eta).cosh());
+    let sin2 = (s * ch, c * sh);
+    let cos2 = (c * ch, -s * sh);
+    let twice_cos = (2.0 * cos2.0, 2.0 * cos2.1);
+    let (mut y1, mut y2) = ((0.0, 0.0), (0.0, 0.0));
+    for b in beta.iter().rev() {
+        let next = (
+            twice_cos.0 * y1.0 - twice_cos.1 * y1.1 - y2.0 + b,
+            twice_cos.0 * y1.1 + twice_cos.1 * y1.0 - y2.1,
+        );
+        y2 = y1;
+        y1 = next;
     }
+    let sum = (sin2.0 * y1.0 - sin2.1 * y1.1, sin2.0 * y1.1 + sin2.1 * y1.0);
+    let (xi1, eta1) = (xi - sum.0, eta - sum.1);
     let conformal_tan = xi1.sin() / (eta1.sinh().powi(2) + xi1.cos().powi(2)).sqrt();
     let lon = central + eta1.sinh().atan2(xi1.cos());
     (lon, latitude_from_conformal(conformal_tan, e2).atan())

@@ -3,10 +3,12 @@
 //! tiles that share their border edges exactly.
 //!
 //! [`plan`] picks a member per level, [`quadtree::Level`] cuts a level into tiles and shares the
-//! member's kept points out to them, [`tileset::tile_content`] triangulates and encodes one tile,
+//! member's kept points out to them (with [`borders`]' points on inner tile borders, so that a
+//! border follows the surface within the member's E_max), [`tileset::tile_content`] triangulates and encodes one tile,
 //! and [`tileset::tileset_json`] ties the tiles together. [`build`] does it all in one thread;
 //! the CLI spreads the tiles over every core, with the same result.
 
+pub mod borders;
 pub mod globe;
 pub mod quadtree;
 pub mod tile_mesh;
@@ -177,7 +179,9 @@ pub fn build(
     let mut out = Vec::with_capacity(levels);
     for (depth, &member) in picks.iter().enumerate() {
         let level = Level::new(hf.width(), hf.height(), depth as u32);
-        let shares = level.share_out(kept[member]);
+        let with_borders =
+            borders::with_border_points(hf, &level, kept[member], scores[member].e_max);
+        let shares = level.share_out(&with_borders);
         let tiles = level
             .tiles()
             .iter()
