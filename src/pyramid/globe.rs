@@ -137,7 +137,8 @@ fn latitude_from_conformal(conformal_tan: f64, e2: f64) -> f64 {
             / (1.0 + (1.0 - e2) * tau * tau);
         let step = (conformal_tan - conformal) / slope;
         tau += step;
-        if step.abs() < 1e-15 * (1.0 + tau.abs()) {
+        // Newton converges quadratically: after a step this small, tau is good to the last bit.
+        if step.abs() < 1.5e-9 * tau.abs().max(1.0) {
             break;
         }
     }
