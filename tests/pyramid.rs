@@ -403,3 +403,21 @@ fn bad_requests_are_refused_before_anything_is_written() {
     assert!(message.contains("at least two members"), "{message}");
     assert!(!out_dir.exists());
 }
+
+#[test]
+fn geotiffs_keep_the_epsg_code_of_their_coordinate_system() {
+    let code = |name: &str| {
+        heightfield::load(&data(name))
+            .unwrap()
+            .georeference()
+            .and_then(|g| g.epsg)
+    };
+    assert_eq!(code("jacksboro_65x65_utm16n.tif"), Some(32616));
+    assert_eq!(code("jacksboro_65x65_wgs84.tif"), Some(4326));
+    // Georeferenced without a coordinate system: the pyramid stays in map coordinates.
+    assert_eq!(code("volcano_87x61_int16_lzw_nodata.tif"), None);
+    let hf = heightfield::load(&data("volcano_87x61_int16_lzw_nodata.tif")).unwrap();
+    let (frame, why) = Frame::of(&hf);
+    assert_eq!(frame, Frame::Local);
+    assert!(why.unwrap().contains("names no EPSG"));
+}
