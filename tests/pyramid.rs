@@ -89,6 +89,8 @@ fn the_tileset_has_the_3d_tiles_basics_and_every_tile_reads_back() {
     assert!(tileset["geometricError"].as_f64().unwrap() > 0.0);
     let root = &tileset["root"];
     assert_eq!(root["transform"].as_array().unwrap().len(), 16);
+    let frame = tileset["extras"]["frame"].as_str().unwrap();
+    assert!(frame.contains("EPSG:32616"), "{frame}");
     let mut tiles = Vec::new();
     walk(root, 0, &mut tiles);
     // A full quadtree of four levels.

@@ -67,6 +67,20 @@ impl MapSystem {
     }
 }
 
+impl std::fmt::Display for MapSystem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Self::LonLat => write!(f, "EPSG:4326 (WGS84 longitude, latitude)"),
+            Self::Utm { zone, south } => write!(
+                f,
+                "EPSG:{} (WGS84 / UTM zone {zone}{})",
+                if south { 32700 } else { 32600 } + u16::from(zone),
+                if south { 'S' } else { 'N' }
+            ),
+        }
+    }
+}
+
 /// The ellipsoid's third flattening n = f / (2 − f) and squared eccentricity e².
 fn shape() -> (f64, f64) {
     (WGS84_F / (2.0 - WGS84_F), WGS84_F * (2.0 - WGS84_F))
@@ -323,6 +337,10 @@ mod tests {
     #[test]
     fn only_wgs84_geographic_and_utm_codes_are_placed() {
         assert_eq!(MapSystem::from_epsg(4326), Some(MapSystem::LonLat));
+        for code in [4326, 32614, 32760] {
+            let system = MapSystem::from_epsg(code).unwrap();
+            assert!(system.to_string().starts_with(&format!("EPSG:{code} ")));
+        }
         assert_eq!(
             MapSystem::from_epsg(32614),
             Some(MapSystem::Utm {

@@ -159,7 +159,7 @@ pub struct Pyramid {
 pub fn frame_note(frame: &Frame, why_local: Option<&str>) -> String {
     match (frame, why_local) {
         (Frame::Globe { system, .. }, _) => {
-            format!("east-north-up metres at the grid's centre on WGS84, from {system:?}")
+            format!("east-north-up metres at the grid's centre on WGS84, from {system}")
         }
         (Frame::Local, Some(why)) => format!("the input's own coordinates: {why}"),
         (Frame::Local, None) => "the input's own coordinates (not georeferenced)".into(),
