@@ -6,12 +6,13 @@
 //! cargo run --release --example read_front -- front.json GRID     # a front from the command line
 //! ```
 //!
-//! front.json is self-contained: each member lists its kept grid indices and its triangles, so
-//! any tool can re-score it. GRID must be the grid the front was made on.
+//! front.json is self-contained: each member lists its kept grid indices (packed, see
+//! `paretomesh::kept_codec`) and, with `run --triangles`, its triangles, so any tool can
+//! re-score it. GRID must be the grid the front was made on.
 
 use paretomesh::baselines::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Evaluator;
-use paretomesh::heightfield;
+use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
 use paretomesh::run_file::RunFile;
 use std::path::PathBuf;
@@ -25,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             // No file given: write one as the command line does.
             let grid =
                 PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/volcano_33x33.f32");
-            let hf = Arc::new(heightfield::load(&grid)?);
+            let hf = Arc::new(import::load(&grid)?);
             let params = GreedyParams::default();
             let mut run = GreedyInsertion::new(hf.clone(), params.clone())?;
             let progress = run.run_to_end();
@@ -56,7 +57,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         file.evaluations,
         file.front.len()
     );
-    let hf = Arc::new(heightfield::load(&grid)?);
+    let hf = Arc::new(import::load(&grid)?);
     if (hf.width(), hf.height()) != (file.grid.width, file.grid.height) {
         return Err(format!("{} is not the grid of this front", grid.display()).into());
     }

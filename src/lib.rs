@@ -29,6 +29,8 @@ pub mod experiment;
 pub mod export;
 pub mod front;
 pub mod heightfield;
+pub mod import;
+pub mod kept_codec;
 pub mod metrics;
 pub mod optimizer;
 pub mod pyramid;

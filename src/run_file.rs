@@ -5,8 +5,14 @@
 //! ```json
 //! {"grid":{"width":33,"height":33,"source":"…"},"algorithm":"nsga2","params":{…},"seed":1,
 //!  "evaluations":21000,"millis":812,
-//!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept":[…]},…]}
+//!  "front":[{"E_sum":…,"E_max":…,"T":…,"kept_packed":"AAUBpgI="},
+//!           {"E_sum":…,"E_max":…,"T":…,"kept_diff":"GAE="},…]}
 //! ```
+//!
+//! A member's kept set is written compactly ([`crate::kept_codec`]): `kept_packed` holds its
+//! increasing indices as base64 of LEB128 varint gaps; `kept_diff`, in the same form, the
+//! indices in which it differs from the member before it in the file (whichever is shorter).
+//! Readers also take the plain `"kept":[…]` array that older files hold.
 //!
 //! Triangles are listed only on request ([`RunFile::add_triangles`], `paretomesh run
 //! --triangles`), as `"triangles":[[a,b,c],…]` after `kept`: on large grids they are most of the
@@ -31,14 +37,12 @@ pub struct GridInfo {
 }
 
 /// One front member, with its triangles when the file lists them.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RunSolution {
     /// E_sum, E_max, T and the kept indices.
-    #[serde(flatten)]
     pub solution: Solution,
     /// The Delaunay triangles of the kept set, grid-index triples, counter-clockwise, each
     /// starting at its smallest index, sorted; `None` when the file leaves them out.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub triangles: Option<Vec<[u32; 3]>>,
 }
 
@@ -57,8 +61,111 @@ pub struct RunFile {
     pub evaluations: u64,
     /// Wall time of the run in milliseconds (0 when unknown).
     pub millis: u64,
-    /// The front, by increasing T.
+    /// The front, by increasing T; kept sets are written compactly (see the module doc).
+    #[serde(with = "members")]
     pub front: Vec<RunSolution>,
+}
+
+/// front.json's members with their kept sets packed or as diffs (see the module doc).
+mod members {
+    use super::RunSolution;
+    use crate::front::Solution;
+    use crate::kept_codec::{decode, encode, toggle};
+    use serde::de::Error as _;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// A member as written.
+    #[derive(Serialize)]
+    struct Written<'a> {
+        #[serde(rename = "E_sum")]
+        e_sum: f64,
+        #[serde(rename = "E_max")]
+        e_max: f64,
+        #[serde(rename = "T")]
+        t: usize,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        kept_packed: Option<String>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        kept_diff: Option<String>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        triangles: Option<&'a Vec<[u32; 3]>>,
+    }
+
+    /// A member as read: one of the three forms of its kept set.
+    #[derive(Deserialize)]
+    struct Read {
+        #[serde(rename = "E_sum")]
+        e_sum: f64,
+        #[serde(rename = "E_max")]
+        e_max: f64,
+        #[serde(rename = "T")]
+        t: usize,
+        #[serde(default)]
+        kept: Option<Vec<u32>>,
+        #[serde(default)]
+        kept_packed: Option<String>,
+        #[serde(default)]
+        kept_diff: Option<String>,
+        #[serde(default)]
+        triangles: Option<Vec<[u32; 3]>>,
+    }
+
+    pub fn serialize<S: Serializer>(front: &[RunSolution], s: S) -> Result<S::Ok, S::Error> {
+        let mut previous: &[u32] = &[];
+        let written: Vec<Written<'_>> = front
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let kept = &m.solution.kept;
+                let packed = encode(kept);
+                let diff = (i > 0).then(|| encode(&toggle(previous, kept)));
+                previous = kept;
+                let (kept_packed, kept_diff) = match diff {
+                    Some(d) if d.len() < packed.len() => (None, Some(d)),
+                    _ => (Some(packed), None),
+                };
+                Written {
+                    e_sum: m.solution.e_sum,
+                    e_max: m.solution.e_max,
+                    t: m.solution.t,
+                    kept_packed,
+                    kept_diff,
+                    triangles: m.triangles.as_ref(),
+                }
+            })
+            .collect();
+        written.serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<RunSolution>, D::Error> {
+        let read = Vec::<Read>::deserialize(d)?;
+        let mut out: Vec<RunSolution> = Vec::with_capacity(read.len());
+        for (i, r) in read.into_iter().enumerate() {
+            let kept = match (r.kept, r.kept_packed, r.kept_diff) {
+                (Some(kept), None, None) => kept,
+                (None, Some(packed), None) => decode(&packed)
+                    .map_err(|e| D::Error::custom(format!("front member {i}: {e}")))?,
+                (None, None, Some(diff)) => {
+                    let before = out.last().ok_or_else(|| {
+                        D::Error::custom("front member 0 has kept_diff, but no member before it")
+                    })?;
+                    let diff = decode(&diff)
+                        .map_err(|e| D::Error::custom(format!("front member {i}: {e}")))?;
+                    toggle(&before.solution.kept, &diff)
+                }
+                _ => {
+                    return Err(D::Error::custom(format!(
+                        "front member {i} needs exactly one of kept, kept_packed and kept_diff"
+                    )));
+                }
+            };
+            out.push(RunSolution {
+                solution: Solution::recorded(r.e_sum, r.e_max, r.t, kept),
+                triangles: r.triangles,
+            });
+        }
+        Ok(out)
+    }
 }
 
 impl RunFile {
@@ -241,8 +348,8 @@ mod tests {
 
     #[test]
     fn members_list_triangles_only_when_asked() {
-        // By default a member is its numbers and kept set; with triangles, they follow `kept`,
-        // and both forms read back to the same file.
+        // By default a member is its numbers and packed kept set; with triangles, they follow
+        // it, and both forms read back to the same file.
         let hf = Arc::new(
             Heightfield::new(3, 3, vec![0.0, 0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 0.0]).unwrap(),
         );
@@ -253,14 +360,16 @@ mod tests {
             RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
         let json = serde_json::to_string(&file).unwrap();
         assert!(
-            json.ends_with(r#""front":[{"E_sum":4.0,"E_max":4.0,"T":2,"kept":[0,2,6,8]}]}"#),
+            json.ends_with(
+                r#""front":[{"E_sum":4.0,"E_max":4.0,"T":2,"kept_packed":"AAIEAg=="}]}"#
+            ),
             "{json}"
         );
         assert_eq!(serde_json::from_str::<RunFile>(&json).unwrap(), file);
         file.add_triangles(&mut ev).unwrap();
         let json = serde_json::to_string(&file).unwrap();
         assert!(
-            json.ends_with(r#""kept":[0,2,6,8],"triangles":[[0,2,6],[2,8,6]]}]}"#),
+            json.ends_with(r#""kept_packed":"AAIEAg==","triangles":[[0,2,6],[2,8,6]]}]}"#),
             "{json}"
         );
         assert_eq!(serde_json::from_str::<RunFile>(&json).unwrap(), file);
@@ -319,5 +428,69 @@ mod tests {
             assert_eq!(genes[step[0]].hamming(&genes[step[1]]), nearest);
         }
         assert!(edit_tour(&[]).is_empty());
+    }
+
+    #[test]
+    fn neighbours_are_written_as_diffs_and_old_arrays_still_read() {
+        let hf = Arc::new(Heightfield::new(40, 40, vec![0.0; 1600]).unwrap());
+        let mut front = Front::default();
+        let base: Vec<u32> = (0..1599).step_by(3).chain([1599]).collect();
+        let mut dense = base.clone();
+        dense.insert(1, 1);
+        front.offer(Solution::recorded(1.0, 1.0, 900, dense.clone()));
+        front.offer(Solution::recorded(2.0, 1.0, 800, base.clone()));
+        front.offer(Solution::recorded(9.0, 1.0, 2, vec![0, 39, 1560, 1599]));
+        let mut ev = Evaluator::new(hf);
+        let file = RunFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let json: serde_json::Value = serde_json::to_value(&file).unwrap();
+        let members = json["front"].as_array().unwrap();
+        // By T: the corners packed whole, then the 534-point member in whichever form is
+        // shorter, then the 535-point one as a one-index diff.
+        assert_eq!(members[0]["kept_packed"], "ACfxCyc=");
+        assert!(members[1]["kept_packed"].is_string() != members[1]["kept_diff"].is_string());
+        assert_eq!(members[2]["kept_diff"], "AQ==");
+        assert!(members[2].get("kept_packed").is_none());
+        let back: RunFile = serde_json::from_value(json.clone()).unwrap();
+        assert_eq!(back, file);
+        assert_eq!(back.front[2].solution.kept, dense);
+
+        // An older file's plain arrays.
+        let mut old = json.clone();
+        for (m, s) in old["front"]
+            .as_array_mut()
+            .unwrap()
+            .iter_mut()
+            .zip(&file.front)
+        {
+            let m = m.as_object_mut().unwrap();
+            m.remove("kept_packed");
+            m.remove("kept_diff");
+            m.insert(
+                "kept".into(),
+                serde_json::to_value(&s.solution.kept).unwrap(),
+            );
+        }
+        assert_eq!(serde_json::from_value::<RunFile>(old).unwrap(), file);
+
+        // A diff with nothing before it, two forms at once, or broken text: errors.
+        let mut bad = json.clone();
+        bad["front"].as_array_mut().unwrap().remove(0);
+        bad["front"].as_array_mut().unwrap().remove(0);
+        let err = serde_json::from_value::<RunFile>(bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no member before it"), "{err}");
+        let mut bad = json.clone();
+        bad["front"][0]["kept"] = serde_json::json!([0, 39]);
+        let err = serde_json::from_value::<RunFile>(bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("exactly one"), "{err}");
+        let mut bad = json;
+        bad["front"][0]["kept_packed"] = "!!".into();
+        let err = serde_json::from_value::<RunFile>(bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("not base64"), "{err}");
     }
 }

@@ -7,8 +7,10 @@ use paretomesh::baselines::{
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evaluator::canonical_set as canonical;
 use paretomesh::front::{Front, Solution, dominates};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
+use paretomesh::run_file::RunFile;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -16,7 +18,7 @@ fn fixture(name: &str) -> Arc<Heightfield> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(format!("{name}.f32"));
-    Arc::new(heightfield::load(&path).unwrap())
+    Arc::new(import::load(&path).unwrap())
 }
 
 fn assert_rescores(hf: &Arc<Heightfield>, solutions: &[Solution]) {
@@ -471,7 +473,8 @@ fn cli_run_greedy_and_decimation_write_fronts_that_rescore() {
             serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
         std::fs::remove_file(&out).unwrap();
         assert_eq!(file["algorithm"], algo);
-        let front: Vec<Solution> = serde_json::from_value(file["front"].clone()).unwrap();
+        let run: RunFile = serde_json::from_value(file.clone()).unwrap();
+        let front: Vec<Solution> = run.front.into_iter().map(|m| m.solution).collect();
         assert!(!front.is_empty());
         assert_rescores(&hf, &front);
         match k {

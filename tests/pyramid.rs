@@ -2,7 +2,7 @@
 //! `gltf` crate, serde_json), its shared tile edges, its errors, and its place on the globe
 //! against GDAL's and proj4rs's conversions.
 
-use paretomesh::heightfield;
+use paretomesh::import;
 use paretomesh::pyramid::borders::with_border_points;
 use paretomesh::pyramid::globe::{Frame, MapSystem, ecef};
 use paretomesh::pyramid::quadtree::Level;
@@ -174,7 +174,7 @@ fn neighbour_tiles_share_their_border_edges_exactly() {
     let grid = data("volcano_87x61.f32");
     let front = front(&dir, &grid);
     let file: RunFile = serde_json::from_slice(&std::fs::read(&front).unwrap()).unwrap();
-    let hf = heightfield::load(&grid).unwrap();
+    let hf = import::load(&grid).unwrap();
     let w = hf.width();
     let member = &file.front[file.front.len() / 2].solution;
     for depth in 1..=3 {
@@ -322,7 +322,7 @@ fn through(transform: &[f64], p: [f64; 3]) -> [f64; 3] {
 fn georeferenced_grids_sit_on_the_globe_where_their_corners_are() {
     // The UTM file's north-west sample centre is half a pixel (461.5 m / 2) inside its
     // corner; GDAL puts that centre here (EPSG:32616 → EPSG:4978).
-    let hf = heightfield::load(&data("jacksboro_65x65_utm16n.tif")).unwrap();
+    let hf = import::load(&data("jacksboro_65x65_utm16n.tif")).unwrap();
     let (frame, why) = Frame::of(&hf);
     assert_eq!(why, None);
     let transform = frame.transform().unwrap();
@@ -340,7 +340,7 @@ fn georeferenced_grids_sit_on_the_globe_where_their_corners_are() {
     assert!(distance(got, want) < 0.01, "{got:?} vs {want:?}");
 
     // EPSG:4326: the south-west sample centre at 300 m (EPSG:4979 → EPSG:4978).
-    let hf = heightfield::load(&data("jacksboro_65x65_wgs84.tif")).unwrap();
+    let hf = import::load(&data("jacksboro_65x65_wgs84.tif")).unwrap();
     let (frame, why) = Frame::of(&hf);
     assert_eq!(why, None);
     let world = hf.to_world(0, 300.0);
@@ -409,7 +409,7 @@ fn bad_requests_are_refused_before_anything_is_written() {
 #[test]
 fn geotiffs_keep_the_epsg_code_of_their_coordinate_system() {
     let code = |name: &str| {
-        heightfield::load(&data(name))
+        import::load(&data(name))
             .unwrap()
             .georeference()
             .and_then(|g| g.epsg)
@@ -418,7 +418,7 @@ fn geotiffs_keep_the_epsg_code_of_their_coordinate_system() {
     assert_eq!(code("jacksboro_65x65_wgs84.tif"), Some(4326));
     // Georeferenced without a coordinate system: the pyramid stays in map coordinates.
     assert_eq!(code("volcano_87x61_int16_lzw_nodata.tif"), None);
-    let hf = heightfield::load(&data("volcano_87x61_int16_lzw_nodata.tif")).unwrap();
+    let hf = import::load(&data("volcano_87x61_int16_lzw_nodata.tif")).unwrap();
     let (frame, why) = Frame::of(&hf);
     assert_eq!(frame, Frame::Local);
     assert!(why.unwrap().contains("names no EPSG"));

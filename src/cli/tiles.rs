@@ -5,7 +5,7 @@
 use super::front_file::{self, find_grid};
 use super::input::ImportArgs;
 use clap::Args;
-use paretomesh::heightfield;
+use paretomesh::import;
 use paretomesh::pyramid::borders::with_border_points;
 use paretomesh::pyramid::globe::Frame;
 use paretomesh::pyramid::quadtree::Level;
@@ -63,8 +63,7 @@ pub fn run(args: &TilesArgs) -> Result<(), String> {
         Some(path) => path.clone(),
         None => find_grid(&args.front, &file.grid.source)?,
     };
-    let hf =
-        heightfield::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
+    let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
     if (hf.width(), hf.height()) != (w, h) {
         return Err(format!(
             "the grid {} is {}×{}, but {} was made on a {w}×{h} grid",

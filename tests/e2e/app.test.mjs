@@ -133,8 +133,10 @@ await withApp(async ({ browser, url }) => {
   assert.equal(run.seed, 1);
   assert.deepEqual([run.grid.width, run.grid.height], [87, 61]);
   assert.equal(run.front.length, frontNow);
-  // As `paretomesh run` writes it by default: the kept points, which determine the triangles.
-  assert.ok(run.front.every((m) => m.triangles === undefined && m.kept.length >= 4 && m.T >= 2), 'members list their kept points');
+  // As `paretomesh run` writes it by default: the kept points (packed, or as a diff with the
+  // member before), which determine the triangles.
+  assert.equal(typeof run.front[0].kept_packed, 'string', 'the first member is packed whole');
+  assert.ok(run.front.every((m) => m.triangles === undefined && typeof (m.kept_packed ?? m.kept_diff) === 'string' && m.T >= 2), 'members list their kept points');
   const [csvDownload] = await Promise.all([page.waitForEvent('download'), page.click('#export-csv')]);
   const csv = readFileSync(await csvDownload.path(), 'utf8').trim().split('\n');
   assert.equal(csv[0], 'T,E_sum,E_max,kept');
