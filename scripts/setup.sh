@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what a fresh Debian 12 machine (root, Rust via rustup) lacks to build, serve and test
 # ParetoMesh: the wasm32 target, clippy/rustfmt, wasm-bindgen-cli pinned to Cargo.lock,
-# Chromium + chromedriver (apt), and the npm dev tools (binaryen's wasm-opt, playwright-core).
+# Chromium + chromedriver (apt), and the npm dev tools (binaryen's wasm-opt, playwright-core,
+# CesiumJS and the Khronos glTF validator for the tile pyramid's test).
 # Each step is skipped when the right version is already present. Shared by scripts/serve.sh
 # and .ci/run.
 set -euo pipefail
@@ -32,6 +33,7 @@ if ! command -v npm >/dev/null; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y nodejs npm
 fi
 if [ ! -x node_modules/.bin/wasm-opt ] || [ ! -d node_modules/playwright-core ] \
+  || [ ! -d node_modules/cesium/Build/Cesium ] || [ ! -d node_modules/gltf-validator ] \
   || [ package-lock.json -nt node_modules/.package-lock.json ]; then
   npm ci --no-audit --no-fund
 fi

@@ -64,6 +64,9 @@ node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
 node tests/e2e/compare.test.mjs
 node tests/e2e/export.test.mjs
+# The 3D Tiles pyramid (the CLI's debug build): every glb through the Khronos glTF validator,
+# then CesiumJS shows it offline.
+node tests/e2e/tiles.test.mjs
 
 stage ""
 echo "== stage times (total $SECONDS s)"

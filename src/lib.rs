@@ -21,6 +21,7 @@
 //! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
 //!   the app.
 //! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
+//! - [`pyramid`]: a 3D Tiles pyramid of a front's members, placed on the globe when georeferenced.
 //! - [`app`]: the browser app's logic without the DOM (state, share links, plot layout, ...).
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU.
 
@@ -41,6 +42,7 @@ pub mod metrics;
 pub mod optimizer;
 pub mod tiling;
 pub mod pick;
+pub mod pyramid;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -77,6 +77,9 @@ pub fn run(input: &InputArgs) -> Result<(), String> {
         if let Some(nodata) = &geo.nodata {
             println!("GeoTIFF nodata (tag 42113): {nodata}");
         }
+        if let Some(code) = geo.epsg {
+            println!("GeoTIFF coordinate reference system: EPSG:{code}");
+        }
     }
     println!("source: {}", hf.source());
     Ok(())

@@ -7,6 +7,7 @@ mod front_reader;
 mod info;
 mod input;
 mod run;
+mod tiles;
 
 use clap::{Parser, Subcommand};
 
@@ -44,6 +45,10 @@ enum Command {
     /// Write one member of a front.json as a mesh (PLY, OBJ, STL or binary glTF) in the input's
     /// own coordinates.
     Export(export::ExportArgs),
+    /// Write a 3D Tiles pyramid of a front.json: tileset.json and one binary glTF per tile,
+    /// each quadtree level a member of the front, placed on the globe for a georeferenced
+    /// GeoTIFF (EPSG:4326 or WGS84 UTM).
+    Tiles(tiles::TilesArgs),
     /// Run the paper's experiment on one or more grids: every method, the indicators and the
     /// Wilcoxon tests; writes report.md, fronts-<name>.svg and results.json.
     Experiment(experiment::ExperimentArgs),
@@ -69,6 +74,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
         },
         Command::Run(args) => run::run(&args),
         Command::Export(args) => export::run(&args),
+        Command::Tiles(args) => tiles::run(&args),
         Command::Experiment(args) => experiment::run(&args),
         Command::Report(args) => experiment::report(&args),
         Command::Algorithms => {

@@ -54,6 +54,10 @@ pub struct Georeference {
     pub pixel_is_point: bool,
     /// GDAL_NODATA (tag 42113) as written in the file.
     pub nodata: Option<String>,
+    /// The EPSG code of the map's coordinate reference system: ProjectedCSTypeGeoKey (3072)
+    /// for a projected map, else GeographicTypeGeoKey (2048); `None` when the file names
+    /// neither or a user-defined one.
+    pub epsg: Option<u16>,
 }
 
 /// Why a height field could not be built.

@@ -41,6 +41,12 @@ pub const MAX_CHUNK_BYTES: usize = 256 << 20;
 
 /// GeoKey 1025, GTRasterTypeGeoKey; value 2 is RasterPixelIsPoint.
 const RASTER_TYPE_KEY: u16 = 1025;
+/// GeoKey 2048, GeographicTypeGeoKey: the EPSG code of a geographic (longitude, latitude) map.
+const GEOGRAPHIC_TYPE_KEY: u16 = 2048;
+/// GeoKey 3072, ProjectedCSTypeGeoKey: the EPSG code of a projected map (e.g. 32633, UTM 33N).
+const PROJECTED_TYPE_KEY: u16 = 3072;
+/// The GeoKey value of a user-defined system, which has no EPSG code.
+const USER_DEFINED: u16 = 32767;
 
 fn malformed(message: impl Into<String>) -> ImportError {
     ImportError::Malformed {
@@ -133,11 +139,17 @@ fn georeference<R: Read + Seek>(decoder: &mut Decoder<R>) -> Result<Georeference
         None => Vec::new(),
     };
     // Header of 4 shorts, then (key, location, count, value) per key; location 0 = inline value.
-    let pixel_is_point = keys
-        .get(4..)
-        .unwrap_or_default()
-        .chunks_exact(4)
-        .any(|k| k[0] == RASTER_TYPE_KEY && k[1] == 0 && k[3] == 2);
+    let inline_key = |key: u16| {
+        keys.get(4..)
+            .unwrap_or_default()
+            .chunks_exact(4)
+            .find(|k| k[0] == key && k[1] == 0)
+            .map(|k| k[3])
+    };
+    let pixel_is_point = inline_key(RASTER_TYPE_KEY) == Some(2);
+    let epsg = inline_key(PROJECTED_TYPE_KEY)
+        .or_else(|| inline_key(GEOGRAPHIC_TYPE_KEY))
+        .filter(|&code| code != 0 && code != USER_DEFINED);
     let nodata = match decoder.find_tag(Tag::GdalNodata).map_err(decoding)? {
         Some(value) => Some(
             value
@@ -154,6 +166,7 @@ fn georeference<R: Read + Seek>(decoder: &mut Decoder<R>) -> Result<Georeference
         tiepoint,
         pixel_is_point,
         nodata,
+        epsg,
     })
 }
 

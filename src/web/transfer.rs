@@ -26,7 +26,7 @@ fn optional_numbers(values: Option<&[f64]>) -> JsValue {
     values.map_or(JsValue::NULL, numbers)
 }
 
-/// The georeferencing as `{pixelScale, tiepoint, pixelIsPoint, nodata}` (absent tags are null).
+/// The georeferencing as `{pixelScale, tiepoint, pixelIsPoint, nodata, epsg}` (absent tags are null).
 fn georeference_to_js(geo: &Georeference) -> Result<JsValue, JsValue> {
     let o = Object::new();
     set(
@@ -44,6 +44,12 @@ fn georeference_to_js(geo: &Georeference) -> Result<JsValue, JsValue> {
         &o,
         "nodata",
         &geo.nodata.as_deref().map_or(JsValue::NULL, JsValue::from),
+    )?;
+    set(
+        &o,
+        "epsg",
+        &geo.epsg
+            .map_or(JsValue::NULL, |c| JsValue::from(f64::from(c))),
     )?;
     Ok(o.into())
 }
@@ -120,6 +126,10 @@ fn georeference_from_js(o: &JsValue) -> Result<Option<Georeference>, String> {
         tiepoint: optional_array(&geo, "tiepoint")?,
         pixel_is_point: get(&geo, "pixelIsPoint")?.as_bool().unwrap_or(false),
         nodata: get(&geo, "nodata")?.as_string(),
+        epsg: get(&geo, "epsg")?
+            .as_f64()
+            .filter(|c| c.fract() == 0.0 && (1.0..=65535.0).contains(c))
+            .map(|c| c as u16),
     }))
 }
 

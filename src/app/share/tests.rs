@@ -409,6 +409,7 @@ fn geo_geometry() -> GridGeometry {
             tiepoint: Some([0.0, 0.0, 0.0, 2_667_400.0, 6_478_710.0, 0.0]),
             pixel_is_point: false,
             nodata: Some("-9999".into()),
+            epsg: Some(2193),
         }),
     }
 }

@@ -93,6 +93,8 @@ struct WireGeoreference {
     pixel_is_point: bool,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     nodata: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    epsg: Option<u16>,
 }
 
 impl WireGeometry {
@@ -126,6 +128,7 @@ impl WireGeometry {
                 tiepoint: geo.tiepoint,
                 pixel_is_point: geo.pixel_is_point,
                 nodata: geo.nodata,
+                epsg: geo.epsg,
             }),
         })
     }
@@ -157,6 +160,7 @@ impl WireGeometry {
                 tiepoint: geo.tiepoint,
                 pixel_is_point: geo.pixel_is_point,
                 nodata: geo.nodata,
+                epsg: geo.epsg,
             }),
         }
     }
