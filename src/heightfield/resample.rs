@@ -607,7 +607,7 @@ fn draw_triangle(
 /// Fills NaN points with the value of the nearest non-NaN point in 4-neighbour steps (ties: the
 /// one reached first from the lower grid index); returns how many were filled. At least one
 /// point must be non-NaN.
-pub(crate) fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
+pub fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
     let mut queue: VecDeque<usize> = (0..z.len()).filter(|&i| !z[i].is_nan()).collect();
     let filled = z.len() - queue.len();
     while let Some(i) = queue.pop_front() {
