@@ -17,6 +17,7 @@
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL) and the front as CSV, for the CLI and the app.
+//! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
 //! - [`app`]: the browser app's logic without the DOM (state, share links, plot layout, ...).
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU.
 
@@ -31,6 +32,7 @@ pub mod heightfield;
 pub mod metrics;
 pub mod optimizer;
 pub mod run_file;
+pub mod tiling;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;
