@@ -27,10 +27,12 @@ import numpy as np
 from . import _native
 from ._native import Front, Member
 
-__all__ = ["simplify", "read", "load_front", "Front", "Member", "METHODS"]
+__all__ = ["simplify", "read", "load_front", "Front", "Member", "METHODS", "DEFAULT_TILE"]
 
 #: The methods ``simplify`` runs, named as the CLI's ``--algo`` names them.
 METHODS: Tuple[str, ...] = tuple(_native.METHODS)
+#: The tile side in grid points when ``tile`` is not given.
+DEFAULT_TILE: int = _native.DEFAULT_TILE
 
 PathLike = Union[str, "os.PathLike[str]"]
 Pair = Union[float, Sequence[float]]
@@ -110,9 +112,12 @@ def simplify(
     evals : int, optional
         Stop after about this many evaluations (default: the method's own budget).
     threads : int, optional
-        Threads for a tiled run (default: every core). An untiled run uses one.
+        Threads for a tiled run (default: every core); the front is the same for any number.
     tile : int, optional
-        Tile side for a tiled run (see the README); None runs the grid whole.
+        Tile side in grid points (default ``DEFAULT_TILE``, 1025). A grid larger than a tile
+        is cut into tiles that share their border rows and columns, each tile is optimised
+        on its own, and the whole-grid front is assembled from the tiles' fronts; a grid of
+        one tile runs whole, as the CLI does.
     spacing : float or (dx, dy), optional
         Map units between grid columns and rows (default 1).
     origin : (x0, y0), optional
@@ -137,13 +142,9 @@ def simplify(
     evals = _count(evals, "evals", 1)
     threads = _count(threads, "threads", 1)
     tile = _count(tile, "tile", 2)
-    if tile is not None:
-        return _native.simplify_tiled(
-            heights, method, seed, tile, evals, threads,
-            _pair(spacing, "spacing"), _pair(origin, "origin"),
-        )
     return _native.simplify(
-        heights, method, seed, evals, _pair(spacing, "spacing"), _pair(origin, "origin")
+        heights, method, seed, evals, threads, tile,
+        _pair(spacing, "spacing"), _pair(origin, "origin"),
     )
 
 

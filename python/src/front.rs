@@ -9,16 +9,36 @@ use paretomesh::front::Solution;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::metrics::trade_off_pick;
 use paretomesh::run_file::{GridInfo, RunFile, RunSolution};
+use paretomesh::tiling::TiledFront;
 use pyo3::exceptions::{PyIndexError, PyOSError};
 use pyo3::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
-/// Everything a front knows: the run's record (as front.json holds it) and, when known, the
-/// height field it was made on, which its meshes need.
+/// A front's members: one kept set each (an untiled run), or one candidate per tile (a tiled
+/// run, whose mesh is the union of its tiles' canonical triangulations).
+pub enum Members {
+    Untiled(Vec<Solution>),
+    Tiled(TiledFront),
+}
+
+/// Where a front's height field comes from when its meshes need it.
+pub enum GridSource {
+    /// Not known: the front was loaded without its grid.
+    None,
+    /// Held.
+    Held(Arc<Heightfield>),
+    /// Read from this file (any format the CLI reads) when first needed.
+    File(PathBuf),
+}
+
+/// Everything a front knows: the run's record (as front.json holds it) and where its height
+/// field is, which its meshes need.
 pub struct FrontData {
-    pub hf: Option<Arc<Heightfield>>,
+    pub grid_source: GridSource,
+    /// The height field once read from `grid_source`.
+    pub hf: OnceLock<Arc<Heightfield>>,
     pub grid: GridInfo,
     pub algorithm: String,
     pub params: serde_json::Value,
@@ -26,48 +46,130 @@ pub struct FrontData {
     pub evaluations: u64,
     pub millis: u64,
     /// By increasing T.
-    pub members: Vec<Solution>,
+    pub members: Members,
+}
+
+/// A member's numbers.
+#[derive(Clone, Copy)]
+pub struct Numbers {
+    pub e_sum: f64,
+    pub e_max: f64,
+    pub t: usize,
 }
 
 impl FrontData {
-    /// The record of a finished run on `hf`.
-    pub fn of_run(hf: Arc<Heightfield>, file: RunFile) -> Self {
-        let mut data = Self::of_file(file);
-        data.hf = Some(hf);
-        data
-    }
-
-    /// A front read from front.json, without its height field.
-    pub fn of_file(file: RunFile) -> Self {
+    /// A front read from front.json (or made by a run), with its grid from `grid_source`.
+    pub fn of_file(file: RunFile, grid_source: GridSource) -> Self {
         Self {
-            hf: None,
+            grid_source,
+            hf: OnceLock::new(),
             grid: file.grid,
             algorithm: file.algorithm,
             params: file.params,
             seed: file.seed,
             evaluations: file.evaluations,
             millis: file.millis,
-            members: file.front.into_iter().map(|m| m.solution).collect(),
+            members: Members::Untiled(file.front.into_iter().map(|m| m.solution).collect()),
         }
     }
 
-    fn run_file(&self) -> RunFile {
-        RunFile {
-            grid: self.grid.clone(),
-            algorithm: self.algorithm.clone(),
-            params: self.params.clone(),
-            seed: self.seed,
-            evaluations: self.evaluations,
-            millis: self.millis,
-            front: self
-                .members
+    pub fn len(&self) -> usize {
+        match &self.members {
+            Members::Untiled(m) => m.len(),
+            Members::Tiled(f) => f.members.len(),
+        }
+    }
+
+    pub fn numbers(&self, i: usize) -> Numbers {
+        match &self.members {
+            Members::Untiled(m) => Numbers {
+                e_sum: m[i].e_sum,
+                e_max: m[i].e_max,
+                t: m[i].t,
+            },
+            Members::Tiled(f) => Numbers {
+                e_sum: f.members[i].e_sum,
+                e_max: f.members[i].e_max,
+                t: f.members[i].t as usize,
+            },
+        }
+    }
+
+    fn all_numbers(&self) -> Vec<Numbers> {
+        (0..self.len()).map(|i| self.numbers(i)).collect()
+    }
+
+    /// The height field, read on first use when the front names a file.
+    pub fn heightfield(&self) -> Result<Arc<Heightfield>, String> {
+        if let Some(hf) = self.hf.get() {
+            return Ok(hf.clone());
+        }
+        let hf = match &self.grid_source {
+            GridSource::None => {
+                return Err("this front was loaded without its grid: pass the grid to load_front(path, grid=...) to build meshes".into());
+            }
+            GridSource::Held(hf) => hf.clone(),
+            GridSource::File(path) => Arc::new(
+                paretomesh::heightfield::load(path).map_err(|e| e.to_string())?,
+            ),
+        };
+        Ok(self.hf.get_or_init(|| hf).clone())
+    }
+
+    /// Member `i`'s kept grid points (increasing) and triangles (grid indices, canonical order).
+    pub fn kept_and_triangles(&self, i: usize) -> Result<(Vec<u32>, Vec<[u32; 3]>), String> {
+        let hf = self.heightfield()?;
+        match &self.members {
+            Members::Untiled(m) => {
+                // A front.json written by another tool may list its points in any order.
+                let mut kept = m[i].kept.clone();
+                kept.sort_unstable();
+                kept.dedup();
+                check_indices(&kept, hf.len()).map_err(|e| e.to_string())?;
+                let evaluation = Evaluator::new(hf)
+                    .evaluate(&kept)
+                    .map_err(|e| e.to_string())?;
+                Ok((kept, canonical_set(&evaluation.triangles)))
+            }
+            Members::Tiled(f) => {
+                let mesh = f.mesh(&hf, i).map_err(|e| e.to_string())?;
+                Ok((mesh.kept, canonical_set(&mesh.triangles)))
+            }
+        }
+    }
+
+    /// The front.json of this front. A tiled front's members list their triangles too: their
+    /// mesh is the union of the tiles' triangulations, not the Delaunay triangulation of the
+    /// kept set, so `paretomesh export` must read it from the file.
+    fn run_file(&self) -> Result<RunFile, String> {
+        let front = match &self.members {
+            Members::Untiled(m) => m
                 .iter()
                 .map(|s| RunSolution {
                     solution: s.clone(),
                     triangles: None,
                 })
                 .collect(),
-        }
+            Members::Tiled(f) => (0..f.members.len())
+                .map(|i| {
+                    let (kept, triangles) = self.kept_and_triangles(i)?;
+                    let n = self.numbers(i);
+                    Ok(RunSolution {
+                        solution: Solution::recorded(n.e_sum, n.e_max, n.t, kept),
+                        triangles: Some(triangles),
+                    })
+                })
+                .collect::<Result<_, String>>()?,
+        };
+        Ok(RunFile {
+            grid: self.grid.clone(),
+            algorithm: self.algorithm.clone(),
+            params: self.params.clone(),
+            seed: self.seed,
+            evaluations: self.evaluations,
+            millis: self.millis,
+            front,
+        })
     }
 }
 
@@ -97,11 +199,11 @@ impl PyFront {
 #[pymethods]
 impl PyFront {
     fn __len__(&self) -> usize {
-        self.data.members.len()
+        self.data.len()
     }
 
     fn __getitem__(&self, index: isize) -> PyResult<PyMember> {
-        let n = self.data.members.len() as isize;
+        let n = self.data.len() as isize;
         let at = if index < 0 { index + n } else { index };
         if !(0..n).contains(&at) {
             return Err(PyIndexError::new_err(format!(
@@ -113,12 +215,16 @@ impl PyFront {
 
     fn __repr__(&self) -> String {
         let d = &self.data;
-        let t = |s: Option<&Solution>| s.map_or(0, |s| s.t);
+        let n = d.len();
+        let t = |i: usize| if n == 0 { 0 } else { d.numbers(i).t };
+        let tiles = match &d.members {
+            Members::Untiled(_) => String::new(),
+            Members::Tiled(f) => format!(" in {} tiles", f.plan.len()),
+        };
         format!(
-            "<paretomesh.Front: {} members, T {}..{}, {} on a {}×{} grid, seed {}>",
-            d.members.len(),
-            t(d.members.first()),
-            t(d.members.last()),
+            "<paretomesh.Front: {n} members, T {}..{}, {} on a {}×{} grid{tiles}, seed {}>",
+            t(0),
+            t(n.saturating_sub(1)),
             d.algorithm,
             d.grid.width,
             d.grid.height,
@@ -138,7 +244,7 @@ impl PyFront {
         self.data.seed
     }
 
-    /// Evaluations the run spent.
+    /// Evaluations the run spent (over every tile of a tiled run).
     #[getter]
     fn evaluations(&self) -> u64 {
         self.data.evaluations
@@ -162,10 +268,24 @@ impl PyFront {
         self.data.grid.source.clone()
     }
 
+    /// The tile side of a tiled run, None for an untiled one.
+    #[getter]
+    fn tile(&self) -> Option<usize> {
+        match &self.data.members {
+            Members::Untiled(_) => None,
+            Members::Tiled(f) => Some(f.plan.tile_size()),
+        }
+    }
+
     /// The paper's trade-off pick (its eq. 7–9, the weights drawn with the run's seed): the
     /// member ``paretomesh export --tradeoff`` exports.
     fn knee(&self) -> PyResult<PyMember> {
-        let points: Vec<[f64; 2]> = self.data.members.iter().map(Solution::objectives).collect();
+        let points: Vec<[f64; 2]> = self
+            .data
+            .all_numbers()
+            .iter()
+            .map(|n| [n.e_sum, n.t as f64])
+            .collect();
         let pick = trade_off_pick(&points, self.data.seed)
             .map_err(|e| value_error(format!("no trade-off pick: {e}")))?;
         Ok(self.member(pick.index))
@@ -173,7 +293,7 @@ impl PyFront {
 
     /// The member of least E_sum among those with at most ``n`` triangles.
     fn at_most_triangles(&self, n: usize) -> PyResult<PyMember> {
-        let members = &self.data.members;
+        let members = self.data.all_numbers();
         (0..members.len())
             .filter(|&i| members[i].t <= n)
             .min_by(|&i, &j| {
@@ -192,7 +312,7 @@ impl PyFront {
     /// The member of fewest triangles among those whose largest vertical error E_max is at
     /// most ``x`` (in the surface's height units); ties go to the lower E_sum.
     fn at_most_vertical_error(&self, x: f64) -> PyResult<PyMember> {
-        let members = &self.data.members;
+        let members = self.data.all_numbers();
         (0..members.len())
             .filter(|&i| members[i].e_max <= x)
             .min_by(|&i, &j| {
@@ -216,7 +336,7 @@ impl PyFront {
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let data = self.data.clone();
         py.detach(move || {
-            let file = data.run_file();
+            let file = data.run_file().map_err(value_error)?;
             let out = std::fs::File::create(&path).map_err(|e| {
                 PyOSError::new_err(format!("cannot create {}: {e}", path.display()))
             })?;
@@ -234,25 +354,34 @@ impl PyMember {
     /// E_sum: Σ |z − z̃| over every grid point, in height units.
     #[getter(E_sum)]
     fn e_sum(&self) -> f64 {
-        self.data.members[self.index].e_sum
+        self.data.numbers(self.index).e_sum
     }
 
     /// E_max: the largest vertical error |z − z̃| over the grid, in height units.
     #[getter(E_max)]
     fn e_max(&self) -> f64 {
-        self.data.members[self.index].e_max
+        self.data.numbers(self.index).e_max
     }
 
     /// T: the number of triangles.
     #[getter(T)]
     fn t(&self) -> usize {
-        self.data.members[self.index].t
+        self.data.numbers(self.index).t
     }
 
     /// The kept grid points as increasing flat indices y·W + x (uint32), corners included.
     #[getter]
-    fn kept<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        self.data.members[self.index].kept.clone().into_pyarray(py)
+    fn kept<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
+        let kept = match &self.data.members {
+            Members::Untiled(m) => m[self.index].kept.clone(),
+            Members::Tiled(_) => {
+                let (data, index) = (self.data.clone(), self.index);
+                py.detach(move || data.kept_and_triangles(index))
+                    .map_err(value_error)?
+                    .0
+            }
+        };
+        Ok(kept.into_pyarray(py))
     }
 
     /// This member's position in its front.
@@ -262,40 +391,27 @@ impl PyMember {
     }
 
     fn __repr__(&self) -> String {
-        let s = &self.data.members[self.index];
+        let n = self.data.numbers(self.index);
         format!(
-            "<paretomesh.Member {}: T={} E_sum={} E_max={} kept={}>",
-            self.index,
-            s.t,
-            s.e_sum,
-            s.e_max,
-            s.kept.len()
+            "<paretomesh.Member {}: T={} E_sum={} E_max={}>",
+            self.index, n.t, n.e_sum, n.e_max
         )
     }
 
     /// The mesh: ``(vertices, triangles)``, vertices float64 (n, 3) in map coordinates
     /// (x = origin_x + column·dx, y = origin_y + row·dy, z = height), one per kept point in the
     /// order of ``kept``; triangles uint32 (m, 3), counter-clockwise seen from +z, indexing
-    /// ``vertices``: the canonical Delaunay triangulation of the kept set.
+    /// ``vertices``. Untiled: the canonical Delaunay triangulation of the kept set; tiled: the
+    /// union of the tiles' canonical triangulations.
     fn mesh<'py>(
         &self,
         py: Python<'py>,
     ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>)> {
-        let Some(hf) = self.data.hf.clone() else {
-            return Err(value_error(
-                "this front was loaded without its grid: pass the grid to load_front(path, grid=...) to build meshes",
-            ));
-        };
-        // A front.json written by another tool may list its points in any order.
-        let mut kept = self.data.members[self.index].kept.clone();
-        kept.sort_unstable();
-        kept.dedup();
+        let (data, index) = (self.data.clone(), self.index);
         let mesh = py.detach(move || -> Result<WorldMesh, String> {
-            check_indices(&kept, hf.len()).map_err(|e| e.to_string())?;
-            let evaluation = Evaluator::new(hf.clone())
-                .evaluate(&kept)
-                .map_err(|e| e.to_string())?;
-            WorldMesh::new(&hf, &kept, &canonical_set(&evaluation.triangles))
+            let hf = data.heightfield()?;
+            let (kept, triangles) = data.kept_and_triangles(index)?;
+            WorldMesh::new(&hf, &kept, &triangles)
         });
         let mesh = mesh.map_err(value_error)?;
         let (n, m) = (mesh.vertices.len(), mesh.triangles.len());
