@@ -19,7 +19,8 @@ use std::sync::{Arc, OnceLock};
 /// A front's members: one kept set each (an untiled run), or one candidate per tile (a tiled
 /// run, whose mesh is the union of its tiles' canonical triangulations).
 pub enum Members {
-    Untiled(Vec<Solution>),
+    /// Each member with the triangles its file listed, if any (a saved tiled front lists them).
+    Untiled(Vec<RunSolution>),
     Tiled(TiledFront),
 }
 
@@ -69,7 +70,7 @@ impl FrontData {
             seed: file.seed,
             evaluations: file.evaluations,
             millis: file.millis,
-            members: Members::Untiled(file.front.into_iter().map(|m| m.solution).collect()),
+            members: Members::Untiled(file.front),
         }
     }
 
@@ -83,9 +84,9 @@ impl FrontData {
     pub fn numbers(&self, i: usize) -> Numbers {
         match &self.members {
             Members::Untiled(m) => Numbers {
-                e_sum: m[i].e_sum,
-                e_max: m[i].e_max,
-                t: m[i].t,
+                e_sum: m[i].solution.e_sum,
+                e_max: m[i].solution.e_max,
+                t: m[i].solution.t,
             },
             Members::Tiled(f) => Numbers {
                 e_sum: f.members[i].e_sum,
@@ -122,10 +123,19 @@ impl FrontData {
         match &self.members {
             Members::Untiled(m) => {
                 // A front.json written by another tool may list its points in any order.
-                let mut kept = m[i].kept.clone();
+                let mut kept = m[i].solution.kept.clone();
                 kept.sort_unstable();
                 kept.dedup();
                 check_indices(&kept, hf.len()).map_err(|e| e.to_string())?;
+                if let Some(listed) = &m[i].triangles {
+                    // The file's own mesh (a tiled front's union of tile meshes).
+                    check_indices(listed.as_flattened(), hf.len()).map_err(|e| e.to_string())?;
+                    let mut kept = kept;
+                    kept.extend(listed.as_flattened());
+                    kept.sort_unstable();
+                    kept.dedup();
+                    return Ok((kept, canonical_set(listed)));
+                }
                 let evaluation = Evaluator::new(hf)
                     .evaluate(&kept)
                     .map_err(|e| e.to_string())?;
@@ -143,13 +153,7 @@ impl FrontData {
     /// kept set, so `paretomesh export` must read it from the file.
     fn run_file(&self) -> Result<RunFile, String> {
         let front = match &self.members {
-            Members::Untiled(m) => m
-                .iter()
-                .map(|s| RunSolution {
-                    solution: s.clone(),
-                    triangles: None,
-                })
-                .collect(),
+            Members::Untiled(m) => m.clone(),
             Members::Tiled(f) => (0..f.members.len())
                 .map(|i| {
                     let (kept, triangles) = self.kept_and_triangles(i)?;
@@ -373,7 +377,7 @@ impl PyMember {
     #[getter]
     fn kept<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<u32>>> {
         let kept = match &self.data.members {
-            Members::Untiled(m) => m[self.index].kept.clone(),
+            Members::Untiled(m) => m[self.index].solution.kept.clone(),
             Members::Tiled(_) => {
                 let (data, index) = (self.data.clone(), self.index);
                 py.detach(move || data.kept_and_triangles(index))

@@ -380,7 +380,7 @@ fn load_front(
             }
             if let Members::Untiled(members) = &data.members {
                 for s in members {
-                    check_indices(&s.kept, hf.len()).map_err(|e| value_error(e.to_string()))?;
+                    check_indices(&s.solution.kept, hf.len()).map_err(|e| value_error(e.to_string()))?;
                 }
             }
             data.grid_source = GridSource::Held(Arc::new(hf));
