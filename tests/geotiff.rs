@@ -1,9 +1,9 @@
 //! GeoTIFF import: the files in tests/data made with GDAL from the raw grids (see SOURCES.md),
 //! and files written in memory with the `tiff` crate's encoder for the other sample types.
 
-use paretomesh::heightfield::{
-    self, Heightfield, ImportError, ImportOptions, geotiff::MAX_SOURCE_POINTS,
-};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
+use paretomesh::import::{ImportError, ImportOptions, geotiff::MAX_SOURCE_POINTS};
 use std::io::Cursor;
 use std::path::PathBuf;
 use tiff::encoder::{TiffEncoder, colortype};
@@ -23,7 +23,7 @@ fn raw(name: &str) -> Vec<f64> {
 }
 
 fn load(name: &str) -> Result<Heightfield, ImportError> {
-    heightfield::load(&data(name))
+    import::load(&data(name))
 }
 
 /// Grid row y of a georeferenced file is file row H−1−y.
@@ -142,7 +142,7 @@ where
 }
 
 fn parse(bytes: &[u8]) -> Result<Heightfield, ImportError> {
-    heightfield::from_bytes("dem.tif", bytes, None, &ImportOptions::default())
+    import::from_bytes("dem.tif", bytes, None, &ImportOptions::default())
 }
 
 #[test]
@@ -211,8 +211,8 @@ fn a_grid_size_resamples_by_area_averaging() {
         ..ImportOptions::default()
     };
     let path = data("volcano_87x61_int16_lzw_nodata.tif");
-    let full = heightfield::load(&path).unwrap();
-    let small = heightfield::load_with(&path, &options).unwrap();
+    let full = import::load(&path).unwrap();
+    let small = import::load_with(&path, &options).unwrap();
     assert_eq!((small.width(), small.height()), (44, 31));
     // Same extent: the spacing doubles exactly (86/43, 60/30), the corners stay put.
     assert_eq!(small.spacing(), [20.0, 20.0]);
@@ -254,7 +254,7 @@ fn an_oversized_grid_is_resampled_to_fit() {
         grid_size: Some((1, 5)),
         ..ImportOptions::default()
     };
-    let err = heightfield::from_bytes("dem.tif", &bytes, None, &options).unwrap_err();
+    let err = import::from_bytes("dem.tif", &bytes, None, &options).unwrap_err();
     assert!(err.to_string().contains("at least 2×2"), "{err}");
 }
 

@@ -1,7 +1,8 @@
 //! Turning dropped files into a height field, and the built-in surface.
 
-use crate::heightfield::import::{ImportError, Projection, Surface};
-use crate::heightfield::{Heightfield, ImportOptions, raw};
+use crate::heightfield::Heightfield;
+use crate::import::{ImportError, Projection, Surface};
+use crate::import::{ImportOptions, raw};
 
 /// A surface built into the app (copied from `tests/data`, see its SOURCES.md).
 #[derive(Clone, Copy, Debug)]
@@ -122,7 +123,7 @@ pub fn parse_file(
     sidecar: Option<&[u8]>,
     options: &ImportOptions,
 ) -> Result<Heightfield, LoadError> {
-    crate::heightfield::import::from_bytes(name, bytes, sidecar, options).map_err(|e| {
+    crate::import::from_bytes(name, bytes, sidecar, options).map_err(|e| {
         let folds = matches!(e, ImportError::NoProjection { .. });
         let message = e.to_string();
         let message = if message.contains(name) {

@@ -9,7 +9,8 @@ use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::export::glb::{GlbMesh, vertex_normals, write_glb};
 use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::{obj::to_obj, ply::to_ply, stl::to_stl};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use paretomesh::run_file::RunFile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -175,8 +176,7 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         Some(path) => path.clone(),
         None => find_grid(&args.front, &file.grid.source)?,
     };
-    let hf =
-        heightfield::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
+    let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
     let (w, h) = (file.grid.width, file.grid.height);
     if (hf.width(), hf.height()) != (w, h) {
         return Err(format!(

@@ -1,7 +1,9 @@
 //! The input options every subcommand that reads a grid shares: the file and how to import it.
 
 use clap::{Args, ValueEnum};
-use paretomesh::heightfield::{self, Heightfield, ImportOptions, Projection, Surface};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
+use paretomesh::import::{ImportOptions, Projection, Surface};
 use std::path::PathBuf;
 
 /// How a mesh becomes a grid, as spelled on the command line.
@@ -89,6 +91,6 @@ impl ImportArgs {
 impl InputArgs {
     /// Loads the grid; the error is a message for the user.
     pub fn load(&self) -> Result<Heightfield, String> {
-        heightfield::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())
+        import::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())
     }
 }

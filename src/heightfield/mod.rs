@@ -1,21 +1,9 @@
-//! The height field z = f(x, y) sampled on a regular W×H grid, and its import.
+//! The height field z = f(x, y) sampled on a regular W×H grid. Files become height fields in
+//! [`crate::import`].
 //!
 //! Grid point `(x, y)` (x = column, y = row) has index `y * width + x`; every other module speaks
 //! in these indices. [`Placement`] remembers how the grid sits in the input's 3-D space so that a
 //! simplified mesh can be exported in the input's own coordinates.
-
-pub mod geotiff;
-pub mod heightmap_png;
-pub mod import;
-pub mod mesh;
-pub mod obj;
-pub mod ply;
-pub mod raw;
-pub mod resample;
-pub mod stl;
-
-pub use import::{ImportError, ImportOptions, Projection, Surface, from_bytes, load, load_with};
-pub use mesh::TriangleMesh;
 
 use std::fmt;
 

@@ -9,7 +9,7 @@ use crate::app::compare::METHODS;
 use crate::app::loader;
 use crate::app::share::{FileFingerprint, fnv1a64};
 use crate::evaluator::Evaluator;
-use crate::heightfield::{ImportOptions, raw};
+use crate::import::{ImportOptions, raw};
 use js_sys::Reflect;
 use std::cell::RefCell;
 use std::rc::Rc;

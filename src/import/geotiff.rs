@@ -14,10 +14,10 @@
 //!   is resampled by area averaging ([`super::resample::area_average`]); without a size asked
 //!   for, an oversized grid is brought to at most [`DEFAULT_MAX_SIDE`] per side.
 
-use super::import::ImportError;
-use super::mesh::DEFAULT_MAX_SIDE;
+use super::error::ImportError;
 use super::resample::{area_average, fill_nearest};
-use super::{Georeference, Heightfield};
+use super::triangle_mesh::DEFAULT_MAX_SIDE;
+use crate::heightfield::{Georeference, Heightfield};
 use std::io::Cursor;
 use tiff::TiffError;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
@@ -247,8 +247,8 @@ fn open(bytes: &[u8]) -> Result<(TiffDecoder<'_>, usize, usize), ImportError> {
             limit: MAX_SOURCE_POINTS,
         });
     }
-    if width < super::MIN_SIDE || height < super::MIN_SIDE {
-        return Err(super::HeightfieldError::TooSmall { width, height }.into());
+    if width < crate::heightfield::MIN_SIDE || height < crate::heightfield::MIN_SIDE {
+        return Err(crate::heightfield::HeightfieldError::TooSmall { width, height }.into());
     }
     let bands: u16 = decoder
         .find_tag_unsigned(Tag::SamplesPerPixel)
@@ -348,19 +348,20 @@ fn sized(
         origin,
         spacing,
     } = raster;
-    let fits = super::check_size(width, height).is_ok();
+    let fits = crate::heightfield::check_size(width, height).is_ok();
     let target = match grid_size {
         Some(size) => Some(size),
         None if fits => None,
         None => {
             let scale = DEFAULT_MAX_SIDE as f64 / width.max(height) as f64;
-            let side = |s: usize| ((s as f64 * scale).round() as usize).max(super::MIN_SIDE);
+            let side =
+                |s: usize| ((s as f64 * scale).round() as usize).max(crate::heightfield::MIN_SIDE);
             Some((side(width), side(height)))
         }
     };
     Ok(match target {
         Some((tw, th)) if (tw, th) != (width, height) => {
-            super::check_size(tw, th)?;
+            crate::heightfield::check_size(tw, th)?;
             let averaged = area_average(&z, width, height, tw, th);
             let spacing = [
                 spacing[0] * (width - 1) as f64 / (tw - 1) as f64,

@@ -28,15 +28,12 @@
 //! - **Fill.** A point no triangle covers takes the value of its nearest covered point in
 //!   4-neighbour steps (breadth-first from all covered points, ties to the lower grid index).
 
-use super::Placement;
-use super::import::{ImportError, Projection, Surface};
-use super::mesh::{DEFAULT_MAX_SIDE, TriangleMesh};
+use super::error::ImportError;
+use super::options::{MAX_OVERLAP, Projection, Surface};
+use super::triangle_mesh::{DEFAULT_MAX_SIDE, TriangleMesh};
+use crate::heightfield::Placement;
 use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
-
-/// Largest accepted share of doubly covered grid points (10 %): small overhangs are resolved by
-/// "highest wins", a surface folded over on a larger share is not a height field.
-pub const MAX_OVERLAP: f64 = 0.10;
 
 /// A mesh resampled onto a grid.
 pub struct Resampled {
@@ -438,7 +435,7 @@ fn resample_projected(
         Some(s) => s,
         None => automatic_size(mesh.vertices.len(), extent[0] * projected.x_unit, extent[1]),
     };
-    super::check_size(width, height)?;
+    crate::heightfield::check_size(width, height)?;
     let spacing = [
         extent[0] / (width - 1) as f64,
         extent[1] / (height - 1) as f64,
