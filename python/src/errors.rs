@@ -1,7 +1,8 @@
 //! Library errors as Python exceptions: a file that cannot be read is an `OSError`, everything
 //! else the caller can fix is a `ValueError`; both carry the CLI's message.
 
-use paretomesh::heightfield::{HeightfieldError, ImportError};
+use paretomesh::heightfield::HeightfieldError;
+use paretomesh::import::ImportError;
 use pyo3::PyErr;
 use pyo3::exceptions::{PyOSError, PyValueError};
 

@@ -111,7 +111,7 @@ impl FrontData {
             }
             GridSource::Held(hf) => hf.clone(),
             GridSource::File(path) => Arc::new(
-                paretomesh::heightfield::load(path).map_err(|e| e.to_string())?,
+                paretomesh::import::load(path).map_err(|e| e.to_string())?,
             ),
         };
         Ok(self.hf.get_or_init(|| hf).clone())

@@ -3,7 +3,7 @@
 
 use crate::errors::{grid_error, import_error, value_error};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, ndarray::Array2};
-use paretomesh::heightfield::resample::fill_nearest;
+use paretomesh::import::resample::fill_nearest;
 use paretomesh::heightfield::{self, Heightfield, Placement};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -46,7 +46,7 @@ pub fn from_array(
 
 /// Reads any file the CLI reads, with the CLI's default import options.
 pub fn from_path(path: &Path) -> PyResult<Heightfield> {
-    heightfield::load(path).map_err(import_error)
+    paretomesh::import::load(path).map_err(import_error)
 }
 
 /// The heights as a (height, width) float64 array, row 0 = grid row 0.

@@ -4,7 +4,7 @@
 //! fill depends on cells outside the window, a grid the importer resamples, another format),
 //! the file is read whole once per process and the window cut from it.
 
-use paretomesh::heightfield::{self, Heightfield, MIN_SIDE, check_size};
+use paretomesh::heightfield::{Heightfield, MIN_SIDE, check_size};
 use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
@@ -23,7 +23,7 @@ fn whole(path: &Path) -> Result<Arc<Heightfield>, String> {
     {
         return Ok(hf.clone());
     }
-    let hf = Arc::new(heightfield::load(path).map_err(|e| e.to_string())?);
+    let hf = Arc::new(paretomesh::import::load(path).map_err(|e| e.to_string())?);
     *cached = Some((path.to_path_buf(), hf.clone()));
     Ok(hf)
 }
