@@ -3,7 +3,7 @@
 //! the core metrics compute.
 
 use paretomesh::app::algorithms::{Params, build};
-use paretomesh::app::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS, algorithm_of};
+use paretomesh::app::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS};
 use paretomesh::app::state::Surface;
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::{Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
@@ -88,7 +88,7 @@ fn each_method_reaches_the_front_it_reaches_alone() {
     assert!(run.is_done());
     let hf = run.surface().heightfield.clone();
     for (k, method) in METHODS.into_iter().enumerate() {
-        let mut alone = build(algorithm_of(method), &params(), hf.clone()).unwrap();
+        let mut alone = build(method.algorithm, &params(), hf.clone()).unwrap();
         alone.run_to_end();
         let front = run.front(k).unwrap();
         assert!(!front.is_empty(), "{method:?}");
@@ -294,11 +294,11 @@ fn bad_parameters_and_a_flat_surface_are_messages_not_panics() {
     assert_eq!(
         run.methods().collect::<Vec<_>>(),
         vec![
-            Method::Nsga2,
-            Method::Weighted,
-            Method::Decimation,
-            Method::Greedy,
-            Method::Memetic
+            Method::NSGA2,
+            Method::WEIGHTED,
+            Method::DECIMATION,
+            Method::GREEDY,
+            Method::MEMETIC
         ]
     );
 }

@@ -182,7 +182,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     let json = std::fs::read_to_string(out.join("results.json")).unwrap();
     let svg = std::fs::read_to_string(out.join("fronts-volcano_17x17.svg")).unwrap();
     let results = Results::from_json(&json).unwrap();
-    let labels: Vec<&str> = Method::STANDARD.iter().map(|m| m.label()).collect();
+    let labels: Vec<&str> = Method::standard().iter().map(|m| m.label()).collect();
 
     // results.json: the protocol's run counts and seeds, and real solutions.
     assert_eq!(results.datasets.len(), 1);
@@ -200,16 +200,16 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     );
     assert_eq!(paper.t_scale(), 512.0); // 2·16·16
     let methods: Vec<Method> = d.methods.iter().map(|m| m.method).collect();
-    assert_eq!(methods, Method::STANDARD);
+    assert_eq!(methods, Method::standard());
     for m in &d.methods {
         let seeds: Vec<_> = m.runs.iter().map(|r| r.seed).collect();
         if m.method.is_stochastic() {
             let want = match m.method {
-                Method::Weighted => vec![Some(5), Some(6)],
+                Method::WEIGHTED => vec![Some(5), Some(6)],
                 _ => vec![Some(5), Some(6), Some(7)],
             };
             assert_eq!(seeds, want, "{}", m.method);
-            if m.method == Method::Memetic {
+            if m.method == Method::MEMETIC {
                 // Its own population; NSGA-II's 8 × 3 generations as evaluations.
                 assert_eq!(m.params["population"], 24);
                 assert_eq!(m.params["max_evaluations"], 84);
@@ -333,7 +333,10 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
     let fronts: Vec<_> = doc.descendants().filter(|n| class(n, "front")).collect();
     assert_eq!(fronts.len(), 5);
     for (k, g) in fronts.iter().enumerate() {
-        assert_eq!(g.attribute("data-method"), Some(Method::STANDARD[k].name()));
+        assert_eq!(
+            g.attribute("data-method"),
+            Some(Method::standard()[k].name())
+        );
         let polyline = g.children().find(|c| c.has_tag_name("polyline")).unwrap();
         let points = polyline.attribute("points").unwrap().split(' ').count();
         assert_eq!(points, merged[k].len());
@@ -509,8 +512,8 @@ fn equal_budgets_give_every_ga_run_the_same_evaluations() {
     for m in &d.methods {
         for r in &m.runs {
             let range = match m.method {
-                Method::Nsga2 => 341..341 + MATING_OVERSHOOT,
-                Method::Weighted => 341..341 + 11 * MATING_OVERSHOOT,
+                Method::NSGA2 => 341..341 + MATING_OVERSHOOT,
+                Method::WEIGHTED => 341..341 + 11 * MATING_OVERSHOOT,
                 _ => continue,
             };
             assert!(
@@ -832,8 +835,8 @@ fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_f
     let results = Results::from_json(&read(&out, "results.json")).unwrap();
     let d = &results.datasets[0];
     let methods: Vec<Method> = d.methods.iter().map(|m| m.method).collect();
-    let mut want = vec![Method::Greedy];
-    want.extend(Method::Memetic.with_ablations());
+    let mut want = vec![Method::GREEDY];
+    want.extend(Method::MEMETIC.with_ablations());
     assert_eq!(methods, want);
 
     let hf = Arc::new(import::load(&grid).unwrap());
@@ -845,7 +848,7 @@ fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_f
         "neighbour_mating",
         "local_search",
     ];
-    for m in d.methods.iter().filter(|m| m.method != Method::Greedy) {
+    for m in d.methods.iter().filter(|m| m.method != Method::GREEDY) {
         assert_eq!(m.params["max_evaluations"], 2600, "{}", m.method);
         // The full method writes no switch; each variant writes the one it turns off.
         let off: Vec<&str> = switches
@@ -855,7 +858,7 @@ fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_f
             .collect();
         assert_eq!(
             off.len(),
-            usize::from(m.method != Method::Memetic),
+            usize::from(m.method != Method::MEMETIC),
             "{}",
             m.method
         );
@@ -882,13 +885,13 @@ fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_f
     // differ from the unseeded variant's.
     let full = &d.methods[1];
     let no_seed = &d.methods[2];
-    assert_eq!(no_seed.method, Method::MemeticNoSeed);
+    assert_eq!(no_seed.method, Method::MEMETIC_NO_SEED);
     assert_ne!(full.runs[0].front, no_seed.runs[0].front);
 
     // The ablation table: each variant against the full method, p from the rank-sum test on
     // the per-run HVRs recomputed here.
     let report = read(&out, "report.md");
-    for m in Method::Memetic.with_ablations().into_iter().skip(1) {
+    for m in Method::MEMETIC.with_ablations().into_iter().skip(1) {
         let (_, removes) = m.spec().ablation.unwrap();
         assert!(report.contains(removes), "{m} is not explained:\n{report}");
     }

@@ -1,82 +1,23 @@
-//! The algorithms the app offers, their parameters (the source paper's defaults), and the one
-//! place that builds a running algorithm from them.
+//! The parameter form of the app (the source paper's defaults) and how it fills the
+//! [`catalogue`](crate::catalogue)'s parameters; the methods themselves are the catalogue's.
 
-use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
-use crate::evolution::oax::OaxRecord;
-use crate::evolution::trace::GenerationTrace;
-use crate::evolution::{
-    CrossoverKind, GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams,
-};
+use crate::catalogue::{BudgetKind, Param, Params as CatalogueParams};
+use crate::evolution::{CrossoverKind, GaParams};
 use crate::heightfield::Heightfield;
-use crate::optimizer::Optimizer;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// An algorithm the app can run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Algorithm {
-    /// The memetic NSGA-II, the project's own method and the app's default: greedy seeds,
-    /// error-guided operators and local search (its own parameters; only the seed is the form's).
-    Memetic,
-    /// NSGA-II with the chosen crossover (the paper's method with orthogonal-array crossover).
-    Nsga2,
-    /// A GA on weighted sums of E and T, one run per weight (0, 0.1, …, 1).
-    WeightedSum,
-    /// Greedy insertion (Garland & Heckbert 1995).
-    GreedyInsertion,
-    /// Edge decimation.
-    Decimation,
-}
+pub use crate::catalogue::{Algorithm, Running};
 
-impl Algorithm {
-    /// Every algorithm, in the order of the menu.
-    pub const ALL: [Algorithm; 5] = [
-        Algorithm::Memetic,
-        Algorithm::Nsga2,
-        Algorithm::WeightedSum,
-        Algorithm::GreedyInsertion,
-        Algorithm::Decimation,
-    ];
-
-    /// The algorithm a new app runs: the project's best method.
-    pub const DEFAULT: Algorithm = Algorithm::Memetic;
-
-    /// The menu's value for this algorithm, also its name in front.json (as the CLI spells it).
-    pub fn key(self) -> &'static str {
-        match self {
-            Algorithm::Memetic => "memetic",
-            Algorithm::Nsga2 => "nsga2",
-            Algorithm::WeightedSum => "weighted",
-            Algorithm::GreedyInsertion => "greedy",
-            Algorithm::Decimation => "decimation",
-        }
-    }
-
-    /// The algorithm with menu value `key`.
-    pub fn from_key(key: &str) -> Option<Algorithm> {
-        Self::ALL.into_iter().find(|a| a.key() == key)
-    }
-
-    /// Name for people.
-    pub fn label(self) -> &'static str {
-        match self {
-            Algorithm::Memetic => "memetic NSGA-II",
-            Algorithm::Nsga2 => "NSGA-II",
-            Algorithm::WeightedSum => "weighted-sum GA",
-            Algorithm::GreedyInsertion => "greedy insertion",
-            Algorithm::Decimation => "edge decimation",
-        }
-    }
-
-    /// True when [`build`] reads `field` of the form for this algorithm: every field for the two
-    /// GAs, only the seed for the memetic method (it runs with its own parameters), none for the
-    /// deterministic classical methods.
-    pub fn uses(self, field: Field) -> bool {
-        match self {
-            Algorithm::Nsga2 | Algorithm::WeightedSum => true,
-            Algorithm::Memetic => field == Field::Seed,
-            Algorithm::GreedyInsertion | Algorithm::Decimation => false,
-        }
+/// True when [`build`] reads `field` of the form for `algorithm`: the seed for a stochastic
+/// method; the GA fields for a generational GA that reads them. A method with an evaluation
+/// budget (memetic) keeps its own population and budget, and a method with its own stopping
+/// rule reads nothing.
+pub fn uses(algorithm: Algorithm, field: Field) -> bool {
+    let spec = algorithm.spec();
+    match field.param() {
+        None => spec.stochastic,
+        Some(param) => spec.budget == BudgetKind::Generations && algorithm.reads(param),
     }
 }
 
@@ -107,6 +48,18 @@ impl Field {
         Field::MutationProbability,
         Field::Seed,
     ];
+
+    /// The catalogue parameter the field sets (`None` for the seed, which is not one).
+    pub fn param(self) -> Option<Param> {
+        match self {
+            Field::Population => Some(Param::Population),
+            Field::Generations => Some(Param::Generations),
+            Field::Crossover => Some(Param::Crossover),
+            Field::CrossoverProbability => Some(Param::CrossoverProbability),
+            Field::MutationProbability => Some(Param::MutationProbability),
+            Field::Seed => None,
+        }
+    }
 
     /// The id of the field's input in the page.
     pub fn id(self) -> &'static str {
@@ -204,61 +157,29 @@ impl Params {
     }
 }
 
-/// A running algorithm: an [`Optimizer`] plus what the views show beyond its front.
-pub trait Running: Optimizer {
-    /// The current population as (T, E, non-domination rank); empty for methods without one.
-    fn population_points(&self) -> Vec<(f64, f64, usize)> {
-        Vec::new()
-    }
-    /// What the last completed generation did, phase by phase (NSGA-II only).
-    fn generation_trace(&self) -> Option<&GenerationTrace> {
-        None
-    }
-    /// The last completed orthogonal-array crossover (NSGA-II only).
-    fn last_crossover(&self) -> Option<&OaxRecord> {
-        None
-    }
-}
-
-impl Running for Nsga2 {
-    fn population_points(&self) -> Vec<(f64, f64, usize)> {
-        self.population()
-            .iter()
-            .map(|i| (i.objectives.t as f64, i.objectives.e_sum, i.rank))
-            .collect()
-    }
-    fn generation_trace(&self) -> Option<&GenerationTrace> {
-        self.last_generation()
-    }
-    fn last_crossover(&self) -> Option<&OaxRecord> {
-        Nsga2::last_crossover(self)
+/// The catalogue parameters the form sets for `algorithm`: the fields it [`uses`].
+fn catalogue_params(algorithm: Algorithm, params: &Params) -> CatalogueParams {
+    let set = |field: Field| uses(algorithm, field);
+    CatalogueParams {
+        population: set(Field::Population).then_some(params.population),
+        generations: set(Field::Generations).then_some(params.generations),
+        crossover: set(Field::Crossover).then_some(params.crossover),
+        crossover_probability: set(Field::CrossoverProbability)
+            .then_some(params.crossover_probability),
+        mutation_probability: if set(Field::MutationProbability) {
+            params.mutation_probability
+        } else {
+            None
+        },
+        ..CatalogueParams::default()
     }
 }
-impl Running for Memetic {
-    fn population_points(&self) -> Vec<(f64, f64, usize)> {
-        self.population()
-            .iter()
-            .map(|m| (m.score.t as f64, m.score.e_sum, m.rank))
-            .collect()
-    }
-}
-impl Running for WeightedSum {}
-impl Running for GreedyInsertion {}
-impl Running for EdgeDecimation {}
 
 /// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
 pub fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
-    let value = match algorithm {
-        Algorithm::Memetic => serde_json::to_value(MemeticParams::default()),
-        Algorithm::Nsga2 => serde_json::to_value(params.ga()),
-        Algorithm::WeightedSum => serde_json::to_value(WeightedSumParams {
-            ga: params.ga(),
-            ..WeightedSumParams::default()
-        }),
-        Algorithm::GreedyInsertion => serde_json::to_value(GreedyParams::default()),
-        Algorithm::Decimation => serde_json::to_value(DecimationParams::default()),
-    };
-    value.unwrap_or(serde_json::Value::Null)
+    algorithm
+        .configure(&catalogue_params(algorithm, params))
+        .map_or(serde_json::Value::Null, |c| c.json())
 }
 
 /// Builds `algorithm` on `hf`. Fails with a message for the user when the parameters are out
@@ -269,25 +190,7 @@ pub fn build(
     hf: Arc<Heightfield>,
 ) -> Result<Box<dyn Running>, String> {
     params.validate()?;
-    Ok(match algorithm {
-        Algorithm::Memetic => Box::new(
-            Memetic::new(hf, MemeticParams::default(), params.seed).map_err(|e| e.to_string())?,
-        ),
-        Algorithm::Nsga2 => {
-            Box::new(Nsga2::new(hf, params.ga(), params.seed).map_err(|e| e.to_string())?)
-        }
-        Algorithm::WeightedSum => {
-            let p = WeightedSumParams {
-                ga: params.ga(),
-                ..WeightedSumParams::default()
-            };
-            Box::new(WeightedSum::new(hf, p, params.seed).map_err(|e| e.to_string())?)
-        }
-        Algorithm::GreedyInsertion => {
-            Box::new(GreedyInsertion::new(hf, GreedyParams::default()).map_err(|e| e.to_string())?)
-        }
-        Algorithm::Decimation => Box::new(
-            EdgeDecimation::new(hf, DecimationParams::default()).map_err(|e| e.to_string())?,
-        ),
-    })
+    Ok(algorithm
+        .build(hf, &catalogue_params(algorithm, params), params.seed)?
+        .optimizer)
 }

@@ -1,6 +1,5 @@
-//! Compare mode: the five methods of `paretomesh experiment` — NSGA-II, the weighted-sum GA
-//! (11 weights), edge decimation, greedy insertion and the memetic NSGA-II — run on one surface with one set of GA
-//! parameters and one seed, advanced together inside the frame budget, and compared with the
+//! Compare mode: the methods of `paretomesh experiment` (every method of the catalogue) run
+//! on one surface with one set of GA parameters and one seed, advanced together inside the frame budget, and compared with the
 //! experiment's own analysis. Pure Rust with no DOM, so it is tested directly.
 //!
 //! Each method runs in its own [`App`] (the single-run app state), so it is stepped exactly as
@@ -16,7 +15,7 @@
 //! non-dominated merge of the fronts, and the trade-off picks' weights drawn from the run's
 //! seed.
 
-use super::algorithms::{Algorithm, Field, Params};
+use super::algorithms::{self, Algorithm, Field, Params};
 use super::state::{App, RunConfig, Status, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
@@ -27,27 +26,26 @@ use crate::front::{Front, Solution};
 use crate::metrics::{DEFAULT_REFERENCE_POINT, Normalization, Point};
 use serde::Serialize;
 
-/// The compared methods, in the order of the experiment's tables.
-pub const METHODS: [Method; 5] = Method::STANDARD;
+/// The compared methods: every method of the catalogue, in the order of the experiment's
+/// tables (compare mode runs each full method; ablation variants are the experiment's).
+pub const METHODS: [Method; Algorithm::ALL.len()] = {
+    let mut methods = [Method::MEMETIC; Algorithm::ALL.len()];
+    let mut k = 0;
+    while k < methods.len() {
+        methods[k] = Method::of(Algorithm::ALL[k]);
+        k += 1;
+    }
+    methods
+};
 
 /// Least time between two recomputations of the live table while the run goes on, in ms.
 pub const TABLE_INTERVAL_MS: f64 = 250.0;
 
-/// The app's algorithm for an experiment method.
-pub fn algorithm_of(method: Method) -> Algorithm {
-    match method {
-        Method::Nsga2 => Algorithm::Nsga2,
-        Method::Weighted => Algorithm::WeightedSum,
-        Method::Decimation => Algorithm::Decimation,
-        Method::Greedy => Algorithm::GreedyInsertion,
-        // Compare mode runs the full method; its ablation variants are the experiment's.
-        _ => Algorithm::Memetic,
-    }
-}
-
 /// True when a comparison reads `field` of the form: one of the compared methods uses it.
 pub fn reads(field: Field) -> bool {
-    METHODS.iter().any(|&m| algorithm_of(m).uses(field))
+    METHODS
+        .iter()
+        .any(|&m| algorithms::uses(m.algorithm, field))
 }
 
 /// What one [`CompareRun::tick`] did.
@@ -153,7 +151,7 @@ impl CompareRun {
         let mut lanes = Vec::with_capacity(METHODS.len());
         for method in METHODS {
             let config = RunConfig {
-                algorithm: algorithm_of(method),
+                algorithm: method.algorithm,
                 params: params.clone(),
                 ..RunConfig::default()
             };

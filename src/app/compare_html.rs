@@ -6,16 +6,31 @@ use super::plot;
 use crate::experiment::{Method, Pick};
 use std::fmt::Write;
 
-/// Okabe–Ito colours (distinguishable with the common colour-vision deficiencies), one per
-/// method in [`METHODS`] order; each method also has its own marker shape.
-pub const COLOURS: [&str; METHODS.len()] = ["#0072B2", "#E69F00", "#009E73", "#CC79A7", "#000000"];
+/// Okabe–Ito colours (distinguishable with the common colour-vision deficiencies), method `k`
+/// of [`METHODS`] taking `COLOURS[k % COLOURS.len()]`; each method also has its own marker
+/// shape.
+pub const COLOURS: [&str; 8] = [
+    "#0072B2", "#E69F00", "#009E73", "#CC79A7", "#000000", "#D55E00", "#56B4E9", "#F0E442",
+];
 
-/// Marker shapes, in [`METHODS`] order, as the legend names them.
-pub const SHAPES: [&str; METHODS.len()] = ["●", "■", "▲", "◆", "★"];
+/// Marker shapes, method `k` taking `SHAPES[k % SHAPES.len()]`, as the legend names them.
+pub const SHAPES: [&str; 8] = ["●", "■", "▲", "◆", "★", "▼", "⬟", "✚"];
 
-/// Short method names for the tables (the legend gives the full ones), so that the tables fit
-/// the page's right column.
-pub const SHORT: [&str; METHODS.len()] = ["NSGA-II", "Weighted", "Decimation", "Greedy", "Memetic"];
+/// The colour of method `k` of [`METHODS`].
+pub fn colour(k: usize) -> &'static str {
+    COLOURS[k % COLOURS.len()]
+}
+
+/// The marker shape of method `k` of [`METHODS`].
+pub fn shape(k: usize) -> &'static str {
+    SHAPES[k % SHAPES.len()]
+}
+
+/// The short name of method `k` of [`METHODS`] for the tables (the legend gives the full
+/// one), so that the tables fit the page's right column.
+fn short(k: usize) -> &'static str {
+    METHODS[k].algorithm.spec().short
+}
 
 /// Position of `m` in [`METHODS`] (the order of colours, shapes and fronts).
 pub fn method_index(m: Method) -> usize {
@@ -49,7 +64,9 @@ pub fn table_html(table: &CompareTable) -> (String, String, String) {
         let k = method_index(m);
         format!(
             "<span class=\"mark\" style=\"color:{}\">{}</span> {}",
-            COLOURS[k], SHAPES[k], SHORT[k]
+            colour(k),
+            shape(k),
+            short(k)
         )
     };
     for row in &table.methods {
@@ -133,8 +150,8 @@ pub fn legend_html() -> String {
         let _ = write!(
             html,
             "<li><span class=\"mark\" style=\"color:{}\">{}</span> {}</li>",
-            COLOURS[k],
-            SHAPES[k],
+            colour(k),
+            shape(k),
             m.label()
         );
     }

@@ -101,7 +101,7 @@ pub fn examples() -> Vec<Example> {
                           on the Maunga Whau DEM; a 348-triangle mesh and its error map.",
             link: ShareLink {
                 surface: SharedSurface::Builtin("volcano_87x61".into()),
-                algorithm: Algorithm::GreedyInsertion,
+                algorithm: Algorithm::Greedy,
                 params: Params::default(),
                 // Greedy records 64 meshes; the re-run stops when it is done anyway.
                 generations_run: 64,

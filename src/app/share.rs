@@ -711,7 +711,7 @@ pub fn encode(link: &ShareLink) -> String {
     };
     let wire = Wire {
         surface,
-        algorithm: link.algorithm.key().to_string(),
+        algorithm: link.algorithm.name().to_string(),
         params: link.params.clone(),
         generations_run: link.generations_run,
         selected: link.selected.map(|s| s as u64),
@@ -756,7 +756,7 @@ pub fn decode(fragment: &str) -> Result<ShareLink, ShareError> {
     let wire: Wire =
         serde_json::from_slice(&json).map_err(|e| ShareError::Malformed(e.to_string()))?;
 
-    let algorithm = Algorithm::from_key(&wire.algorithm)
+    let algorithm = Algorithm::from_name(&wire.algorithm)
         .ok_or_else(|| ShareError::UnknownAlgorithm(wire.algorithm.clone()))?;
     let surface = match wire.surface {
         WireSurface::Builtin { name } => {

@@ -281,7 +281,7 @@ fn read_external(name: &str, path: &Path, dataset: &Dataset) -> Result<ExternalF
 /// its variants that are not listed yet.
 fn methods(args: &ExperimentArgs) -> Result<Vec<Method>, String> {
     let mut methods: Vec<Method> = if args.methods.is_empty() {
-        Method::STANDARD.to_vec()
+        Method::standard()
     } else {
         args.methods
             .iter()

@@ -43,6 +43,9 @@ enum Command {
     Experiment(experiment::ExperimentArgs),
     /// Recompute report.md and the figures of an experiment from its results.json.
     Report(experiment::ReportArgs),
+    /// List the catalogue's methods, one a line: name and budget kind (for scripts).
+    #[command(hide = true)]
+    Algorithms,
 }
 
 /// Runs a parsed command line; the error is a message for the user.
@@ -54,5 +57,11 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Export(args) => export::run(&args),
         Command::Experiment(args) => experiment::run(&args),
         Command::Report(args) => experiment::report(&args),
+        Command::Algorithms => {
+            for a in paretomesh::catalogue::Algorithm::ALL {
+                println!("{} {}", a.name(), a.spec().budget.name());
+            }
+            Ok(())
+        }
     }
 }

@@ -3,43 +3,23 @@
 //! runs one optimizer to the end, shows progress on stderr, writes front.json (and the front as
 //! CSV, see [`paretomesh::export::csv`]).
 //!
-//! Adding an algorithm = one variant of [`Algo`] and one arm in [`build`] (the variant's
-//! command-line name is the `algorithm` field of front.json).
+//! The methods and the parameters each reads come from [`paretomesh::catalogue`].
 
 use super::input::InputArgs;
 use clap::{Args, ValueEnum};
-use paretomesh::baselines::{
-    DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
-};
+use paretomesh::baselines::InsertionRule;
+use paretomesh::catalogue::{Algorithm, Built, Param, Params};
 use paretomesh::evaluator::Evaluator;
-use paretomesh::evolution::{
-    CrossoverKind, GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams,
-};
+use paretomesh::evolution::CrossoverKind;
 use paretomesh::export::csv::front_csv;
 use paretomesh::front::Front;
 use paretomesh::heightfield::Heightfield;
-use paretomesh::optimizer::{Optimizer, Progress};
+use paretomesh::optimizer::Progress;
 use paretomesh::run_file::RunFile;
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
-
-/// The algorithms `run` knows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Algo {
-    /// Memetic NSGA-II: greedy and decimation seeding, error-guided operators and local search
-    /// (default).
-    Memetic,
-    /// NSGA-II with orthogonal-array crossover.
-    Nsga2,
-    /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
-    Weighted,
-    /// Greedy insertion (Garland & Heckbert 1995) from the corners; one run records a front.
-    Greedy,
-    /// Edge decimation from the full grid to 5 %, 10 %, …, 50 % fewer triangles.
-    Decimation,
-}
 
 /// The greedy-insertion rules, as the command line spells them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -50,16 +30,6 @@ pub enum RuleArg {
     SumReduction,
     /// Insert the max-error point of the triangle with the largest error sum.
     WorstTriangle,
-}
-
-impl Algo {
-    /// The name on the command line, which front.json repeats.
-    fn name(self) -> String {
-        self.to_possible_value()
-            .expect("every algorithm has a command-line name")
-            .get_name()
-            .to_string()
-    }
 }
 
 /// The crossover operators, as the command line spells them.
@@ -81,7 +51,7 @@ pub struct RunArgs {
     input: InputArgs,
     /// The algorithm.
     #[arg(long, value_enum, default_value = "memetic")]
-    algo: Algo,
+    algo: Algorithm,
     /// Population size [default: 100 for the GAs, 24 for memetic].
     #[arg(long)]
     pop: Option<usize>,
@@ -130,187 +100,78 @@ pub struct RunArgs {
     triangles: bool,
 }
 
-/// A ready-to-run optimizer, its parameters as JSON, how many generations it will run (0 when
-/// that depends on the run) and the evaluations it stops at, when known.
-struct Built {
-    optimizer: Box<dyn Optimizer>,
-    params: serde_json::Value,
-    generations: u64,
-    budget: Option<u64>,
-}
-
-fn ga_params(args: &RunArgs) -> GaParams {
-    let defaults = GaParams::default();
-    GaParams {
-        population: args.pop.unwrap_or(defaults.population),
-        generations: args.gens.unwrap_or(defaults.generations),
-        crossover_probability: args.pc.unwrap_or(defaults.crossover_probability),
+/// The catalogue's parameters the command line sets (`None` where an option is not given).
+fn params(args: &RunArgs) -> Params {
+    Params {
+        population: args.pop,
+        generations: args.gens,
+        crossover_probability: args.pc,
         mutation_probability: args.pm,
-        crossover: args.crossover.map_or(defaults.crossover, |c| match c {
+        crossover: args.crossover.map(|c| match c {
             CrossoverArg::Oax => CrossoverKind::Oax,
             CrossoverArg::Uniform => CrossoverKind::Uniform,
             CrossoverArg::TwoPoint => CrossoverKind::TwoPoint,
         }),
-        factors: args.factors.unwrap_or(defaults.factors),
+        factors: args.factors,
         max_evaluations: args.evals,
-        greedy_seed_fraction: args.greedy_seed,
+        // 0, the default, seeds nothing and is what every method runs with.
+        greedy_seed_fraction: (args.greedy_seed != 0.0).then_some(args.greedy_seed),
+        rule: args.rule.map(|r| match r {
+            RuleArg::MaxError => InsertionRule::MaxError,
+            RuleArg::SumReduction => InsertionRule::SumReduction,
+            RuleArg::WorstTriangle => InsertionRule::WorstTriangle,
+        }),
+        max_error_fraction: args.max_error_fraction,
+        without: None,
     }
 }
 
-fn to_json<T: serde::Serialize>(params: &T) -> serde_json::Value {
-    serde_json::to_value(params).expect("parameters are plain data")
-}
-
-/// The method-specific options given on the command line, with their names.
-fn given_options(args: &RunArgs) -> Vec<&'static str> {
+/// The method-specific options given on the command line, with their names and parameters.
+fn given_options(args: &RunArgs) -> Vec<(&'static str, Param)> {
     [
-        ("--pop", args.pop.is_some()),
-        ("--gens", args.gens.is_some()),
-        ("--pc", args.pc.is_some()),
-        ("--pm", args.pm.is_some()),
-        ("--crossover", args.crossover.is_some()),
-        ("--factors", args.factors.is_some()),
-        ("--rule", args.rule.is_some()),
-        ("--max-error-fraction", args.max_error_fraction.is_some()),
+        ("--pop", Param::Population, args.pop.is_some()),
+        ("--gens", Param::Generations, args.gens.is_some()),
+        ("--pc", Param::CrossoverProbability, args.pc.is_some()),
+        ("--pm", Param::MutationProbability, args.pm.is_some()),
+        ("--crossover", Param::Crossover, args.crossover.is_some()),
+        ("--factors", Param::Factors, args.factors.is_some()),
+        ("--rule", Param::Rule, args.rule.is_some()),
+        (
+            "--max-error-fraction",
+            Param::MaxErrorFraction,
+            args.max_error_fraction.is_some(),
+        ),
+        ("--evals", Param::MaxEvaluations, args.evals.is_some()),
     ]
     .into_iter()
-    .filter_map(|(name, given)| given.then_some(name))
+    .filter_map(|(name, param, given)| given.then_some((name, param)))
     .collect()
 }
 
-/// Refuses an option that `algo` would ignore, saying why and what to use instead, so that a
-/// run never silently differs from what its command line asks for.
+/// Refuses an option that the method would ignore, saying why (the catalogue's reason), so
+/// that a run never silently differs from what its command line asks for.
 fn refuse_foreign_options(args: &RunArgs) -> Result<(), String> {
     let algo = args.algo;
-    for option in given_options(args) {
-        let greedy_option = matches!(option, "--rule" | "--max-error-fraction");
-        let refusal = match algo {
-            Algo::Memetic => match option {
-                "--pop" | "--pc" => None,
-                "--gens" => Some(
-                    "memetic runs to its evaluation budget, not for a number of generations: use --evals",
-                ),
-                "--pm" | "--crossover" | "--factors" => Some(
-                    "memetic mutates with its error-guided operators and crosses parents of similar T along a straight cut",
-                ),
-                _ => Some("it belongs to greedy insertion"),
-            },
-            Algo::Nsga2 | Algo::Weighted => {
-                greedy_option.then_some("it belongs to greedy insertion")
-            }
-            Algo::Greedy => (!greedy_option).then_some("it belongs to the evolutionary methods"),
-            Algo::Decimation => Some(if greedy_option {
-                "it belongs to greedy insertion"
-            } else {
-                "it belongs to the evolutionary methods"
-            }),
-        };
-        if let Some(why) = refusal {
+    for (option, param) in given_options(args) {
+        if let Some(why) = algo.refusal(param) {
             return Err(format!(
                 "{option} does not apply to --algo {}: {why}",
                 algo.name()
             ));
         }
     }
+    if args.greedy_seed != 0.0 && !algo.reads(Param::GreedySeedFraction) {
+        return Err(format!(
+            "--greedy-seed applies to NSGA-II only, not to {}",
+            algo.name()
+        ));
+    }
     Ok(())
 }
 
 fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
     refuse_foreign_options(args)?;
-    if args.greedy_seed != 0.0
-        && matches!(args.algo, Algo::Greedy | Algo::Decimation | Algo::Memetic)
-    {
-        return Err(format!(
-            "--greedy-seed applies to NSGA-II only, not to {}",
-            args.algo.name()
-        ));
-    }
-    Ok(match args.algo {
-        Algo::Memetic => {
-            let defaults = MemeticParams::default();
-            let p = MemeticParams {
-                population: args.pop.unwrap_or(defaults.population),
-                crossover_probability: args.pc.unwrap_or(defaults.crossover_probability),
-                max_evaluations: args.evals,
-                ..defaults
-            };
-            let optimizer = Memetic::new(hf, p.clone(), args.seed).map_err(|e| e.to_string())?;
-            Built {
-                params: to_json(&p),
-                // Generations depend on the budget; progress is shown against it.
-                generations: 0,
-                budget: Some(optimizer.budget()),
-                optimizer: Box::new(optimizer),
-            }
-        }
-        Algo::Nsga2 => {
-            let p = ga_params(args);
-            Built {
-                params: to_json(&p),
-                generations: p.generations as u64,
-                budget: args.evals,
-                optimizer: Box::new(Nsga2::new(hf, p, args.seed).map_err(|e| e.to_string())?),
-            }
-        }
-        Algo::Weighted => {
-            let p = WeightedSumParams {
-                ga: ga_params(args),
-                ..WeightedSumParams::default()
-            };
-            Built {
-                params: to_json(&p),
-                generations: (p.ga.generations * p.weights.len()) as u64,
-                budget: args.evals,
-                optimizer: Box::new(WeightedSum::new(hf, p, args.seed).map_err(|e| e.to_string())?),
-            }
-        }
-        Algo::Greedy => {
-            let stop = match (args.max_error_fraction, args.evals) {
-                (Some(_), Some(_)) => {
-                    return Err(
-                        "greedy insertion stops on --max-error-fraction or on --evals, not both"
-                            .to_string(),
-                    );
-                }
-                (Some(f), None) => GreedyStop::MaxErrorFraction(f),
-                // One evaluation is one insertion, after the four corners.
-                (None, Some(n)) => GreedyStop::Points(
-                    4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)),
-                ),
-                (None, None) => GreedyStop::AllPoints,
-            };
-            let p = GreedyParams {
-                rule: match args.rule.unwrap_or(RuleArg::MaxError) {
-                    RuleArg::MaxError => InsertionRule::MaxError,
-                    RuleArg::SumReduction => InsertionRule::SumReduction,
-                    RuleArg::WorstTriangle => InsertionRule::WorstTriangle,
-                },
-                stop,
-                ..GreedyParams::default()
-            };
-            Built {
-                params: to_json(&p),
-                generations: p.records as u64,
-                budget: args.evals,
-                optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| e.to_string())?),
-            }
-        }
-        Algo::Decimation => {
-            if args.evals.is_some() {
-                return Err(
-                    "edge decimation runs to its last reduction: --evals does not apply"
-                        .to_string(),
-                );
-            }
-            let p = DecimationParams::default();
-            Built {
-                params: to_json(&p),
-                generations: p.reductions.len() as u64,
-                budget: None,
-                optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| e.to_string())?),
-            }
-        }
-    })
+    args.algo.build(hf, &params(args), args.seed)
 }
 
 /// The smallest E on `front` among solutions with at most `t` triangles.
@@ -398,7 +259,7 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     let mut evaluator = Evaluator::new(hf);
     let mut file = RunFile::new(
         &mut evaluator,
-        &args.algo.name(),
+        args.algo.name(),
         params,
         args.seed,
         p.evaluations,

@@ -343,7 +343,7 @@ pub(crate) mod tests {
         Results {
             format: RESULTS_FORMAT.to_string(),
             settings: Settings {
-                methods: vec![Method::Nsga2, Method::Greedy],
+                methods: vec![Method::NSGA2, Method::GREEDY],
                 runs: 2,
                 weighted_runs: 1,
                 budget: Budget::PerWeight,
@@ -363,7 +363,7 @@ pub(crate) mod tests {
                 },
                 methods: vec![
                     MethodRuns {
-                        method: Method::Nsga2,
+                        method: Method::NSGA2,
                         params: serde_json::Value::Null,
                         runs: vec![
                             run(0, &[(10.0, 2), (5.0, 4)]),
@@ -371,7 +371,7 @@ pub(crate) mod tests {
                         ],
                     },
                     MethodRuns {
-                        method: Method::Greedy,
+                        method: Method::GREEDY,
                         params: serde_json::Value::Null,
                         runs: vec![run(0, &[(10.0, 2), (2.0, 8)])],
                     },
@@ -410,7 +410,7 @@ pub(crate) mod tests {
         let ab = &d.pairs[0];
         assert_eq!(
             (&ab.a, &ab.b),
-            (&Method::Nsga2.into(), &Method::Greedy.into())
+            (&Method::NSGA2.into(), &Method::GREEDY.into())
         );
         // (2, 8) is missed by 0.3 (from (5, 4)) and by 0.2 (from (4, 6)) in normalised E.
         assert!(close(ab.epsilon.mean, 0.25));
@@ -421,7 +421,7 @@ pub(crate) mod tests {
         // One greedy run: no test.
         assert_eq!((ab.test, ab.mark), (None, Mark::NotApplicable));
         let ba = &d.pairs[1];
-        assert!(ba.a == Method::Greedy && ba.b == Method::Nsga2);
+        assert!(ba.a == Method::GREEDY && ba.b == Method::NSGA2);
         assert_eq!(ba.coverage.std, Some(0.0));
 
         let g = &d.methods[1];
@@ -436,7 +436,7 @@ pub(crate) mod tests {
         assert!(matches!(
             Analysis::of(&r),
             Err(ExperimentError::EmptyFront {
-                method: Method::Greedy,
+                method: Method::GREEDY,
                 run: 0,
                 ..
             })

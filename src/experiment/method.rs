@@ -1,39 +1,21 @@
-//! The methods the experiment compares, by the names the command line uses, with everything
-//! the tables, the figure and the scheduler need to know about each.
+//! The methods the experiment compares: each method of the [`catalogue`](crate::catalogue),
+//! and the memetic method's ablation variants (a component switched off), by the names the
+//! command line and results.json use.
 //!
-//! A new method (or a variant of one) is added here — a variant of [`Method`] and its row in
-//! [`Method::spec`] — and in [`registry`](super::registry), which builds it; nothing else in
-//! the experiment names methods one by one.
+//! A new method is added to the catalogue only; nothing in the experiment names methods one
+//! by one.
 
-use serde::{Deserialize, Serialize};
+use crate::catalogue::{Ablation, Algorithm, BudgetKind as CatalogueBudget, Component};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
 
-/// One of the compared methods.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Method {
-    /// NSGA-II with orthogonal-array crossover (stochastic).
-    Nsga2,
-    /// The weighted-sum GA, one GA run per weight w = 0, 0.1, …, 1 (stochastic).
-    Weighted,
-    /// Edge decimation at 5 %, 10 %, …, 50 % reduction (deterministic).
-    Decimation,
-    /// Greedy insertion (deterministic).
-    Greedy,
-    /// The memetic NSGA-II, the project's own method (stochastic).
-    Memetic,
-    /// The memetic method without greedy seeding: random kept sets at log-spaced densities.
-    #[serde(rename = "memetic-no-seed")]
-    MemeticNoSeed,
-    /// The memetic method with random bit-flip mutation instead of the error-guided operators.
-    #[serde(rename = "memetic-random-mutation")]
-    MemeticRandomMutation,
-    /// The memetic method mating with any member instead of a neighbour in T.
-    #[serde(rename = "memetic-no-neighbour-mating")]
-    MemeticNoNeighbourMating,
-    /// The memetic method without its local search.
-    #[serde(rename = "memetic-no-local-search")]
-    MemeticNoLocalSearch,
+/// One of the compared methods: a catalogue method, or one of its ablation variants.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Method {
+    /// The catalogue method.
+    pub algorithm: Algorithm,
+    /// The component the variant switches off (`None`: the method itself).
+    pub without: Option<Component>,
 }
 
 /// What kind of budget a method runs on.
@@ -68,137 +50,105 @@ pub struct MethodSpec {
 }
 
 impl Method {
-    /// Every method and ablation variant, in the order the tables list them.
-    pub const ALL: [Method; 9] = [
-        Method::Nsga2,
-        Method::Weighted,
-        Method::Decimation,
-        Method::Greedy,
-        Method::Memetic,
-        Method::MemeticNoSeed,
-        Method::MemeticRandomMutation,
-        Method::MemeticNoNeighbourMating,
-        Method::MemeticNoLocalSearch,
-    ];
+    /// NSGA-II with orthogonal-array crossover.
+    pub const NSGA2: Method = Method::of(Algorithm::Nsga2);
+    /// The weighted-sum GA.
+    pub const WEIGHTED: Method = Method::of(Algorithm::Weighted);
+    /// Edge decimation.
+    pub const DECIMATION: Method = Method::of(Algorithm::Decimation);
+    /// Greedy insertion.
+    pub const GREEDY: Method = Method::of(Algorithm::Greedy);
+    /// The memetic method.
+    pub const MEMETIC: Method = Method::of(Algorithm::Memetic);
+    /// The memetic method without greedy seeding.
+    pub const MEMETIC_NO_SEED: Method = Method::ablation(Component::GreedySeeding);
+    /// The memetic method with random bit-flip mutation.
+    pub const MEMETIC_RANDOM_MUTATION: Method = Method::ablation(Component::GuidedMutation);
+    /// The memetic method mating with any member.
+    pub const MEMETIC_NO_NEIGHBOUR_MATING: Method = Method::ablation(Component::NeighbourMating);
+    /// The memetic method without its local search.
+    pub const MEMETIC_NO_LOCAL_SEARCH: Method = Method::ablation(Component::LocalSearch);
+
+    /// The catalogue method `algorithm` itself.
+    pub const fn of(algorithm: Algorithm) -> Method {
+        Method {
+            algorithm,
+            without: None,
+        }
+    }
+
+    const fn ablation(without: Component) -> Method {
+        Method {
+            algorithm: Algorithm::Memetic,
+            without: Some(without),
+        }
+    }
+
+    /// Every method and ablation variant, in the order the tables list them: the catalogue's
+    /// methods, then each one's variants.
+    pub fn all() -> Vec<Method> {
+        let variants = Algorithm::ALL.into_iter().flat_map(|a| {
+            a.spec().ablations.iter().map(move |v| Method {
+                algorithm: a,
+                without: Some(v.without),
+            })
+        });
+        Method::standard().into_iter().chain(variants).collect()
+    }
 
     /// The methods an experiment compares when none are named: every method in its own right
     /// (the ablation variants only run when asked for).
-    pub const STANDARD: [Method; 5] = [
-        Method::Nsga2,
-        Method::Weighted,
-        Method::Decimation,
-        Method::Greedy,
-        Method::Memetic,
-    ];
+    pub fn standard() -> Vec<Method> {
+        Algorithm::ALL.into_iter().map(Method::of).collect()
+    }
 
     /// `self` followed by each of its ablation variants, in table order (just `self` for a
     /// method without variants).
     pub fn with_ablations(self) -> Vec<Method> {
         std::iter::once(self)
             .chain(
-                Method::ALL
+                Method::all()
                     .into_iter()
                     .filter(|m| m.spec().ablation.is_some_and(|(full, _)| full == self)),
             )
             .collect()
     }
 
-    /// The method's fixed facts (colours: the colour-blind-safe Okabe–Ito hues).
+    /// The variant's row in the catalogue, for an ablation variant.
+    fn variant(self) -> Option<&'static Ablation> {
+        let without = self.without?;
+        self.algorithm
+            .spec()
+            .ablations
+            .iter()
+            .find(|v| v.without == without)
+    }
+
+    /// The method's fixed facts.
     pub fn spec(self) -> MethodSpec {
-        match self {
-            Method::Nsga2 => MethodSpec {
-                name: "nsga2",
-                label: "NSGA-II",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#D55E00",
-                cost: 2,
-                ablation: None,
+        let s = self.algorithm.spec();
+        let budget = match s.budget {
+            CatalogueBudget::OwnRule => BudgetKind::OwnRule,
+            CatalogueBudget::Evaluations | CatalogueBudget::Generations => BudgetKind::Ga,
+        };
+        let base = MethodSpec {
+            name: s.name,
+            label: s.label,
+            stochastic: s.stochastic,
+            budget,
+            colour: s.colour,
+            cost: s.cost,
+            ablation: None,
+        };
+        match self.variant() {
+            Some(v) => MethodSpec {
+                name: v.name,
+                label: v.label,
+                colour: v.colour,
+                ablation: Some((Method::of(self.algorithm), v.removes)),
+                ..base
             },
-            Method::Weighted => MethodSpec {
-                name: "weighted",
-                label: "Weighted-sum GA",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#0072B2",
-                cost: 3,
-                ablation: None,
-            },
-            Method::Decimation => MethodSpec {
-                name: "decimation",
-                label: "Decimation",
-                stochastic: false,
-                budget: BudgetKind::OwnRule,
-                colour: "#009E73",
-                cost: 0,
-                ablation: None,
-            },
-            Method::Greedy => MethodSpec {
-                name: "greedy",
-                label: "Greedy insertion",
-                stochastic: false,
-                budget: BudgetKind::OwnRule,
-                colour: "#CC79A7",
-                cost: 1,
-                ablation: None,
-            },
-            Method::Memetic => MethodSpec {
-                name: "memetic",
-                label: "Memetic",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#000000",
-                cost: 2,
-                ablation: None,
-            },
-            Method::MemeticNoSeed => MethodSpec {
-                name: "memetic-no-seed",
-                label: "Memetic, no greedy seeding",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#E69F00",
-                cost: 2,
-                ablation: Some((
-                    Method::Memetic,
-                    "greedy seeding: the initial population is random kept sets at log-spaced densities instead of greedy-insertion snapshots, and the greedy fronts do not start the archive",
-                )),
-            },
-            Method::MemeticRandomMutation => MethodSpec {
-                name: "memetic-random-mutation",
-                label: "Memetic, random mutation",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#56B4E9",
-                cost: 2,
-                ablation: Some((
-                    Method::Memetic,
-                    "error-guided mutation: a child flips one random grid point in or out instead of an error-guided insertion, removal or vertex move",
-                )),
-            },
-            Method::MemeticNoNeighbourMating => MethodSpec {
-                name: "memetic-no-neighbour-mating",
-                label: "Memetic, random mates",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#999999",
-                cost: 2,
-                ablation: Some((
-                    Method::Memetic,
-                    "mating among neighbours: a crossover mate is any other member, whatever its T, instead of one of the 4 nearest in T",
-                )),
-            },
-            Method::MemeticNoLocalSearch => MethodSpec {
-                name: "memetic-no-local-search",
-                label: "Memetic, no local search",
-                stochastic: true,
-                budget: BudgetKind::Ga,
-                colour: "#F0E442",
-                cost: 2,
-                ablation: Some((
-                    Method::Memetic,
-                    "local search: no fixed-T swap moves on archive members; the budget goes to offspring only",
-                )),
-            },
+            None => base,
         }
     }
 
@@ -225,15 +175,22 @@ impl Method {
 
     /// Parses a command-line name; the error lists the valid ones.
     pub fn parse(name: &str) -> Result<Method, String> {
-        Method::ALL
-            .into_iter()
+        let all = Method::all();
+        all.iter()
+            .copied()
             .find(|m| m.name() == name.trim())
             .ok_or_else(|| {
                 format!(
                     "unknown method {name:?}; the methods are {}",
-                    Method::ALL.map(Method::name).join(", ")
+                    all.iter().map(|m| m.name()).collect::<Vec<_>>().join(", ")
                 )
             })
+    }
+}
+
+impl From<Algorithm> for Method {
+    fn from(algorithm: Algorithm) -> Method {
+        Method::of(algorithm)
     }
 }
 
@@ -243,13 +200,26 @@ impl fmt::Display for Method {
     }
 }
 
+impl Serialize for Method {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Method {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Method, D::Error> {
+        let name = String::deserialize(d)?;
+        Method::parse(&name).map_err(serde::de::Error::custom)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn names_round_trip_and_unknown_names_are_refused() {
-        for m in Method::ALL {
+        for m in Method::all() {
             assert_eq!(Method::parse(m.name()), Ok(m));
             assert_eq!(
                 serde_json::to_string(&m).unwrap(),
@@ -262,17 +232,18 @@ mod tests {
             "{err}"
         );
         assert_eq!(
-            Method::Memetic.with_ablations().len(),
+            Method::MEMETIC.with_ablations().len(),
             5,
             "the full method and four variants"
         );
-        assert_eq!(Method::Nsga2.with_ablations(), vec![Method::Nsga2]);
+        assert_eq!(Method::NSGA2.with_ablations(), vec![Method::NSGA2]);
     }
 
     #[test]
     fn names_labels_and_colours_are_distinct() {
-        for (i, a) in Method::ALL.iter().enumerate() {
-            for b in &Method::ALL[..i] {
+        let all = Method::all();
+        for (i, a) in all.iter().enumerate() {
+            for b in &all[..i] {
                 let (sa, sb) = (a.spec(), b.spec());
                 assert!(sa.name != sb.name && sa.label != sb.label && sa.colour != sb.colour);
             }

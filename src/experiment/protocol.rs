@@ -89,13 +89,13 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// The paper's settings at equal budgets: every standard method ([`Method::STANDARD`]; the
+    /// The paper's settings at equal budgets: every standard method ([`Method::standard`]; the
     /// ablation variants run only when named), 10 runs of each GA, seed 1,
     /// population 100, [`DEFAULT_EQUAL_EVALUATIONS`] per GA run (50 generations under
     /// [`Budget::PerWeight`]), reference point (1.1, 1.1).
     fn default() -> Self {
         Settings {
-            methods: Method::STANDARD.to_vec(),
+            methods: Method::standard(),
             runs: 10,
             weighted_runs: 10,
             seed: 1,
@@ -155,7 +155,7 @@ impl Settings {
     pub fn runs_of(&self, method: Method) -> usize {
         if !method.is_stochastic() {
             1
-        } else if method == Method::Weighted {
+        } else if method == Method::WEIGHTED {
             self.weighted_runs
         } else {
             // NSGA-II, the memetic method and its variants: run k with seed `seed + k`.
@@ -380,16 +380,16 @@ mod tests {
         assert_eq!(
             seeds,
             vec![
-                (Method::Nsga2, Some(7)),
-                (Method::Nsga2, Some(8)),
-                (Method::Nsga2, Some(9)),
-                (Method::Weighted, Some(7)),
-                (Method::Weighted, Some(8)),
-                (Method::Decimation, None),
-                (Method::Greedy, None),
-                (Method::Memetic, Some(7)),
-                (Method::Memetic, Some(8)),
-                (Method::Memetic, Some(9)),
+                (Method::NSGA2, Some(7)),
+                (Method::NSGA2, Some(8)),
+                (Method::NSGA2, Some(9)),
+                (Method::WEIGHTED, Some(7)),
+                (Method::WEIGHTED, Some(8)),
+                (Method::DECIMATION, None),
+                (Method::GREEDY, None),
+                (Method::MEMETIC, Some(7)),
+                (Method::MEMETIC, Some(8)),
+                (Method::MEMETIC, Some(9)),
             ]
         );
         assert!(jobs[10..].iter().all(|j| j.dataset == 1));
@@ -417,7 +417,7 @@ mod tests {
                 ..Settings::default()
             },
             Settings {
-                methods: vec![Method::Greedy, Method::Greedy],
+                methods: vec![Method::GREEDY, Method::GREEDY],
                 ..Settings::default()
             },
             Settings {

@@ -49,7 +49,7 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
         .collect();
     let mut p = match s.budget {
         Budget::Equal { evaluations } => {
-            let parts = registry::ga_runs_per_run(Method::Weighted);
+            let parts = registry::ga_runs_per_run(Method::WEIGHTED);
             let share = evaluations / parts as u64;
             format!(
                 "Equal budgets: every run of a genetic algorithm ({}) stops after {evaluations} evaluations, with no generation limit. The weighted-sum GA splits its run over its {parts} weights: each weight's GA run gets ⌊{evaluations} / {parts}⌋ = {share} evaluations, and the remaining {} are not spent. Each GA run (for the weighted-sum GA, each weight's) stops at the first mating boundary at or after its budget, so it may overshoot by less than one mating (at most 11 evaluations with the default crossover). Population {} for NSGA-II and the weighted-sum GA.",
@@ -63,8 +63,8 @@ fn protocol_paragraph(s: &Settings, has_external: bool) -> String {
             ga.join(", "),
             s.population,
             s.generations,
-            registry::ga_runs_per_run(Method::Weighted),
-            registry::ga_runs_per_run(Method::Weighted)
+            registry::ga_runs_per_run(Method::WEIGHTED),
+            registry::ga_runs_per_run(Method::WEIGHTED)
         ),
     };
     let times = |n: usize| {
@@ -165,13 +165,13 @@ fn settings_section(w: &mut String, results: &Results) {
         1 => format!("1 run, seed {}", s.seed),
         n => format!("{n} runs, run k = 0…{} with seed {} + k", n - 1, s.seed),
     };
-    if s.methods.contains(&Method::Nsga2) {
+    if s.methods.contains(&Method::NSGA2) {
         let _ = writeln!(w, "- NSGA-II: {}.", seeds(s.runs));
     }
     for &m in s.methods.iter().filter(|&&m| registry::is_memetic(m)) {
         let _ = writeln!(w, "- {}: {}.", m.label(), seeds(s.runs));
     }
-    if s.methods.contains(&Method::Weighted) {
+    if s.methods.contains(&Method::WEIGHTED) {
         let _ = writeln!(
             w,
             "- Weighted-sum GA: {}. One run is a sweep over all its weights w = 0, 0.1, …, 1, one GA run each (11 GA runs); the best solution of each weight makes that run's front.{}",

@@ -76,7 +76,7 @@ fn parse_field<T: std::str::FromStr>(id: &str, what: &str) -> Result<T, String> 
 /// Reads the parameter form. Fails with a message naming the bad field.
 pub fn read_config() -> Result<RunConfig, String> {
     let algorithm =
-        Algorithm::from_key(&select_value("algorithm")?).ok_or("unknown algorithm in the menu")?;
+        Algorithm::from_name(&select_value("algorithm")?).ok_or("unknown algorithm in the menu")?;
     let crossover =
         crossover_from_key(&select_value("crossover")?).ok_or("unknown crossover in the menu")?;
     let mutation = input_value("mutation-probability")?;
@@ -109,7 +109,7 @@ pub fn read_config() -> Result<RunConfig, String> {
 /// Writes `config` into the form (the inverse of [`read_config`]).
 pub fn write_config(config: &RunConfig) -> Result<(), String> {
     let p = &config.params;
-    by_id::<HtmlSelectElement>("algorithm")?.set_value(config.algorithm.key());
+    by_id::<HtmlSelectElement>("algorithm")?.set_value(config.algorithm.name());
     by_id::<HtmlSelectElement>("crossover")?.set_value(crossover_key(p.crossover));
     by_id::<HtmlInputElement>("population")?.set_value(&p.population.to_string());
     by_id::<HtmlInputElement>("generations")?.set_value(&p.generations.to_string());

@@ -4,7 +4,7 @@
 
 use super::dom::{self, by_id, listen};
 use super::gpu::{Renderer, Style};
-use crate::app::algorithms::{Algorithm, Field};
+use crate::app::algorithms::{self, Algorithm, Field};
 use crate::app::camera::OrbitCamera;
 use crate::app::compare::{self, CompareRun};
 use crate::app::geometry::{self, Geometry, ViewMapping};
@@ -299,7 +299,7 @@ pub(super) fn show_parameters() {
     let Some(algorithm) = document
         .get_element_by_id("algorithm")
         .and_then(|e| e.dyn_into::<web_sys::HtmlSelectElement>().ok())
-        .and_then(|menu| Algorithm::from_key(&menu.value()))
+        .and_then(|menu| Algorithm::from_name(&menu.value()))
     else {
         return;
     };
@@ -310,7 +310,9 @@ pub(super) fn show_parameters() {
             .and_then(|e| e.parent_element())
             .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
         {
-            label.set_hidden(!(algorithm.uses(field) || (comparing && compare::reads(field))));
+            label.set_hidden(
+                !(algorithms::uses(algorithm, field) || (comparing && compare::reads(field))),
+            );
         }
     }
 }

@@ -304,7 +304,7 @@ pub(super) fn apply_run(ui: &mut Ui, link: &ShareLink) {
             } else {
                 format!(
                     "re-running {} to generation {} with seed {}",
-                    link.algorithm.label(),
+                    link.algorithm.spec().phrase,
                     link.generations_run,
                     link.params.seed
                 )

@@ -232,7 +232,7 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
     let status = ui.app.status();
     let file = RunFile::new(
         &mut Evaluator::new(ui.app.surface().heightfield.clone()),
-        config.algorithm.key(),
+        config.algorithm.name(),
         algorithms::params_json(config.algorithm, &config.params),
         config.params.seed,
         status.evaluations,

@@ -3,7 +3,7 @@
 //! member marked, and a hover read-out.
 
 use crate::app::compare::{METHODS, Picks};
-use crate::app::compare_html::{COLOURS, named_picks};
+use crate::app::compare_html::{colour, named_picks};
 use crate::app::plot::{self, Layout, PlotPoint, Scene};
 use crate::web::dom;
 use crate::web::page::{Ui, z_unit};
@@ -109,8 +109,8 @@ fn draw_front(
     front: &[PlotPoint],
     picks: Option<&Picks>,
 ) {
-    ctx.set_stroke_style_str(COLOURS[k]);
-    ctx.set_fill_style_str(COLOURS[k]);
+    ctx.set_stroke_style_str(colour(k));
+    ctx.set_fill_style_str(colour(k));
     ctx.set_line_width(1.5);
     ctx.begin_path();
     for (i, p) in front.iter().enumerate() {

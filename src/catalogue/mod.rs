@@ -1,0 +1,571 @@
+//! The catalogue of methods: every algorithm ParetoMesh runs, with its names, whether it is
+//! stochastic, its kind of budget, the parameters it reads, and how it is built. The CLI, the
+//! experiment, compare mode and the browser app all take their methods from here.
+//!
+//! Adding a method: its own module (an [`Optimizer`]), then in this file a variant of
+//! [`Algorithm`], its row in [`Algorithm::spec`], its arm in [`Algorithm::configure`] and
+//! [`Config`], and its [`Running`] impl.
+
+mod params;
+
+pub use params::{Ablation, BudgetKind, Component, Param, Params};
+
+use crate::baselines::{
+    DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
+};
+use crate::evolution::oax::OaxRecord;
+use crate::evolution::trace::GenerationTrace;
+use crate::evolution::{GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
+use crate::heightfield::Heightfield;
+use crate::optimizer::Optimizer;
+use std::sync::Arc;
+
+/// A method of the catalogue. Its command-line name (the variant's name in kebab case) is also
+/// the `algorithm` field of front.json and share links.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(clap::ValueEnum))]
+pub enum Algorithm {
+    /// NSGA-II with orthogonal-array crossover.
+    Nsga2,
+    /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
+    Weighted,
+    /// Edge decimation from the full grid to 5 %, 10 %, …, 50 % fewer triangles.
+    Decimation,
+    /// Greedy insertion (Garland & Heckbert 1995) from the corners; one run records a front.
+    Greedy,
+    /// Memetic NSGA-II: greedy and decimation seeding, error-guided operators and local search
+    /// (default).
+    Memetic,
+}
+
+/// The fixed facts about one method.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spec {
+    /// The command-line name, also front.json's `algorithm`.
+    pub name: &'static str,
+    /// The name tables and figures show.
+    pub label: &'static str,
+    /// A short name for legends.
+    pub short: &'static str,
+    /// The name inside a sentence ("re-runs greedy insertion").
+    pub phrase: &'static str,
+    /// Whether it draws random numbers (runs with different seeds differ).
+    pub stochastic: bool,
+    /// How its run is bounded.
+    pub budget: BudgetKind,
+    /// The parameters it reads; it refuses the others.
+    pub reads: &'static [Param],
+    /// Why it does not read a parameter, where that is more than the parameter's
+    /// [`owner`](Param::owner).
+    pub refusals: &'static [(Param, &'static str)],
+    /// Its colour in the experiment's fronts figure (the colour-blind-safe Okabe–Ito hues).
+    pub colour: &'static str,
+    /// Rough cost of one run, larger first in the experiment's scheduler.
+    pub cost: u8,
+    /// Its variants with one component switched off, as the experiment runs them.
+    pub ablations: &'static [Ablation],
+}
+
+const GA_PARAMS: &[Param] = &[
+    Param::Population,
+    Param::Generations,
+    Param::CrossoverProbability,
+    Param::MutationProbability,
+    Param::Crossover,
+    Param::Factors,
+    Param::MaxEvaluations,
+    Param::GreedySeedFraction,
+];
+
+const MEMETIC_OPERATORS: &str = "memetic mutates with its error-guided operators and crosses parents of similar T along a straight cut";
+
+const MEMETIC_ABLATIONS: &[Ablation] = &[
+    Ablation {
+        without: Component::GreedySeeding,
+        name: "memetic-no-seed",
+        label: "Memetic, no greedy seeding",
+        colour: "#E69F00",
+        removes: "greedy seeding: the initial population is random kept sets at log-spaced densities instead of greedy-insertion snapshots, and the greedy fronts do not start the archive",
+    },
+    Ablation {
+        without: Component::GuidedMutation,
+        name: "memetic-random-mutation",
+        label: "Memetic, random mutation",
+        colour: "#56B4E9",
+        removes: "error-guided mutation: a child flips one random grid point in or out instead of an error-guided insertion, removal or vertex move",
+    },
+    Ablation {
+        without: Component::NeighbourMating,
+        name: "memetic-no-neighbour-mating",
+        label: "Memetic, random mates",
+        colour: "#999999",
+        removes: "mating among neighbours: a crossover mate is any other member, whatever its T, instead of one of the 4 nearest in T",
+    },
+    Ablation {
+        without: Component::LocalSearch,
+        name: "memetic-no-local-search",
+        label: "Memetic, no local search",
+        colour: "#F0E442",
+        removes: "local search: no fixed-T swap moves on archive members; the budget goes to offspring only",
+    },
+];
+
+impl Algorithm {
+    /// Every method, in the order tables list them.
+    pub const ALL: [Algorithm; 5] = [
+        Algorithm::Nsga2,
+        Algorithm::Weighted,
+        Algorithm::Decimation,
+        Algorithm::Greedy,
+        Algorithm::Memetic,
+    ];
+
+    /// The method run when none is named: the project's best.
+    pub const DEFAULT: Algorithm = Algorithm::Memetic;
+
+    /// The method's fixed facts.
+    pub fn spec(self) -> Spec {
+        match self {
+            Algorithm::Nsga2 => Spec {
+                name: "nsga2",
+                label: "NSGA-II",
+                short: "NSGA-II",
+                phrase: "NSGA-II",
+                stochastic: true,
+                budget: BudgetKind::Generations,
+                reads: GA_PARAMS,
+                refusals: &[],
+                colour: "#D55E00",
+                cost: 2,
+                ablations: &[],
+            },
+            Algorithm::Weighted => Spec {
+                name: "weighted",
+                label: "Weighted-sum GA",
+                short: "Weighted",
+                phrase: "weighted-sum GA",
+                stochastic: true,
+                budget: BudgetKind::Generations,
+                reads: GA_PARAMS,
+                refusals: &[],
+                colour: "#0072B2",
+                cost: 3,
+                ablations: &[],
+            },
+            Algorithm::Decimation => Spec {
+                name: "decimation",
+                label: "Decimation",
+                short: "Decimation",
+                phrase: "edge decimation",
+                stochastic: false,
+                budget: BudgetKind::OwnRule,
+                reads: &[],
+                refusals: &[(
+                    Param::MaxEvaluations,
+                    "edge decimation runs to its last reduction",
+                )],
+                colour: "#009E73",
+                cost: 0,
+                ablations: &[],
+            },
+            Algorithm::Greedy => Spec {
+                name: "greedy",
+                label: "Greedy insertion",
+                short: "Greedy",
+                phrase: "greedy insertion",
+                stochastic: false,
+                budget: BudgetKind::OwnRule,
+                reads: &[Param::Rule, Param::MaxErrorFraction, Param::MaxEvaluations],
+                refusals: &[],
+                colour: "#CC79A7",
+                cost: 1,
+                ablations: &[],
+            },
+            Algorithm::Memetic => Spec {
+                name: "memetic",
+                label: "Memetic",
+                short: "Memetic",
+                phrase: "memetic NSGA-II",
+                stochastic: true,
+                budget: BudgetKind::Evaluations,
+                reads: &[
+                    Param::Population,
+                    Param::CrossoverProbability,
+                    Param::MaxEvaluations,
+                    Param::Without,
+                ],
+                refusals: &[
+                    (
+                        Param::Generations,
+                        "memetic runs to its evaluation budget, not for a number of generations: use --evals",
+                    ),
+                    (Param::MutationProbability, MEMETIC_OPERATORS),
+                    (Param::Crossover, MEMETIC_OPERATORS),
+                    (Param::Factors, MEMETIC_OPERATORS),
+                ],
+                colour: "#000000",
+                cost: 2,
+                ablations: MEMETIC_ABLATIONS,
+            },
+        }
+    }
+
+    /// The command-line name, also front.json's `algorithm`.
+    pub fn name(self) -> &'static str {
+        self.spec().name
+    }
+
+    /// The name tables and figures show.
+    pub fn label(self) -> &'static str {
+        self.spec().label
+    }
+
+    /// The method named `name`, if any.
+    pub fn from_name(name: &str) -> Option<Algorithm> {
+        Self::ALL.into_iter().find(|a| a.name() == name)
+    }
+
+    /// Does the method read `param`?
+    pub fn reads(self, param: Param) -> bool {
+        self.spec().reads.contains(&param)
+    }
+
+    /// Why the method refuses `param`, or `None` when it reads it.
+    pub fn refusal(self, param: Param) -> Option<String> {
+        if self.reads(param) {
+            return None;
+        }
+        let spec = self.spec();
+        Some(spec.refusals.iter().find(|(p, _)| *p == param).map_or_else(
+            || format!("it belongs to {}", param.owner()),
+            |(_, why)| why.to_string(),
+        ))
+    }
+
+    /// The method's parameters with `params` filled in over its defaults. Errors: a parameter
+    /// the method does not read is set, or two set parameters contradict each other.
+    pub fn configure(self, params: &Params) -> Result<Config, String> {
+        for (param, set) in [
+            (Param::Population, params.population.is_some()),
+            (Param::Generations, params.generations.is_some()),
+            (
+                Param::CrossoverProbability,
+                params.crossover_probability.is_some(),
+            ),
+            (
+                Param::MutationProbability,
+                params.mutation_probability.is_some(),
+            ),
+            (Param::Crossover, params.crossover.is_some()),
+            (Param::Factors, params.factors.is_some()),
+            (Param::MaxEvaluations, params.max_evaluations.is_some()),
+            (
+                Param::GreedySeedFraction,
+                params.greedy_seed_fraction.is_some(),
+            ),
+            (Param::Rule, params.rule.is_some()),
+            (Param::MaxErrorFraction, params.max_error_fraction.is_some()),
+            (Param::Without, params.without.is_some()),
+        ] {
+            if let (true, Some(why)) = (set, self.refusal(param)) {
+                return Err(format!("{} does not read {param:?}: {why}", self.name()));
+            }
+        }
+        Ok(match self {
+            Algorithm::Nsga2 => Config::Nsga2(ga_params(params)),
+            Algorithm::Weighted => Config::Weighted(WeightedSumParams {
+                ga: ga_params(params),
+                ..WeightedSumParams::default()
+            }),
+            Algorithm::Decimation => Config::Decimation(DecimationParams::default()),
+            Algorithm::Greedy => {
+                let stop = match (params.max_error_fraction, params.max_evaluations) {
+                    (Some(_), Some(_)) => {
+                        return Err(
+                            "greedy insertion stops on --max-error-fraction or on --evals, not both"
+                                .to_string(),
+                        );
+                    }
+                    (Some(f), None) => GreedyStop::MaxErrorFraction(f),
+                    // One evaluation is one insertion, after the four corners.
+                    (None, Some(n)) => GreedyStop::Points(
+                        4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)),
+                    ),
+                    (None, None) => GreedyStop::AllPoints,
+                };
+                Config::Greedy(GreedyParams {
+                    rule: params.rule.unwrap_or(InsertionRule::MaxError),
+                    stop,
+                    ..GreedyParams::default()
+                })
+            }
+            Algorithm::Memetic => {
+                let d = MemeticParams::default();
+                let without = params.without;
+                Config::Memetic(MemeticParams {
+                    population: params.population.unwrap_or(d.population),
+                    crossover_probability: params
+                        .crossover_probability
+                        .unwrap_or(d.crossover_probability),
+                    max_evaluations: params.max_evaluations,
+                    greedy_seeding: without != Some(Component::GreedySeeding),
+                    guided_mutation: without != Some(Component::GuidedMutation),
+                    neighbour_mating: without != Some(Component::NeighbourMating),
+                    local_search: without != Some(Component::LocalSearch),
+                    ..d
+                })
+            }
+        })
+    }
+
+    /// How many GA runs one run of the method is made of (the weighted-sum GA: one per
+    /// weight), and so how many shares an equal budget is split into.
+    pub fn runs_per_run(self) -> usize {
+        match self {
+            Algorithm::Weighted => WeightedSumParams::default().weights.len(),
+            _ => 1,
+        }
+    }
+
+    /// Builds the method on `hf` with `params` over its defaults; `seed` drives a stochastic
+    /// method and is ignored by the others.
+    pub fn build(self, hf: Arc<Heightfield>, params: &Params, seed: u64) -> Result<Built, String> {
+        self.configure(params)?.build(hf, seed)
+    }
+}
+
+/// The GA parameters `params` set, over the paper's defaults.
+fn ga_params(params: &Params) -> GaParams {
+    let d = GaParams::default();
+    GaParams {
+        population: params.population.unwrap_or(d.population),
+        generations: params.generations.unwrap_or(d.generations),
+        crossover_probability: params
+            .crossover_probability
+            .unwrap_or(d.crossover_probability),
+        mutation_probability: params.mutation_probability.or(d.mutation_probability),
+        crossover: params.crossover.unwrap_or(d.crossover),
+        factors: params.factors.unwrap_or(d.factors),
+        max_evaluations: params.max_evaluations,
+        greedy_seed_fraction: params
+            .greedy_seed_fraction
+            .unwrap_or(d.greedy_seed_fraction),
+    }
+}
+
+impl serde::Serialize for Algorithm {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Algorithm {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Algorithm, D::Error> {
+        let name = String::deserialize(d)?;
+        Algorithm::from_name(&name)
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown algorithm {name:?}")))
+    }
+}
+
+/// A method's full parameters, as its own module takes them.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Config {
+    /// [`Algorithm::Nsga2`].
+    Nsga2(GaParams),
+    /// [`Algorithm::Weighted`].
+    Weighted(WeightedSumParams),
+    /// [`Algorithm::Decimation`].
+    Decimation(DecimationParams),
+    /// [`Algorithm::Greedy`].
+    Greedy(GreedyParams),
+    /// [`Algorithm::Memetic`].
+    Memetic(MemeticParams),
+}
+
+/// A ready-to-run method with what a progress display needs.
+pub struct Built {
+    /// The optimizer.
+    pub optimizer: Box<dyn Running>,
+    /// Its parameters as front.json records them.
+    pub params: serde_json::Value,
+    /// How many generations it will run, or 0 when that depends on the run.
+    pub generations: u64,
+    /// The evaluations it stops at, when known.
+    pub budget: Option<u64>,
+}
+
+impl Config {
+    /// The parameters as front.json and results.json record them.
+    pub fn json(&self) -> serde_json::Value {
+        match self {
+            Config::Nsga2(p) => serde_json::to_value(p),
+            Config::Weighted(p) => serde_json::to_value(p),
+            Config::Decimation(p) => serde_json::to_value(p),
+            Config::Greedy(p) => serde_json::to_value(p),
+            Config::Memetic(p) => serde_json::to_value(p),
+        }
+        .expect("parameters are plain data")
+    }
+
+    /// Builds the optimizer on `hf`; `seed` drives a stochastic method. Errors: the parameters
+    /// are out of range, with the method's own message.
+    pub fn build(self, hf: Arc<Heightfield>, seed: u64) -> Result<Built, String> {
+        let params = self.json();
+        let message = |e: &dyn std::fmt::Display| e.to_string();
+        Ok(match self {
+            Config::Nsga2(p) => Built {
+                generations: p.generations as u64,
+                budget: p.max_evaluations,
+                optimizer: Box::new(Nsga2::new(hf, p, seed).map_err(|e| message(&e))?),
+                params,
+            },
+            Config::Weighted(p) => Built {
+                generations: (p.ga.generations * p.weights.len()) as u64,
+                budget: p.ga.max_evaluations,
+                optimizer: Box::new(WeightedSum::new(hf, p, seed).map_err(|e| message(&e))?),
+                params,
+            },
+            Config::Decimation(p) => Built {
+                generations: p.reductions.len() as u64,
+                budget: None,
+                optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| message(&e))?),
+                params,
+            },
+            Config::Greedy(p) => {
+                let budget = match p.stop {
+                    GreedyStop::Points(n) => Some(n.saturating_sub(4) as u64),
+                    _ => None,
+                };
+                Built {
+                    generations: p.records as u64,
+                    budget,
+                    optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| message(&e))?),
+                    params,
+                }
+            }
+            Config::Memetic(p) => {
+                let optimizer = Memetic::new(hf, p, seed).map_err(|e| message(&e))?;
+                Built {
+                    // Generations depend on the budget; progress is shown against it.
+                    generations: 0,
+                    budget: Some(optimizer.budget()),
+                    optimizer: Box::new(optimizer),
+                    params,
+                }
+            }
+        })
+    }
+}
+
+/// A running method: an [`Optimizer`] plus what the app's views show beyond its front.
+pub trait Running: Optimizer + Send {
+    /// The current population as (T, E, non-domination rank); empty for methods without one.
+    fn population_points(&self) -> Vec<(f64, f64, usize)> {
+        Vec::new()
+    }
+    /// What the last completed generation did, phase by phase (NSGA-II only).
+    fn generation_trace(&self) -> Option<&GenerationTrace> {
+        None
+    }
+    /// The last completed orthogonal-array crossover (NSGA-II only).
+    fn last_crossover(&self) -> Option<&OaxRecord> {
+        None
+    }
+}
+
+impl Running for Nsga2 {
+    fn population_points(&self) -> Vec<(f64, f64, usize)> {
+        self.population()
+            .iter()
+            .map(|i| (i.objectives.t as f64, i.objectives.e_sum, i.rank))
+            .collect()
+    }
+    fn generation_trace(&self) -> Option<&GenerationTrace> {
+        self.last_generation()
+    }
+    fn last_crossover(&self) -> Option<&OaxRecord> {
+        Nsga2::last_crossover(self)
+    }
+}
+impl Running for Memetic {
+    fn population_points(&self) -> Vec<(f64, f64, usize)> {
+        self.population()
+            .iter()
+            .map(|m| (m.score.t as f64, m.score.e_sum, m.rank))
+            .collect()
+    }
+}
+impl Running for WeightedSum {}
+impl Running for GreedyInsertion {}
+impl Running for EdgeDecimation {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_distinct_and_round_trip() {
+        for (i, a) in Algorithm::ALL.iter().enumerate() {
+            assert_eq!(Algorithm::from_name(a.name()), Some(*a));
+            for b in &Algorithm::ALL[..i] {
+                let (sa, sb) = (a.spec(), b.spec());
+                assert!(sa.name != sb.name && sa.label != sb.label && sa.colour != sb.colour);
+            }
+        }
+        assert_eq!(Algorithm::from_name("nsga3"), None);
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn command_line_names_are_the_catalogue_names() {
+        use clap::ValueEnum;
+        for a in Algorithm::ALL {
+            assert_eq!(a.to_possible_value().unwrap().get_name(), a.name());
+        }
+    }
+
+    #[test]
+    fn a_parameter_the_method_does_not_read_is_refused_with_its_reason() {
+        let evals = Params {
+            max_evaluations: Some(10),
+            ..Params::default()
+        };
+        let err = Algorithm::Decimation.configure(&evals).unwrap_err();
+        assert!(err.contains("runs to its last reduction"), "{err}");
+        assert!(Algorithm::Greedy.configure(&evals).is_ok());
+        let gens = Params {
+            generations: Some(3),
+            ..Params::default()
+        };
+        assert!(
+            Algorithm::Memetic
+                .refusal(Param::Generations)
+                .unwrap()
+                .contains("use --evals")
+        );
+        assert!(Algorithm::Memetic.configure(&gens).is_err());
+        assert_eq!(
+            Algorithm::Greedy.refusal(Param::Population).as_deref(),
+            Some("it belongs to the evolutionary methods")
+        );
+    }
+
+    #[test]
+    fn an_ablation_switches_off_its_component_only() {
+        let p = Params {
+            without: Some(Component::LocalSearch),
+            ..Params::default()
+        };
+        let Config::Memetic(m) = Algorithm::Memetic.configure(&p).unwrap() else {
+            panic!("memetic configures memetic parameters");
+        };
+        assert!(!m.local_search && m.greedy_seeding && m.guided_mutation && m.neighbour_mating);
+        assert_eq!(
+            Algorithm::Memetic
+                .configure(&Params::default())
+                .unwrap()
+                .json(),
+            serde_json::to_value(MemeticParams::default()).unwrap()
+        );
+    }
+}
