@@ -40,6 +40,11 @@ stage "native tests"
 cargo test --all-targets
 cargo test --doc
 
+# The wheel from python/ (PyO3, maturin) and its pytest tests, Dask cluster included; they
+# compare with the debug CLI built just above.
+stage "python package"
+bash scripts/test-python.sh
+
 stage "wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web

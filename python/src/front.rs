@@ -110,9 +110,9 @@ impl FrontData {
                 return Err("this front was loaded without its grid: pass the grid to load_front(path, grid=...) to build meshes".into());
             }
             GridSource::Held(hf) => hf.clone(),
-            GridSource::File(path) => Arc::new(
-                paretomesh::import::load(path).map_err(|e| e.to_string())?,
-            ),
+            GridSource::File(path) => {
+                Arc::new(paretomesh::import::load(path).map_err(|e| e.to_string())?)
+            }
         };
         Ok(self.hf.get_or_init(|| hf).clone())
     }
@@ -176,6 +176,9 @@ impl FrontData {
         })
     }
 }
+
+/// A mesh as numpy arrays: vertices (n, 3) and triangles (m, 3).
+type MeshArrays<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>);
 
 /// The Pareto front of a run: its members by increasing triangle count T (so decreasing
 /// error). A sequence: ``len(front)``, ``front[i]``, ``for member in front``.
@@ -407,10 +410,7 @@ impl PyMember {
     /// order of ``kept``; triangles uint32 (m, 3), counter-clockwise seen from +z, indexing
     /// ``vertices``. Untiled: the canonical Delaunay triangulation of the kept set; tiled: the
     /// union of the tiles' canonical triangulations.
-    fn mesh<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>)> {
+    fn mesh<'py>(&self, py: Python<'py>) -> PyResult<MeshArrays<'py>> {
         let (data, index) = (self.data.clone(), self.index);
         let mesh = py.detach(move || -> Result<WorldMesh, String> {
             let hf = data.heightfield()?;
@@ -419,8 +419,9 @@ impl PyMember {
         });
         let mesh = mesh.map_err(value_error)?;
         let (n, m) = (mesh.vertices.len(), mesh.triangles.len());
-        let vertices = Array2::from_shape_vec((n, 3), mesh.vertices.into_iter().flatten().collect())
-            .expect("three coordinates per vertex");
+        let vertices =
+            Array2::from_shape_vec((n, 3), mesh.vertices.into_iter().flatten().collect())
+                .expect("three coordinates per vertex");
         let triangles =
             Array2::from_shape_vec((m, 3), mesh.triangles.into_iter().flatten().collect())
                 .expect("three corners per triangle");

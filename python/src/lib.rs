@@ -11,19 +11,19 @@ mod window;
 use errors::value_error;
 use front::{FrontData, GridSource, Members, PyFront, PyMember};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, ndarray::Array2};
-use paretomesh::tiling::algorithm::ALGORITHMS;
-use paretomesh::tiling::{TileFront, TilePlan, TiledFront, assemble, build_optimizer, run_tiled};
-use paretomesh::run_file::GridInfo;
-use pyo3::types::PyBytes;
-use std::sync::OnceLock;
 use paretomesh::evaluator::{Evaluator, check_indices};
 use paretomesh::heightfield::Heightfield;
+use paretomesh::run_file::GridInfo;
 use paretomesh::run_file::RunFile;
+use paretomesh::tiling::algorithm::ALGORITHMS;
+use paretomesh::tiling::{TileFront, TilePlan, TiledFront, assemble, build_optimizer, run_tiled};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 /// Evaluations between two looks at Python's signals (Ctrl-C) during a run: a look costs a
@@ -158,6 +158,9 @@ fn method_params(method: &str, evals: Option<u64>) -> PyResult<String> {
     Ok(methods::params(method, evals)?.to_string())
 }
 
+/// A tile's index and window: (index, x0, y0, w, h).
+type TileWindow = (usize, usize, usize, usize, usize);
+
 /// The tiles of a W×H grid: ``(tile side, [(index, x0, y0, w, h), ...])``, or an empty list
 /// when the grid is one tile (it runs untiled).
 #[pyfunction]
@@ -166,7 +169,7 @@ fn tile_plan(
     width: usize,
     height: usize,
     tile: Option<usize>,
-) -> PyResult<(usize, Vec<(usize, usize, usize, usize, usize)>)> {
+) -> PyResult<(usize, Vec<TileWindow>)> {
     let side = tile.unwrap_or(paretomesh::tiling::DEFAULT_TILE);
     Ok(match plan(width, height, tile)? {
         None => (side, Vec::new()),
@@ -283,7 +286,15 @@ fn assemble_front(
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| value_error(format!("a tile's front: {e}")))?;
         let front = assemble(&plan, fronts).map_err(|e| value_error(e.to_string()))?;
-        Ok(tiled_data(grid, grid_source, &method, params, seed, millis, front))
+        Ok(tiled_data(
+            grid,
+            grid_source,
+            &method,
+            params,
+            seed,
+            millis,
+            front,
+        ))
     })?;
     Ok(PyFront {
         data: Arc::new(data),
@@ -303,7 +314,8 @@ fn fill_nodata<'py>(
 /// The grid size the importer gives the file at `path`, from its header when it can.
 #[pyfunction]
 fn grid_size(py: Python<'_>, path: PathBuf) -> PyResult<(usize, usize)> {
-    py.detach(move || window::grid_size(&path)).map_err(value_error)
+    py.detach(move || window::grid_size(&path))
+        .map_err(value_error)
 }
 
 /// Grid rows ``y0 .. y0 + h`` and columns ``x0 .. x0 + w`` of the file at `path`, as the
@@ -380,7 +392,8 @@ fn load_front(
             }
             if let Members::Untiled(members) = &data.members {
                 for s in members {
-                    check_indices(&s.solution.kept, hf.len()).map_err(|e| value_error(e.to_string()))?;
+                    check_indices(&s.solution.kept, hf.len())
+                        .map_err(|e| value_error(e.to_string()))?;
                 }
             }
             data.grid_source = GridSource::Held(Arc::new(hf));

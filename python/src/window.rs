@@ -169,7 +169,11 @@ impl Header {
                     if row < r0 || row > r1 {
                         continue;
                     }
-                    let y = if self.flipped { self.height - 1 - row } else { row } - y0;
+                    let y = if self.flipped {
+                        self.height - 1 - row
+                    } else {
+                        row
+                    } - y0;
                     for local_col in 0..dw as usize {
                         let col = cx * cw + local_col;
                         if col < x0 || col >= x0 + w {
