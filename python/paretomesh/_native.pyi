@@ -1,11 +1,12 @@
 """Type stubs of the compiled module (``paretomesh._native``)."""
 
-from typing import Iterator, Optional, Sequence, Tuple
+from typing import Iterator, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
 METHODS: list[str]
+DEFAULT_TILE: int
 
 class Member:
     """One member of a front: a kept set of grid points and its scores."""
@@ -47,6 +48,9 @@ class Front(Sequence[Member]):
         """The grid's (width, height)."""
     @property
     def source(self) -> str: ...
+    @property
+    def tile(self) -> Optional[int]:
+        """The tile side of a tiled run, None for an untiled one."""
     def knee(self) -> Member:
         """The paper's trade-off pick, its weights drawn with the run's seed."""
     def at_most_triangles(self, n: int) -> Member:
@@ -61,6 +65,8 @@ def simplify(
     method: str,
     seed: int,
     evals: Optional[int] = ...,
+    threads: Optional[int] = ...,
+    tile: Optional[int] = ...,
     spacing: Optional[Tuple[float, float]] = ...,
     origin: Optional[Tuple[float, float]] = ...,
 ) -> Front: ...
@@ -72,3 +78,21 @@ def load_front(
     spacing: Optional[Tuple[float, float]] = ...,
     origin: Optional[Tuple[float, float]] = ...,
 ) -> Front: ...
+def method_params(method: str, evals: Optional[int] = ...) -> str: ...
+def tile_plan(
+    width: int, height: int, tile: Optional[int] = ...
+) -> Tuple[int, List[Tuple[int, int, int, int, int]]]: ...
+def run_tile(
+    z: npt.NDArray[np.float64], width: int, height: int, tile: int, index: int,
+    method: str, params: str, seed: int,
+) -> bytes: ...
+def run_whole(z: npt.NDArray[np.float64], method: str, params: str, seed: int) -> bytes: ...
+def assemble_front(
+    width: int, height: int, tile: int, parts: List[bytes], method: str, params: str,
+    seed: int, millis: int, source: str, z: Optional[npt.NDArray[np.float64]] = ...,
+    grid_path: Optional[str] = ..., spacing: Optional[Tuple[float, float]] = ...,
+    origin: Optional[Tuple[float, float]] = ...,
+) -> Front: ...
+def fill_nodata(z: npt.NDArray[np.float64]) -> Tuple[npt.NDArray[np.float64], int]: ...
+def grid_size(path: str) -> Tuple[int, int]: ...
+def read_window(path: str, x0: int, y0: int, w: int, h: int) -> npt.NDArray[np.float64]: ...
