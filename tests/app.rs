@@ -321,7 +321,7 @@ mod camera_and_loading {
     #[test]
     fn an_oversized_grid_size_is_refused_with_the_limit_in_the_message() {
         let ply = include_bytes!("data/bunny_33x33.ply");
-        let o = loader::options("planar", 4096, 4096).unwrap();
+        let o = loader::options("planar", 4097, 4097).unwrap();
         let e = loader::parse("bunny.ply", ply, None, &o).unwrap_err();
         assert!(e.contains("16.8 M points") && e.contains("limit"), "{e}");
     }

@@ -247,7 +247,7 @@ fn absurd_declared_sizes_are_refused_before_allocating() {
             "a.tif",
             tiff_claiming(100_000, 100_000),
             None,
-            "claims 10000000000 samples",
+            "100000×100000",
         ),
         (
             "a.stl",

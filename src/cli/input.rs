@@ -47,8 +47,8 @@ pub struct ImportArgs {
     #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
     pub projection: ProjectionArg,
     /// Grid size WxH for resampling a mesh or a GeoTIFF, e.g. 129x129 (default: for a mesh,
-    /// about one grid point per vertex, at most 257 per side; a GeoTIFF keeps its size unless it
-    /// is over the grid limit).
+    /// about one grid point per vertex, at most 257 per side; a GeoTIFF is read at its own size,
+    /// up to 16384 per side and 16384² points, and as much as the machine's memory holds).
     #[arg(long, value_name = "WxH", value_parser = parse_grid_size)]
     pub grid_size: Option<(usize, usize)>,
     /// Which surface a mesh that folds over itself keeps.
@@ -84,8 +84,19 @@ impl ImportArgs {
                 SurfaceArg::Outer => Surface::Outer,
             },
             terrain_rgb: self.terrain_rgb,
+            max_points: None,
+            memory_budget: available_memory(),
         }
     }
+}
+
+/// The memory the system can give without swapping (MemAvailable in /proc/meminfo), where the
+/// system says; `None` elsewhere.
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
 
 impl InputArgs {

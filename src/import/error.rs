@@ -47,6 +47,18 @@ pub enum ImportError {
         claimed: u64,
         limit: u64,
     },
+    /// Holding the grid would take more memory than the budget allows
+    /// ([`ImportOptions::memory_budget`](super::ImportOptions::memory_budget)), or the
+    /// allocation failed.
+    OutOfMemory {
+        format: &'static str,
+        width: usize,
+        height: usize,
+        /// Bytes the grid needs.
+        needed: u64,
+        /// Bytes available, when known.
+        available: Option<u64>,
+    },
     /// The mesh folds over itself in every projection that was tried.
     NoProjection {
         /// `(projection, share of the covered grid points covered more than once)` per try;
@@ -108,6 +120,25 @@ impl fmt::Display for ImportError {
                 f,
                 "the {format} file claims {claimed} {what}; ParetoMesh accepts at most {limit}"
             ),
+            Self::OutOfMemory {
+                format,
+                width,
+                height,
+                needed,
+                available,
+            } => {
+                let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+                write!(
+                    f,
+                    "the {format} grid is {width}×{height}; holding it takes {:.2} GiB",
+                    gib(*needed)
+                )?;
+                match available {
+                    Some(a) => write!(f, ", but only {:.2} GiB of memory is available", gib(*a))?,
+                    None => write!(f, ", which could not be allocated")?,
+                }
+                write!(f, "; choose a smaller grid with the grid-size option")
+            }
             Self::NoProjection { tried } => {
                 write!(
                     f,

@@ -93,18 +93,33 @@ pub fn from_bytes(
             raw::parse(bytes, json, file_name)
         }
         Kind::Png => heightmap_png::parse(bytes, file_name, options.terrain_rgb),
-        Kind::Tiff => geotiff::parse(bytes, file_name, options.grid_size),
+        Kind::Tiff => geotiff::parse(bytes, file_name, options),
         Kind::Ply => mesh::to_heightfield(&ply::parse(bytes)?, "PLY", file_name, options),
         Kind::Obj => mesh::to_heightfield(&obj::parse(bytes)?, "OBJ", file_name, options),
         Kind::Stl => mesh::to_heightfield(&stl::parse(bytes)?, "STL", file_name, options),
     }
 }
 
-fn read(path: &Path) -> Result<Vec<u8>, ImportError> {
-    std::fs::read(path).map_err(|e| ImportError::Io {
+fn io_error(path: &Path, e: std::io::Error) -> ImportError {
+    ImportError::Io {
         path: path.display().to_string(),
         message: e.to_string(),
-    })
+    }
+}
+
+fn read(path: &Path) -> Result<Vec<u8>, ImportError> {
+    std::fs::read(path).map_err(|e| io_error(path, e))
+}
+
+/// The file's first bytes, enough for [`kind_of`]'s magic numbers.
+fn magic(path: &Path) -> Result<Vec<u8>, ImportError> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+    let mut head = Vec::with_capacity(8);
+    file.take(8)
+        .read_to_end(&mut head)
+        .map_err(|e| io_error(path, e))?;
+    Ok(head)
 }
 
 /// Loads any supported file with the default [`ImportOptions`].
@@ -113,8 +128,18 @@ pub fn load(path: &Path) -> Result<Heightfield, ImportError> {
 }
 
 /// Loads any supported file by its extension; a `.f32` grid reads its `.json` sidecar beside it.
+/// A GeoTIFF is decoded from the file a strip or tile at a time, never held whole in memory.
 pub fn load_with(path: &Path, options: &ImportOptions) -> Result<Heightfield, ImportError> {
     let name = path.display().to_string();
+    if kind_of(&name, &magic(path)?) == Some(Kind::Tiff) {
+        if options.terrain_rgb {
+            return Err(ImportError::BadOption {
+                message: format!("{name}: the terrain-RGB option applies to PNG files only"),
+            });
+        }
+        let file = std::fs::File::open(path).map_err(|e| io_error(path, e))?;
+        return geotiff::read(std::io::BufReader::new(file), &name, options);
+    }
     let data = read(path)?;
     let sidecar = match kind_of(&name, &data) {
         Some(Kind::Raw) => Some(read(&path.with_extension("json"))?),

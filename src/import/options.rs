@@ -62,12 +62,23 @@ pub struct ImportOptions {
     pub projection: Projection,
     /// Grid size `(width, height)` for resampling a mesh or a GeoTIFF. `None`: for a mesh, about
     /// as many grid points as the mesh has vertices, with the aspect ratio of the projected
-    /// surface, each side capped at [`super::triangle_mesh::DEFAULT_MAX_SIDE`]; a GeoTIFF keeps its own size
-    /// unless it is over the grid limits. With [`Projection::Auto`], a mesh whose vertices
-    /// already form a grid is used as is unless a different size is asked for.
+    /// surface, each side capped at [`super::triangle_mesh::DEFAULT_MAX_SIDE`]; a GeoTIFF keeps
+    /// its own size (over [`max_points`](Self::max_points) it is refused, or fitted when a cap
+    /// is set). With [`Projection::Auto`], a mesh whose vertices already form a grid is used as
+    /// is unless a different size is asked for.
     pub grid_size: Option<(usize, usize)>,
     /// Which surface a folding mesh keeps (meshes only). Default: [`Surface::Single`].
     pub surface: Surface,
     /// Read an RGB PNG as Mapbox terrain-RGB: h = −10000 + (R·65536 + G·256 + B)·0.1.
     pub terrain_rgb: bool,
+    /// A cap on grid points below the library's own limit
+    /// ([`MAX_POINTS`](crate::heightfield::MAX_POINTS)), e.g. what one browser tab holds. A
+    /// GeoTIFF over it with no grid size asked for is fitted under it by area averaging, and
+    /// its source note says so (the app then shows its import dialog). `None`: a GeoTIFF over
+    /// the library's limit is refused instead, never resampled unasked.
+    pub max_points: Option<usize>,
+    /// Bytes of memory the grid may take (e.g. the machine's available memory). A GeoTIFF
+    /// whose grid would need more is refused from its header, before anything is decoded.
+    /// `None`: no check beyond the size limits.
+    pub memory_budget: Option<u64>,
 }

@@ -605,17 +605,27 @@ fn draw_triangle(
 /// one reached first from the lower grid index); returns how many were filled. At least one
 /// point must be non-NaN.
 pub fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
-    let mut queue: VecDeque<usize> = (0..z.len()).filter(|&i| !z[i].is_nan()).collect();
-    let filled = z.len() - queue.len();
-    while let Some(i) = queue.pop_front() {
+    let filled = z.iter().filter(|v| v.is_nan()).count();
+    if filled == 0 {
+        return 0;
+    }
+    let neighbours = |i: usize| {
         let (x, y) = (i % width, i / width);
-        let neighbours = [
+        [
             (y > 0).then(|| i - width),
             (x > 0).then(|| i - 1),
             (x + 1 < width).then(|| i + 1),
             (y + 1 < height).then(|| i + width),
-        ];
-        for j in neighbours.into_iter().flatten() {
+        ]
+    };
+    // Breadth-first from every valid point in index order; a valid point with no missing
+    // neighbour would fill nothing, so only the border of the missing regions is queued (the
+    // same order and result, with memory for the border instead of the whole grid).
+    let mut queue: VecDeque<usize> = (0..z.len())
+        .filter(|&i| !z[i].is_nan() && neighbours(i).into_iter().flatten().any(|j| z[j].is_nan()))
+        .collect();
+    while let Some(i) = queue.pop_front() {
+        for j in neighbours(i).into_iter().flatten() {
             if z[j].is_nan() {
                 z[j] = z[i];
                 queue.push_back(j);
