@@ -17,7 +17,10 @@ from terrain import terrain
 
 
 def members(front):
-    return [(m.E_sum, m.E_max, m.T) for m in front], [m.kept.tobytes() for m in front]
+    """Every member's numbers, and the kept points of the first, the knee and the last (a tiled
+    member's kept points take a triangulation of every tile)."""
+    picks = (front[0], front.knee(), front[-1])
+    return [(m.E_sum, m.E_max, m.T) for m in front], [m.kept.tobytes() for m in picks]
 
 
 def main() -> None:
