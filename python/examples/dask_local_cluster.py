@@ -42,8 +42,8 @@ def main() -> None:
     vertices, triangles = knee.mesh()
     print(f"trade-off pick: T = {knee.T}, E_sum = {knee.E_sum:.6g}, E_max = {knee.E_max:.4g}; "
           f"{len(vertices)} vertices, {len(triangles)} triangles")
-    front.save("front.json")
-    print("wrote front.json (paretomesh export front.json --tradeoff --out mesh.ply --grid ...)")
+    least = front.at_most_triangles(knee.T // 4)
+    print(f"least error within {knee.T // 4} triangles: T = {least.T}, E_sum = {least.E_sum:.6g}")
 
 
 if __name__ == "__main__":
