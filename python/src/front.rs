@@ -5,11 +5,10 @@ use crate::errors::value_error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, ndarray::Array2};
 use paretomesh::evaluator::{Evaluator, canonical_set, check_indices};
 use paretomesh::export::mesh::WorldMesh;
-use paretomesh::front::Solution;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::metrics::trade_off_pick;
 use paretomesh::run_file::{GridInfo, RunFile, RunSolution};
-use paretomesh::tiling::TiledFront;
+use paretomesh::tiling::{TiledFront, TiledRunFile};
 use pyo3::exceptions::{PyIndexError, PyOSError};
 use pyo3::prelude::*;
 use std::io::Write;
@@ -148,32 +147,51 @@ impl FrontData {
         }
     }
 
-    /// The front.json of this front. A tiled front's members list their triangles too: their
-    /// mesh is the union of the tiles' triangulations, not the Delaunay triangulation of the
-    /// kept set, so `paretomesh export` must read it from the file.
-    fn run_file(&self) -> Result<RunFile, String> {
-        let front = match &self.members {
-            Members::Untiled(m) => m.clone(),
-            Members::Tiled(f) => (0..f.members.len())
-                .map(|i| {
-                    let (kept, triangles) = self.kept_and_triangles(i)?;
-                    let n = self.numbers(i);
-                    Ok(RunSolution {
-                        solution: Solution::recorded(n.e_sum, n.e_max, n.t, kept),
-                        triangles: Some(triangles),
-                    })
-                })
-                .collect::<Result<_, String>>()?,
-        };
-        Ok(RunFile {
-            grid: self.grid.clone(),
-            algorithm: self.algorithm.clone(),
-            params: self.params.clone(),
-            seed: self.seed,
-            evaluations: self.evaluations,
-            millis: self.millis,
-            front,
-        })
+    /// The front.json of this front, as JSON: a tiled front's file keeps every tile's kept sets
+    /// and each member's choice of one per tile (the format `paretomesh run --tile` writes).
+    fn to_json(&self, w: impl std::io::Write) -> Result<(), serde_json::Error> {
+        match &self.members {
+            Members::Untiled(front) => serde_json::to_writer(
+                w,
+                &RunFile {
+                    grid: self.grid.clone(),
+                    algorithm: self.algorithm.clone(),
+                    params: self.params.clone(),
+                    seed: self.seed,
+                    evaluations: self.evaluations,
+                    millis: self.millis,
+                    front: front.clone(),
+                },
+            ),
+            Members::Tiled(tiled) => serde_json::to_writer(
+                w,
+                &TiledRunFile {
+                    grid: self.grid.clone(),
+                    algorithm: self.algorithm.clone(),
+                    params: self.params.clone(),
+                    seed: self.seed,
+                    evaluations: self.evaluations,
+                    millis: self.millis,
+                    threads: 0,
+                    tiled: tiled.clone(),
+                },
+            ),
+        }
+    }
+
+    /// A tiled front read from its front.json.
+    pub fn of_tiled_file(file: TiledRunFile, grid_source: GridSource) -> Self {
+        Self {
+            grid_source,
+            hf: OnceLock::new(),
+            grid: file.grid,
+            algorithm: file.algorithm,
+            params: file.params,
+            seed: file.seed,
+            evaluations: file.evaluations,
+            millis: file.millis,
+            members: Members::Tiled(file.tiled),
+        }
     }
 }
 
@@ -343,12 +361,11 @@ impl PyFront {
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let data = self.data.clone();
         py.detach(move || {
-            let file = data.run_file().map_err(value_error)?;
             let out = std::fs::File::create(&path).map_err(|e| {
                 PyOSError::new_err(format!("cannot create {}: {e}", path.display()))
             })?;
             let mut w = std::io::BufWriter::with_capacity(1 << 18, out);
-            serde_json::to_writer(&mut w, &file)
+            data.to_json(&mut w)
                 .map_err(std::io::Error::other)
                 .and_then(|()| w.flush())
                 .map_err(|e| PyOSError::new_err(format!("cannot write {}: {e}", path.display())))

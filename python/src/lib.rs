@@ -16,7 +16,9 @@ use paretomesh::heightfield::Heightfield;
 use paretomesh::run_file::GridInfo;
 use paretomesh::run_file::RunFile;
 use paretomesh::tiling::algorithm::ALGORITHMS;
-use paretomesh::tiling::{TileFront, TilePlan, TiledFront, assemble, build_optimizer, run_tiled};
+use paretomesh::tiling::{
+    TileFront, TilePlan, TiledFront, TiledRunFile, assemble, build_optimizer, run_tiled,
+};
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -366,9 +368,18 @@ fn load_front(
     let data = py.detach(move || -> PyResult<FrontData> {
         let bytes = std::fs::read(&path)
             .map_err(|e| PyOSError::new_err(format!("cannot read {}: {e}", path.display())))?;
-        let file: RunFile = serde_json::from_slice(&bytes)
-            .map_err(|e| value_error(format!("{} is not a front.json: {e}", path.display())))?;
-        if file.front.is_empty() {
+        let not_front = |e: serde_json::Error| {
+            value_error(format!("{} is not a front.json: {e}", path.display()))
+        };
+        let value: serde_json::Value = serde_json::from_slice(&bytes).map_err(not_front)?;
+        let mut data = if value.get("tiled").is_some() {
+            let file: TiledRunFile = serde_json::from_value(value).map_err(not_front)?;
+            FrontData::of_tiled_file(file, GridSource::None)
+        } else {
+            let file: RunFile = serde_json::from_value(value).map_err(not_front)?;
+            FrontData::of_file(file, GridSource::None)
+        };
+        if data.len() == 0 {
             return Err(value_error(format!(
                 "{} has no members in its front",
                 path.display()
@@ -379,7 +390,6 @@ fn load_front(
             (None, Some(hf)) => Some(hf),
             (None, None) => None,
         };
-        let mut data = FrontData::of_file(file, GridSource::None);
         if let Some(hf) = hf {
             let (w, h) = (data.grid.width, data.grid.height);
             if (hf.width(), hf.height()) != (w, h) {

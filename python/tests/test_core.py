@@ -170,11 +170,15 @@ def test_a_tiled_run_is_the_same_for_any_number_of_threads(tmp_path):
     assert members(one) == members(two)
     vertices, triangles = one.knee().mesh()
     assert triangles.shape == (one.knee().T, 3)
-    # Saved with each member's triangles (the union of its tiles' meshes, which is not the
-    # Delaunay triangulation of its kept set), and read back to the same meshes.
+    # Saved as a tiled front.json (every tile's kept sets, each member's choice of one per
+    # tile), and read back to the same members and meshes.
     path = tmp_path / "tiled.json"
     one.save(path)
+    written = json.loads(path.read_text())
+    assert written["tiled"]["plan"] and len(written["tiled"]["members"]) == len(one)
+    assert "front" not in written
     loaded = paretomesh.load_front(path, z)
+    assert loaded.tile == 33
     assert [(m.E_sum, m.E_max, m.T) for m in loaded] == [(m.E_sum, m.E_max, m.T) for m in one]
     for k in (0, len(one) // 2, len(one) - 1):
         assert all(np.array_equal(a, b) for a, b in zip(loaded[k].mesh(), one[k].mesh()))
