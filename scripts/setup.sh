@@ -37,3 +37,18 @@ if [ ! -x node_modules/.bin/wasm-opt ] || [ ! -d node_modules/playwright-core ] 
   || [ package-lock.json -nt node_modules/.package-lock.json ]; then
   npm ci --no-audit --no-fund
 fi
+
+# The Python package's build and test tools, in a virtualenv of their own (.venv-python):
+# maturin builds the wheel, pytest runs python/tests, dask[distributed] runs its cluster tests.
+# Debian's python3 needs python3-venv (and pip) for it.
+if [ ! -x .venv-python/bin/python ]; then
+  if ! python3 -m venv --help >/dev/null 2>&1 || ! python3 -c 'import ensurepip' 2>/dev/null; then
+    apt-get update
+    DEBIAN_FRONTEND=noninteractive apt-get install -y python3-venv python3-pip
+  fi
+  python3 -m venv .venv-python
+fi
+if [ ! -x .venv-python/bin/maturin ] \
+  || ! .venv-python/bin/python -c 'import numpy, pytest, dask, distributed' 2>/dev/null; then
+  .venv-python/bin/pip install --quiet maturin numpy pytest 'dask[distributed]'
+fi

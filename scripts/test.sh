@@ -45,6 +45,11 @@ cargo test --doc
 stage "front hashes"
 bash scripts/check-fronts.sh
 
+# The wheel from python/ (PyO3, maturin) and its pytest tests, Dask cluster included; they
+# compare with the debug CLI built just above.
+stage "python package"
+bash scripts/test-python.sh
+
 stage "wasm tests (headless Chromium)"
 CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUNNER=wasm-bindgen-test-runner \
   cargo test --target wasm32-unknown-unknown --test web

@@ -542,7 +542,8 @@ mod tests {
         front.offer(Solution::recorded(2.0, 1.0, 800, base.clone()));
         front.offer(Solution::recorded(9.0, 1.0, 2, vec![0, 39, 1560, 1599]));
         let mut ev = Evaluator::new(hf);
-        let file = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let file =
+            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
         let json: serde_json::Value = serde_json::to_value(&file).unwrap();
         let members = json["front"].as_array().unwrap();
         // By T: the corners packed whole, then the 534-point member in whichever form is

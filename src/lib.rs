@@ -35,14 +35,14 @@ pub mod export;
 pub mod front;
 pub mod front_file;
 pub mod heightfield;
-pub(crate) mod lazy_queue;
 pub mod import;
 pub mod kept_codec;
+pub(crate) mod lazy_queue;
 pub mod metrics;
 pub mod optimizer;
-pub mod tiling;
 pub mod pick;
 pub mod pyramid;
+pub mod tiling;
 
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -7,10 +7,10 @@ use paretomesh::baselines::{
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evaluator::canonical_set as canonical;
 use paretomesh::front::{Front, Solution, dominates};
+use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
-use paretomesh::front_file::FrontFile;
 use std::path::Path;
 use std::sync::Arc;
 

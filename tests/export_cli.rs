@@ -4,10 +4,10 @@
 
 use paretomesh::evaluator::Score;
 use paretomesh::evaluator::canonical_set;
+use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::metrics::trade_off_pick;
-use paretomesh::front_file::FrontFile;
 use paretomesh::pick::knee;
 use serde_json::Value;
 use std::collections::HashMap;

@@ -2,12 +2,12 @@
 //! `gltf` crate, serde_json), its shared tile edges, its errors, and its place on the globe
 //! against GDAL's and proj4rs's conversions.
 
+use paretomesh::front_file::FrontFile;
 use paretomesh::import;
 use paretomesh::pyramid::borders::with_border_points;
 use paretomesh::pyramid::globe::{Frame, MapSystem, ecef};
 use paretomesh::pyramid::quadtree::Level;
 use paretomesh::pyramid::tile_mesh::tile_mesh;
-use paretomesh::front_file::FrontFile;
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

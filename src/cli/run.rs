@@ -14,9 +14,9 @@ use paretomesh::evolution::CrossoverKind;
 use paretomesh::export::csv::front_csv;
 use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
+use paretomesh::front_file::{GridInfo, ImportRecord};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::Progress;
-use paretomesh::front_file::{GridInfo, ImportRecord};
 use paretomesh::tiling::{
     DEFAULT_TILE, TilePlan, TiledFrontFile, check_tile, run_tiled_with_progress,
 };

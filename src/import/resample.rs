@@ -604,7 +604,7 @@ fn draw_triangle(
 /// Fills NaN points with the value of the nearest non-NaN point in 4-neighbour steps (ties: the
 /// one reached first from the lower grid index); returns how many were filled. At least one
 /// point must be non-NaN.
-pub(crate) fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
+pub fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
     let filled = z.iter().filter(|v| v.is_nan()).count();
     if filled == 0 {
         return 0;
