@@ -218,6 +218,14 @@ pub trait Running: Optimizer {
     fn last_crossover(&self) -> Option<&OaxRecord> {
         None
     }
+    /// The run as a pool run, when its work happens in Web Workers (see [`super::pool`]).
+    fn as_pool(&mut self) -> Option<&mut super::pool::PoolRun> {
+        None
+    }
+    /// [`Running::as_pool`], to read.
+    fn as_pool_ref(&self) -> Option<&super::pool::PoolRun> {
+        None
+    }
 }
 
 impl Running for Nsga2 {

@@ -97,6 +97,7 @@ pub(super) fn frame(ui: &mut Ui) {
             r.generations
         ));
     }
+    super::pool::note_status(ui, &mut status);
     dom::set_text("status", &status);
     teaching_view::teaching_frame(ui, performance_now());
     ui.update_layers();
@@ -254,9 +255,13 @@ fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
 fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
     let s = ui.app.surface();
     let hf = &s.heightfield;
+    // The selected mesh itself, also when the view draws a coarser member in its place.
     let mesh = match &ui.shown {
-        Some(m) => m.clone(),
-        None => shown_mesh(hf, &ui.app.shown_kept())?,
+        Some(m) if ui.app.selected().is_some_and(|s| s.t == m.triangles.len()) => m.clone(),
+        _ => match ui.app.selected_mesh(None) {
+            Some(m) => m?,
+            None => shown_mesh(hf, &ui.app.shown_kept())?,
+        },
     };
     let world = WorldMesh::new(hf, &mesh.kept, &mesh.triangles)?;
     let note = format!(
