@@ -2,15 +2,17 @@
 //! [--format ply|obj|stl|glb] --out FILE [--grid GRID] [import options]`: writes one member of a
 //! front as a mesh in the input's own coordinates (map coordinates for a georeferenced GeoTIFF).
 
-use super::front_file::{self, Selector, find_grid, select};
+use super::front_file::{self, AnyFront, Selector, find_grid, select};
 use super::input::ImportArgs;
 use clap::{ArgGroup, Args, ValueEnum};
-use paretomesh::evaluator::{Evaluator, canonical_set};
+use paretomesh::evaluator::{Evaluator, Score, canonical_set};
 use paretomesh::export::glb::{GlbMesh, vertex_normals, write_glb};
 use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::{obj::to_obj, ply::to_ply, stl::to_stl};
+use paretomesh::front::Solution;
 use paretomesh::heightfield::{self, Heightfield};
 use paretomesh::run_file::RunFile;
+use paretomesh::tiling::TiledRunFile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -127,6 +129,36 @@ fn member_mesh(
     Ok(triangles)
 }
 
+/// The mesh of a tiled front's member, the union of its tiles' triangulations, checked against
+/// what the file records as [`member_mesh`] checks an untiled one.
+fn tiled_member_mesh(
+    hf: &Heightfield,
+    file: &TiledRunFile,
+    index: usize,
+    front_path: &Path,
+    grid_path: &Path,
+) -> Result<Vec<[u32; 3]>, String> {
+    let recorded = &file.tiled.members[index];
+    let mesh = file
+        .tiled
+        .mesh(hf, index)
+        .map_err(|e| format!("member {index} of {}: {e}", front_path.display()))?;
+    let tolerance = 1e-8 * (recorded.e_sum.abs() + mesh.e_sum.abs()) + 1e-12;
+    if mesh.triangles.len() as u64 != recorded.t || (mesh.e_sum - recorded.e_sum).abs() > tolerance
+    {
+        return Err(format!(
+            "member {index} of {} records T = {} and E_sum = {}, but on {} its tiles give T = {} and E_sum = {}: that is not the grid the front was made on, or it was imported with other options",
+            front_path.display(),
+            recorded.t,
+            recorded.e_sum,
+            grid_path.display(),
+            mesh.triangles.len(),
+            mesh.e_sum
+        ));
+    }
+    Ok(mesh.triangles)
+}
+
 /// The mesh's vertices are the triangles' corners, as increasing grid indices: the kept list
 /// may leave out the corners, which the triangulation always has.
 fn vertices_of(triangles: &[[u32; 3]]) -> Vec<u32> {
@@ -169,15 +201,27 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         })?,
     };
     let file = front_file::read(&args.front)?;
-    let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
-    let index = select(&scores, args.selector(), file.seed)?;
+    let (grid, seed) = match &file {
+        AnyFront::Untiled(f) => (&f.grid, f.seed),
+        AnyFront::Tiled(f) => (&f.grid, f.seed),
+    };
+    let scores: Vec<Score> = match &file {
+        AnyFront::Untiled(f) => f.front.iter().map(|m| m.solution.score).collect(),
+        AnyFront::Tiled(f) => f
+            .tiled
+            .members
+            .iter()
+            .map(|m| Solution::recorded(m.e_sum, m.e_max, m.t as usize, Vec::new()).score)
+            .collect(),
+    };
+    let index = select(&scores, args.selector(), seed)?;
     let grid_path = match &args.grid {
         Some(path) => path.clone(),
-        None => find_grid(&args.front, &file.grid.source)?,
+        None => find_grid(&args.front, &grid.source)?,
     };
     let hf =
         heightfield::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
-    let (w, h) = (file.grid.width, file.grid.height);
+    let (w, h) = (grid.width, grid.height);
     if (hf.width(), hf.height()) != (w, h) {
         return Err(format!(
             "the grid {} is {}×{}, but {} was made on a {w}×{h} grid",
@@ -188,9 +232,12 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         ));
     }
     let hf = Arc::new(hf);
-    let triangles = member_mesh(hf.clone(), &file, index, &args.front, &grid_path)?;
+    let triangles = match &file {
+        AnyFront::Untiled(f) => member_mesh(hf.clone(), f, index, &args.front, &grid_path)?,
+        AnyFront::Tiled(f) => tiled_member_mesh(&hf, f, index, &args.front, &grid_path)?,
+    };
     let mesh = WorldMesh::new(&hf, &vertices_of(&triangles), &triangles)?;
-    let member = &file.front[index].solution;
+    let member = &scores[index];
     let note = format!(
         "ParetoMesh member {index} of {}: {} vertices, {} triangles, E_sum = {}",
         args.front
@@ -205,7 +252,7 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}: {e}", args.out.display()))?;
     eprintln!(
         "wrote member {index} of {} (T = {}, E_sum = {}, {} vertices) to {} as {}",
-        file.front.len(),
+        scores.len(),
         member.t,
         member.e_sum,
         mesh.vertices.len(),

@@ -4,15 +4,39 @@
 use paretomesh::evaluator::Score;
 use paretomesh::metrics::trade_off_pick;
 use paretomesh::run_file::RunFile;
+use paretomesh::tiling::TiledRunFile;
 use std::path::{Path, PathBuf};
 
-/// Reads and parses the front.json at `path` (members with or without triangles); the error
-/// names the file.
-pub fn read(path: &Path) -> Result<RunFile, String> {
+/// A front.json of an untiled or a tiled run.
+pub enum AnyFront {
+    /// An untiled run: a kept list per member.
+    Untiled(RunFile),
+    /// A tiled run: per-tile kept sets and a choice per tile for each member.
+    Tiled(Box<TiledRunFile>),
+}
+
+/// Reads and parses the front.json at `path` (untiled, with or without triangles, or tiled);
+/// the error names the file.
+pub fn read(path: &Path) -> Result<AnyFront, String> {
+    /// Only whether the file has a tiled front.
+    #[derive(serde::Deserialize)]
+    struct Probe {
+        #[serde(default)]
+        tiled: Option<serde::de::IgnoredAny>,
+    }
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let file: RunFile = serde_json::from_slice(&bytes)
-        .map_err(|e| format!("{} is not a front.json: {e}", path.display()))?;
-    if file.front.is_empty() {
+    let not_a_front = |e: serde_json::Error| format!("{} is not a front.json: {e}", path.display());
+    let probe: Probe = serde_json::from_slice(&bytes).map_err(not_a_front)?;
+    let (file, members) = if probe.tiled.is_some() {
+        let file: TiledRunFile = serde_json::from_slice(&bytes).map_err(not_a_front)?;
+        let members = file.tiled.members.len();
+        (AnyFront::Tiled(Box::new(file)), members)
+    } else {
+        let file: RunFile = serde_json::from_slice(&bytes).map_err(not_a_front)?;
+        let members = file.front.len();
+        (AnyFront::Untiled(file), members)
+    };
+    if members == 0 {
         return Err(format!("{} has no members in its front", path.display()));
     }
     Ok(file)

@@ -2,6 +2,7 @@
 
 use super::input::InputArgs;
 use paretomesh::heightfield::Placement;
+use paretomesh::tiling::{DEFAULT_TILE, TilePlan};
 
 pub fn run(input: &InputArgs) -> Result<(), String> {
     let hf = input.load()?;
@@ -24,6 +25,20 @@ pub fn run(input: &InputArgs) -> Result<(), String> {
         ),
     }
     println!("full mesh: {} triangles", hf.full_triangles());
+    if let Ok(plan) = TilePlan::with_default_tile(hf.width(), hf.height()) {
+        if plan.is_single() {
+            println!(
+                "tiles: none, a run optimises the grid whole (up to {DEFAULT_TILE} points a side)"
+            );
+        } else {
+            println!(
+                "tiles: a run cuts it into {} tiles ({}×{}) of at most {DEFAULT_TILE} points a side (--tile changes it)",
+                plan.len(),
+                plan.columns(),
+                plan.rows()
+            );
+        }
+    }
     if hf.georeference().is_some() {
         println!(
             "filled: {} nodata cells took their nearest valid value",

@@ -25,13 +25,19 @@ enum Command {
         #[command(flatten)]
         input: input::InputArgs,
     },
-    /// Triangulate a kept set and print its error as JSON.
+    /// Triangulate a kept set (or take given triangles) and print its error as JSON.
+    #[command(group(clap::ArgGroup::new("mesh").required(true).args(["keep", "triangles"])))]
     Eval {
         #[command(flatten)]
         input: input::InputArgs,
         /// JSON array of kept grid indices (y·W + x), or `-` for standard input.
         #[arg(long)]
-        keep: String,
+        keep: Option<String>,
+        /// JSON array of triangles [[a, b, c], …] over grid indices, or `-` for standard
+        /// input: scores that triangulation as it is (another tool's mesh), without its triangles
+        /// in the output.
+        #[arg(long)]
+        triangles: Option<String>,
     },
     /// Run an optimizer and write its front as front.json (and CSV).
     Run(run::RunArgs),
@@ -49,7 +55,15 @@ enum Command {
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Info { input } => info::run(&input),
-        Command::Eval { input, keep } => eval::run(&input, &keep),
+        Command::Eval {
+            input,
+            keep,
+            triangles,
+        } => match (keep, triangles) {
+            (Some(keep), _) => eval::run(&input, &keep),
+            (None, Some(triangles)) => eval::run_triangles(&input, &triangles),
+            (None, None) => unreachable!("clap requires --keep or --triangles"),
+        },
         Command::Run(args) => run::run(&args),
         Command::Export(args) => export::run(&args),
         Command::Experiment(args) => experiment::run(&args),

@@ -19,7 +19,10 @@ use paretomesh::export::csv::front_csv;
 use paretomesh::front::Front;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::{Optimizer, Progress};
-use paretomesh::run_file::RunFile;
+use paretomesh::run_file::{GridInfo, RunFile};
+use paretomesh::tiling::{
+    DEFAULT_TILE, TilePlan, TiledRunFile, check_tile, run_tiled_with_progress,
+};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -125,9 +128,17 @@ pub struct RunArgs {
     #[arg(long)]
     csv: Option<PathBuf>,
     /// List every member's triangles in front.json too (by default a member lists its kept
-    /// grid indices, which determine its triangles).
+    /// grid indices, which determine its triangles). Untiled runs only.
     #[arg(long)]
     triangles: bool,
+    /// Tile size in grid points a side: a larger grid is cut into tiles that share their
+    /// borders, each optimised on its own (--evals then counts per tile), and one whole-grid
+    /// front is assembled [default: 1025].
+    #[arg(long, value_name = "N")]
+    tile: Option<usize>,
+    /// Threads the tiles run on (the front does not depend on it) [default: every core].
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
 }
 
 /// A ready-to-run optimizer, its parameters as JSON, how many generations it will run (0 when
@@ -336,7 +347,16 @@ fn status(p: &Progress, generations: u64, front: &Front, full_triangles: usize) 
 }
 
 pub fn run(args: &RunArgs) -> Result<(), String> {
+    check_tile(args.tile.unwrap_or(DEFAULT_TILE)).map_err(|e| format!("--tile: {e}"))?;
+    if args.threads == Some(0) {
+        return Err("--threads must be at least 1".to_string());
+    }
     let hf = Arc::new(args.input.load()?);
+    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
+        .map_err(|e| e.to_string())?;
+    if !plan.is_single() {
+        return run_tiled_grid(args, &hf, &plan);
+    }
     let Built {
         mut optimizer,
         params,
@@ -432,17 +452,117 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// A tiled run: every tile on the thread pool, then the whole-grid front, written as a
+/// [`TiledRunFile`].
+fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Result<(), String> {
+    if args.triangles {
+        return Err(format!(
+            "--triangles lists triangles of untiled runs only: this {}×{} grid is cut into {} tiles of at most {} points a side (export rebuilds any member's mesh, or give a larger --tile)",
+            hf.width(),
+            hf.height(),
+            plan.len(),
+            plan.tile_size()
+        ));
+    }
+    // The parameters as the untiled run would record them, checked on the first tile's grid
+    // before any tile runs.
+    let first = Arc::new(plan.cut(hf, 0).map_err(|e| e.to_string())?);
+    let params = build(args, first)?.params;
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    eprintln!(
+        "{}×{} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
+        hf.width(),
+        hf.height(),
+        plan.len(),
+        plan.columns(),
+        plan.rows(),
+        plan.tile_size()
+    );
+    let started = Instant::now();
+    let finished = std::sync::atomic::AtomicUsize::new(0);
+    let report = |index: usize| {
+        let n = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        eprintln!(
+            "tile {index} done ({n}/{}, {:.1} s)",
+            plan.len(),
+            started.elapsed().as_secs_f64()
+        );
+    };
+    let name = args.algo.name();
+    let tiled = run_tiled_with_progress(hf, plan, &name, &params, args.seed, threads, &report)
+        .map_err(|e| e.to_string())?;
+    let millis = started.elapsed().as_millis() as u64;
+    let full = hf.full_triangles() as u64;
+    let mut line = format!(
+        "done: {} evaluations in {millis} ms, whole-grid front of {} members",
+        tiled.evaluations(),
+        tiled.members.len()
+    );
+    for per_mille in [1, 10, 50] {
+        let t = (full * per_mille / 1000).max(2);
+        if let Some(m) = tiled.within(t) {
+            line.push_str(&format!("  E(T≤{t}) {:.4e}", m.e_sum));
+        }
+    }
+    eprintln!("{line}");
+    let writing = Instant::now();
+    let file = TiledRunFile {
+        grid: GridInfo {
+            width: hf.width(),
+            height: hf.height(),
+            source: hf.source().to_string(),
+        },
+        algorithm: name,
+        params,
+        seed: args.seed,
+        evaluations: tiled.evaluations(),
+        millis,
+        threads,
+        tiled,
+    };
+    write(&args.out, |w| {
+        serde_json::to_writer(w, &file).map_err(std::io::Error::other)
+    })?;
+    if let Some(csv) = &args.csv {
+        let mut rows = String::from("T,E_sum,E_max\n");
+        for m in &file.tiled.members {
+            rows.push_str(&format!("{},{},{}\n", m.t, m.e_sum, m.e_max));
+        }
+        write(csv, |w| w.write_all(rows.as_bytes()))?;
+    }
+    let bytes = std::fs::metadata(&args.out).map_or(0, |m| m.len());
+    eprintln!(
+        "wrote {} ({:.1} MB, per-tile kept sets and each member's choice per tile) in {} ms",
+        args.out.display(),
+        bytes as f64 / 1e6,
+        writing.elapsed().as_millis()
+    );
+    Ok(())
+}
+
 /// Writes a file through a buffer, with the path in the error message. The buffer is large
 /// because a paper run's front.json is tens of megabytes, which the default 8 KB buffer writes
-/// in many more system calls.
+/// in many more system calls. The file is written beside `path` under a temporary name and
+/// renamed into place once complete, so an interrupted run never leaves a partial file at
+/// `path`.
 fn write(
     path: &PathBuf,
     body: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
 ) -> Result<(), String> {
-    let file = std::fs::File::create(path)
-        .map_err(|e| format!("cannot create {}: {e}", path.display()))?;
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
+    let file = std::fs::File::create(&temporary)
+        .map_err(|e| format!("cannot create {}: {e}", temporary.display()))?;
     let mut w = std::io::BufWriter::with_capacity(1 << 18, file);
-    body(&mut w)
+    let written = body(&mut w)
         .and_then(|()| w.flush())
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        .and_then(|()| std::fs::rename(&temporary, path));
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        format!("cannot write {}: {e}", path.display())
+    })
 }

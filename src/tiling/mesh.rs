@@ -2,6 +2,7 @@
 
 use super::TilingError;
 use super::assemble::TiledFront;
+use super::tile_front::unowned_error;
 use crate::evaluator::Evaluator;
 use crate::heightfield::Heightfield;
 use std::sync::Arc;
@@ -14,6 +15,11 @@ pub struct TiledMesh {
     pub kept: Vec<u32>,
     /// Triangles over whole-grid indices.
     pub triangles: Vec<[u32; 3]>,
+    /// E_sum scored again from the tiles' meshes (their E shares added in tile order): the
+    /// member's recorded E_sum when the grid is the one the front was made on.
+    pub e_sum: f64,
+    /// E_max scored again.
+    pub e_max: f64,
 }
 
 impl TiledFront {
@@ -28,6 +34,7 @@ impl TiledFront {
         })?;
         let mut kept = Vec::new();
         let mut triangles = Vec::new();
+        let (mut e_sum, mut e_max) = (0.0, 0.0f64);
         for (tile_front, &c) in self.tiles.iter().zip(&m.choice) {
             let tile = self
                 .plan
@@ -47,6 +54,16 @@ impl TiledFront {
             let evaluation = evaluator
                 .evaluate(&local)
                 .map_err(|e| TilingError::Evaluate(e.to_string()))?;
+            let level = candidate.level as usize;
+            e_sum += evaluation.score.e_sum
+                - unowned_error(
+                    &self.plan,
+                    tile.index,
+                    &tile_front.borders,
+                    tile_hf.z(),
+                    level,
+                );
+            e_max = e_max.max(evaluation.score.e_max);
             let to_grid = |i: u32| tile.to_grid(i, hf.width());
             kept.extend(
                 local
@@ -58,6 +75,11 @@ impl TiledFront {
         }
         kept.sort_unstable();
         kept.dedup();
-        Ok(TiledMesh { kept, triangles })
+        Ok(TiledMesh {
+            kept,
+            triangles,
+            e_sum,
+            e_max,
+        })
     }
 }

@@ -19,6 +19,7 @@
 //! - [`allocation`]: the multiple-choice allocation of one option per tile;
 //! - [`assemble`](mod@assemble): [`assemble`], the whole-grid front, [`TiledFront`];
 //! - [`mesh`]: a whole-grid member's kept points and triangles;
+//! - [`file`]: front.json of a tiled run;
 //! - `parallel` (native): [`run_tiled`] on a pool of threads.
 //!
 //! ```
@@ -41,6 +42,7 @@ pub mod algorithm;
 pub mod allocation;
 pub mod assemble;
 pub mod border;
+pub mod file;
 pub mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod parallel;
@@ -51,10 +53,11 @@ pub mod tile_front;
 
 pub use algorithm::{build_optimizer, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
+pub use file::TiledRunFile;
 pub use mesh::TiledMesh;
 #[cfg(not(target_arch = "wasm32"))]
 pub use parallel::{run_tiled, run_tiled_with_progress};
-pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan};
+pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
 pub use tile_front::{TileCandidate, TileFront, run_tile};
 
 /// Why a tiling step cannot go on.

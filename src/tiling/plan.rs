@@ -70,6 +70,17 @@ fn cuts(n: usize, tile: usize) -> Vec<usize> {
     at
 }
 
+/// Checks a tile size on its own, before a grid is read: under [`MIN_TILE`] is refused.
+pub fn check_tile(tile: usize) -> Result<(), TilingError> {
+    if tile < MIN_TILE {
+        return Err(TilingError::TileTooSmall {
+            tile,
+            min: MIN_TILE,
+        });
+    }
+    Ok(())
+}
+
 impl TilePlan {
     /// The plan of a `width`×`height` grid in tiles of at most `tile` points a side (the grid
     /// itself when it fits in one tile). Fails before any work on a tile under [`MIN_TILE`]

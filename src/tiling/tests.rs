@@ -1,1 +1,370 @@
+//! The tiling's promises: exact whole-grid scores, crack-free meshes, the same bits for any
+//! thread count, and allocations as good as brute force on the hull.
 
+use super::allocation::{TileOption, allocate};
+use super::border::{Side, TileBorders, insertion_order, line_error};
+use super::*;
+use crate::evaluator::exact::paper_e::brute_force;
+use crate::heightfield::Heightfield;
+use std::collections::HashMap;
+
+/// A rough, deterministic terrain: a few waves plus hashed noise.
+fn terrain(w: usize, h: usize, seed: u64) -> Heightfield {
+    let z = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f64, (i / w) as f64);
+            let mut n = (i as u64 ^ seed).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+            n ^= n >> 29;
+            let noise = (n % 1000) as f64 / 1000.0;
+            (x * 0.21).sin() * 5.0 + (y * 0.13 + x * 0.05).cos() * 3.0 + noise
+        })
+        .collect();
+    Heightfield::new(w, h, z).unwrap()
+}
+
+fn greedy() -> serde_json::Value {
+    serde_json::json!({"records": 24})
+}
+
+fn tiled(hf: &Heightfield, tile: usize, algorithm: &str, params: &serde_json::Value) -> TiledFront {
+    let plan = TilePlan::new(hf.width(), hf.height(), tile).unwrap();
+    let fronts = (0..plan.len())
+        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, algorithm, params, 7).unwrap())
+        .collect();
+    assemble(&plan, fronts).unwrap()
+}
+
+#[test]
+fn tiles_cover_the_grid_and_share_their_borders() {
+    for (w, h, tile) in [(100, 60, 50), (65, 65, 33), (1000, 37, 200), (40, 40, 40)] {
+        let plan = TilePlan::new(w, h, tile).unwrap();
+        let mut covered = vec![0u32; w * h];
+        for t in plan.tiles() {
+            assert!(t.w <= tile && t.h <= tile && t.w >= 2 && t.h >= 2);
+            for y in t.y0..t.y0 + t.h {
+                for x in t.x0..t.x0 + t.w {
+                    covered[y * w + x] += 1;
+                }
+            }
+        }
+        // Every point is in a tile; only shared rows and columns are in more than one.
+        assert!(covered.iter().all(|&c| c >= 1));
+        let xs: Vec<usize> = plan
+            .tiles()
+            .iter()
+            .map(|t| t.x0)
+            .filter(|&x| x > 0)
+            .collect();
+        for (i, &c) in covered.iter().enumerate() {
+            let (x, y) = (i % w, i / w);
+            let on_cut_column = xs.contains(&x);
+            let on_cut_row = plan.tiles().iter().any(|t| t.y0 == y && y > 0);
+            assert_eq!(c > 1, on_cut_column || on_cut_row, "point ({x}, {y})");
+        }
+    }
+    assert!(TilePlan::new(64, 64, 64).unwrap().is_single());
+}
+
+#[test]
+fn a_too_small_tile_is_refused_by_name() {
+    let err = TilePlan::new(4000, 4000, 16).unwrap_err();
+    assert_eq!(
+        err,
+        TilingError::TileTooSmall {
+            tile: 16,
+            min: MIN_TILE
+        }
+    );
+    assert!(err.to_string().contains("too small"));
+    assert!(TilePlan::new(4000, 4000, MIN_TILE).is_ok());
+}
+
+#[test]
+fn border_ranking_is_greedy_insertion_on_the_profile() {
+    let profile = [0.0, 1.0, 0.0, 0.0, 5.0, 0.0, 0.0];
+    let order = insertion_order(&profile);
+    // The spike first, then the worst point of the slope up to it (3, 3.75 below the chord),
+    // and every interior point once.
+    assert_eq!(order[..2], [4, 3]);
+    let mut sorted = order.clone();
+    sorted.sort_unstable();
+    assert_eq!(sorted, vec![1, 2, 3, 4, 5]);
+    let bump = [0.0, 1.0, 0.0];
+    assert_eq!(line_error(&bump, &[true, false, true]), 1.0);
+    assert_eq!(line_error(&bump, &[true, true, true]), 0.0);
+    // Kept at 0, 4 and 6: 0.25 + 2.5 + 3.75 on the slope up, 2.5 on the way down.
+    let kept = [true, false, false, false, true, false, true];
+    assert_eq!(line_error(&profile, &kept), 9.0);
+}
+
+/// Every member of `front` rebuilt, checked against a brute-force score of its triangles on the
+/// whole grid, and checked for cracks.
+fn check_members(hf: &Heightfield, front: &TiledFront) {
+    assert!(!front.members.is_empty());
+    for (k, m) in front.members.iter().enumerate() {
+        let mesh = front.mesh(hf, k).unwrap();
+        assert_eq!(mesh.triangles.len() as u64, m.t, "member {k}: T");
+        let (e_sum, e_max, _, missing) = brute_force(hf, &mesh.kept, &mesh.triangles);
+        assert_eq!(missing, 0, "member {k}: points in no triangle");
+        let tolerance = 1e-9 * e_sum.max(1.0);
+        assert!(
+            (e_sum - m.e_sum).abs() <= tolerance,
+            "member {k}: E_sum {} vs brute force {e_sum}",
+            m.e_sum
+        );
+        assert!(
+            (e_max - m.e_max).abs() <= 1e-9 * e_max.max(1.0),
+            "member {k}: E_max"
+        );
+        check_crack_free(hf, &mesh);
+    }
+}
+
+/// Every edge inside the grid is shared by exactly two triangles and every edge on the grid's
+/// boundary belongs to one (so no T-junction and no gap); the triangles cover the grid's area.
+fn check_crack_free(hf: &Heightfield, mesh: &TiledMesh) {
+    let (w, h) = (hf.width() as i64, hf.height() as i64);
+    let p = |i: u32| (i as i64 % w, i as i64 / w);
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut area2 = 0i64;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(p);
+        area2 += ((b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)).abs();
+        for (u, v) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *edges.entry((u.min(v), u.max(v))).or_default() += 1;
+        }
+    }
+    assert_eq!(area2, 2 * (w - 1) * (h - 1), "the triangles tile the grid");
+    for (&(u, v), &count) in &edges {
+        let ((ux, uy), (vx, vy)) = (p(u), p(v));
+        let on_boundary =
+            (ux == vx && (ux == 0 || ux == w - 1)) || (uy == vy && (uy == 0 || uy == h - 1));
+        assert_eq!(count, if on_boundary { 1 } else { 2 }, "edge {u}–{v}");
+    }
+}
+
+#[test]
+fn assembled_members_are_exact_and_crack_free() {
+    let hf = terrain(70, 52, 3);
+    let front = tiled(&hf, 33, "greedy", &greedy());
+    assert!(front.plan.len() >= 4);
+    check_members(&hf, &front);
+}
+
+#[test]
+fn memetic_tiles_assemble_exact_members() {
+    let hf = terrain(50, 40, 11);
+    let params = serde_json::json!({"max_evaluations": 1500});
+    let front = tiled(&hf, 33, "memetic", &params);
+    check_members(&hf, &front);
+}
+
+#[test]
+fn shared_lines_keep_the_same_vertices_from_both_sides() {
+    let hf = terrain(90, 70, 5);
+    let plan = TilePlan::new(90, 70, 40).unwrap();
+    let borders: Vec<TileBorders> = (0..plan.len())
+        .map(|i| {
+            let t = plan.cut(&hf, i).unwrap();
+            TileBorders::new(t.width(), t.height(), t.z())
+        })
+        .collect();
+    let columns = plan.columns();
+    for i in 0..plan.len() {
+        for level in 0..6 {
+            if plan.has_left_neighbour(i) {
+                assert_eq!(
+                    borders[i].kept_on(Side::Left, level),
+                    borders[i - 1].kept_on(Side::Right, level)
+                );
+            }
+            if plan.has_top_neighbour(i) {
+                assert_eq!(
+                    borders[i].kept_on(Side::Top, level),
+                    borders[i - columns].kept_on(Side::Bottom, level)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn threads_do_not_change_the_bits() {
+    let hf = terrain(80, 45, 9);
+    let plan = TilePlan::new(80, 45, 33).unwrap();
+    let params = serde_json::json!({"max_evaluations": 800});
+    let runs: Vec<String> = [1, 2, 3]
+        .into_iter()
+        .map(|threads| {
+            let front = run_tiled(&hf, &plan, "memetic", &params, 5, threads).unwrap();
+            serde_json::to_string(&front).unwrap()
+        })
+        .collect();
+    assert_eq!(runs[0], runs[1]);
+    assert_eq!(runs[0], runs[2]);
+    // A tile front survives serialisation (as it does on its way from a worker process).
+    let front: TiledFront = serde_json::from_str(&runs[0]).unwrap();
+    assert_eq!(serde_json::to_string(&front).unwrap(), runs[0]);
+}
+
+#[test]
+fn a_tile_is_a_pure_function_of_its_inputs() {
+    let hf = terrain(60, 60, 2);
+    let plan = TilePlan::new(60, 60, 33).unwrap();
+    let params = serde_json::json!({"max_evaluations": 600});
+    let tile = plan.cut(&hf, 3).unwrap();
+    let a = run_tile(&tile, &plan, 3, "memetic", &params, 1).unwrap();
+    let b = run_tile(&tile, &plan, 3, "memetic", &params, 1).unwrap();
+    assert_eq!(a, b);
+    let other_seed = run_tile(&tile, &plan, 3, "memetic", &params, 2).unwrap();
+    assert_eq!(other_seed.index, 3);
+    assert!(
+        run_tile(&tile, &plan, 2, "memetic", &params, 1).is_err()
+            || plan.tile(2).unwrap().w == tile.width()
+    );
+}
+
+#[test]
+fn bad_algorithms_and_parameters_are_refused() {
+    let hf = terrain(40, 40, 1);
+    let plan = TilePlan::new(40, 40, 33).unwrap();
+    let tile = plan.cut(&hf, 0).unwrap();
+    let unknown = run_tile(&tile, &plan, 0, "annealing", &serde_json::Value::Null, 1);
+    assert!(matches!(unknown, Err(TilingError::UnknownAlgorithm(_))));
+    let bad = run_tile(
+        &tile,
+        &plan,
+        0,
+        "memetic",
+        &serde_json::json!({"population": 1}),
+        1,
+    );
+    assert!(matches!(bad, Err(TilingError::BadParams { .. })));
+    let wrong = run_tile(&terrain(20, 20, 1), &plan, 0, "greedy", &greedy(), 1);
+    assert!(matches!(wrong, Err(TilingError::GridMismatch { .. })));
+    let plan_front = tiled(&hf, 33, "greedy", &greedy());
+    assert!(matches!(
+        assemble(&plan, plan_front.tiles[..1].to_vec()),
+        Err(TilingError::WrongTiles { .. })
+    ));
+}
+
+/// A small deterministic generator for the allocation instances.
+fn lcg(state: &mut u64) -> u64 {
+    *state = state
+        .wrapping_mul(6_364_136_223_846_793_005)
+        .wrapping_add(1_442_695_040_888_963_407);
+    *state >> 33
+}
+
+#[test]
+fn allocation_finds_every_hull_point_of_brute_force_and_only_true_sums() {
+    let mut rng = 42u64;
+    for _ in 0..200 {
+        let tiles = 1 + (lcg(&mut rng) % 4) as usize;
+        let options: Vec<Vec<TileOption>> = (0..tiles)
+            .map(|_| {
+                let n = 1 + (lcg(&mut rng) % 6) as usize;
+                (0..n)
+                    .map(|_| TileOption {
+                        e: (lcg(&mut rng) % 50) as f64,
+                        e_max: (lcg(&mut rng) % 9) as f64,
+                        t: 2 + lcg(&mut rng) % 20,
+                    })
+                    .collect()
+            })
+            .collect();
+        // Brute force: the least E at every total T.
+        let mut best: HashMap<u64, f64> = HashMap::new();
+        let mut choice = vec![0usize; tiles];
+        loop {
+            let e: f64 = choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| options[i][c].e)
+                .sum();
+            let t: u64 = choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| options[i][c].t)
+                .sum();
+            let slot = best.entry(t).or_insert(f64::INFINITY);
+            *slot = slot.min(e);
+            let mut k = 0;
+            while k < tiles {
+                choice[k] += 1;
+                if choice[k] < options[k].len() {
+                    break;
+                }
+                choice[k] = 0;
+                k += 1;
+            }
+            if k == tiles {
+                break;
+            }
+        }
+        let mut frontier: Vec<(u64, f64)> = best.into_iter().collect();
+        frontier.sort_by_key(|p| p.0);
+        let mut pareto: Vec<(u64, f64)> = Vec::new();
+        for p in frontier {
+            if pareto.last().is_none_or(|l| p.1 < l.1) {
+                pareto.push(p);
+            }
+        }
+        let found = allocate(&options);
+        // Every allocation's sums are its choice's, and none is dominated by another.
+        for a in &found {
+            let e: f64 = a
+                .choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| options[i][c].e)
+                .sum();
+            let t: u64 = a
+                .choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| options[i][c].t)
+                .sum();
+            let m = a
+                .choice
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| options[i][c].e_max)
+                .fold(0.0, f64::max);
+            assert_eq!((a.e, a.t, a.e_max), (e, t, m));
+            assert!(
+                pareto
+                    .iter()
+                    .all(|p| !(p.0 <= t && p.1 <= e && (p.0 < t || p.1 < e))
+                        || found.iter().any(|b| b.t == t))
+            );
+        }
+        for w in found.windows(2) {
+            assert!(w[0].t < w[1].t && w[0].e > w[1].e);
+        }
+        // Every vertex of the brute-force front's lower convex hull is found, exactly.
+        for (k, p) in pareto.iter().enumerate() {
+            let on_hull = pareto.iter().enumerate().all(|(i, a)| {
+                pareto.iter().enumerate().skip(i + 1).all(|(j, b)| {
+                    if !(i < k && k < j) {
+                        return true;
+                    }
+                    // p strictly below the chord a–b.
+                    let chord = a.1 + (b.1 - a.1) * (p.0 - a.0) as f64 / (b.0 - a.0) as f64;
+                    p.1 < chord
+                })
+            });
+            if on_hull {
+                assert!(
+                    found.iter().any(|a| a.t == p.0 && a.e == p.1),
+                    "hull point {p:?} missing from {:?}",
+                    found.iter().map(|a| (a.t, a.e)).collect::<Vec<_>>()
+                );
+            }
+        }
+        // The first member is the cheapest allocation in T, the last the least error.
+        assert_eq!(found[0].t, pareto[0].0);
+        assert_eq!(found.last().unwrap().e, pareto.last().unwrap().1);
+    }
+}

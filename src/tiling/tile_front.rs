@@ -62,6 +62,24 @@ impl TileFront {
     }
 }
 
+/// The error of tile `index`'s shared border lines that its left and top neighbours count
+/// (its own z values `z`, border `level`): what its E share leaves out.
+pub(crate) fn unowned_error(
+    plan: &TilePlan,
+    index: usize,
+    borders: &TileBorders,
+    z: &[f64],
+    level: usize,
+) -> f64 {
+    let left = plan
+        .has_left_neighbour(index)
+        .then(|| borders.side_error(Side::Left, level, z));
+    let top = plan
+        .has_top_neighbour(index)
+        .then(|| borders.side_error(Side::Top, level, z));
+    left.unwrap_or(0.0) + top.unwrap_or(0.0)
+}
+
 /// The border level whose interior points per line are nearest (in log scale) to `per_line`.
 fn nearest_level(per_line: f64, levels: usize) -> usize {
     if per_line < 0.5 {
@@ -125,20 +143,8 @@ pub fn run_tile(
     let (w, h) = (tile.w, tile.h);
     let borders = TileBorders::new(w, h, hf.z());
     let levels = level_count(plan.tile_size());
-    let shared = |side: Side| match side {
-        Side::Left => plan.has_left_neighbour(index),
-        Side::Top => plan.has_top_neighbour(index),
-        Side::Bottom | Side::Right => false,
-    };
-    // The error of the shared lines this tile does not own, per level.
     let unowned: Vec<f64> = (0..levels)
-        .map(|level| {
-            [Side::Left, Side::Top]
-                .into_iter()
-                .filter(|&s| shared(s))
-                .map(|s| borders.side_error(s, level, hf.z()))
-                .sum()
-        })
+        .map(|level| unowned_error(plan, index, &borders, hf.z(), level))
         .collect();
     let solutions = optimizer.front().solutions();
     let ts: Vec<usize> = solutions.iter().map(|s| s.t).collect();

@@ -1,0 +1,35 @@
+//! front.json of a tiled run: the run's header as for an untiled run, and in place of a kept
+//! list per member, the tiled front: every tile's kept sets and each member's choice of one
+//! per tile.
+//!
+//! ```json
+//! {"grid":{…},"algorithm":"memetic","params":{…},"seed":1,"evaluations":…,"millis":…,
+//!  "tiled":{"plan":{…},"tiles":[{"index":0,"borders":{…},"members":[[…],…],
+//!           "candidates":[{"member":0,"level":3,"e_tile":…,"e_share":…,"e_max":…,"t":…},…]},…],
+//!           "members":[{"E_sum":…,"E_max":…,"T":…,"level":3,"choice":[…]},…]}}
+//! ```
+
+use super::TiledFront;
+use crate::run_file::GridInfo;
+use serde::{Deserialize, Serialize};
+
+/// The whole file of a tiled run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TiledRunFile {
+    /// The whole grid.
+    pub grid: GridInfo,
+    /// The algorithm run on every tile, as the CLI spells it.
+    pub algorithm: String,
+    /// Its parameters (each tile's run).
+    pub params: serde_json::Value,
+    /// The run's seed; tile k runs with [`tile_seed`](super::tile_seed)`(seed, k)`.
+    pub seed: u64,
+    /// Evaluations spent over all tiles.
+    pub evaluations: u64,
+    /// Wall time of the run in milliseconds (0 when unknown).
+    pub millis: u64,
+    /// Threads the tiles ran on (the front does not depend on it).
+    pub threads: usize,
+    /// The tiles' fronts and the whole-grid members.
+    pub tiled: TiledFront,
+}
