@@ -1,5 +1,7 @@
 //! The app's runs in a pool of Web Workers, natively: the page's side of the protocol driven by
-//! "workers" that run their jobs here, as `www/pool-worker.js` does in a browser.
+//! "workers" that run their jobs here, as `www/pool-worker.js` does in a browser. Native only:
+//! the CLI's tiled run it compares with runs threads.
+#![cfg(not(target_arch = "wasm32"))]
 
 use paretomesh::app::algorithms::{self, Algorithm, Params};
 use paretomesh::app::pool::{FrontParts, PoolSetup, Work};

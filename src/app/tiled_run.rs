@@ -179,7 +179,8 @@ impl TiledRun {
     }
 }
 
-#[cfg(test)]
+// The CLI's tiled run, which the tests compare with, runs threads: native only.
+#[cfg(all(test, not(target_arch = "wasm32")))]
 mod tests {
     use super::*;
     use crate::heightfield::Heightfield;

@@ -219,9 +219,13 @@ impl Ui {
         self.redraw = true;
     }
 
-    /// Re-triangulates the selected solution for the view (or shows none).
+    /// Re-triangulates the selected solution for the view (or shows none); a member over
+    /// [`MAX_DRAWN_TRIANGLES`] is drawn as a coarser member of the same front.
     fn refresh_shown(&mut self) {
-        self.shown = self.app.selected_mesh().and_then(|m| match m {
+        self.shown = self
+            .app
+            .selected_mesh(Some(MAX_DRAWN_TRIANGLES))
+            .and_then(|m| match m {
             Ok(m) => Some(m),
             Err(e) => {
                 dom::show_load_message(&format!("cannot show this mesh: {e}"), true);
