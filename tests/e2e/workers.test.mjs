@@ -47,7 +47,7 @@ function cliTiledFront(files, args) {
   const out = path.join(dir, 'front.json');
   execFileSync(cli, ['run', path.join(dir, files[0].name), ...args, '--out', out], { stdio: ['ignore', 'ignore', 'inherit'] });
   const file = JSON.parse(readFileSync(out, 'utf8'));
-  return file.front.map((m) => [m.T, m.E_sum]);
+  return (file.tiled?.members ?? file.front).map((m) => [m.T, m.E_sum]);
 }
 
 const pairs = (flat) => flat.reduce((acc, v, i) => (i % 2 ? acc[acc.length - 1].push(v) : acc.push([v]), acc), []);
