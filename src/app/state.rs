@@ -10,6 +10,7 @@
 use super::algorithms::{self, Algorithm, Params, Running};
 use super::pick;
 use super::pool::{PoolRun, PoolSetup};
+use super::tiled_run::TiledRun;
 use crate::evaluator::Evaluator;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::front::{Front, Solution};
@@ -202,6 +203,11 @@ impl App {
         }
     }
 
+    /// The tiles of the current run, when it is a tiled pool run.
+    pub fn tiled_run(&self) -> Option<&TiledRun> {
+        self.optimizer.as_ref()?.as_pool_ref()?.tiled()
+    }
+
     /// The mesh of the selected member; `None` when nothing is selected. A member of a tiled
     /// run is rebuilt from its tiles' fronts (the union of its tiles' canonical
     /// triangulations); others are triangulated from their kept set. With `max_triangles`, a
@@ -216,12 +222,7 @@ impl App {
             member = coarser.clone();
         }
         let hf = self.surface.heightfield.clone();
-        if let Some(tiled) = self
-            .optimizer
-            .as_ref()
-            .and_then(|o| o.as_pool_ref())
-            .and_then(|p| p.tiled())
-        {
+        if let Some(tiled) = self.tiled_run() {
             return Some(
                 tiled
                     .mesh(&hf, member.e_sum, member.t)

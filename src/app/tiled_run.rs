@@ -10,11 +10,29 @@
 //! one `paretomesh run --tile` gives for the same seed.
 
 use super::algorithms::{self, Algorithm, Params};
+use crate::baselines::{GreedyParams, GreedyStop};
 use crate::front::{Front, Solution};
+use crate::run_file::GridInfo;
+use crate::tiling::file::TiledRunFile;
 use crate::tiling::{TileFront, TilePlan, TiledFront, TiledMesh, assemble};
 
 /// The algorithm of the first, quick pass.
 pub const QUICK: Algorithm = Algorithm::GreedyInsertion;
+
+/// The first pass's greedy insertion on tile `tile`: it stops at a tenth of the tile's full
+/// triangle count, which holds every mesh a whole-grid front is looked at for, in a fraction of
+/// the time of inserting every point.
+fn quick_params(plan: &TilePlan, tile: usize) -> serde_json::Value {
+    let t = plan.tile(tile).map_or(2, |t| 2 * (t.w - 1) * (t.h - 1));
+    let params = GreedyParams {
+        stop: GreedyStop::Triangles((t / QUICK_SHARE).max(2)),
+        ..GreedyParams::default()
+    };
+    serde_json::to_value(params).unwrap_or(serde_json::Value::Null)
+}
+
+/// The first pass stops at 1 / this of a tile's full triangle count.
+const QUICK_SHARE: usize = 10;
 
 /// One tile job: which tile, with which algorithm and parameters (as front.json records them).
 #[derive(Clone, Debug, PartialEq)]
@@ -76,11 +94,19 @@ impl TiledRun {
         }
         let tiles = self.plan.len();
         let quick = self.two_passes() && index < tiles;
-        let algorithm = if quick { QUICK } else { self.algorithm };
+        let tile = index % tiles;
+        let (algorithm, params) = if quick {
+            (QUICK, quick_params(&self.plan, tile))
+        } else {
+            (
+                self.algorithm,
+                algorithms::params_json(self.algorithm, &self.params),
+            )
+        };
         Some(TileJob {
-            tile: index % tiles,
+            tile,
             algorithm,
-            params: algorithms::params_json(algorithm, &self.params),
+            params,
             seed: self.params.seed,
             quick,
         })
@@ -157,6 +183,42 @@ impl TiledRun {
     /// The assembled whole-grid front, once every tile has a front.
     pub fn assembled(&self) -> Option<&TiledFront> {
         self.assembled.as_ref()
+    }
+
+    /// front.json of the run, as `paretomesh run --tile` writes it, once every tile's final
+    /// front is in (before, some tiles hold the first pass's greedy fronts, which the file's
+    /// algorithm would misname); the message says how far the run is.
+    pub fn run_file(
+        &self,
+        hf: &crate::heightfield::Heightfield,
+        millis: u64,
+        workers: usize,
+    ) -> Result<TiledRunFile, String> {
+        let assembled = self
+            .assembled
+            .as_ref()
+            .filter(|_| self.tiles_final() == self.plan.len())
+            .ok_or_else(|| {
+                format!(
+                    "the tiled front is saved once every tile's final front is in ({} of {})",
+                    self.tiles_final(),
+                    self.plan.len()
+                )
+            })?;
+        Ok(TiledRunFile {
+            grid: GridInfo {
+                width: hf.width(),
+                height: hf.height(),
+                source: hf.source().to_string(),
+            },
+            algorithm: self.algorithm.key().to_string(),
+            params: algorithms::params_json(self.algorithm, &self.params),
+            seed: self.params.seed,
+            evaluations: assembled.evaluations(),
+            millis,
+            threads: workers,
+            tiled: assembled.clone(),
+        })
     }
 
     /// The mesh of the whole-grid member with objectives (`e_sum`, `t`) on the grid `hf`.
@@ -239,6 +301,9 @@ mod tests {
         assert!(!quick.is_empty());
         assert_eq!(run.tiles_final(), 0);
 
+        let early = run.run_file(&hf, 0, 1).unwrap_err();
+        assert!(early.contains(&format!("(0 of {tiles})")), "{early}");
+
         // The second pass, backwards, with a late first-pass front for tile 0 in between.
         let late = work(&run, &hf, 0);
         for index in (tiles..2 * tiles).rev() {
@@ -278,6 +343,12 @@ mod tests {
         let mesh = run.mesh(&hf, s.e_sum, s.t).unwrap();
         assert_eq!(mesh.triangles.len(), s.t);
         assert!(run.mesh(&hf, s.e_sum + 1.0, s.t).is_err());
+        // Its front.json is the CLI's, and reads back.
+        let file = run.run_file(&hf, 5, 2).unwrap();
+        assert_eq!(
+            (file.tiled, file.algorithm.as_str(), file.seed),
+            (cli, "nsga2", 9)
+        );
     }
 
     #[test]

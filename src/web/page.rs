@@ -226,12 +226,12 @@ impl Ui {
             .app
             .selected_mesh(Some(MAX_DRAWN_TRIANGLES))
             .and_then(|m| match m {
-            Ok(m) => Some(m),
-            Err(e) => {
-                dom::show_load_message(&format!("cannot show this mesh: {e}"), true);
-                None
-            }
-        });
+                Ok(m) => Some(m),
+                Err(e) => {
+                    dom::show_load_message(&format!("cannot show this mesh: {e}"), true);
+                    None
+                }
+            });
         self.selection_info();
     }
 

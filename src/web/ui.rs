@@ -228,6 +228,21 @@ const EMPTY_FRONT: &str = "run an algorithm first: the front is empty";
 
 /// Downloads the front as front.json, the file `paretomesh run` writes.
 fn export_run_file(ui: &Ui, stem: &str) -> Result<(), String> {
+    if let Some(tiled) = ui.app.tiled_run() {
+        let status = ui.app.status();
+        let workers = ui.app.pool_setup().workers;
+        let file = tiled.run_file(
+            &ui.app.surface().heightfield,
+            status.elapsed_ms.round() as u64,
+            workers,
+        )?;
+        let json = serde_json::to_string(&file).map_err(|e| e.to_string())?;
+        return dom::download(
+            &format!("{stem}_front.json"),
+            "application/json",
+            json.as_bytes(),
+        );
+    }
     let front = ui.app.front().ok_or(EMPTY_FRONT)?;
     let config = ui.app.config();
     let status = ui.app.status();
