@@ -11,7 +11,7 @@
 
 use paretomesh::baselines::{GreedyInsertion, GreedyParams};
 use paretomesh::evaluator::Evaluator;
-use paretomesh::heightfield;
+use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
 use paretomesh::run_file::RunFile;
 use std::path::PathBuf;
@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             // No file given: write one as the command line does.
             let grid =
                 PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/volcano_33x33.f32");
-            let hf = Arc::new(heightfield::load(&grid)?);
+            let hf = Arc::new(import::load(&grid)?);
             let params = GreedyParams::default();
             let mut run = GreedyInsertion::new(hf.clone(), params.clone())?;
             let progress = run.run_to_end();
@@ -56,7 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         file.evaluations,
         file.front.len()
     );
-    let hf = Arc::new(heightfield::load(&grid)?);
+    let hf = Arc::new(import::load(&grid)?);
     if (hf.width(), hf.height()) != (file.grid.width, file.grid.height) {
         return Err(format!("{} is not the grid of this front", grid.display()).into());
     }

@@ -10,7 +10,7 @@
 use paretomesh::baselines::{GreedyInsertion, GreedyParams};
 use paretomesh::evolution::{GaParams, Nsga2};
 use paretomesh::front::Front;
-use paretomesh::heightfield;
+use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -26,7 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/bunny_33x33.f32"),
         PathBuf::from,
     );
-    let hf = Arc::new(heightfield::load(&path)?);
+    let hf = Arc::new(import::load(&path)?);
 
     // The paper's settings with a smaller budget. The seed fixes the run: the same seed gives
     // the same front however the run is sliced into steps.

@@ -7,7 +7,8 @@
 //! GRID is any surface the command line reads (default `tests/data/jacksboro_33x33.f32`).
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -16,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/jacksboro_33x33.f32"),
         PathBuf::from,
     );
-    let hf = Arc::new(heightfield::load(&path)?);
+    let hf = Arc::new(import::load(&path)?);
     let (lo, hi) = hf.z_range();
     println!(
         "{}: {}×{} points, z from {lo} to {hi}",

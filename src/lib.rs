@@ -29,6 +29,7 @@ pub mod experiment;
 pub mod export;
 pub mod front;
 pub mod heightfield;
+pub mod import;
 pub mod metrics;
 pub mod optimizer;
 pub mod run_file;

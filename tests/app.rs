@@ -94,7 +94,8 @@ mod views {
     use paretomesh::app::geometry::{ViewMapping, flat_mesh, wireframe};
     use paretomesh::app::state::shown_mesh;
     use paretomesh::evaluator::Evaluator;
-    use paretomesh::heightfield::{Heightfield, raw};
+    use paretomesh::heightfield::Heightfield;
+    use paretomesh::import::raw;
     use std::sync::Arc;
 
     fn volcano() -> Arc<Heightfield> {
@@ -138,7 +139,7 @@ mod views {
 mod camera_and_loading {
     use paretomesh::app::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
     use paretomesh::app::loader;
-    use paretomesh::heightfield::{ImportOptions, Projection, Surface};
+    use paretomesh::import::{ImportOptions, Projection, Surface};
 
     #[test]
     fn orbiting_and_zooming_stay_within_limits() {
@@ -320,7 +321,7 @@ mod camera_and_loading {
     #[test]
     fn an_oversized_grid_size_is_refused_with_the_limit_in_the_message() {
         let ply = include_bytes!("data/bunny_33x33.ply");
-        let o = loader::options("planar", 4096, 4096).unwrap();
+        let o = loader::options("planar", 4097, 4097).unwrap();
         let e = loader::parse("bunny.ply", ply, None, &o).unwrap_err();
         assert!(e.contains("16.8 M points") && e.contains("limit"), "{e}");
     }
@@ -337,7 +338,7 @@ mod camera_and_loading {
 mod app_stepping {
     use paretomesh::app::algorithms::{Algorithm, Params, build};
     use paretomesh::app::state::{App, Reproduction, RunConfig, Surface};
-    use paretomesh::heightfield::raw;
+    use paretomesh::import::raw;
     use std::sync::Arc;
 
     // A small, quick NSGA-II run on the 33×33 volcano.
@@ -707,7 +708,8 @@ mod share_links {
     };
     use paretomesh::evolution::CrossoverKind;
     use paretomesh::export::mesh::WorldMesh;
-    use paretomesh::heightfield::{Georeference, Heightfield, ImportOptions};
+    use paretomesh::heightfield::{Georeference, Heightfield};
+    use paretomesh::import::ImportOptions;
     use rand::{RngExt, SeedableRng};
     use serde_json::{Value, json};
 
@@ -1649,7 +1651,7 @@ mod teaching_view {
     use paretomesh::app::teaching::{Step, Stepper, scene};
     use paretomesh::evolution::trace::Phase;
     use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2};
-    use paretomesh::heightfield::raw;
+    use paretomesh::import::raw;
     use paretomesh::optimizer::Optimizer;
     use std::sync::Arc;
 
@@ -1775,7 +1777,7 @@ mod glb_export {
     use paretomesh::app::geometry::error_colour;
     use paretomesh::app::glb_export::{mesh_glb, vertex_error_colours};
     use paretomesh::app::state::shown_mesh;
-    use paretomesh::heightfield::raw;
+    use paretomesh::import::raw;
     use std::sync::Arc;
 
     /// Vertex colours of a .glb, when it has them.
@@ -1856,7 +1858,7 @@ mod parameter_fields {
     use paretomesh::app::compare;
     use paretomesh::evaluator::Score;
     use paretomesh::evolution::CrossoverKind;
-    use paretomesh::heightfield::raw;
+    use paretomesh::import::raw;
     use std::sync::Arc;
 
     fn base() -> Params {
@@ -1941,7 +1943,8 @@ mod worker_handoff {
     use paretomesh::app::handoff::SurfaceParts;
     use paretomesh::app::loader;
     use paretomesh::export::mesh::WorldMesh;
-    use paretomesh::heightfield::{Heightfield, ImportOptions};
+    use paretomesh::heightfield::Heightfield;
+    use paretomesh::import::ImportOptions;
 
     fn parse(name: &str, options: &ImportOptions) -> Heightfield {
         let bytes =

@@ -8,7 +8,8 @@ use paretomesh::app::state::Surface;
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::{Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
 use paretomesh::experiment::Method;
-use paretomesh::heightfield::{Heightfield, raw};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import::raw;
 use paretomesh::metrics::{
     self, DEFAULT_REFERENCE_POINT, Normalization, additive_epsilon, best_error_pick, coverage,
     fewest_triangles_pick, hypervolume_ratio, trade_off_pick,

@@ -7,7 +7,8 @@ use paretomesh::baselines::{
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evaluator::canonical_set as canonical;
 use paretomesh::front::{Front, Solution, dominates};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
 use std::path::Path;
 use std::sync::Arc;
@@ -16,7 +17,7 @@ fn fixture(name: &str) -> Arc<Heightfield> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(format!("{name}.f32"));
-    Arc::new(heightfield::load(&path).unwrap())
+    Arc::new(import::load(&path).unwrap())
 }
 
 fn assert_rescores(hf: &Arc<Heightfield>, solutions: &[Solution]) {

@@ -1,7 +1,8 @@
 //! The evaluator on hand-made grids with known answers, and its checks of bad input.
 
 use paretomesh::evaluator::{EvaluateError, Evaluator};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use rand::{RngExt, SeedableRng};
 use std::path::Path;
 use std::sync::Arc;
@@ -10,7 +11,7 @@ fn fixture(name: &str) -> Heightfield {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(format!("{name}.f32"));
-    heightfield::load(&path).unwrap()
+    import::load(&path).unwrap()
 }
 
 fn random_subset(n: usize, fraction: f64, rng: &mut rand_pcg::Pcg64Mcg) -> Vec<u32> {

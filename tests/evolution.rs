@@ -11,7 +11,8 @@ use paretomesh::evolution::{
     CrossoverKind, GaParams, Nsga2, ParamsError, WeightedSum, WeightedSumParams,
 };
 use paretomesh::front::{Front, dominates};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
 use paretomesh::run_file::RunFile;
 use std::path::{Path, PathBuf};
@@ -26,7 +27,7 @@ fn data(name: &str) -> PathBuf {
 /// The top-left 17×17 corner of the 33×33 Jacksboro terrain: real relief, small enough that a
 /// few hundred evaluations take well under a second in a debug build.
 fn terrain_17() -> Arc<Heightfield> {
-    let full = heightfield::load(&data("jacksboro_33x33")).unwrap();
+    let full = import::load(&data("jacksboro_33x33")).unwrap();
     let z = (0..17)
         .flat_map(|y| (0..17).map(move |x| (x, y)))
         .map(|(x, y)| full.z_at(x, y))
@@ -512,7 +513,7 @@ fn cli_run_writes_a_front_json_that_rescores_identically() {
     let dir = std::env::temp_dir().join(format!("paretomesh-evolution-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let grid = data("jacksboro_33x33");
-    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let hf = Arc::new(import::load(&grid).unwrap());
     for algo in ["nsga2", "weighted"] {
         let out = dir.join(format!("{algo}.json"));
         let csv = dir.join(format!("{algo}.csv"));

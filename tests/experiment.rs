@@ -7,7 +7,7 @@
 
 use paretomesh::evaluator::Evaluator;
 use paretomesh::experiment::{Budget, Dataset, DatasetResults, Method, Results, Settings, run_all};
-use paretomesh::heightfield;
+use paretomesh::import;
 use paretomesh::metrics::{self, Normalization, Point};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -191,7 +191,7 @@ fn tiny_experiment_writes_consistent_tables_figure_and_results() {
         (d.grid.width, d.grid.height, d.e_units.as_str()),
         (17, 17, "m")
     );
-    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let hf = Arc::new(import::load(&grid).unwrap());
     let mut evaluator = Evaluator::new(hf.clone());
     let paper = Normalization::from_evaluator(&mut evaluator).unwrap();
     assert_eq!(
@@ -421,7 +421,7 @@ fn same_seed_gives_identical_results_on_one_or_two_threads() {
         budget: Budget::PerWeight,
         ..Settings::default()
     };
-    let dataset = Dataset::new("volcano_17x17", heightfield::load(&grid).unwrap(), "m").unwrap();
+    let dataset = Dataset::new("volcano_17x17", import::load(&grid).unwrap(), "m").unwrap();
     let sequential = run_all(&[dataset], &settings).unwrap();
     let mut parallel = Results::from_json(&a).unwrap();
     parallel.timings = None;
@@ -584,7 +584,7 @@ fn outside_fronts_are_rescored_and_reported_beside_the_methods() {
     let dir = scratch("external");
     let grid = data("volcano_33x33.f32");
     let g = grid.to_str().unwrap();
-    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let hf = Arc::new(import::load(&grid).unwrap());
     let mut evaluator = Evaluator::new(hf.clone());
 
     // A real front.json: a short NSGA-II run.
@@ -836,7 +836,7 @@ fn memetic_ablation_variants_run_at_the_same_budget_and_are_tested_against_the_f
     want.extend(Method::Memetic.with_ablations());
     assert_eq!(methods, want);
 
-    let hf = Arc::new(heightfield::load(&grid).unwrap());
+    let hf = Arc::new(import::load(&grid).unwrap());
     let mut evaluator = Evaluator::new(hf.clone());
     let paper = Normalization::from_evaluator(&mut evaluator).unwrap();
     let switches = [

@@ -8,7 +8,8 @@ use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::obj::to_obj;
 use paretomesh::export::ply::to_ply;
 use paretomesh::export::stl::to_stl;
-use paretomesh::heightfield::{Heightfield, Placement, raw};
+use paretomesh::heightfield::{Heightfield, Placement};
+use paretomesh::import::raw;
 use std::sync::Arc;
 
 const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
@@ -72,7 +73,7 @@ fn a_cylindrical_unwrap_exports_back_onto_the_cylinder() {
 
 #[test]
 fn exported_meshes_parse_back_with_the_projects_importers() {
-    use paretomesh::heightfield::{obj, ply, stl};
+    use paretomesh::import::{obj, ply, stl};
     // volcano_33x33 has spacing 1 and origin 0, so grid and world coordinates agree.
     let hf = volcano();
     let mesh = shown_mesh(&hf, &KEPT).unwrap();

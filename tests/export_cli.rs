@@ -3,7 +3,8 @@
 //! the front recorded), and bad requests get a message, not a panic.
 
 use paretomesh::evaluator::canonical_set;
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use paretomesh::metrics::trade_off_pick;
 use serde_json::Value;
 use std::collections::HashMap;
@@ -202,7 +203,7 @@ fn eval(kept: &[u32]) -> (f64, usize, Vec<[u32; 3]>) {
 fn ply_and_obj_round_trip_to_the_members_score_through_eval() {
     let front = front();
     let all = members(front);
-    let hf = heightfield::load(&data("volcano_33x33.f32")).unwrap();
+    let hf = import::load(&data("volcano_33x33.f32")).unwrap();
     let dir = scratch("round-trip");
     for k in [0, all.len() / 3, all.len() - 1] {
         let (e_sum, t, ref kept) = all[k];
@@ -251,7 +252,7 @@ fn stl_corners_are_the_members_points_in_single_precision() {
         u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize,
         t
     );
-    let hf = heightfield::load(&data("volcano_33x33.f32")).unwrap();
+    let hf = import::load(&data("volcano_33x33.f32")).unwrap();
     let world: HashMap<[u32; 3], u32> = kept
         .iter()
         .map(|&i| {
@@ -303,7 +304,7 @@ fn glb_reads_back_with_the_gltf_crate_as_the_members_mesh() {
     assert_eq!(normals.len(), kept.len());
     assert_eq!(indices.len(), 3 * t);
     // Vertices are in increasing grid order: each lands on its grid point's world position.
-    let hf = heightfield::load(&data("volcano_33x33.f32")).unwrap();
+    let hf = import::load(&data("volcano_33x33.f32")).unwrap();
     for (p, &i) in positions.iter().zip(kept) {
         let w = hf.to_world(i, hf.z()[i as usize]);
         for c in 0..3 {
@@ -441,7 +442,7 @@ fn a_kept_list_without_the_corners_still_exports_them() {
     std::fs::write(&edited, json.to_string()).unwrap();
     let out = dir.join("m.ply");
     export(&edited, &["--member", "6"], &out, &["--grid", GRID]);
-    let hf = heightfield::load(&data("volcano_33x33.f32")).unwrap();
+    let hf = import::load(&data("volcano_33x33.f32")).unwrap();
     let (mut vertices, triangles) = to_grid(&hf, read_ply(&std::fs::read_to_string(&out).unwrap()));
     vertices.sort_unstable();
     assert_eq!(vertices, kept);

@@ -1,9 +1,9 @@
 //! GeoTIFF import: the files in tests/data made with GDAL from the raw grids (see SOURCES.md),
 //! and files written in memory with the `tiff` crate's encoder for the other sample types.
 
-use paretomesh::heightfield::{
-    self, Heightfield, ImportError, ImportOptions, geotiff::MAX_SOURCE_POINTS,
-};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
+use paretomesh::import::{ImportError, ImportOptions};
 use std::io::Cursor;
 use std::path::PathBuf;
 use tiff::encoder::{TiffEncoder, colortype};
@@ -23,7 +23,7 @@ fn raw(name: &str) -> Vec<f64> {
 }
 
 fn load(name: &str) -> Result<Heightfield, ImportError> {
-    heightfield::load(&data(name))
+    import::load(&data(name))
 }
 
 /// Grid row y of a georeferenced file is file row H−1−y.
@@ -142,7 +142,7 @@ where
 }
 
 fn parse(bytes: &[u8]) -> Result<Heightfield, ImportError> {
-    heightfield::from_bytes("dem.tif", bytes, None, &ImportOptions::default())
+    import::from_bytes("dem.tif", bytes, None, &ImportOptions::default())
 }
 
 #[test]
@@ -211,8 +211,8 @@ fn a_grid_size_resamples_by_area_averaging() {
         ..ImportOptions::default()
     };
     let path = data("volcano_87x61_int16_lzw_nodata.tif");
-    let full = heightfield::load(&path).unwrap();
-    let small = heightfield::load_with(&path, &options).unwrap();
+    let full = import::load(&path).unwrap();
+    let small = import::load_with(&path, &options).unwrap();
     assert_eq!((small.width(), small.height()), (44, 31));
     // Same extent: the spacing doubles exactly (86/43, 60/30), the corners stay put.
     assert_eq!(small.spacing(), [20.0, 20.0]);
@@ -236,34 +236,62 @@ fn a_grid_size_resamples_by_area_averaging() {
 }
 
 #[test]
-fn an_oversized_grid_is_resampled_to_fit() {
+fn a_grid_over_the_limits_is_refused_not_resampled() {
     // One sample over the 16 384-per-side limit, and cheap: 16 385 × 2.
     let (w, h) = (16_385u32, 2u32);
     let values: Vec<u8> = (0..w * h).map(|i| (i % 251) as u8).collect();
     let bytes = encode::<colortype::Gray8>(w, h, &values);
-    let hf = parse(&bytes).unwrap();
-    assert_eq!(hf.width(), 257);
-    assert_eq!(hf.height(), 2);
+    let err = parse(&bytes).unwrap_err();
     assert!(
-        hf.source().contains("over the size limit"),
-        "{}",
-        hf.source()
+        err.to_string().contains("exact integer predicates"),
+        "{err}"
     );
+    // A size asked for resamples it, and the note says so.
+    let options = ImportOptions {
+        grid_size: Some((257, 2)),
+        ..ImportOptions::default()
+    };
+    let hf = import::from_bytes("dem.tif", &bytes, None, &options).unwrap();
+    assert_eq!((hf.width(), hf.height()), (257, 2));
+    assert!(hf.source().contains("as asked"), "{}", hf.source());
     // Asked-for sizes are checked against the grid limits.
     let options = ImportOptions {
         grid_size: Some((1, 5)),
         ..ImportOptions::default()
     };
-    let err = heightfield::from_bytes("dem.tif", &bytes, None, &options).unwrap_err();
+    let err = import::from_bytes("dem.tif", &bytes, None, &options).unwrap_err();
     assert!(err.to_string().contains("at least 2×2"), "{err}");
 }
 
 #[test]
-fn a_header_over_the_sample_limit_is_refused_before_decoding() {
-    // A valid 8-bit image whose width field is then raised: the limit check comes first.
+fn a_point_cap_fits_the_grid_under_it_and_says_so() {
+    let (w, h) = (300u32, 200u32);
+    let values: Vec<u16> = (0..w * h).map(|i| (i % 1000) as u16).collect();
+    let bytes = encode::<colortype::Gray16>(w, h, &values);
+    // Under the cap: the native size.
+    let roomy = ImportOptions {
+        max_points: Some(60_000),
+        ..ImportOptions::default()
+    };
+    let hf = import::from_bytes("dem.tif", &bytes, None, &roomy).unwrap();
+    assert_eq!((hf.width(), hf.height()), (300, 200));
+    assert!(!hf.resampled());
+    // Over it: the largest grid under it with the same aspect ratio.
+    let tight = ImportOptions {
+        max_points: Some(6_000),
+        ..ImportOptions::default()
+    };
+    let hf = import::from_bytes("dem.tif", &bytes, None, &tight).unwrap();
+    assert!(hf.len() <= 6_000, "{}×{}", hf.width(), hf.height());
+    assert_eq!((hf.width(), hf.height()), (94, 63));
+    assert!(hf.resampled());
+    assert!(hf.source().contains("point cap"), "{}", hf.source());
+}
+
+/// A valid 8-bit image whose ImageWidth and ImageLength (tags 256 and 257) are then raised to
+/// `side`: the size checks must come before any decoding.
+fn claiming(side: u32) -> Vec<u8> {
     let mut bytes = encode::<colortype::Gray8>(4, 4, &[0u8; 16]);
-    let side = (MAX_SOURCE_POINTS as f64).sqrt() as u32 * 2;
-    // Patch the ImageWidth and ImageLength entries (tags 256 and 257) in the directory.
     let ifd = u32::from_le_bytes(bytes[4..8].try_into().unwrap()) as usize;
     let count = u16::from_le_bytes([bytes[ifd], bytes[ifd + 1]]) as usize;
     for e in 0..count {
@@ -277,10 +305,94 @@ fn a_header_over_the_sample_limit_is_refused_before_decoding() {
             }
         }
     }
-    let err = parse(&bytes).unwrap_err();
-    assert!(matches!(err, ImportError::OverLimit { .. }), "{err}");
+    bytes
 }
 
+#[test]
+fn a_header_over_the_limits_or_the_memory_is_refused_before_decoding() {
+    let err = parse(&claiming(20_000)).unwrap_err();
+    assert!(matches!(err, ImportError::Grid(_)), "{err}");
+    assert!(err.to_string().contains("16384 per side"), "{err}");
+    // 10 000² fits the limits but not a 64 MiB budget: refused from the header.
+    let budget = ImportOptions {
+        memory_budget: Some(64 << 20),
+        ..ImportOptions::default()
+    };
+    let err = import::from_bytes("dem.tif", &claiming(10_000), None, &budget).unwrap_err();
+    assert!(matches!(err, ImportError::OutOfMemory { .. }), "{err}");
+    let text = err.to_string();
+    assert!(
+        text.contains("10000×10000") && text.contains("0.75 GiB") && text.contains("0.06 GiB"),
+        "{text}"
+    );
+}
+
+/// A float32 image written in strips of `rows` rows, as a classic TIFF or a BigTIFF.
+fn striped(width: u32, height: u32, rows: u32, big: bool) -> (Vec<f32>, Vec<u8>) {
+    let values: Vec<f32> = (0..width * height)
+        .map(|i| ((i % width) as f32 * 0.37).sin() * 100.0 + (i / width) as f32)
+        .collect();
+    let mut out = Cursor::new(Vec::new());
+    if big {
+        let mut encoder = TiffEncoder::new_big(&mut out).unwrap();
+        let mut image = encoder
+            .new_image::<colortype::Gray32Float>(width, height)
+            .unwrap();
+        image.rows_per_strip(rows).unwrap();
+        image.write_data(&values).unwrap();
+    } else {
+        let mut encoder = TiffEncoder::new(&mut out).unwrap();
+        let mut image = encoder
+            .new_image::<colortype::Gray32Float>(width, height)
+            .unwrap();
+        image.rows_per_strip(rows).unwrap();
+        image.write_data(&values).unwrap();
+    }
+    (values, out.into_inner())
+}
+
+#[test]
+fn bigtiff_in_several_strips_reads_its_values() {
+    let (values, bytes) = striped(130, 70, 16, true);
+    assert_eq!(&bytes[..4], b"II+\0", "the encoder wrote a BigTIFF");
+    let hf = parse(&bytes).unwrap();
+    assert_eq!((hf.width(), hf.height()), (130, 70));
+    let expected: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
+    assert_eq!(hf.z(), expected);
+    assert!(hf.source().contains("BigTIFF"), "{}", hf.source());
+    // The same file read from disk, a strip at a time, gives the same grid.
+    let path = std::env::temp_dir().join(format!("paretomesh-big-{}.tif", std::process::id()));
+    std::fs::write(&path, &bytes).unwrap();
+    let from_file = import::load(&path);
+    std::fs::remove_file(&path).unwrap();
+    assert_eq!(from_file.unwrap().z(), hf.z());
+}
+
+#[test]
+fn a_bigtiff_with_an_unsupported_layout_is_named() {
+    let mut out = Cursor::new(Vec::new());
+    TiffEncoder::new_big(&mut out)
+        .unwrap()
+        .write_image::<colortype::RGB8>(4, 3, &[7u8; 36])
+        .unwrap();
+    let err = parse(&out.into_inner()).unwrap_err();
+    assert!(matches!(err, ImportError::Unsupported { .. }), "{err}");
+    assert!(err.to_string().contains("3 bands"), "{err}");
+}
+
+#[test]
+fn a_truncated_strip_is_refused_before_decoding() {
+    for big in [false, true] {
+        let (_, bytes) = striped(64, 64, 8, big);
+        let hf = parse(&bytes).unwrap();
+        assert_eq!(hf.len(), 64 * 64);
+        let cut = truncate_last_strip(&bytes, big);
+        assert_eq!(cut.len(), bytes.len());
+        let err = parse(&cut).unwrap_err();
+        assert!(matches!(err, ImportError::Truncated { .. }), "{err}");
+        assert!(err.to_string().contains("strip 7 of 8"), "{err}");
+    }
+}
 #[test]
 fn truncated_and_garbage_bytes_are_errors_not_panics() {
     let names = [
@@ -314,4 +426,47 @@ fn truncated_and_garbage_bytes_are_errors_not_panics() {
     }
     let err = parse(b"II*\0garbage").map(|_| ()).unwrap_err();
     assert!(err.to_string().contains("GeoTIFF"), "{err}");
+}
+
+/// The file with its last strip's byte count (tag 279) raised past the end of the file, as in
+/// a file cut short after its directory was written.
+fn truncate_last_strip(bytes: &[u8], big: bool) -> Vec<u8> {
+    let mut out = bytes.to_vec();
+    let u16_at = |b: &[u8], at: usize| u16::from_le_bytes([b[at], b[at + 1]]) as usize;
+    let u64_at = |b: &[u8], at: usize, n: usize| {
+        let mut v = [0u8; 8];
+        v[..n].copy_from_slice(&b[at..at + n]);
+        u64::from_le_bytes(v) as usize
+    };
+    let (ifd, entries, entry_len, word) = if big {
+        let ifd = u64_at(bytes, 8, 8);
+        (ifd, u64_at(bytes, ifd, 8), 20, 8)
+    } else {
+        let ifd = u64_at(bytes, 4, 4);
+        (ifd, u16_at(bytes, ifd), 12, 4)
+    };
+    let first = ifd + if big { 8 } else { 2 };
+    for e in 0..entries {
+        let at = first + entry_len * e;
+        if u16_at(bytes, at) != 279 {
+            continue;
+        }
+        let size = match u16_at(bytes, at + 2) {
+            3 => 2,
+            4 => 4,
+            16 => 8,
+            other => panic!("byte counts of type {other}"),
+        };
+        let count = u64_at(bytes, at + 4, word);
+        let values = if count * size <= word {
+            at + 4 + word
+        } else {
+            u64_at(bytes, at + 4 + word, word)
+        };
+        let last = values + (count - 1) * size;
+        let raised = (bytes.len() as u64).to_le_bytes();
+        out[last..last + size].copy_from_slice(&raised[..size]);
+        return out;
+    }
+    panic!("no StripByteCounts tag");
 }

@@ -3,7 +3,8 @@
 
 use paretomesh::evaluator::Evaluator;
 use paretomesh::front::{Front, Solution};
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use paretomesh::metrics::{
     self, DEFAULT_REFERENCE_POINT, MetricsError, Normalization, Point, RankSumMethod,
     additive_epsilon, best_error_pick, coverage, dominance_probability, exact_u_cdf,
@@ -459,7 +460,7 @@ fn normalised_meshes_of_a_real_dataset_lie_where_the_reference_point_assumes() {
     // DEFAULT_REFERENCE_POINT's justification: normalised T ≤ 1 for every mesh, and the
     // corner-only mesh sits at E = 1.
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/jacksboro_33x33.f32");
-    let hf = Arc::new(heightfield::load(&path).unwrap());
+    let hf = Arc::new(import::load(&path).unwrap());
     let mut evaluator = Evaluator::new(hf.clone());
     let n = Normalization::from_evaluator(&mut evaluator).unwrap();
     assert_eq!(n.t_scale(), 2048.0); // 2·32·32

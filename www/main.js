@@ -115,7 +115,7 @@ let importing = null;
 const dialogKey = () => `${$('import-projection').value} ${$('import-surface').value} ${Number($('import-width').value) || 0} ${Number($('import-height').value) || 0}`;
 function openImportDialog(name, surface, size, hash, { folds = null, georeference = null } = {}) {
   const geotiff = georeference !== null && georeference !== undefined;
-  $('import-title').textContent = geotiff ? 'This GeoTIFF is larger than the app optimises'
+  $('import-title').textContent = geotiff ? 'This GeoTIFF is larger than one tab holds: its native size is in the summary'
     : folds ? 'This mesh folds over itself' : 'This mesh is not a grid';
   $('import-projection-row').hidden = geotiff;
   $('import-surface-row').hidden = geotiff;

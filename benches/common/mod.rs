@@ -4,14 +4,15 @@
 // Each bench includes this module and uses part of it.
 #![allow(dead_code)]
 
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use rand::{RngExt, SeedableRng};
 use std::path::Path;
 
 /// A fixture from `tests/data` by name (`jacksboro_65x65` reads `tests/data/jacksboro_65x65.f32`).
 pub fn fixture(name: &str) -> Heightfield {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/data/{name}.f32"));
-    heightfield::load(&path).unwrap_or_else(|e| panic!("fixture {name}: {e}"))
+    import::load(&path).unwrap_or_else(|e| panic!("fixture {name}: {e}"))
 }
 
 /// The side of the benches' large generated grid: 257, or 65 when the bench runs as a test.

@@ -9,10 +9,9 @@
 //!   and its embedded grid, if any, is a height field.
 
 use paretomesh::app::share;
-use paretomesh::heightfield::{
-    self, Heightfield, ImportError, ImportOptions, MAX_POINTS, MAX_SIDE, MIN_SIDE, Projection,
-    Surface,
-};
+use paretomesh::heightfield::{Heightfield, MAX_POINTS, MAX_SIDE, MIN_SIDE};
+use paretomesh::import;
+use paretomesh::import::{ImportError, ImportOptions, Projection, Surface};
 
 /// One fuzz target: an importer (or the share-link decoder) and the options it is run with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -151,7 +150,7 @@ pub fn run(target: Target, data: &[u8]) -> Vec<String> {
         .options()
         .iter()
         .map(
-            |options| match heightfield::from_bytes(target.file_name(), bytes, sidecar, options) {
+            |options| match import::from_bytes(target.file_name(), bytes, sidecar, options) {
                 Ok(hf) => {
                     check_grid(&hf);
                     format!("ok {}×{}", hf.width(), hf.height())

@@ -1,7 +1,8 @@
 //! Turning dropped files into a height field, and the built-in surface.
 
-use crate::heightfield::import::{ImportError, Projection, Surface};
-use crate::heightfield::{Heightfield, ImportOptions, raw};
+use crate::heightfield::Heightfield;
+use crate::import::{ImportError, Projection, Surface};
+use crate::import::{ImportOptions, raw};
 
 /// A surface built into the app (copied from `tests/data`, see its SOURCES.md).
 #[derive(Clone, Copy, Debug)]
@@ -33,6 +34,12 @@ pub const BUILTINS: [Builtin; 4] = [
     builtin!("camera_65x65", "relief: the cameraman photo as heights"),
     builtin!("bunny_65x65", "range scan: the Stanford bunny"),
 ];
+
+/// The most grid points one browser tab opens (4096² ≈ 16.8 M), below the library's own limit
+/// ([`MAX_POINTS`](crate::heightfield::MAX_POINTS)): a 3601² DEM tile opens at its native size.
+/// A GeoTIFF over it is fitted under it by area averaging and shown in the import dialog; any
+/// other grid over it is refused.
+pub const MAX_TAB_POINTS: usize = 1 << 24;
 
 /// Name of the built-in surface shown on first load.
 pub const BUILTIN_NAME: &str = BUILTINS[0].name;
@@ -122,7 +129,21 @@ pub fn parse_file(
     sidecar: Option<&[u8]>,
     options: &ImportOptions,
 ) -> Result<Heightfield, LoadError> {
-    crate::heightfield::import::from_bytes(name, bytes, sidecar, options).map_err(|e| {
+    if let Some((w, h)) = options
+        .grid_size
+        .filter(|(w, h)| w.saturating_mul(*h) > MAX_TAB_POINTS)
+    {
+        return Err(over_tab_cap(name, w, h));
+    }
+    let capped = ImportOptions {
+        max_points: Some(
+            options
+                .max_points
+                .map_or(MAX_TAB_POINTS, |m| m.min(MAX_TAB_POINTS)),
+        ),
+        ..options.clone()
+    };
+    let hf = crate::import::from_bytes(name, bytes, sidecar, &capped).map_err(|e| {
         let folds = matches!(e, ImportError::NoProjection { .. });
         let message = e.to_string();
         let message = if message.contains(name) {
@@ -131,7 +152,23 @@ pub fn parse_file(
             format!("{name}: {message}")
         };
         LoadError { message, folds }
-    })
+    })?;
+    if hf.len() > MAX_TAB_POINTS {
+        return Err(over_tab_cap(name, hf.width(), hf.height()));
+    }
+    Ok(hf)
+}
+
+/// The refusal of a grid over [`MAX_TAB_POINTS`].
+fn over_tab_cap(name: &str, width: usize, height: usize) -> LoadError {
+    LoadError {
+        message: format!(
+            "{name}: a {width}×{height} grid has {:.1} M points; the limit for one browser tab is {:.1} M points (4096²); choose a smaller grid, or use the command line",
+            width as f64 * height as f64 / 1e6,
+            MAX_TAB_POINTS as f64 / 1e6
+        ),
+        folds: false,
+    }
 }
 
 /// What the import dialog says about a GeoTIFF's georeferencing: map spacing, the map position

@@ -28,8 +28,8 @@
 
 use super::algorithms::{Algorithm, Params};
 use super::camera::{MAX_DISTANCE, MAX_PITCH, MIN_DISTANCE, OrbitCamera};
-use super::loader;
-use crate::heightfield::{Georeference, Heightfield, MAX_POINTS, MAX_SIDE, Placement};
+use super::loader::{self, MAX_TAB_POINTS};
+use crate::heightfield::{Georeference, Heightfield, MAX_SIDE, Placement};
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use serde::{Deserialize, Serialize};
@@ -48,9 +48,9 @@ pub const MAX_NAME_LEN: usize = 255;
 pub const MAX_SEED: u64 = (1 << 53) - 1;
 /// Most generations (or sweeps) a link may ask to re-run. A run stops at its own end anyway;
 /// the cap bounds the classical methods, whose sweeps are bounded by the number of points.
-pub const MAX_GENERATIONS_RUN: u64 = MAX_POINTS as u64;
+pub const MAX_GENERATIONS_RUN: u64 = MAX_TAB_POINTS as u64;
 /// Largest selected index: a front has at most 2N members (T < 2N on N points).
-pub const MAX_SELECTED: usize = 2 * MAX_POINTS;
+pub const MAX_SELECTED: usize = 2 * MAX_TAB_POINTS;
 /// Largest file size a fingerprint may state: 4 GiB.
 pub const MAX_FILE_SIZE: u64 = 1 << 32;
 /// Largest |yaw| in radians (yaw accumulates while orbiting; any sane view is far below this).
@@ -151,9 +151,9 @@ impl ImportChoice {
         }
         let (w, h) = (self.width as usize, self.height as usize);
         let side = 2..=MAX_SIDE;
-        if !side.contains(&w) || !side.contains(&h) || w * h > MAX_POINTS {
+        if !side.contains(&w) || !side.contains(&h) || w * h > MAX_TAB_POINTS {
             return bad(format!(
-                "a {w}×{h} grid; sides must be 2 to {MAX_SIDE} and the grid at most {MAX_POINTS} points"
+                "a {w}×{h} grid; sides must be 2 to {MAX_SIDE} and the grid at most {MAX_TAB_POINTS} points"
             ));
         }
         Ok(())

@@ -556,7 +556,7 @@ impl Optimizer for GreedyInsertion {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::heightfield::raw;
+    use crate::import::raw;
 
     fn camera() -> Arc<Heightfield> {
         let data = include_bytes!("../../tests/data/camera_33x33.f32");

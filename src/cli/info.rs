@@ -8,6 +8,16 @@ pub fn run(input: &InputArgs) -> Result<(), String> {
     let hf = input.load()?;
     let (lo, hi) = hf.z_range();
     println!("size: {}×{} = {} points", hf.width(), hf.height(), hf.len());
+    println!(
+        "a run uses: this {}×{} grid, {}",
+        hf.width(),
+        hf.height(),
+        if hf.resampled() || hf.source().contains("resampled") {
+            "resampled as the source line says"
+        } else {
+            "the file's own size (--grid-size WxH chooses another)"
+        }
+    );
     println!("z range: {lo} .. {hi}");
     println!("origin: {:?}", hf.origin());
     println!("spacing: {:?}", hf.spacing());

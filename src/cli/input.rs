@@ -1,7 +1,9 @@
 //! The input options every subcommand that reads a grid shares: the file and how to import it.
 
 use clap::{Args, ValueEnum};
-use paretomesh::heightfield::{self, Heightfield, ImportOptions, Projection, Surface};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
+use paretomesh::import::{ImportOptions, Projection, Surface};
 use std::path::PathBuf;
 
 /// How a mesh becomes a grid, as spelled on the command line.
@@ -45,8 +47,8 @@ pub struct ImportArgs {
     #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
     pub projection: ProjectionArg,
     /// Grid size WxH for resampling a mesh or a GeoTIFF, e.g. 129x129 (default: for a mesh,
-    /// about one grid point per vertex, at most 257 per side; a GeoTIFF keeps its size unless it
-    /// is over the grid limit).
+    /// about one grid point per vertex, at most 257 per side; a GeoTIFF is read at its own size,
+    /// up to 16384 per side and 16384² points, and as much as the machine's memory holds).
     #[arg(long, value_name = "WxH", value_parser = parse_grid_size)]
     pub grid_size: Option<(usize, usize)>,
     /// Which surface a mesh that folds over itself keeps.
@@ -82,13 +84,24 @@ impl ImportArgs {
                 SurfaceArg::Outer => Surface::Outer,
             },
             terrain_rgb: self.terrain_rgb,
+            max_points: None,
+            memory_budget: available_memory(),
         }
     }
+}
+
+/// The memory the system can give without swapping (MemAvailable in /proc/meminfo), where the
+/// system says; `None` elsewhere.
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }
 
 impl InputArgs {
     /// Loads the grid; the error is a message for the user.
     pub fn load(&self) -> Result<Heightfield, String> {
-        heightfield::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())
+        import::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())
     }
 }

@@ -1,6 +1,7 @@
 //! Grids and kept sets shared by the evaluator's unit tests.
 
-use crate::heightfield::{self, Heightfield};
+use crate::heightfield::Heightfield;
+use crate::import;
 use rand::RngExt;
 use std::path::Path;
 
@@ -9,7 +10,7 @@ pub(crate) fn fixture(name: &str) -> Heightfield {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(format!("{name}.f32"));
-    heightfield::load(&path).unwrap()
+    import::load(&path).unwrap()
 }
 
 /// Each of the `n` grid points, kept with probability `fraction`.

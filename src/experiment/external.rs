@@ -20,7 +20,7 @@
 use super::results::{ExternalFront, RejectedMesh};
 use crate::evaluator::{Evaluator, is_delaunay};
 use crate::front::{Front, Solution};
-use crate::heightfield::{TriangleMesh, obj, ply};
+use crate::import::{TriangleMesh, obj, ply};
 use crate::run_file::RunFile;
 use serde::Deserialize;
 

@@ -1,30 +1,21 @@
-//! The height field z = f(x, y) sampled on a regular W×H grid, and its import.
+//! The height field z = f(x, y) sampled on a regular W×H grid. Files become height fields in
+//! [`crate::import`].
 //!
 //! Grid point `(x, y)` (x = column, y = row) has index `y * width + x`; every other module speaks
 //! in these indices. [`Placement`] remembers how the grid sits in the input's 3-D space so that a
 //! simplified mesh can be exported in the input's own coordinates.
 
-pub mod geotiff;
-pub mod heightmap_png;
-pub mod import;
-pub mod mesh;
-pub mod obj;
-pub mod ply;
-pub mod raw;
-pub mod resample;
-pub mod stl;
-
-pub use import::{ImportError, ImportOptions, Projection, Surface, from_bytes, load, load_with};
-pub use mesh::TriangleMesh;
-
 use std::fmt;
 
 /// Smallest grid side: a 2×2 grid is the smallest surface with a triangle.
 pub const MIN_SIDE: usize = 2;
-/// Largest grid side. Keeps exact integer predicates inside `i64` (see `evaluator::predicates`).
+/// Largest grid side (2¹⁴): coordinate differences below it keep the exact integer predicates
+/// inside `i64` (see `evaluator::exact::predicates`).
 pub const MAX_SIDE: usize = 16_384;
-/// Largest number of grid points (2048² ≈ 4.2 M): what a browser tab can hold and evolve.
-pub const MAX_POINTS: usize = 1 << 22;
+/// Largest number of grid points (16 384² = 2²⁸ ≈ 268 M): grid indices and the predicates'
+/// index-to-coordinate conversion stay exact in 32/64-bit integers up to it. What a machine's
+/// memory holds is checked separately; a browser tab sets its own, lower cap.
+pub const MAX_POINTS: usize = MAX_SIDE * MAX_SIDE;
 
 /// How grid coordinates map back to the 3-D space the surface came from.
 ///
@@ -89,7 +80,7 @@ impl fmt::Display for HeightfieldError {
             ),
             Self::TooLarge { width, height } => write!(
                 f,
-                "this grid has {}×{} = {:.1} M points; the limit is {:.1} M points and {} per side; choose a smaller grid size",
+                "this grid has {}×{} = {:.1} M points; the exact integer predicates hold at most {:.1} M points and {} per side; choose a smaller grid size",
                 width,
                 height,
                 (*width as f64) * (*height as f64) / 1e6,
@@ -369,8 +360,13 @@ mod tests {
 
     #[test]
     fn rejects_oversized_grids_before_allocating() {
-        let err = check_size(4096, 4096).unwrap_err();
-        assert!(err.to_string().contains("16.8 M points"), "{err}");
+        assert!(check_size(16_384, 16_384).is_ok());
+        let err = check_size(16_385, 16_384).unwrap_err();
+        assert!(err.to_string().contains("268.4 M points"), "{err}");
+        assert!(
+            err.to_string().contains("exact integer predicates"),
+            "{err}"
+        );
     }
 
     #[test]

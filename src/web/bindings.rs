@@ -10,7 +10,7 @@ use crate::app::loader;
 use crate::app::pool::PoolSetup;
 use crate::app::share::{FileFingerprint, fnv1a64};
 use crate::evaluator::Evaluator;
-use crate::heightfield::{ImportOptions, raw};
+use crate::import::{ImportOptions, raw};
 use crate::optimizer::Progress;
 use js_sys::Reflect;
 use std::cell::RefCell;

@@ -2,7 +2,8 @@
 //! `tests/compose.rs`): fixtures, synthetic grids, random kept sets, and scores as bits.
 
 use paretomesh::evaluator::Score;
-use paretomesh::heightfield::{self, Heightfield};
+use paretomesh::heightfield::Heightfield;
+use paretomesh::import;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::path::Path;
@@ -13,7 +14,7 @@ pub fn fixture(name: &str) -> Arc<Heightfield> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(format!("{name}.f32"));
-    Arc::new(heightfield::load(&path).expect("fixture"))
+    Arc::new(import::load(&path).expect("fixture"))
 }
 
 /// A grid of integer-valued heights (many exact ties in the interpolation) for even seeds, or

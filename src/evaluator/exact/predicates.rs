@@ -17,8 +17,10 @@
 pub type GridPoint = [i64; 2];
 
 /// Converts grid indices to coordinates without a division: `index / width` is computed as
-/// `(index · m) >> 40` with `m = ⌈2⁴⁰ / width⌉`, exact for every index below 2²² and width up
-/// to 2¹⁴ (the error term index·(m − 2⁴⁰/width)/2⁴⁰ < 2⁻¹⁸ stays below the 1/width gap).
+/// `(index · m) >> 42` with `m = ⌈2⁴² / width⌉`, exact for every index of a grid within
+/// [`MAX_POINTS`](crate::heightfield::MAX_POINTS) = 2²⁸ points and width up to 2¹⁴: the error
+/// term index·(m − 2⁴²/width)/2⁴² < index/2⁴² ≤ 2⁻¹⁴ stays below the 1/width gap, and
+/// index·m < height·2⁴² + index ≤ 2⁵⁶ + 2²⁸ fits in `u64`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Lattice {
     width: u64,
@@ -31,7 +33,7 @@ impl Lattice {
         let width = width.max(1) as u64;
         Self {
             width,
-            magic: (1u64 << 40).div_ceil(width),
+            magic: (1u64 << 42).div_ceil(width),
         }
     }
 
@@ -43,7 +45,7 @@ impl Lattice {
     /// (column, row) of a grid index.
     #[inline]
     pub fn point(&self, index: u32) -> GridPoint {
-        let row = (index as u64 * self.magic) >> 40;
+        let row = (index as u64 * self.magic) >> 42;
         [(index as u64 - row * self.width) as i64, row as i64]
     }
 }

@@ -1,7 +1,8 @@
 //! The raw grid format of the shared data: little-endian f32, row-major, index = y·W + x, with a
 //! JSON sidecar that holds at least `width` and `height`.
 
-use super::{Heightfield, import::ImportError};
+use super::error::ImportError;
+use crate::heightfield::Heightfield;
 use serde::Deserialize;
 
 #[derive(Deserialize)]
@@ -29,7 +30,7 @@ fn malformed(message: impl Into<String>) -> ImportError {
 pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, ImportError> {
     let meta: Sidecar =
         serde_json::from_slice(json).map_err(|e| malformed(format!("sidecar JSON: {e}")))?;
-    super::check_size(meta.width, meta.height)?;
+    crate::heightfield::check_size(meta.width, meta.height)?;
     // check_size bounds width·height by MAX_POINTS, so this cannot overflow.
     let expected = meta.width * meta.height * 4;
     let grid = format!(

@@ -3,15 +3,15 @@
 //! Reads the `vertex` element's `x`, `y`, `z` and the `face` element's `vertex_indices` (or
 //! `vertex_index`) list; polygons are split into fans of triangles; other elements and properties
 //! are skipped. Before anything is allocated, the header's counts are checked against
-//! [`MAX_VERTICES`](super::mesh::MAX_VERTICES) / [`MAX_TRIANGLES`] and against the smallest number of bytes they need.
+//! [`MAX_VERTICES`](super::triangle_mesh::MAX_VERTICES) / [`MAX_TRIANGLES`] and against the smallest number of bytes they need.
 //! A `float` property is read as f32 and widened, so a PLY written from an f32 grid gives back
 //! exactly the same values. An ASCII file has one element per line (as the format says).
 //!
 //! Hand-written rather than a crate: the maintained crate (`ply-rs-bw`) does not check claimed
 //! counts against a limit and the file size, and a PLY header is simple enough to check fully here.
 
-use super::import::ImportError;
-use super::mesh::{MAX_TRIANGLES, TriangleMesh, check_counts};
+use super::error::ImportError;
+use super::triangle_mesh::{MAX_TRIANGLES, TriangleMesh, check_counts};
 
 const FORMAT: &str = "PLY";
 /// The header must end within this many bytes (real headers are a few hundred).

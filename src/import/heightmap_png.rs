@@ -9,8 +9,8 @@
 //!   (Rec. 709), which the source note says — unless terrain-RGB is asked for:
 //! - terrain-RGB (Mapbox): h = −10000 + (R·65536 + G·256 + B)·0.1 metres, for 8-bit RGB(A).
 
-use super::Heightfield;
-use super::import::ImportError;
+use super::error::ImportError;
+use crate::heightfield::Heightfield;
 use png::{BitDepth, ColorType, Transformations};
 
 const FORMAT: &str = "PNG";
@@ -58,7 +58,7 @@ pub fn terrain_rgb_height(r: u8, g: u8, b: u8) -> f64 {
 /// decoded. Never panics: every bad input is an [`ImportError`].
 pub fn parse(bytes: &[u8], name: &str, terrain_rgb: bool) -> Result<Heightfield, ImportError> {
     if let Some((width, height)) = claimed_size(bytes) {
-        super::check_size(width, height)?;
+        crate::heightfield::check_size(width, height)?;
     }
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
     decoder.set_transformations(Transformations::EXPAND);
@@ -67,7 +67,7 @@ pub fn parse(bytes: &[u8], name: &str, terrain_rgb: bool) -> Result<Heightfield,
         let info = reader.info();
         (info.width as usize, info.height as usize)
     };
-    super::check_size(width, height)?;
+    crate::heightfield::check_size(width, height)?;
     let (color, depth) = reader.output_color_type();
     let size = reader
         .output_buffer_size()

@@ -4,8 +4,8 @@
 //! points, lines, normals, texture coordinates and materials are ignored (no `.mtl` is read: the
 //! browser has only the one file). Only vertices that some face uses are kept, as tobj does.
 
-use super::import::ImportError;
-use super::mesh::{TriangleMesh, check_counts};
+use super::error::ImportError;
+use super::triangle_mesh::{TriangleMesh, check_counts};
 
 const FORMAT: &str = "OBJ";
 

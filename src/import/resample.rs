@@ -28,15 +28,12 @@
 //! - **Fill.** A point no triangle covers takes the value of its nearest covered point in
 //!   4-neighbour steps (breadth-first from all covered points, ties to the lower grid index).
 
-use super::Placement;
-use super::import::{ImportError, Projection, Surface};
-use super::mesh::{DEFAULT_MAX_SIDE, TriangleMesh};
+use super::error::ImportError;
+use super::options::{MAX_OVERLAP, Projection, Surface};
+use super::triangle_mesh::{DEFAULT_MAX_SIDE, TriangleMesh};
+use crate::heightfield::Placement;
 use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
-
-/// Largest accepted share of doubly covered grid points (10 %): small overhangs are resolved by
-/// "highest wins", a surface folded over on a larger share is not a height field.
-pub const MAX_OVERLAP: f64 = 0.10;
 
 /// A mesh resampled onto a grid.
 pub struct Resampled {
@@ -438,7 +435,7 @@ fn resample_projected(
         Some(s) => s,
         None => automatic_size(mesh.vertices.len(), extent[0] * projected.x_unit, extent[1]),
     };
-    super::check_size(width, height)?;
+    crate::heightfield::check_size(width, height)?;
     let spacing = [
         extent[0] / (width - 1) as f64,
         extent[1] / (height - 1) as f64,
@@ -608,17 +605,27 @@ fn draw_triangle(
 /// one reached first from the lower grid index); returns how many were filled. At least one
 /// point must be non-NaN.
 pub(crate) fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
-    let mut queue: VecDeque<usize> = (0..z.len()).filter(|&i| !z[i].is_nan()).collect();
-    let filled = z.len() - queue.len();
-    while let Some(i) = queue.pop_front() {
+    let filled = z.iter().filter(|v| v.is_nan()).count();
+    if filled == 0 {
+        return 0;
+    }
+    let neighbours = |i: usize| {
         let (x, y) = (i % width, i / width);
-        let neighbours = [
+        [
             (y > 0).then(|| i - width),
             (x > 0).then(|| i - 1),
             (x + 1 < width).then(|| i + 1),
             (y + 1 < height).then(|| i + width),
-        ];
-        for j in neighbours.into_iter().flatten() {
+        ]
+    };
+    // Breadth-first from every valid point in index order; a valid point with no missing
+    // neighbour would fill nothing, so only the border of the missing regions is queued (the
+    // same order and result, with memory for the border instead of the whole grid).
+    let mut queue: VecDeque<usize> = (0..z.len())
+        .filter(|&i| !z[i].is_nan() && neighbours(i).into_iter().flatten().any(|j| z[j].is_nan()))
+        .collect();
+    while let Some(i) = queue.pop_front() {
+        for j in neighbours(i).into_iter().flatten() {
             if z[j].is_nan() {
                 z[j] = z[i];
                 queue.push_back(j);

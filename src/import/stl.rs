@@ -9,8 +9,8 @@
 //! Hand-written rather than the `stl_io` crate: stl_io decides ASCII by the "solid " prefix
 //! alone, so it misreads such binary files, and it does not check the count against the size.
 
-use super::import::ImportError;
-use super::mesh::{MAX_TRIANGLES, TriangleMesh, check_counts};
+use super::error::ImportError;
+use super::triangle_mesh::{MAX_TRIANGLES, TriangleMesh, check_counts};
 use std::collections::HashMap;
 
 const FORMAT: &str = "STL";
