@@ -58,6 +58,8 @@ node tests/e2e/webgpu.test.mjs
 node tests/e2e/share.test.mjs
 node tests/e2e/teaching.test.mjs
 node tests/e2e/compare.test.mjs
+# Runs in the pool of Web Workers, untiled and in tiles, against the CLI's (tiled) fronts.
+node tests/e2e/workers.test.mjs
 
 stage ""
 echo "== stage times (total $SECONDS s)"
