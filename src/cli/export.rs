@@ -9,13 +9,9 @@ use paretomesh::evaluator::{Evaluator, Score, canonical_set};
 use paretomesh::export::glb::{GlbMesh, vertex_normals, write_glb};
 use paretomesh::export::mesh::WorldMesh;
 use paretomesh::export::{obj::to_obj, ply::to_ply, stl::to_stl};
-<<<<<<< HEAD
 use paretomesh::front::Solution;
-use paretomesh::heightfield::{self, Heightfield};
-=======
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
->>>>>>> r-native
 use paretomesh::run_file::RunFile;
 use paretomesh::tiling::TiledRunFile;
 use std::path::{Path, PathBuf};
@@ -224,14 +220,8 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         Some(path) => path.clone(),
         None => find_grid(&args.front, &grid.source)?,
     };
-<<<<<<< HEAD
-    let hf =
-        heightfield::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
-    let (w, h) = (grid.width, grid.height);
-=======
     let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
-    let (w, h) = (file.grid.width, file.grid.height);
->>>>>>> r-native
+    let (w, h) = (grid.width, grid.height);
     if (hf.width(), hf.height()) != (w, h) {
         return Err(format!(
             "the grid {} is {}×{}, but {} was made on a {w}×{h} grid",
