@@ -119,8 +119,8 @@ pub fn allocate(options: &[Vec<TileOption>]) -> Vec<Allocation> {
     for &(_, tile, s) in &segments {
         let (from, to) = (hulls[tile][s], hulls[tile][s + 1]);
         debug_assert_eq!(at[tile], s);
-        for between in from + 1..to {
-            choice[tile] = fronts[tile][between];
+        for &between in &fronts[tile][from + 1..to] {
+            choice[tile] = between;
             found.push(sums(options, &choice));
         }
         choice[tile] = fronts[tile][to];

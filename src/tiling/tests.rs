@@ -188,6 +188,7 @@ fn shared_lines_keep_the_same_vertices_from_both_sides() {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 #[test]
 fn threads_do_not_change_the_bits() {
     let hf = terrain(80, 45, 9);
@@ -216,12 +217,9 @@ fn a_tile_is_a_pure_function_of_its_inputs() {
     let a = run_tile(&tile, &plan, 3, "memetic", &params, 1).unwrap();
     let b = run_tile(&tile, &plan, 3, "memetic", &params, 1).unwrap();
     assert_eq!(a, b);
-    let other_seed = run_tile(&tile, &plan, 3, "memetic", &params, 2).unwrap();
-    assert_eq!(other_seed.index, 3);
-    assert!(
-        run_tile(&tile, &plan, 2, "memetic", &params, 1).is_err()
-            || plan.tile(2).unwrap().w == tile.width()
-    );
+    // Serialised and read back (as from a worker process), it is the same front.
+    let shipped: TileFront = serde_json::from_str(&serde_json::to_string(&a).unwrap()).unwrap();
+    assert_eq!(shipped, a);
 }
 
 #[test]

@@ -1,0 +1,166 @@
+//! Tiled runs through the real binary: front.json of a tiled run, export of its members,
+//! thread-count invariance, and a bad `--tile`.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn data(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn paretomesh(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .args(args)
+        .output()
+        .expect("the paretomesh binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("paretomesh-tiles-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// `run` on volcano 87×61 in tiles of 33 with `threads`, its front.json as JSON.
+fn tiled_run(dir: &std::path::Path, threads: &str) -> serde_json::Value {
+    let out_path = dir.join(format!("front-{threads}.json"));
+    let out = paretomesh(&[
+        "run",
+        &data("volcano_87x61.f32"),
+        "--algo",
+        "memetic",
+        "--evals",
+        "1500",
+        "--tile",
+        "33",
+        "--threads",
+        threads,
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    serde_json::from_slice(&std::fs::read(out_path).unwrap()).unwrap()
+}
+
+#[test]
+fn a_tiled_front_is_the_same_on_one_or_two_threads_and_exports_every_format() {
+    let dir = scratch("run");
+    let mut one = tiled_run(&dir, "1");
+    let mut two = tiled_run(&dir, "2");
+    assert!(
+        one.get("front").is_none(),
+        "a tiled front lists no kept set per member"
+    );
+    let members = one["tiled"]["members"].as_array().unwrap().len();
+    assert!(members > 10);
+    assert_eq!(one["tiled"]["tiles"].as_array().unwrap().len(), 3 * 2);
+    for file in [&mut one, &mut two] {
+        let object = file.as_object_mut().unwrap();
+        object.remove("millis");
+        object.remove("threads");
+    }
+    assert_eq!(one, two);
+    let front = dir.join("front-1.json");
+    for (selector, value, name) in [
+        ("--member", "0", "first.ply"),
+        ("--max-triangles", "600", "m.obj"),
+        ("--tradeoff", "", "t.stl"),
+        ("--member", &(members - 1).to_string(), "last.glb"),
+    ] {
+        let out_path = dir.join(name);
+        let mut args = vec!["export", front.to_str().unwrap(), selector];
+        if !value.is_empty() {
+            args.push(value);
+        }
+        args.extend(["--out", out_path.to_str().unwrap()]);
+        let out = paretomesh(&args);
+        assert!(out.status.success(), "{name}: {}", text(&out.stderr));
+        assert!(std::fs::metadata(&out_path).unwrap().len() > 0);
+    }
+    // The first member has one corner-only mesh per tile: 2 triangles each, 4 kept points
+    // per tile, shared ones once.
+    let ply = std::fs::read_to_string(dir.join("first.ply")).unwrap();
+    assert!(ply.contains("element face 12"), "{ply}");
+    assert!(ply.contains("element vertex 12"), "{ply}");
+}
+
+#[test]
+fn a_tile_too_small_is_refused_before_any_work_and_writes_nothing() {
+    let dir = scratch("small");
+    let out_path = dir.join("front.json");
+    let out = paretomesh(&[
+        "run",
+        &data("volcano_87x61.f32"),
+        "--tile",
+        "5",
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("--tile") && stderr.contains("at least 33"),
+        "{stderr}"
+    );
+    assert!(!out_path.exists());
+}
+
+#[test]
+fn a_grid_within_the_tile_size_runs_untiled() {
+    let dir = scratch("untiled");
+    let out_path = dir.join("front.json");
+    let out = paretomesh(&[
+        "run",
+        &data("volcano_33x33.f32"),
+        "--algo",
+        "greedy",
+        "--out",
+        out_path.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let file: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&out_path).unwrap()).unwrap();
+    assert!(file.get("tiled").is_none() && file["front"].as_array().is_some());
+    // No temporary file is left beside it.
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 1, "{names:?}");
+}
+
+#[test]
+fn eval_scores_given_triangles_as_it_scores_their_kept_set() {
+    let grid = data("jacksboro_33x33.f32");
+    let dir = scratch("eval");
+    let kept_path = dir.join("kept.json");
+    std::fs::write(&kept_path, "[100, 200, 300, 500, 700]").unwrap();
+    let by_kept = paretomesh(&["eval", &grid, "--keep", kept_path.to_str().unwrap()]);
+    assert!(by_kept.status.success(), "{}", text(&by_kept.stderr));
+    let by_kept: serde_json::Value = serde_json::from_slice(&by_kept.stdout).unwrap();
+    let triangles_path = dir.join("triangles.json");
+    std::fs::write(&triangles_path, by_kept["triangles"].to_string()).unwrap();
+    let by_triangles = paretomesh(&[
+        "eval",
+        &grid,
+        "--triangles",
+        triangles_path.to_str().unwrap(),
+    ]);
+    assert!(
+        by_triangles.status.success(),
+        "{}",
+        text(&by_triangles.stderr)
+    );
+    let by_triangles: serde_json::Value = serde_json::from_slice(&by_triangles.stdout).unwrap();
+    for field in ["E_sum", "E_max", "T"] {
+        assert_eq!(by_kept[field], by_triangles[field], "{field}");
+    }
+}
