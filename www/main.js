@@ -1,9 +1,11 @@
 // Boots the wasm app, wires the file drop and picker, and runs the requestAnimationFrame loop.
 // Everything else (controls, plot, 3-D view, parsing, exports) lives in Rust (src/web/).
 import init, { start, drawPreview } from './pkg/paretomesh.js';
+import { WorkerPool } from './pool.js';
 
 const $ = (id) => document.getElementById(id);
 let app = null;
+let pool = null;
 let stopped = false;
 
 // Reads a file in chunks so a big file shows progress and the tab stays responsive.
@@ -184,6 +186,7 @@ function loop(now) {
   if (stopped) return;
   try {
     app.frame(now);
+    pool.pump();
   } catch (e) {
     // A Rust panic: the panic hook has shown the message; stop the loop.
     stopped = true;
@@ -203,6 +206,10 @@ try {
   // fallback to WebGL2.
   app = await start(flags.has('webgl'), flags.has('webgpu-fail'));
   window.paretomesh = app; // for the console and the end-to-end test
+  // Tiled runs go to one Web Worker per core; ?workers sends untiled runs there too, and
+  // ?tile=N cuts grids with a side over N points (else the CLI's default tile size).
+  pool = new WorkerPool(app);
+  app.setPoolSetup(navigator.hardwareConcurrency || 1, flags.has('workers'), Number(flags.get('tile')) || 0);
   if (location.hash.length > 1) app.openLink(location.hash); // a share link
   wireDrop();
   wireImportDialog();

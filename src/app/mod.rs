@@ -11,6 +11,8 @@
 //! - [`camera`] and [`geometry`]: the 3-D view's orbit camera and vertex data.
 //! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image;
 //!   [`handoff`] the parsed surface as plain parts, for the import Worker's hand-off.
+//! - [`pool`]: a run done by a pool of Web Workers, as the page sees it; [`tiled_run`] its
+//!   tiles, their fronts and the whole-grid front assembled from them.
 //! - [`glb_export`]: the shown mesh as `.glb`.
 
 pub mod algorithms;
@@ -24,7 +26,9 @@ pub mod handoff;
 pub mod loader;
 pub mod oax_panel;
 pub mod plot;
+pub mod pool;
 pub mod preview;
 pub mod share;
 pub mod state;
 pub mod teaching;
+pub mod tiled_run;

@@ -8,14 +8,21 @@
 //! CLI reaches with the same seed.
 
 use super::algorithms::{self, Algorithm, Params, Running};
+use super::pool::{PoolRun, PoolSetup};
+use super::tiled_run::TiledRun;
 use crate::evaluator::Evaluator;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
-use crate::optimizer::Progress;
+use crate::optimizer::{Optimizer, Progress};
 use crate::pick::{Pick, pick_in_front};
+use crate::tiling::{TileFront, TilePlan};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+
+/// The most triangles the 3-D view draws at once; a selected member over it is drawn as the
+/// member of least error within it (see [`App::selected_mesh`]).
+pub const MAX_DRAWN_TRIANGLES: usize = 2_000_000;
 
 /// Default time budget of one frame's optimisation slice, in milliseconds.
 pub const DEFAULT_BUDGET_MS: f64 = 8.0;
@@ -96,6 +103,13 @@ pub struct App {
     /// While re-running a shared run: the generation to stop at, and the front index to select
     /// there.
     reproduction: Option<Reproduction>,
+    /// Whether and how runs go to a pool of Web Workers.
+    pool: PoolSetup,
+    /// The id the next pool run gets (ids tell a run's worker reports from a former run's).
+    next_pool_run: u64,
+    /// The clock at the last tick of a running pool run: its time is wall time, not the
+    /// frames' slices.
+    pool_clock: Option<f64>,
 }
 
 /// Where a re-run of a shared run stops and what it selects there.
@@ -121,6 +135,142 @@ impl App {
             selected: None,
             revision: 0,
             reproduction: None,
+            pool: PoolSetup::default(),
+            next_pool_run: 1,
+            pool_clock: None,
+        }
+    }
+
+    /// Sets whether and how runs go to a pool of Web Workers; the current run is discarded
+    /// when that changes.
+    pub fn set_pool_setup(&mut self, setup: PoolSetup) {
+        if setup != self.pool {
+            self.pool = setup;
+            self.reset();
+        }
+    }
+
+    /// How runs go to a pool of Web Workers.
+    pub fn pool_setup(&self) -> PoolSetup {
+        self.pool
+    }
+
+    /// The current run when its work happens in a pool of Web Workers.
+    pub fn pool_run(&mut self) -> Option<&mut PoolRun> {
+        self.optimizer
+            .as_mut()?
+            .as_any_mut()?
+            .downcast_mut::<PoolRun>()
+    }
+
+    /// The tiles a run of the current surface is cut into; `None` when it fits in one tile.
+    fn tile_plan(&self) -> Result<Option<TilePlan>, String> {
+        let hf = &self.surface.heightfield;
+        let plan =
+            TilePlan::new(hf.width(), hf.height(), self.pool.tile).map_err(|e| e.to_string())?;
+        Ok((!plan.is_single()).then_some(plan))
+    }
+
+    /// Applies a worker's tile front to the pool run (see [`PoolRun::report_tile`]).
+    pub fn pool_report_tile(
+        &mut self,
+        run: u64,
+        index: usize,
+        front: TileFront,
+    ) -> Result<(), String> {
+        let Some(pool) = self.pool_run() else {
+            return Ok(());
+        };
+        let changed = pool.report_tile(run, index, front)?;
+        let done = pool.progress().done;
+        self.revision += 1;
+        if done {
+            self.running = false;
+            self.select_at_run_end();
+        } else if changed {
+            // The selection names a member of the former whole-grid front: keep the member of
+            // least error within its triangles.
+            self.reselect_within();
+        }
+        Ok(())
+    }
+
+    /// After the front changed under a selection that left it, selects the member of least
+    /// error within the selection's triangles (or none).
+    fn reselect_within(&mut self) {
+        let Some(t) = self.selected.as_ref().map(|s| s.t) else {
+            return;
+        };
+        if self.selected_front_index().is_none() {
+            self.selected = self.front().and_then(|f| f.within(t).cloned());
+        }
+    }
+
+    /// The tiles of the current run, when it is a tiled pool run.
+    pub fn tiled_run(&self) -> Option<&TiledRun> {
+        self.optimizer
+            .as_ref()?
+            .as_any()?
+            .downcast_ref::<PoolRun>()?
+            .tiled()
+    }
+
+    /// The mesh of the selected member; `None` when nothing is selected. A member of a tiled
+    /// run is rebuilt from its tiles' fronts (the union of its tiles' canonical
+    /// triangulations); others are triangulated from their kept set. With `max_triangles`, a
+    /// member over it is stood in for by the member of least error within it (the mesh the 3-D
+    /// view draws: a GPU draws a few million triangles smoothly, not tens of millions).
+    pub fn selected_mesh(&self, max_triangles: Option<usize>) -> Option<Result<ShownMesh, String>> {
+        let mut member = self.selected.clone()?;
+        if let Some(max) = max_triangles
+            && member.t > max
+            && let Some(coarser) = self.front().and_then(|f| f.within(max))
+        {
+            member = coarser.clone();
+        }
+        let hf = self.surface.heightfield.clone();
+        if let Some(tiled) = self.tiled_run() {
+            return Some(
+                tiled
+                    .mesh(&hf, member.e_sum, member.t)
+                    .map(|m| shown_triangles(&hf, m.kept, m.triangles, member.e_sum)),
+            );
+        }
+        Some(shown_mesh(&hf, &member.kept))
+    }
+
+    /// Applies a worker's report to the pool run (see [`PoolRun::report`]); when its last job
+    /// ends the run stops and the trade-off pick is selected, as after a run on the page.
+    pub fn pool_report(
+        &mut self,
+        run: u64,
+        index: usize,
+        front: Front,
+        progress: Progress,
+    ) -> Result<(), String> {
+        let Some(pool) = self.pool_run() else {
+            return Ok(());
+        };
+        if pool.report(run, index, front, progress)? {
+            let done = pool.progress().done;
+            self.revision += 1;
+            if done {
+                self.running = false;
+                self.select_at_run_end();
+            }
+        }
+        Ok(())
+    }
+
+    /// A worker of pool run `run` failed on job `index` (`None`: a job could not be handed
+    /// out): the run stops with `message`.
+    pub fn pool_failed(&mut self, run: u64, index: Option<usize>, message: &str) {
+        if let Some(pool) = self.pool_run() {
+            pool.fail(run, index, message);
+            if pool.failure().is_some() {
+                self.running = false;
+                self.revision += 1;
+            }
         }
     }
 
@@ -158,6 +308,7 @@ impl App {
         self.slowest_call_ms = 0.0;
         self.selected = None;
         self.reproduction = None;
+        self.pool_clock = None;
         self.revision += 1;
     }
 
@@ -170,7 +321,7 @@ impl App {
         if target.generations == 0 {
             return Ok(());
         }
-        self.ensure_optimizer()?;
+        self.ensure_optimizer(false)?;
         self.reproduction = Some(target);
         self.running = true;
         Ok(())
@@ -179,7 +330,7 @@ impl App {
     /// Runs on (from where the run stands) to the end of generation `generations`, then
     /// pauses; the selection stays. Does nothing when that generation is already complete.
     pub fn advance_to(&mut self, generations: u64) -> Result<(), String> {
-        let optimizer = self.ensure_optimizer()?;
+        let optimizer = self.ensure_optimizer(false)?;
         let p = optimizer.progress();
         if p.done || p.generation >= generations {
             return Ok(());
@@ -203,22 +354,49 @@ impl App {
         self.reproduction
     }
 
-    /// Builds the optimizer when there is none yet. Fails with a message for the user when the
-    /// parameters are invalid for this surface.
-    fn ensure_optimizer(&mut self) -> Result<&mut Box<dyn Running>, String> {
+    /// Builds the optimizer when there is none yet: a pool run when `pooled` and the pool
+    /// setup wants one for this surface (a surface cut into several jobs always does), else
+    /// the algorithm on the page. Re-running a shared run to a generation and single steps stay
+    /// on the page: they stop between generations, which the workers do not. Fails with a
+    /// message for the user when the parameters are invalid for this surface.
+    fn ensure_optimizer(&mut self, pooled: bool) -> Result<&mut Box<dyn Running>, String> {
         if self.optimizer.is_none() {
-            self.optimizer = Some(algorithms::build(
-                self.config.algorithm,
-                &self.config.params,
-                self.surface.heightfield.clone(),
-            )?);
+            let plan = self.tile_plan()?;
+            if plan.is_some() && !pooled {
+                return Err("a grid cut into tiles runs in Web Workers, whole: use Run".to_string());
+            }
+            self.optimizer = Some(if pooled && (self.pool.always || plan.is_some()) {
+                let id = self.next_pool_run;
+                self.next_pool_run += 1;
+                Box::new(PoolRun::new(
+                    id,
+                    self.config.algorithm,
+                    self.config.params.clone(),
+                    plan,
+                )?)
+            } else {
+                algorithms::build(
+                    self.config.algorithm,
+                    &self.config.params,
+                    self.surface.heightfield.clone(),
+                )?
+            });
         }
         Ok(self.optimizer.as_mut().expect("just built"))
     }
 
     /// Starts or resumes running.
     pub fn run(&mut self) -> Result<(), String> {
-        self.ensure_optimizer()?;
+        if self
+            .optimizer
+            .as_mut()
+            .and_then(|o| o.as_any_mut()?.downcast_mut::<PoolRun>())
+            .is_some_and(|p| p.failure().is_some())
+        {
+            // A failed pool run starts again from scratch.
+            self.reset();
+        }
+        self.ensure_optimizer(true)?;
         self.running = true;
         Ok(())
     }
@@ -238,7 +416,7 @@ impl App {
     pub fn step_once(&mut self) -> Result<Progress, String> {
         self.reproduction = None;
         let evaluations = self.config.params.population.max(1) as u64;
-        let optimizer = self.ensure_optimizer()?;
+        let optimizer = self.ensure_optimizer(false)?;
         let was_done = optimizer.progress().done;
         let p = optimizer.step(evaluations);
         self.revision += 1;
@@ -262,12 +440,22 @@ impl App {
     pub fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> TickReport {
         let mut report = TickReport::default();
         if !self.running {
+            self.pool_clock = None;
             return report;
         }
         let Some(optimizer) = self.optimizer.as_mut() else {
             self.running = false;
             return report;
         };
+        if optimizer.as_any().is_some_and(|a| a.is::<PoolRun>()) {
+            // The workers do the work; the frame only counts the time.
+            let now = clock();
+            if let Some(last) = self.pool_clock.replace(now) {
+                self.elapsed_ms += now - last;
+            }
+            report.steps = 1;
+            return report;
+        }
         let start = clock();
         self.slowest_call_ms *= SLOW_CALL_FADE;
         let before = optimizer.progress().evaluations;
@@ -310,7 +498,9 @@ impl App {
                 }
                 self.revision += 1;
             }
-            if !self.running {
+            // A pool run's step only reads its workers' reports; so does a step that found
+            // nothing left to do.
+            if !self.running || spent == 0 {
                 break;
             }
             let expected_next = (slowest_eval * self.chunk as f64).max(self.slowest_call_ms);
@@ -479,6 +669,22 @@ pub struct ShownMesh {
 pub fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, String> {
     let mut evaluator = Evaluator::new(hf.clone());
     let evaluation = evaluator.evaluate(kept).map_err(|e| e.to_string())?;
+    Ok(shown_triangles(
+        hf,
+        evaluator.kept().to_vec(),
+        evaluation.triangles,
+        evaluation.score.e_sum,
+    ))
+}
+
+/// The mesh of `triangles` over the kept points `kept` (E_sum `e_sum`) with the error at
+/// every grid point.
+pub fn shown_triangles(
+    hf: &Heightfield,
+    kept: Vec<u32>,
+    triangles: Vec<[u32; 3]>,
+    e_sum: f64,
+) -> ShownMesh {
     let grid = crate::evaluator::raster::Grid {
         width: hf.width() as i64,
         height: hf.height() as i64,
@@ -486,16 +692,16 @@ pub fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, Stri
     };
     let lattice = Lattice::new(hf.width());
     let mut point_error = vec![0.0; hf.len()];
-    for tri in &evaluation.triangles {
+    for tri in &triangles {
         let p = tri.map(|i| lattice.point(i));
         grid.for_each_point(p, |index, interpolated| {
             point_error[index] = (hf.z()[index] - interpolated).abs();
         });
     }
-    Ok(ShownMesh {
-        kept: evaluator.kept().to_vec(),
-        triangles: evaluation.triangles,
+    ShownMesh {
+        kept,
+        triangles,
         point_error,
-        e_sum: evaluation.score.e_sum,
-    })
+        e_sum,
+    }
 }

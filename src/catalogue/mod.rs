@@ -487,6 +487,15 @@ pub trait Running: Optimizer + Send {
     fn last_crossover(&self) -> Option<&OaxRecord> {
         None
     }
+    /// The run as `Any`, so that a caller can reach a run type of its own (the app's Web Worker
+    /// pool run) behind the same trait; `None` for the catalogue's methods.
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        None
+    }
+    /// [`Running::as_any_mut`], to read.
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        None
+    }
 }
 
 impl Running for Nsga2 {

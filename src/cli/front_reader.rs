@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 /// A front.json of an untiled or a tiled run.
 pub enum AnyFront {
     /// An untiled run: a kept list per member.
-    Untiled(FrontFile),
+    Untiled(Box<FrontFile>),
     /// A tiled run: per-tile kept sets and a choice per tile for each member.
     Tiled(Box<TiledFrontFile>),
 }
@@ -32,7 +32,7 @@ pub fn read(path: &Path) -> Result<AnyFront, String> {
     } else {
         let file: FrontFile = serde_json::from_slice(&bytes).map_err(not_a_front)?;
         let members = file.front.len();
-        (AnyFront::Untiled(file), members)
+        (AnyFront::Untiled(Box::new(file)), members)
     };
     if members == 0 {
         return Err(format!("{} has no members in its front", path.display()));

@@ -363,7 +363,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         );
     };
     let name = args.algo.name();
-    let tiled = run_tiled_with_progress(hf, plan, &name, &params, args.seed, threads, &report)
+    let tiled = run_tiled_with_progress(hf, plan, name, &params, args.seed, threads, &report)
         .map_err(|e| e.to_string())?;
     let millis = started.elapsed().as_millis() as u64;
     let full = hf.full_triangles() as u64;

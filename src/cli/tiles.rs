@@ -46,7 +46,7 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
 pub fn run(args: &TilesArgs) -> Result<(), String> {
     let start = Instant::now();
     let file = match front_reader::read(&args.front)? {
-        AnyFront::Untiled(file) => file,
+        AnyFront::Untiled(file) => *file,
         AnyFront::Tiled(_) => {
             return Err(format!(
                 "{} is a tiled front: a pyramid is made from an untiled front (run with a --tile as large as the grid)",

@@ -178,7 +178,7 @@ impl TilePlan {
 
     /// True when tile `index` shares its left column with another tile.
     pub fn has_left_neighbour(&self, index: usize) -> bool {
-        index % self.columns() > 0
+        !index.is_multiple_of(self.columns())
     }
 
     /// True when tile `index` shares its top row with another tile.

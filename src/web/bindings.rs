@@ -4,12 +4,14 @@
 
 use super::gpu::BackendChoice;
 use super::page::Ui;
-use super::{dom, preview, share_view, teaching_view, transfer, ui};
+use super::{dom, pool, preview, share_view, teaching_view, transfer, ui};
 use crate::app::compare::METHODS;
 use crate::app::loader;
+use crate::app::pool::PoolSetup;
 use crate::app::share::{FileFingerprint, fnv1a64};
 use crate::evaluator::Evaluator;
 use crate::import::{ImportOptions, raw};
+use crate::optimizer::Progress;
 use js_sys::Reflect;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -146,6 +148,192 @@ impl WebApp {
     }
 }
 
+/// Pool runs (see [`crate::app::pool`]): what `www/pool.js` calls to hand jobs to its workers
+/// and pass on what they post.
+#[wasm_bindgen]
+impl WebApp {
+    /// Runs go to `workers` Web Workers (at least one): grids with a side over `tile` points
+    /// (0: the CLI's default tile size), cut into tiles, always; others too when `always` (else
+    /// they run in the frame loop).
+    #[wasm_bindgen(js_name = setPoolSetup)]
+    pub fn set_pool_setup(&self, workers: usize, always: bool, tile: usize) -> Result<(), JsError> {
+        let tile = if tile == 0 {
+            crate::tiling::DEFAULT_TILE
+        } else {
+            tile
+        };
+        if tile < crate::tiling::MIN_TILE {
+            return Err(JsError::new(&format!(
+                "tiles need at least {} points a side, not {tile}",
+                crate::tiling::MIN_TILE
+            )));
+        }
+        self.ui.borrow_mut().app.set_pool_setup(PoolSetup {
+            workers: workers.max(1),
+            always,
+            tile,
+        });
+        Ok(())
+    }
+
+    /// Workers a pool run uses.
+    #[wasm_bindgen(js_name = poolWorkers)]
+    pub fn pool_workers(&self) -> usize {
+        self.ui.borrow().app.pool_setup().workers
+    }
+
+    /// The id of the pool run under way, or 0 when none is (no pool run, or it ended or
+    /// failed): the page then stops the workers still busy with an older run.
+    #[wasm_bindgen(js_name = poolRunId)]
+    pub fn pool_run_id(&self) -> f64 {
+        let mut ui = self.ui.borrow_mut();
+        ui.app
+            .pool_run()
+            .filter(|p| !crate::optimizer::Optimizer::progress(&**p).done)
+            .map_or(0.0, |p| p.id() as f64)
+    }
+
+    /// The next job of the pool run for a free worker (see [`pool::job_to_js`]), or null.
+    #[wasm_bindgen(js_name = takePoolJob)]
+    pub fn take_pool_job(&self) -> Result<JsValue, JsValue> {
+        let mut ui = self.ui.borrow_mut();
+        let hf = ui.app.surface().heightfield.clone();
+        let Some(run) = ui.app.pool_run() else {
+            return Ok(JsValue::NULL);
+        };
+        let Some(job) = run.next_job() else {
+            return Ok(JsValue::NULL);
+        };
+        pool::job_to_js(&job, &hf, run.tiled().map(|t| t.plan()))
+    }
+
+    /// A worker posts tile job `index` of pool run `run` done, with the tile's front as JSON.
+    /// A front that does not fit ends the run with its message.
+    #[wasm_bindgen(js_name = poolReportTile)]
+    pub fn pool_report_tile(&self, run: f64, index: usize, front: &str) {
+        let mut ui = self.ui.borrow_mut();
+        let applied = serde_json::from_str(front)
+            .map_err(|e| format!("a worker posted a tile front the page cannot read: {e}"))
+            .and_then(|front| ui.app.pool_report_tile(run as u64, index, front));
+        if let Err(e) = applied {
+            ui.app.pool_failed(run as u64, Some(index), &e);
+        }
+    }
+
+    /// A worker posts job `index` of pool run `run`: its front (as [`pool::front_to_js`]'s
+    /// arrays) and progress. A report that does not fit ends the run with its message.
+    #[wasm_bindgen(js_name = poolReport)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn pool_report(
+        &self,
+        run: f64,
+        index: usize,
+        scores: Vec<f64>,
+        offsets: Vec<u32>,
+        kept: Vec<u32>,
+        evaluations: f64,
+        generation: f64,
+        done: bool,
+    ) {
+        let mut ui = self.ui.borrow_mut();
+        let progress = Progress {
+            evaluations: evaluations as u64,
+            generation: generation as u64,
+            done,
+        };
+        let applied = pool::front_from_arrays(scores, offsets, kept)
+            .and_then(|front| ui.app.pool_report(run as u64, index, front, progress));
+        if let Err(e) = applied {
+            ui.app.pool_failed(run as u64, Some(index), &e);
+        }
+    }
+
+    /// A worker failed on job `index` of pool run `run` (−1: the page could not hand out a
+    /// job): the run stops and `message` shows.
+    #[wasm_bindgen(js_name = poolFailed)]
+    pub fn pool_failed(&self, run: f64, index: f64, message: &str) {
+        let index = (index >= 0.0).then_some(index as usize);
+        self.ui
+            .borrow_mut()
+            .app
+            .pool_failed(run as u64, index, message);
+    }
+}
+
+/// Runs a tile job in a worker of the pool and returns the tile's front as JSON; see
+/// [`pool::run_tile`].
+#[wasm_bindgen(js_name = runTile)]
+pub fn run_tile(
+    surface: JsValue,
+    plan: &str,
+    tile: usize,
+    algorithm: &str,
+    params: &str,
+    seed: &str,
+) -> Result<String, JsError> {
+    pool::run_tile(&surface, plan, tile, algorithm, params, seed).map_err(|e| JsError::new(&e))
+}
+
+/// A job running in a Web Worker of the pool (`www/pool-worker.js`); see [`pool::JobRunner`].
+#[wasm_bindgen(js_name = JobRunner)]
+pub struct JobRunnerHandle {
+    runner: pool::JobRunner,
+}
+
+#[wasm_bindgen(js_class = JobRunner)]
+impl JobRunnerHandle {
+    /// Builds the job's algorithm (menu key) with `params` (JSON) on `surface` (the job's grid
+    /// in [`transfer`]'s form).
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        surface: JsValue,
+        algorithm: &str,
+        params: &str,
+    ) -> Result<JobRunnerHandle, JsError> {
+        let runner =
+            pool::JobRunner::new(&surface, algorithm, params).map_err(|e| JsError::new(&e))?;
+        Ok(Self { runner })
+    }
+
+    /// Steps for about `ms` milliseconds or until done; returns `[evaluations, generation,
+    /// done (0 or 1)]`.
+    #[wasm_bindgen(js_name = runFor)]
+    pub fn run_for(&mut self, ms: f64) -> Vec<f64> {
+        let p = self.runner.run_for(ms);
+        vec![
+            p.evaluations as f64,
+            p.generation as f64,
+            f64::from(u8::from(p.done)),
+        ]
+    }
+
+    /// The job's front so far as `{scores, offsets, kept}` typed arrays.
+    pub fn front(&self) -> Result<JsValue, JsError> {
+        pool::front_to_js(self.runner.front())
+            .map_err(|_| JsError::new("cannot pass the front to the page"))
+    }
+}
+
+thread_local! {
+    static LAST_PANIC: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Keeps a panic's message in the worker that runs this, for [`last_panic`]: a panicking job
+/// throws a bare `RuntimeError`, and its worker reports the message instead.
+#[wasm_bindgen(js_name = keepPanicMessages)]
+pub fn keep_panic_messages() {
+    std::panic::set_hook(Box::new(|info| {
+        let message = info.to_string();
+        LAST_PANIC.with(|p| *p.borrow_mut() = Some(message));
+    }));
+}
+
+/// The message of the last panic since [`keep_panic_messages`], if any.
+#[wasm_bindgen(js_name = lastPanic)]
+pub fn last_panic() -> Option<String> {
+    LAST_PANIC.with(|p| p.borrow().clone())
+}
+
 /// FNV-1a hash of `bytes` as 16 hex digits: the fingerprint a share link gives a user's file.
 #[wasm_bindgen(js_name = fnv1a64Hex)]
 pub fn fnv1a64_hex(bytes: &[u8]) -> String {
@@ -193,6 +381,12 @@ impl WebApp {
     #[wasm_bindgen(js_name = selectedVertexCount)]
     pub fn selected_vertex_count(&self) -> Option<usize> {
         self.ui.borrow().shown.as_ref().map(|m| m.kept.len())
+    }
+
+    /// Triangles of the mesh the 3-D view draws for the selection, if one is selected.
+    #[wasm_bindgen(js_name = shownTriangleCount)]
+    pub fn shown_triangle_count(&self) -> Option<usize> {
+        self.ui.borrow().shown.as_ref().map(|m| m.triangles.len())
     }
 
     /// Name of the loaded surface.

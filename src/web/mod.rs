@@ -7,6 +7,7 @@
 //! - [`page`]: the page state every view works on.
 //! - [`dom`]: the page's controls; [`plot_view`]: the plot's drawing; [`preview`]: the import
 //!   preview; [`transfer`]: height fields to and from the Worker.
+//! - [`pool`]: pool runs' jobs, the worker's runner and its fronts at the JS boundary.
 //! - [`gpu`]: the 3-D view: WebGPU through wgpu where the browser offers an adapter, else
 //!   WebGL2 ([`webgl`], on web-sys).
 
@@ -17,6 +18,7 @@ pub mod gpu;
 pub mod oax_panel;
 pub mod page;
 pub mod plot_view;
+pub mod pool;
 pub mod preview;
 pub mod share_view;
 pub mod style;

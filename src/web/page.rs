@@ -12,7 +12,7 @@ use crate::app::geometry::{self, Geometry, ViewMapping};
 use crate::app::loader;
 use crate::app::plot::{self, Layout, PlotPoint};
 use crate::app::share::{Origin, ShareLink, ViewToggles};
-use crate::app::state::{App, ShownMesh, shown_mesh};
+use crate::app::state::{App, MAX_DRAWN_TRIANGLES, ShownMesh, shown_mesh};
 use crate::app::teaching::{Stepper, TeachingScene};
 use crate::evolution::trace::Phase;
 use crate::heightfield::Heightfield;
@@ -198,7 +198,7 @@ impl Ui {
             .as_ref()
             .is_none_or(|k| k.surface != key.surface || k.selected != key.selected);
         if selection_changed {
-            self.refresh_shown(&hf);
+            self.refresh_shown();
         }
         self.view_key = Some(key);
         let map = ViewMapping::new(&hf);
@@ -220,12 +220,13 @@ impl Ui {
         self.redraw = true;
     }
 
-    /// Re-triangulates the selected solution for the view (or shows none).
-    fn refresh_shown(&mut self, hf: &Arc<Heightfield>) {
+    /// Re-triangulates the selected solution for the view (or shows none); a member over
+    /// [`MAX_DRAWN_TRIANGLES`] is drawn as a coarser member of the same front.
+    fn refresh_shown(&mut self) {
         self.shown = self
             .app
-            .selected()
-            .and_then(|s| match shown_mesh(hf, &s.kept) {
+            .selected_mesh(Some(MAX_DRAWN_TRIANGLES))
+            .and_then(|m| match m {
                 Ok(m) => Some(m),
                 Err(e) => {
                     dom::show_load_message(&format!("cannot show this mesh: {e}"), true);
@@ -237,6 +238,17 @@ impl Ui {
 
     pub(super) fn selection_info(&self) {
         let text = match (self.app.selected(), &self.shown) {
+            (Some(s), Some(m)) if m.triangles.len() != s.t => format!(
+                "selected: T = {} triangles · E = {} · E_max = {} · drawn as the front's member \
+                 with T = {} ({} vertices): the view draws at most {} triangles; exports \
+                 write the selected mesh",
+                s.t,
+                plot::format_value(s.e_sum),
+                plot::format_value(s.e_max),
+                m.triangles.len(),
+                m.kept.len(),
+                MAX_DRAWN_TRIANGLES
+            ),
             (Some(s), Some(m)) => format!(
                 "selected: T = {} triangles · {} vertices · E = {} · E_max = {}",
                 s.t,

@@ -285,7 +285,7 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             if !teaching_applies(ui)
                 && let Ok(menu) = by_id::<web_sys::HtmlSelectElement>("algorithm")
             {
-                menu.set_value(Algorithm::Nsga2.key());
+                menu.set_value(Algorithm::Nsga2.name());
                 ui.apply_form();
             }
         }

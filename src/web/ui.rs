@@ -103,6 +103,7 @@ pub(super) fn frame(ui: &mut Ui) {
             r.generations
         ));
     }
+    super::pool::note_status(ui, &mut status);
     dom::set_text("status", &status);
     teaching_view::teaching_frame(ui, performance_now());
     ui.update_layers();
@@ -250,6 +251,21 @@ const EMPTY_FRONT: &str = "run an algorithm first: the front is empty";
 
 /// Downloads the front as front.json, the file `paretomesh run` writes.
 fn export_front_file(ui: &Ui, stem: &str) -> Result<(), String> {
+    if let Some(tiled) = ui.app.tiled_run() {
+        let status = ui.app.status();
+        let workers = ui.app.pool_setup().workers;
+        let file = tiled.run_file(
+            &ui.app.surface().heightfield,
+            status.elapsed_ms.round() as u64,
+            workers,
+        )?;
+        let json = serde_json::to_string(&file).map_err(|e| e.to_string())?;
+        return dom::download(
+            &format!("{stem}_front.json"),
+            "application/json",
+            json.as_bytes(),
+        );
+    }
     let front = ui.app.front().ok_or(EMPTY_FRONT)?;
     let config = ui.app.config();
     let status = ui.app.status();
@@ -287,9 +303,13 @@ fn export_front_file(ui: &Ui, stem: &str) -> Result<(), String> {
 fn export_mesh(ui: &Ui, stem: &str, kind: &str) -> Result<(), String> {
     let s = ui.app.surface();
     let hf = &s.heightfield;
+    // The selected mesh itself, also when the view draws a coarser member in its place.
     let mesh = match &ui.shown {
-        Some(m) => m.clone(),
-        None => shown_mesh(hf, &ui.app.shown_kept())?,
+        Some(m) if ui.app.selected().is_some_and(|s| s.t == m.triangles.len()) => m.clone(),
+        _ => match ui.app.selected_mesh(None) {
+            Some(m) => m?,
+            None => shown_mesh(hf, &ui.app.shown_kept())?,
+        },
     };
     let as_solid = kind == "3mf" || dom::checked("export-solid");
     let world = if as_solid {

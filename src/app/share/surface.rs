@@ -39,6 +39,16 @@ pub struct ImportChoice {
 }
 
 impl ImportChoice {
+    /// The import options this choice stands for (as `paretomesh run` would be given them),
+    /// for the front.json the app writes.
+    pub fn options(&self) -> Result<crate::import::ImportOptions, String> {
+        let mut options = loader::options(&self.projection, self.width, self.height)?;
+        if let Some(surface) = self.surface.as_deref() {
+            options.surface = loader::surface(surface)?;
+        }
+        Ok(options)
+    }
+
     /// Checks the projection name and the grid size (2 to the largest side, at most the
     /// largest number of points).
     pub fn validate(&self) -> Result<(), ShareError> {

@@ -1,0 +1,370 @@
+//! The tiled side of a pool run (see [`super::pool`]): one job per tile and pass, the tiles'
+//! fronts as the workers report them, and the whole-grid front assembled from them
+//! ([`crate::tiling::assemble`]) on the page.
+//!
+//! A run of a slow method goes in two passes. The first runs greedy insertion on every tile,
+//! so a whole-grid front shows within seconds; the second runs the chosen method on every tile,
+//! and each tile's front replaces its first-pass front as it comes, so the whole-grid front
+//! improves tile by tile. Mixing passes keeps the mesh crack-free, since a tile's border points
+//! depend on its border profile alone. When every second-pass front is in, the front is the
+//! one `paretomesh run --tile` gives for the same seed.
+
+use super::algorithms::{self, Algorithm, Params};
+use crate::baselines::{GreedyParams, GreedyStop};
+use crate::front::{Front, Solution};
+use crate::front_file::GridInfo;
+use crate::tiling::file::TiledFrontFile;
+use crate::tiling::{TileFront, TilePlan, TiledFront, TiledMesh, assemble};
+
+/// The algorithm of the first, quick pass.
+pub const QUICK: Algorithm = Algorithm::Greedy;
+
+/// The first pass's greedy insertion on tile `tile`: it stops at a tenth of the tile's full
+/// triangle count, which holds every mesh a whole-grid front is looked at for, in a fraction of
+/// the time of inserting every point.
+fn quick_params(plan: &TilePlan, tile: usize) -> serde_json::Value {
+    let t = plan.tile(tile).map_or(2, |t| 2 * (t.w - 1) * (t.h - 1));
+    let params = GreedyParams {
+        stop: GreedyStop::Triangles((t / QUICK_SHARE).max(2)),
+        ..GreedyParams::default()
+    };
+    serde_json::to_value(params).unwrap_or(serde_json::Value::Null)
+}
+
+/// The first pass stops at 1 / this of a tile's full triangle count.
+const QUICK_SHARE: usize = 10;
+
+/// One tile job: which tile, with which algorithm and parameters (as front.json records them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileJob {
+    /// The tile's index in the plan.
+    pub tile: usize,
+    /// The algorithm.
+    pub algorithm: Algorithm,
+    /// Its parameters as JSON, as [`crate::tiling::run_tile`] takes them.
+    pub params: serde_json::Value,
+    /// The run's seed (the tile's own seed is derived from it and the tile).
+    pub seed: u64,
+    /// True for a first-pass job.
+    pub quick: bool,
+}
+
+/// The tiles of a pool run and what their workers reported.
+pub struct TiledRun {
+    plan: TilePlan,
+    algorithm: Algorithm,
+    params: Params,
+    /// Per tile: its latest front and whether it is the final (second-pass) one.
+    fronts: Vec<Option<(TileFront, bool)>>,
+    assembled: Option<TiledFront>,
+}
+
+impl TiledRun {
+    /// A run of `algorithm` with `params` on the tiles of `plan`.
+    pub fn new(plan: TilePlan, algorithm: Algorithm, params: Params) -> Self {
+        let tiles = plan.len();
+        Self {
+            plan,
+            algorithm,
+            params,
+            fronts: vec![None; tiles],
+            assembled: None,
+        }
+    }
+
+    /// The plan.
+    pub fn plan(&self) -> &TilePlan {
+        &self.plan
+    }
+
+    /// True when the run has a quick first pass (the chosen method is not the quick one).
+    fn two_passes(&self) -> bool {
+        self.algorithm != QUICK
+    }
+
+    /// Jobs: a pass over every tile, two when [`QUICK`] is not the chosen method.
+    pub fn job_count(&self) -> usize {
+        self.plan.len() * if self.two_passes() { 2 } else { 1 }
+    }
+
+    /// Job `index`: the first pass's tiles in order, then the second's.
+    pub fn job(&self, index: usize) -> Option<TileJob> {
+        if index >= self.job_count() {
+            return None;
+        }
+        let tiles = self.plan.len();
+        let quick = self.two_passes() && index < tiles;
+        let tile = index % tiles;
+        let (algorithm, params) = if quick {
+            (QUICK, quick_params(&self.plan, tile))
+        } else {
+            (
+                self.algorithm,
+                algorithms::params_json(self.algorithm, &self.params),
+            )
+        };
+        Some(TileJob {
+            tile,
+            algorithm,
+            params,
+            seed: self.params.seed,
+            quick,
+        })
+    }
+
+    /// The front of job `index` came: it becomes its tile's front unless the tile already has
+    /// its final one (a first-pass front may come after the second pass's on a busy pool).
+    /// Returns whether the whole-grid front changed.
+    pub fn report(&mut self, index: usize, front: TileFront) -> Result<bool, String> {
+        let job = self
+            .job(index)
+            .ok_or_else(|| format!("a worker reported job {index} of a run with fewer jobs"))?;
+        if front.index != job.tile {
+            return Err(format!(
+                "a worker reported tile {} for job {index}, which is tile {}",
+                front.index, job.tile
+            ));
+        }
+        let slot = &mut self.fronts[job.tile];
+        if slot.as_ref().is_some_and(|(_, last)| *last) {
+            return Ok(false);
+        }
+        *slot = Some((front, !job.quick));
+        if self.fronts.iter().all(Option::is_some) {
+            let fronts = self
+                .fronts
+                .iter()
+                .flatten()
+                .map(|(f, _)| f.clone())
+                .collect();
+            self.assembled = Some(assemble(&self.plan, fronts).map_err(|e| e.to_string())?);
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// Tiles whose final front is in.
+    pub fn tiles_final(&self) -> usize {
+        self.fronts
+            .iter()
+            .filter(|f| f.as_ref().is_some_and(|(_, last)| *last))
+            .count()
+    }
+
+    /// Tiles with a front of either pass.
+    pub fn tiles_reported(&self) -> usize {
+        self.fronts.iter().flatten().count()
+    }
+
+    /// Evaluations of the tiles' current fronts.
+    pub fn evaluations(&self) -> u64 {
+        self.fronts
+            .iter()
+            .flatten()
+            .map(|(f, _)| f.evaluations)
+            .sum()
+    }
+
+    /// The whole-grid front as the app's plot and selection read it: each member's E_sum,
+    /// E_max and T, without kept lists (a member's mesh is rebuilt on demand by
+    /// [`TiledRun::mesh`]). Empty until every tile has a front.
+    pub fn front(&self) -> Front {
+        let Some(assembled) = &self.assembled else {
+            return Front::default();
+        };
+        let members: Vec<Solution> = assembled
+            .members
+            .iter()
+            .map(|m| Solution::recorded(m.e_sum, m.e_max, m.t as usize, Vec::new()))
+            .collect();
+        Front::merged(&members)
+    }
+
+    /// The assembled whole-grid front, once every tile has a front.
+    pub fn assembled(&self) -> Option<&TiledFront> {
+        self.assembled.as_ref()
+    }
+
+    /// front.json of the run, as `paretomesh run --tile` writes it, once every tile's final
+    /// front is in (before, some tiles hold the first pass's greedy fronts, which the file's
+    /// algorithm would misname); the message says how far the run is.
+    pub fn run_file(
+        &self,
+        hf: &crate::heightfield::Heightfield,
+        millis: u64,
+        workers: usize,
+    ) -> Result<TiledFrontFile, String> {
+        let assembled = self
+            .assembled
+            .as_ref()
+            .filter(|_| self.tiles_final() == self.plan.len())
+            .ok_or_else(|| {
+                format!(
+                    "the tiled front is saved once every tile's final front is in ({} of {})",
+                    self.tiles_final(),
+                    self.plan.len()
+                )
+            })?;
+        Ok(TiledFrontFile {
+            grid: GridInfo {
+                width: hf.width(),
+                height: hf.height(),
+                source: hf.source().to_string(),
+                import: None,
+            },
+            algorithm: self.algorithm.name().to_string(),
+            params: algorithms::params_json(self.algorithm, &self.params),
+            seed: self.params.seed,
+            evaluations: assembled.evaluations(),
+            millis,
+            threads: workers,
+            tiled: assembled.clone(),
+        })
+    }
+
+    /// The mesh of the whole-grid member with objectives (`e_sum`, `t`) on the grid `hf`.
+    pub fn mesh(
+        &self,
+        hf: &crate::heightfield::Heightfield,
+        e_sum: f64,
+        t: usize,
+    ) -> Result<TiledMesh, String> {
+        let assembled = self
+            .assembled
+            .as_ref()
+            .ok_or("the tiled front is not assembled yet")?;
+        let member = assembled
+            .members
+            .iter()
+            .position(|m| m.t as usize == t && m.e_sum.to_bits() == e_sum.to_bits())
+            .ok_or("this member is no longer on the tiled front")?;
+        assembled.mesh(hf, member).map_err(|e| e.to_string())
+    }
+}
+
+// The CLI's tiled run, which the tests compare with, runs threads: native only.
+#[cfg(all(test, not(target_arch = "wasm32")))]
+mod tests {
+    use super::*;
+    use crate::heightfield::Heightfield;
+    use crate::tiling::{run_tile, run_tiled};
+
+    fn grid() -> Heightfield {
+        let (w, h) = (70, 40);
+        let z = (0..w * h)
+            .map(|i| ((i % w) as f64 * 0.3).sin() * 4.0 + ((i / w) as f64 * 0.2).cos() * 3.0)
+            .collect();
+        Heightfield::new(w, h, z).unwrap()
+    }
+
+    fn params() -> Params {
+        Params {
+            population: 8,
+            generations: 3,
+            seed: 9,
+            ..Params::default()
+        }
+    }
+
+    /// Runs job `index` of `run` as a worker does.
+    fn work(run: &TiledRun, hf: &Heightfield, index: usize) -> TileFront {
+        let job = run.job(index).unwrap();
+        let tile = run.plan().cut(hf, job.tile).unwrap();
+        run_tile(
+            &tile,
+            run.plan(),
+            job.tile,
+            job.algorithm.name(),
+            &job.params,
+            job.seed,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn the_tiles_reported_in_any_order_give_the_clis_tiled_front() {
+        let hf = grid();
+        let plan = TilePlan::new(70, 40, 36).unwrap();
+        let tiles = plan.len();
+        let mut run = TiledRun::new(plan.clone(), Algorithm::Nsga2, params());
+        assert_eq!(run.job_count(), 2 * tiles);
+        assert!(run.job(0).unwrap().quick && !run.job(tiles).unwrap().quick);
+        assert_eq!(run.job(tiles + 1).unwrap().tile, 1);
+        assert!(run.job(2 * tiles).is_none());
+
+        // The first pass: a whole-grid front once every tile has reported.
+        for index in 0..tiles {
+            assert!(run.front().is_empty());
+            let changed = run.report(index, work(&run, &hf, index)).unwrap();
+            assert_eq!(changed, index + 1 == tiles);
+        }
+        let quick = run.front();
+        assert!(!quick.is_empty());
+        assert_eq!(run.tiles_final(), 0);
+
+        let early = run.run_file(&hf, 0, 1).unwrap_err();
+        assert!(early.contains(&format!("(0 of {tiles})")), "{early}");
+
+        // The second pass, backwards, with a late first-pass front for tile 0 in between.
+        let late = work(&run, &hf, 0);
+        for index in (tiles..2 * tiles).rev() {
+            assert!(run.report(index, work(&run, &hf, index)).unwrap());
+        }
+        assert!(
+            !run.report(0, late).unwrap(),
+            "a late first-pass front is ignored"
+        );
+        assert_eq!(run.tiles_final(), tiles);
+
+        let p = params();
+        let cli = run_tiled(
+            &hf,
+            &plan,
+            "nsga2",
+            &algorithms::params_json(Algorithm::Nsga2, &p),
+            p.seed,
+            1,
+        )
+        .unwrap();
+        assert_eq!(
+            run.assembled().unwrap(),
+            &cli,
+            "the page's front is the CLI's"
+        );
+        let front = run.front();
+        assert_eq!(front.len(), cli.members.len());
+        for (s, m) in front.solutions().iter().zip(&cli.members) {
+            assert_eq!(
+                (s.e_sum.to_bits(), s.e_max.to_bits(), s.t as u64),
+                (m.e_sum.to_bits(), m.e_max.to_bits(), m.t)
+            );
+        }
+        // A member's mesh is rebuilt from the tiles: T triangles over the whole grid.
+        let s = &front.solutions()[front.len() / 2];
+        let mesh = run.mesh(&hf, s.e_sum, s.t).unwrap();
+        assert_eq!(mesh.triangles.len(), s.t);
+        assert!(run.mesh(&hf, s.e_sum + 1.0, s.t).is_err());
+        // Its front.json is the CLI's, and reads back.
+        let file = run.run_file(&hf, 5, 2).unwrap();
+        assert_eq!(
+            (file.tiled, file.algorithm.as_str(), file.seed),
+            (cli, "nsga2", 9)
+        );
+    }
+
+    #[test]
+    fn greedy_insertion_runs_in_one_pass_and_bad_reports_are_refused() {
+        let hf = grid();
+        let plan = TilePlan::new(70, 40, 36).unwrap();
+        let mut run = TiledRun::new(plan.clone(), Algorithm::Greedy, params());
+        assert_eq!(run.job_count(), plan.len());
+        assert!(!run.job(0).unwrap().quick);
+        let front = work(&run, &hf, 1);
+        assert!(
+            run.report(0, front.clone())
+                .unwrap_err()
+                .contains("tile 1 for job 0")
+        );
+        assert!(run.report(plan.len(), front).is_err());
+    }
+}

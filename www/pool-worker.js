@@ -1,0 +1,40 @@
+// One worker of the pool (www/pool.js): its own wasm instance, handed one job at a time with only
+// that job's grid (see src/app/pool.rs). A whole-grid job posts its front as it grows and when
+// it is done, as three transferable typed arrays; a tile job posts its tile's front (JSON) when
+// done. A job that fails posts the message of what stopped it.
+import init, { JobRunner, runTile, keepPanicMessages, lastPanic } from './pkg/paretomesh.js';
+
+// How often a running job posts its front: often enough to watch it grow, rarely enough that
+// copying the front costs the job little.
+const POST_MS = 400;
+
+const ready = init().then(() => keepPanicMessages());
+
+function messageOf(e) {
+  let panic = null;
+  try { panic = lastPanic(); } catch { /* the module did not start */ }
+  return panic ?? (e instanceof Error ? e.message : String(e));
+}
+
+self.onmessage = async ({ data: job }) => {
+  const { run, index } = job;
+  try {
+    await ready;
+    if (job.kind === 'tile') {
+      const front = runTile(job.surface, job.plan, job.tile, job.algorithm, job.params, job.seed);
+      self.postMessage({ kind: 'tile', run, index, front });
+      return;
+    }
+    const runner = new JobRunner(job.surface, job.algorithm, job.params);
+    for (;;) {
+      const [evaluations, generation, done] = runner.runFor(POST_MS);
+      const front = runner.front();
+      self.postMessage({ kind: 'front', run, index, evaluations, generation, done: done === 1, ...front },
+        [front.scores.buffer, front.offsets.buffer, front.kept.buffer]);
+      if (done === 1) break;
+    }
+    runner.free();
+  } catch (e) {
+    self.postMessage({ kind: 'error', run, index, message: messageOf(e) });
+  }
+};
