@@ -411,6 +411,34 @@ pub struct Built {
 }
 
 impl Config {
+    /// `algorithm`'s full parameters from JSON as front.json records them (`null` or any
+    /// subset of the fields: the others keep the method's defaults). Errors name the field.
+    pub fn from_json(algorithm: Algorithm, given: &serde_json::Value) -> Result<Config, String> {
+        fn laid<T: serde::Serialize + serde::de::DeserializeOwned>(
+            defaults: T,
+            given: &serde_json::Value,
+        ) -> Result<T, String> {
+            let mut value = serde_json::to_value(defaults).expect("parameters are plain data");
+            match (value.as_object_mut(), given) {
+                (_, serde_json::Value::Null) => {}
+                (Some(out), serde_json::Value::Object(given)) => {
+                    for (k, v) in given {
+                        out.insert(k.clone(), v.clone());
+                    }
+                }
+                _ => value = given.clone(),
+            }
+            serde_json::from_value(value).map_err(|e| e.to_string())
+        }
+        Ok(match algorithm {
+            Algorithm::Nsga2 => Config::Nsga2(laid(GaParams::default(), given)?),
+            Algorithm::Weighted => Config::Weighted(laid(WeightedSumParams::default(), given)?),
+            Algorithm::Decimation => Config::Decimation(laid(DecimationParams::default(), given)?),
+            Algorithm::Greedy => Config::Greedy(laid(GreedyParams::default(), given)?),
+            Algorithm::Memetic => Config::Memetic(laid(MemeticParams::default(), given)?),
+        })
+    }
+
     /// The parameters as front.json and results.json record them.
     pub fn json(&self) -> serde_json::Value {
         match self {

@@ -2,87 +2,30 @@
 //! JSON (as front.json records them) and a seed.
 
 use super::TilingError;
-use crate::baselines::{DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams};
-use crate::evolution::{GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
+use crate::catalogue::{Algorithm, Config};
 use crate::heightfield::Heightfield;
 use crate::optimizer::Optimizer;
-use serde::de::DeserializeOwned;
 use std::sync::Arc;
 
-/// The algorithm names [`build_optimizer`] knows (the CLI's `--algo` names).
-pub const ALGORITHMS: [&str; 5] = ["memetic", "nsga2", "weighted", "greedy", "decimation"];
-
-fn parse<T: DeserializeOwned>(
-    algorithm: &str,
-    params: &serde_json::Value,
-) -> Result<T, TilingError> {
-    serde_json::from_value(params.clone()).map_err(|e| TilingError::BadParams {
-        algorithm: algorithm.to_string(),
-        reason: e.to_string(),
-    })
-}
-
-/// An optimizer `algorithm` on `hf` with `params` (its params type as JSON; `null` for the
-/// defaults) and `seed` (ignored by the deterministic methods).
+/// An optimizer `algorithm` (a catalogue name) on `hf` with `params` (its params type as
+/// JSON; `null` for the defaults) and `seed` (ignored by the deterministic methods).
 pub fn build_optimizer(
     hf: Arc<Heightfield>,
     algorithm: &str,
     params: &serde_json::Value,
     seed: u64,
 ) -> Result<Box<dyn Optimizer>, TilingError> {
-    let bad = |e: String| TilingError::BadParams {
+    let bad = |reason: String| TilingError::BadParams {
         algorithm: algorithm.to_string(),
-        reason: e,
+        reason,
     };
-    let params = if params.is_null() {
-        &serde_json::Value::Object(Default::default())
-    } else {
-        params
-    };
-    Ok(match algorithm {
-        "memetic" => {
-            let p: MemeticParams =
-                parse(algorithm, &with_defaults(MemeticParams::default(), params))?;
-            Box::new(Memetic::new(hf, p, seed).map_err(|e| bad(e.to_string()))?)
-        }
-        "nsga2" => {
-            let p: GaParams = parse(algorithm, &with_defaults(GaParams::default(), params))?;
-            Box::new(Nsga2::new(hf, p, seed).map_err(|e| bad(e.to_string()))?)
-        }
-        "weighted" => {
-            let p: WeightedSumParams = parse(
-                algorithm,
-                &with_defaults(WeightedSumParams::default(), params),
-            )?;
-            Box::new(WeightedSum::new(hf, p, seed).map_err(|e| bad(e.to_string()))?)
-        }
-        "greedy" => {
-            let p: GreedyParams =
-                parse(algorithm, &with_defaults(GreedyParams::default(), params))?;
-            Box::new(GreedyInsertion::new(hf, p).map_err(|e| bad(e.to_string()))?)
-        }
-        "decimation" => {
-            let p: DecimationParams = parse(
-                algorithm,
-                &with_defaults(DecimationParams::default(), params),
-            )?;
-            Box::new(EdgeDecimation::new(hf, p).map_err(|e| bad(e.to_string()))?)
-        }
-        other => return Err(TilingError::UnknownAlgorithm(other.to_string())),
-    })
-}
-
-/// `defaults` as JSON with the fields of `given` laid over it, so a caller names only the
-/// parameters it changes.
-fn with_defaults<T: serde::Serialize>(defaults: T, given: &serde_json::Value) -> serde_json::Value {
-    let mut out = serde_json::to_value(defaults).expect("parameters are plain data");
-    if let (Some(out), Some(given)) = (out.as_object_mut(), given.as_object()) {
-        for (k, v) in given {
-            out.insert(k.clone(), v.clone());
-        }
-        return serde_json::Value::Object(out.clone());
-    }
-    given.clone()
+    let method = Algorithm::from_name(algorithm)
+        .ok_or_else(|| TilingError::UnknownAlgorithm(algorithm.to_string()))?;
+    let built = Config::from_json(method, params)
+        .map_err(bad)?
+        .build(hf, seed)
+        .map_err(bad)?;
+    Ok(built.optimizer)
 }
 
 /// The seed of tile `index` in a run with `seed`: a SplitMix64 mix of both, so neighbouring

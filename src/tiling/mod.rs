@@ -153,7 +153,9 @@ impl std::fmt::Display for TilingError {
             Self::UnknownAlgorithm(name) => write!(
                 f,
                 "unknown algorithm {name:?}: expected one of {}",
-                algorithm::ALGORITHMS.join(", ")
+                crate::catalogue::Algorithm::ALL
+                    .map(|a| a.name())
+                    .join(", ")
             ),
             Self::BadParams { algorithm, reason } => {
                 write!(f, "bad parameters for {algorithm}: {reason}")
