@@ -11,6 +11,7 @@ mod fresh_build;
 pub(crate) mod peak;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod peak_avx2;
+pub(crate) mod peak_finder;
 pub(crate) mod span_sum;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod span_sum_avx2;
