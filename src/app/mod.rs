@@ -13,7 +13,8 @@
 //!   [`handoff`] the parsed surface as plain parts, for the import Worker's hand-off.
 //! - [`pool`]: a run done by a pool of Web Workers, as the page sees it; [`tiled_run`] its
 //!   tiles, their fronts and the whole-grid front assembled from them.
-//! - [`glb_export`]: the shown mesh as `.glb`.
+//! - [`glb_export`]: the shown mesh as `.glb`; [`pyramid_export`] the front as a 3D Tiles
+//!   pyramid in a `.zip`.
 
 pub mod algorithms;
 pub mod camera;
@@ -28,6 +29,7 @@ pub mod oax_panel;
 pub mod plot;
 pub mod pool;
 pub mod preview;
+pub mod pyramid_export;
 pub mod share;
 pub mod state;
 pub mod teaching;

@@ -6,17 +6,10 @@ use super::front_reader::{self, AnyFront, find_grid};
 use super::input::ImportArgs;
 use clap::Args;
 use paretomesh::import;
-use paretomesh::pyramid::borders::with_border_points;
-use paretomesh::pyramid::globe::Frame;
-use paretomesh::pyramid::quadtree::Level;
-use paretomesh::pyramid::tileset::{content_uri, tile_content, tileset_json};
-use paretomesh::pyramid::{frame_note, most_levels, notes, plan};
+use paretomesh::pyramid::{build_with, default_levels, plan};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-/// Levels when `--levels` is not given, fewer when the grid or the front has fewer.
-const DEFAULT_LEVELS: usize = 4;
 
 /// Options of `paretomesh tiles`.
 #[derive(Args, Debug)]
@@ -56,15 +49,7 @@ pub fn run(args: &TilesArgs) -> Result<(), String> {
     };
     let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
     let (w, h) = (file.grid.width, file.grid.height);
-    let distinct = {
-        let mut ts: Vec<usize> = scores.iter().map(|s| s.t).collect();
-        ts.sort_unstable();
-        ts.dedup();
-        ts.len()
-    };
-    let levels = args
-        .levels
-        .unwrap_or_else(|| DEFAULT_LEVELS.min(most_levels(w, h)).min(distinct.max(1)));
+    let levels = args.levels.unwrap_or_else(|| default_levels(&scores, w, h));
     // Every check on the front and the levels comes before the grid is read or a file written.
     let picks = plan(&scores, levels, w, h).map_err(|e| e.to_string())?;
     let grid_path = match &args.grid {
@@ -96,64 +81,52 @@ pub fn run(args: &TilesArgs) -> Result<(), String> {
         }
     }
     let loaded = start.elapsed();
-    let (frame, why_local) = Frame::of(&hf);
-    if let Some(why) = &why_local {
-        eprintln!("the pyramid stays in the input's own coordinates: {why}");
-    }
 
     let built = Instant::now();
-    let mut contents = Vec::with_capacity(levels);
-    for (depth, &member) in picks.iter().enumerate() {
-        let level = Level::new(w, h, depth as u32);
-        let solution = &file.front[member].solution;
-        let kept = with_border_points(&hf, &level, &solution.kept, solution.score.e_max);
-        let shares = level.share_out(&kept);
-        let tiles = level.tiles();
-        let level_contents = tiles
-            .par_iter()
-            .zip(shares.par_iter())
-            .map(|(tile, share)| tile_content(&hf, &frame, tile, share))
-            .collect::<Result<Vec<_>, _>>()?;
-        contents.push(level_contents);
+    let kept: Vec<&[u32]> = file.front.iter().map(|m| &m.solution.kept[..]).collect();
+    let pyramid = build_with(&hf, &scores, &kept, &picks, |work| {
+        (0..work.tiles.len())
+            .into_par_iter()
+            .map(|i| work.content(i))
+            .collect()
+    })?;
+    if let Some(why) = &pyramid.why_local {
+        eprintln!("the pyramid stays in the input's own coordinates: {why}");
     }
-    let tileset = tileset_json(
-        &contents,
-        &notes(&scores, &picks),
-        &frame,
-        &frame_note(&frame, why_local.as_deref()),
-        hf.z_range(),
-    );
-
+    // Each level's tile count, triangles and worst tile E_max, for the summary.
+    let summary: Vec<(usize, usize, f64)> = pyramid
+        .levels
+        .iter()
+        .map(|level| {
+            let triangles = level.iter().map(|c| c.triangles).sum();
+            let worst = level.iter().map(|c| c.e_max).fold(0.0, f64::max);
+            (level.len(), triangles, worst)
+        })
+        .collect();
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot make {}: {e}", args.out.display()))?;
     let mut bytes = 0usize;
-    for level in &contents {
-        for content in level {
-            let path = args.out.join(content_uri(&content.tile));
-            if let Some(folder) = path.parent() {
-                std::fs::create_dir_all(folder)
-                    .map_err(|e| format!("cannot make {}: {e}", folder.display()))?;
-            }
-            write(&path, &content.glb)?;
-            bytes += content.glb.len();
+    for (name, data) in pyramid.into_files() {
+        let path = args.out.join(&name);
+        if let Some(folder) = path.parent() {
+            std::fs::create_dir_all(folder)
+                .map_err(|e| format!("cannot make {}: {e}", folder.display()))?;
+        }
+        write(&path, &data)?;
+        if name != "tileset.json" {
+            bytes += data.len();
         }
     }
-    let text = serde_json::to_string_pretty(&tileset).expect("a JSON value serialises");
-    write(&args.out.join("tileset.json"), text.as_bytes())?;
-    for (depth, (level, &member)) in contents.iter().zip(&picks).enumerate() {
+    for (depth, (&(tiles, triangles, worst), &member)) in summary.iter().zip(&picks).enumerate() {
         let s = &scores[member];
-        let triangles: usize = level.iter().map(|c| c.triangles).sum();
-        let worst = level.iter().map(|c| c.e_max).fold(0.0, f64::max);
         eprintln!(
             "level {depth}: member {member} (T = {}, E_max = {}), {} tiles, {triangles} triangles, tile E_max up to {worst}",
-            s.t,
-            s.e_max,
-            level.len()
+            s.t, s.e_max, tiles
         );
     }
     eprintln!(
         "wrote {levels} levels ({} tiles, {:.1} MB) to {} in {:.2} s (reading the front and grid {:.2} s)",
-        contents.iter().map(Vec::len).sum::<usize>(),
+        summary.iter().map(|l| l.0).sum::<usize>(),
         bytes as f64 / 1e6,
         args.out.display(),
         built.elapsed().as_secs_f64(),

@@ -1,6 +1,6 @@
-//! A zip archive of deflated entries, written directly: the browser build's 3MF package, where
-//! the `zip` crate is left out to keep the wasm small. Deflate is miniz_oxide's and the checksum
-//! crc32fast's, both already in the build for PNG.
+//! A zip archive of deflated entries, written directly: the browser build's 3MF package and 3D
+//! Tiles pyramid, where the `zip` crate is left out to keep the wasm small. Deflate is
+//! miniz_oxide's and the checksum crc32fast's, both already in the build for PNG.
 
 /// The date stamp of every entry: 1980-01-01, the format's earliest, so that the same parts
 /// always give the same bytes.
@@ -13,7 +13,7 @@ const DEFLATE: u16 = 8;
 /// A zip archive holding `parts` (name, contents) in order, each deflated. Archives of 4 GiB or
 /// more (which would need zip64) are refused.
 pub fn deflated_zip(parts: &[(&str, &[u8])]) -> Result<Vec<u8>, String> {
-    let too_big = || "the 3MF package would be 4 GiB or more, beyond a plain zip".to_owned();
+    let too_big = || "the zip archive would be 4 GiB or more, beyond a plain zip".to_owned();
     let small = |n: usize| u32::try_from(n).map_err(|_| too_big());
     let mut out = Vec::new();
     let mut central = Vec::new();

@@ -5,8 +5,9 @@
 //! [`plan`] picks a member per level, [`quadtree::Level`] cuts a level into tiles and shares the
 //! member's kept points out to them (with [`borders`]' points on inner tile borders, so that a
 //! border follows the surface within the member's E_max), [`tileset::tile_content`] triangulates and encodes one tile,
-//! and [`tileset::tileset_json`] ties the tiles together. [`build`] does it all in one thread;
-//! the CLI spreads the tiles over every core, with the same result.
+//! and [`tileset::tileset_json`] ties the tiles together. [`build`] does it all in one thread (the
+//! app's download); the CLI spreads the tiles over every core through [`build_with`], with the
+//! same result.
 
 pub mod borders;
 pub mod globe;
@@ -17,10 +18,10 @@ pub mod tileset;
 use crate::evaluator::Score;
 use crate::heightfield::Heightfield;
 use globe::Frame;
-use quadtree::{Level, max_level};
+use quadtree::{Level, Tile, max_level};
 use serde_json::Value;
 use std::fmt;
-use tileset::{LevelNote, TileContent, tile_content, tileset_json};
+use tileset::{LevelNote, TileContent, content_uri, tile_content, tileset_json};
 
 /// Each level's triangle budget is this many times its parent's.
 pub const GROWTH: usize = 4;
@@ -146,13 +147,46 @@ pub fn plan(
     Ok(picks)
 }
 
+/// Levels when none are asked for, fewer when the grid or the front has fewer.
+pub const DEFAULT_LEVELS: usize = 4;
+
+/// The levels a pyramid of a front of `members` on a `width` × `height` grid gets when none are
+/// asked for: [`DEFAULT_LEVELS`], or fewer when the grid or the front's distinct triangle
+/// counts allow fewer.
+pub fn default_levels(members: &[Score], width: usize, height: usize) -> usize {
+    let mut ts: Vec<usize> = members.iter().map(|s| s.t).collect();
+    ts.sort_unstable();
+    ts.dedup();
+    DEFAULT_LEVELS
+        .min(most_levels(width, height))
+        .min(ts.len().max(1))
+}
+
 /// A whole pyramid in memory: each level's tiles (row by row) and tileset.json.
 #[derive(Clone, Debug)]
 pub struct Pyramid {
     /// Level 0 (the root) first.
     pub levels: Vec<Vec<TileContent>>,
+    /// The member each level shows, the root's first.
+    pub picks: Vec<usize>,
+    /// Why the pyramid stays in the input's own coordinates, when the grid has a map system
+    /// that cannot be placed on the globe.
+    pub why_local: Option<String>,
     /// The tileset.
     pub tileset: Value,
+}
+
+impl Pyramid {
+    /// The pyramid's files as (path relative to the pyramid's folder, bytes): tileset.json
+    /// first, then every tile's glb, level by level.
+    pub fn into_files(self) -> Vec<(String, Vec<u8>)> {
+        let text = serde_json::to_string_pretty(&self.tileset).expect("a JSON value serialises");
+        let mut files = vec![("tileset.json".to_owned(), text.into_bytes())];
+        for content in self.levels.into_iter().flatten() {
+            files.push((content_uri(&content.tile), content.glb));
+        }
+        files
+    }
 }
 
 /// The frame's description for tileset.json.
@@ -166,6 +200,65 @@ pub fn frame_note(frame: &Frame, why_local: Option<&str>) -> String {
     }
 }
 
+/// One level's tiles and each tile's share of the kept points, to be turned into contents with
+/// [`tile_content`]; a [`build_with`] caller chooses how (in one thread or spread over cores).
+pub struct LevelWork<'a> {
+    /// The grid.
+    pub hf: &'a Heightfield,
+    /// Where the tiles are placed.
+    pub frame: &'a Frame,
+    /// The level's tiles, row by row.
+    pub tiles: Vec<Tile>,
+    /// Each tile's kept points, border points included.
+    pub shares: Vec<Vec<u32>>,
+}
+
+impl LevelWork<'_> {
+    /// The content of tile `i`.
+    pub fn content(&self, i: usize) -> Result<TileContent, String> {
+        tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i])
+    }
+}
+
+/// Builds the pyramid of `hf`'s front (each member's score and kept set) showing member
+/// `picks[L]` at level L, with `contents` turning each level's work into its tiles' contents
+/// in tile order. Members' kept indices must lie within the grid.
+pub fn build_with(
+    hf: &Heightfield,
+    scores: &[Score],
+    kept: &[&[u32]],
+    picks: &[usize],
+    contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
+) -> Result<Pyramid, String> {
+    let (frame, why_local) = Frame::of(hf);
+    let mut out = Vec::with_capacity(picks.len());
+    for (depth, &member) in picks.iter().enumerate() {
+        let level = Level::new(hf.width(), hf.height(), depth as u32);
+        let with_borders =
+            borders::with_border_points(hf, &level, kept[member], scores[member].e_max);
+        let work = LevelWork {
+            hf,
+            frame: &frame,
+            shares: level.share_out(&with_borders),
+            tiles: level.tiles(),
+        };
+        out.push(contents(&work)?);
+    }
+    let tileset = tileset_json(
+        &out,
+        &notes(scores, picks),
+        &frame,
+        &frame_note(&frame, why_local.as_deref()),
+        hf.z_range(),
+    );
+    Ok(Pyramid {
+        levels: out,
+        picks: picks.to_vec(),
+        why_local,
+        tileset,
+    })
+}
+
 /// Builds the pyramid of `levels` levels of `hf`'s front, given as each member's score and
 /// kept set, in one thread.
 pub fn build(
@@ -175,32 +268,19 @@ pub fn build(
     levels: usize,
 ) -> Result<Pyramid, String> {
     let picks = plan(scores, levels, hf.width(), hf.height()).map_err(|e| e.to_string())?;
-    let (frame, why) = Frame::of(hf);
-    let mut out = Vec::with_capacity(levels);
-    for (depth, &member) in picks.iter().enumerate() {
-        let level = Level::new(hf.width(), hf.height(), depth as u32);
-        let with_borders =
-            borders::with_border_points(hf, &level, kept[member], scores[member].e_max);
-        let shares = level.share_out(&with_borders);
-        let tiles = level
-            .tiles()
+    if let Some((member, &bad)) = picks.iter().find_map(|&m| {
+        kept[m]
             .iter()
-            .zip(&shares)
-            .map(|(tile, share)| tile_content(hf, &frame, tile, share))
-            .collect::<Result<Vec<_>, _>>()?;
-        out.push(tiles);
+            .find(|&&g| g as usize >= hf.len())
+            .map(|g| (m, g))
+    }) {
+        return Err(format!(
+            "member {member} keeps grid index {bad}, past the grid's {} points",
+            hf.len()
+        ));
     }
-    let notes = notes(scores, &picks);
-    let tileset = tileset_json(
-        &out,
-        &notes,
-        &frame,
-        &frame_note(&frame, why.as_deref()),
-        hf.z_range(),
-    );
-    Ok(Pyramid {
-        levels: out,
-        tileset,
+    build_with(hf, scores, kept, &picks, |work| {
+        (0..work.tiles.len()).map(|i| work.content(i)).collect()
     })
 }
 

@@ -235,6 +235,11 @@ fn export(ui: &Ui, kind: &str) -> Result<(), String> {
     let stem = name.rsplit_once('.').map_or(name.as_str(), |(a, _)| a);
     match kind {
         "json" => export_front_file(ui, stem),
+        "tiles" => dom::download(
+            &format!("{stem}_3dtiles.zip"),
+            "application/zip",
+            &ui.app.pyramid_zip()?,
+        ),
         "csv" => {
             let front = ui.app.front().ok_or(EMPTY_FRONT)?;
             dom::download(
@@ -453,7 +458,7 @@ fn wire_controls(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
             ui.redraw = true;
         }),
     )?;
-    for kind in ["ply", "obj", "stl", "glb", "3mf", "csv", "json"] {
+    for kind in ["ply", "obj", "stl", "glb", "3mf", "tiles", "csv", "json"] {
         on(
             &format!("export-{kind}"),
             "click",

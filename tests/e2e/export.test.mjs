@@ -1,7 +1,8 @@
 // End-to-end test of where a mesh leaves the app, in headless Chromium: a finished run selects
 // the knee of its front, the Trade-off and Knee buttons switch between the two picks, the E
 // axis shows sum, mean or max and hovering a member reads out all three, "printable solid"
-// exports a closed, outward-facing STL, 3MF downloads as a zip package of the same solid, and
+// exports a closed, outward-facing STL, 3MF downloads as a zip package of the same solid, the
+// front downloads as a 3D Tiles pyramid in a zip whose tileset's every tile is in it, and
 // ticking the teaching view switches the method to
 // NSGA-II in one action.
 import { readFileSync } from 'node:fs';
@@ -10,7 +11,7 @@ import path from 'node:path';
 import assert from 'node:assert/strict';
 import { shots, withApp, newPage, realErrors, waitForApp, tradeOffCandidates, kneeIndex } from './harness.mjs';
 
-/// The entries of a zip archive by name, inflated as text, read through its central directory.
+/// The entries of a zip archive by name, inflated into Buffers, read through its central directory.
 function unzip(zip) {
   const end = zip.lastIndexOf(Buffer.from([0x50, 0x4b, 0x05, 0x06]));
   assert.ok(end >= 0, 'a zip archive ends with its directory record');
@@ -27,7 +28,7 @@ function unzip(zip) {
     const name = zip.toString('utf8', at + 46, at + 46 + nameLength);
     const start = local + 30 + zip.readUInt16LE(local + 26) + zip.readUInt16LE(local + 28);
     const data = zip.subarray(start, start + packed);
-    out[name] = (method === 8 ? inflateRawSync(data) : data).toString('utf8');
+    out[name] = method === 8 ? inflateRawSync(data) : data;
     at += 46 + skip;
   }
   return out;
@@ -123,12 +124,33 @@ await withApp(async ({ browser, url }) => {
   const zip = readFileSync(await package3mf.path());
   const parts = unzip(zip);
   assert.deepEqual(Object.keys(parts).sort(), ['3D/3dmodel.model', '[Content_Types].xml', '_rels/.rels']);
-  const model = parts['3D/3dmodel.model'];
+  const model = parts['3D/3dmodel.model'].toString('utf8');
   assert.match(model, /^<\?xml[^>]*>\s*<model unit="millimeter"/);
   const modelTriangles = (model.match(/<triangle /g) ?? []).length;
   const modelVertices = (model.match(/<vertex /g) ?? []).length;
   assert.equal(modelTriangles, count, 'the 3MF holds the solid STL\'s faces');
   assert.equal(modelVertices, ids.size, 'and its welded corners');
+
+  // 4c. The front as a 3D Tiles pyramid: tileset.json and every tile it names, each a glb.
+  const [pyramid] = await Promise.all([page.waitForEvent('download'), page.click('#export-tiles')]);
+  assert.match(pyramid.suggestedFilename(), /_3dtiles\.zip$/);
+  assert.equal(await page.locator('#export-message').textContent(), '', 'no refusal');
+  const tiles = unzip(readFileSync(await pyramid.path()));
+  assert.ok(tiles['tileset.json'], 'the zip holds tileset.json');
+  const tileset = JSON.parse(tiles['tileset.json'].toString('utf8'));
+  assert.equal(tileset.asset.version, '1.1');
+  const uris = [];
+  const walk = (node) => {
+    if (node.content) uris.push(node.content.uri);
+    (node.children ?? []).forEach(walk);
+  };
+  walk(tileset.root);
+  assert.ok(uris.length >= 5, `${uris.length} tiles: at least two levels`);
+  for (const uri of uris) {
+    assert.ok(tiles[uri], `${uri} is in the zip`);
+    assert.equal(tiles[uri].toString('latin1', 0, 4), 'glTF', `${uri} is a glb`);
+  }
+  assert.equal(Object.keys(tiles).length, uris.length + 1, 'the tileset and its tiles, nothing else');
 
   // 5. The teaching view from the default method: one tick switches to NSGA-II.
   await page.click('#reset');
@@ -141,5 +163,5 @@ await withApp(async ({ browser, url }) => {
   await page.waitForFunction(() => (window.paretomesh.teachingState() ?? [])[0] === 'selection', null, { timeout: 60000 });
 
   assert.deepEqual(realErrors(page), [], 'no page errors');
-  console.log(`export e2e: knee ${knee}, trade-off ${tradeOff} of ${front.length}; solid STL of ${count} faces, volume ${volume.toFixed(0)}; 3MF of ${zip.length} bytes`);
+  console.log(`export e2e: knee ${knee}, trade-off ${tradeOff} of ${front.length}; solid STL of ${count} faces, volume ${volume.toFixed(0)}; 3MF of ${zip.length} bytes; 3D Tiles zip of ${uris.length} tiles`);
 });
