@@ -11,11 +11,11 @@ mod window;
 use errors::value_error;
 use front::{FrontData, GridSource, Members, PyFront, PyMember};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, ndarray::Array2};
+use paretomesh::catalogue::Algorithm;
 use paretomesh::evaluator::{Evaluator, check_indices};
 use paretomesh::front_file::FrontFile;
 use paretomesh::front_file::GridInfo;
 use paretomesh::heightfield::Heightfield;
-use paretomesh::tiling::algorithm::ALGORITHMS;
 use paretomesh::tiling::{
     TileFront, TilePlan, TiledFront, TiledFrontFile, assemble, build_optimizer, run_tiled,
 };
@@ -432,7 +432,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(grid_size, m)?)?;
     m.add_function(wrap_pyfunction!(fill_nodata, m)?)?;
     m.add_function(wrap_pyfunction!(read_window, m)?)?;
-    m.add("METHODS", ALGORITHMS.to_vec())?;
+    m.add("METHODS", Algorithm::ALL.map(|a| a.name()).to_vec())?;
     m.add("DEFAULT_TILE", paretomesh::tiling::DEFAULT_TILE)?;
     Ok(())
 }

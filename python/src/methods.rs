@@ -4,8 +4,8 @@
 
 use crate::errors::value_error;
 use paretomesh::baselines::{DecimationParams, GreedyParams, GreedyStop};
+use paretomesh::catalogue::Algorithm;
 use paretomesh::evolution::{GaParams, MemeticParams, WeightedSumParams};
-use paretomesh::tiling::algorithm::ALGORITHMS;
 use pyo3::PyResult;
 
 fn to_json<T: serde::Serialize>(params: &T) -> serde_json::Value {
@@ -48,7 +48,7 @@ pub fn params(method: &str, evals: Option<u64>) -> PyResult<serde_json::Value> {
         other => {
             return Err(value_error(format!(
                 "unknown method {other:?}; the methods are {}",
-                ALGORITHMS.join(", ")
+                Algorithm::ALL.map(|a| a.name()).join(", ")
             )));
         }
     })
