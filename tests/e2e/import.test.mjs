@@ -64,23 +64,15 @@ await withApp(async ({ browser, url }) => {
     assert.ok(z >= 90 && z <= 200, `a height of the volcano: ${z}`);
   }
 
-  // 3. A GeoTIFF over the grid limit (2100×2050 > 4 M points): the dialog shows its
-  // georeferencing and a grid size, and the size chosen there is used.
+  // 3. A GeoTIFF of 2100×2050 (4.3 M points, within the tab's cap): it opens at its native
+  // size, never resampled behind the user's back, with its nodata cell filled.
   const big = int16GeoTiff(2100, 2050, (x, y) => (x === 5 && y === 7 ? -32768 : Math.round(100 * Math.sin(x / 50) + 80 * Math.cos(y / 70))));
   await dropFiles(page, [{ name: 'big_dem.tif', bytes: big }]);
-  await page.waitForSelector('#import-dialog[open]', { timeout: 60000 });
-  assert.match(await page.locator('#import-title').textContent(), /GeoTIFF/);
-  assert.ok(await page.locator('#import-projection-row').isHidden(), 'no projection for a raster');
-  const georeference = await page.locator('#import-georeference').textContent();
-  assert.match(georeference, /pixel size 30 × 30 map units.*map \(500000, 4000000\).*nodata -32768: 1 cells filled/, georeference);
-  assert.match(await page.locator('#import-summary').textContent(), /2100×2050.*resampled by area averaging onto a 257×251 grid/);
-  assert.equal(await page.inputValue('#import-width'), '257');
-  await page.screenshot({ path: path.join(shots, 'import-02-geotiff-dialog.png') });
-  await page.fill('#import-width', '120');
-  await page.fill('#import-height', '100');
-  await page.click('#import-use');
   await page.waitForFunction(() => window.paretomesh.surfaceName() === 'big_dem.tif', null, { timeout: 60000 });
-  assert.match(await page.locator('#surface-info').textContent(), /120×100 grid · 12000 points/);
+  assert.match(await page.locator('#surface-info').textContent(), /2100×2050 grid · 4305000 points/);
+  assert.equal(await page.locator('#import-dialog[open]').count(), 0, 'no dialog for a GeoTIFF the tab can hold');
+  const georeference = await page.locator('#surface-source').textContent();
+  await page.screenshot({ path: path.join(shots, 'import-02-geotiff-native.png') });
 
   // 4. A closed, thick mesh folds in every projection: the dialog offers its outer surface.
   await dropFiles(page, [{ name: 'tube.obj', bytes: Buffer.from(thickTubeObj()) }]);
