@@ -139,6 +139,68 @@ pub fn toggle(a: &[u32], b: &[u32]) -> Vec<u32> {
     out
 }
 
+/// A kept set of a list as front.json writes it: `packed` (its indices, [`encode`]d) or `diff`
+/// (its [`toggle`] with the set before it in the list, encoded), whichever is shorter.
+#[derive(Clone, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub struct PackedSet {
+    /// The set's own indices, encoded.
+    #[serde(
+        rename = "kept_packed",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub packed: Option<String>,
+    /// The difference with the set before it, encoded.
+    #[serde(rename = "kept_diff", skip_serializing_if = "Option::is_none", default)]
+    pub diff: Option<String>,
+}
+
+impl PackedSet {
+    /// Packs `kept`, the set after `previous` in its list (`None` for the first).
+    pub fn new(previous: Option<&[u32]>, kept: &[u32]) -> Self {
+        let packed = encode(kept);
+        match previous.map(|p| encode(&toggle(p, kept))) {
+            Some(diff) if diff.len() < packed.len() => Self {
+                packed: None,
+                diff: Some(diff),
+            },
+            _ => Self {
+                packed: Some(packed),
+                diff: None,
+            },
+        }
+    }
+
+    /// The set, given the one before it in its list (`None` for the first). `what` names the
+    /// set in errors ("front member 3").
+    pub fn unpack(&self, previous: Option<&[u32]>, what: &str) -> Result<Vec<u32>, String> {
+        match (&self.packed, &self.diff) {
+            (Some(packed), None) => decode(packed).map_err(|e| format!("{what}: {e}")),
+            (None, Some(diff)) => {
+                let before = previous
+                    .ok_or_else(|| format!("{what} has kept_diff, but no set before it"))?;
+                let diff = decode(diff).map_err(|e| format!("{what}: {e}"))?;
+                Ok(toggle(before, &diff))
+            }
+            _ => Err(format!(
+                "{what} needs exactly one of kept_packed and kept_diff"
+            )),
+        }
+    }
+}
+
+/// Packs a list of kept sets, each whole or as a diff with the one before (see [`PackedSet`]).
+pub fn pack_list(sets: &[Vec<u32>]) -> Vec<PackedSet> {
+    let mut previous: Option<&[u32]> = None;
+    sets.iter()
+        .map(|kept| {
+            let p = PackedSet::new(previous, kept);
+            previous = Some(kept);
+            p
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,5 +249,30 @@ mod tests {
         assert_eq!(d, vec![1, 2, 6, 9, 100, 200]);
         assert_eq!(toggle(&a, &d), b);
         assert_eq!(toggle(&b, &d), a);
+    }
+
+    #[test]
+    fn a_list_packs_near_sets_as_diffs_and_unpacks() {
+        let sets: Vec<Vec<u32>> = vec![
+            (0..500).map(|i| i * 7).collect(),
+            (0..500).map(|i| i * 7).chain([4000]).collect(),
+            vec![1, 2],
+        ];
+        let packed = pack_list(&sets);
+        assert!(packed[0].packed.is_some() && packed[0].diff.is_none());
+        assert_eq!(packed[1].diff.as_deref(), Some(encode(&[4000]).as_str()));
+        assert!(packed[2].packed.is_some());
+        let mut previous: Option<&[u32]> = None;
+        for (p, set) in packed.iter().zip(&sets) {
+            assert_eq!(&p.unpack(previous, "set").unwrap(), set);
+            previous = Some(set);
+        }
+        let orphan = PackedSet {
+            packed: None,
+            diff: Some(encode(&[2])),
+        };
+        let e = orphan.unpack(None, "tile 0's member 0").unwrap_err();
+        assert!(e.contains("tile 0's member 0 has kept_diff"), "{e}");
+        assert!(PackedSet::default().unpack(None, "set").is_err());
     }
 }

@@ -1,6 +1,7 @@
 //! Tiled runs through the real binary: front.json of a tiled run, export of its members,
 //! thread-count invariance, and a bad `--tile`.
 
+use paretomesh::kept_codec;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -90,6 +91,57 @@ fn a_tiled_front_is_the_same_on_one_or_two_threads_and_exports_every_format() {
     let ply = std::fs::read_to_string(dir.join("first.ply")).unwrap();
     assert!(ply.contains("element face 12"), "{ply}");
     assert!(ply.contains("element vertex 12"), "{ply}");
+    // The last member's mesh has the member's T, and a copy of the file with each tile's kept
+    // sets as plain index arrays (the form of older files) exports the same mesh.
+    let last_t = one["tiled"]["members"][members - 1]["T"].as_u64().unwrap();
+    let ply_of = |front: &std::path::Path, name: &str| {
+        let out_path = dir.join(name);
+        let out = paretomesh(&[
+            "export",
+            front.to_str().unwrap(),
+            "--member",
+            &(members - 1).to_string(),
+            "--out",
+            out_path.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{name}: {}", text(&out.stderr));
+        // The comment names the front file; the rest is the mesh.
+        let ply = std::fs::read_to_string(out_path).unwrap();
+        ply.lines()
+            .filter(|l| !l.starts_with("comment"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let packed = ply_of(&front, "last-packed.ply");
+    assert!(
+        packed.contains(&format!("element face {last_t}\n")),
+        "{packed}"
+    );
+    let mut plain: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&front).unwrap()).unwrap();
+    for tile in plain["tiled"]["tiles"].as_array_mut().unwrap() {
+        let mut previous: Option<Vec<u32>> = None;
+        let mut sets = Vec::new();
+        for m in tile["members"].as_array().unwrap() {
+            let kept = match (m.get("kept_packed"), m.get("kept_diff")) {
+                (Some(p), None) => kept_codec::decode(p.as_str().unwrap()).unwrap(),
+                (None, Some(d)) => kept_codec::toggle(
+                    previous.as_ref().expect("a diff follows a member"),
+                    &kept_codec::decode(d.as_str().unwrap()).unwrap(),
+                ),
+                _ => panic!("a tile member is packed or a diff: {m}"),
+            };
+            sets.push(serde_json::json!(kept));
+            previous = Some(kept);
+        }
+        tile["members"] = serde_json::Value::Array(sets);
+    }
+    let plain_path = dir.join("plain.json");
+    std::fs::write(&plain_path, serde_json::to_vec(&plain).unwrap()).unwrap();
+    assert!(
+        std::fs::metadata(&plain_path).unwrap().len() > std::fs::metadata(&front).unwrap().len()
+    );
+    assert!(ply_of(&plain_path, "last-plain.ply") == packed);
 }
 
 #[test]

@@ -152,6 +152,48 @@ fn assembled_members_are_exact_and_crack_free() {
 }
 
 #[test]
+fn tile_members_are_written_packed_and_read_in_either_form() {
+    let hf = terrain(70, 52, 3);
+    let front = tiled(&hf, 33, "greedy", &greedy());
+    let written = serde_json::to_value(&front).unwrap();
+    let mut diffs = 0;
+    for tile in written["tiles"].as_array().unwrap() {
+        for (i, m) in tile["members"].as_array().unwrap().iter().enumerate() {
+            let m = m.as_object().unwrap();
+            assert_eq!(m.len(), 1, "one form a member: {m:?}");
+            assert!(i > 0 || m.contains_key("kept_packed"), "the first is whole");
+            diffs += usize::from(m.contains_key("kept_diff"));
+        }
+    }
+    assert!(diffs > 0, "neighbouring members are written as diffs");
+    let read: TiledFront = serde_json::from_value(written.clone()).unwrap();
+    assert_eq!(read, front);
+    // The plain index arrays of older files read to the same front.
+    let mut plain = written;
+    for (tile, t) in plain["tiles"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .zip(&front.tiles)
+    {
+        tile["members"] = serde_json::to_value(&t.members).unwrap();
+    }
+    assert!(plain["tiles"][0]["members"][1].is_array());
+    let read: TiledFront = serde_json::from_value(plain).unwrap();
+    assert_eq!(read, front);
+    let last = front.members.len() - 1;
+    assert_eq!(
+        read.mesh(&hf, last).unwrap(),
+        front.mesh(&hf, last).unwrap()
+    );
+    // A diff with nothing before it is refused by name.
+    let mut broken = serde_json::to_value(&front).unwrap();
+    broken["tiles"][0]["members"][0] = serde_json::json!({"kept_diff": "AQ=="});
+    let e = serde_json::from_value::<TiledFront>(broken).unwrap_err();
+    assert!(e.to_string().contains("tile member 0"), "{e}");
+}
+
+#[test]
 fn memetic_tiles_assemble_exact_members() {
     let hf = terrain(50, 40, 11);
     let params = serde_json::json!({"max_evaluations": 1500});

@@ -43,7 +43,10 @@ pub struct TileFront {
     pub index: usize,
     /// Its border lines' rankings, which fix its border points at every level.
     pub borders: TileBorders,
-    /// The members' kept points off the border (tile-local indices, increasing).
+    /// The members' kept points off the border (tile-local indices, increasing). Written as
+    /// [`PackedSet`](crate::kept_codec::PackedSet)s, each whole or as a diff with the member
+    /// before it; plain index arrays (older files) are read too.
+    #[serde(with = "packed_members")]
     pub members: Vec<Vec<u32>>,
     /// Every member at each border level it was scored at, non-dominated per level.
     pub candidates: Vec<TileCandidate>,
@@ -218,6 +221,40 @@ pub fn run_tile(
         candidates: out,
         evaluations: progress.evaluations,
     })
+}
+
+/// [`TileFront::members`] as front.json holds them.
+mod packed_members {
+    use crate::kept_codec::{PackedSet, pack_list};
+    use serde::de::Error as _;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    /// A member as read: packed (see [`PackedSet`]) or a plain index array.
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Read {
+        Plain(Vec<u32>),
+        Packed(PackedSet),
+    }
+
+    pub fn serialize<S: Serializer>(members: &[Vec<u32>], s: S) -> Result<S::Ok, S::Error> {
+        pack_list(members).serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<u32>>, D::Error> {
+        let read = Vec::<Read>::deserialize(d)?;
+        let mut out: Vec<Vec<u32>> = Vec::with_capacity(read.len());
+        for (i, r) in read.into_iter().enumerate() {
+            let kept = match r {
+                Read::Plain(kept) => kept,
+                Read::Packed(p) => p
+                    .unpack(out.last().map(Vec::as_slice), &format!("tile member {i}"))
+                    .map_err(D::Error::custom)?,
+            };
+            out.push(kept);
+        }
+        Ok(out)
+    }
 }
 
 /// The candidates no other of the same level dominates in (E share, T), by level then T.
