@@ -18,6 +18,7 @@ use paretomesh::front_file::GridInfo;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::tiling::{
     TileFront, TilePlan, TiledFront, TiledFrontFile, assemble, build_optimizer, run_tiled,
+    tile_params,
 };
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
@@ -101,7 +102,8 @@ fn tiled_data(
         hf: OnceLock::new(),
         grid,
         algorithm: method.to_string(),
-        params,
+        // As the tiles ran them (the memetic search's share per tile).
+        params: tile_params(&front.plan, method, &params),
         seed,
         evaluations: front.evaluations(),
         millis,

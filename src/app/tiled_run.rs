@@ -14,7 +14,7 @@ use crate::baselines::{GreedyParams, GreedyStop};
 use crate::front::{Front, Solution};
 use crate::front_file::GridInfo;
 use crate::tiling::file::TiledFrontFile;
-use crate::tiling::{TileFront, TilePlan, TiledFront, TiledMesh, assemble};
+use crate::tiling::{TileFront, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
 
 /// The algorithm of the first, quick pass.
 pub const QUICK: Algorithm = Algorithm::Greedy;
@@ -213,7 +213,12 @@ impl TiledRun {
                 import: None,
             },
             algorithm: self.algorithm.name().to_string(),
-            params: algorithms::params_json(self.algorithm, &self.params),
+            // As the tiles ran them (the memetic search's share per tile).
+            params: tile_params(
+                &self.plan,
+                self.algorithm.name(),
+                &algorithms::params_json(self.algorithm, &self.params),
+            ),
             seed: self.params.seed,
             evaluations: assembled.evaluations(),
             millis,

@@ -18,7 +18,7 @@ use paretomesh::front_file::{GridInfo, ImportRecord};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFrontFile, check_tile, run_tiled_with_progress,
+    DEFAULT_TILE, TilePlan, TiledFrontFile, check_tile, run_tiled_with_progress, tile_params,
 };
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -337,9 +337,10 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         ));
     }
     // The parameters as the untiled run would record them, checked on the first tile's grid
-    // before any tile runs.
+    // before any tile runs, then as every tile runs them.
     let first = Arc::new(plan.cut(hf, 0).map_err(|e| e.to_string())?);
-    let params = build(args, first)?.params;
+    let name = args.algo.name();
+    let params = tile_params(plan, name, &build(args, first)?.params);
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -362,7 +363,6 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
             started.elapsed().as_secs_f64()
         );
     };
-    let name = args.algo.name();
     let tiled = run_tiled_with_progress(hf, plan, name, &params, args.seed, threads, &report)
         .map_err(|e| e.to_string())?;
     let millis = started.elapsed().as_millis() as u64;

@@ -14,7 +14,8 @@
 //!
 //! - [`plan`]: [`TilePlan`], the cut, and [`TilePlan::cut`], a tile's own grid;
 //! - [`border`]: border lines ranked by 1-D greedy insertion, border levels;
-//! - [`algorithm`]: an optimizer from a name, parameters as JSON and a seed; per-tile seeds;
+//! - [`algorithm`]: an optimizer from a name, parameters as JSON and a seed; per-tile
+//!   parameters and seeds;
 //! - [`tile_front`]: [`run_tile`], one tile's front, [`TileFront`];
 //! - [`allocation`]: the multiple-choice allocation of one option per tile;
 //! - [`assemble`](mod@assemble): [`assemble`], the whole-grid front, [`TiledFront`];
@@ -51,7 +52,7 @@ pub mod plan;
 mod tests;
 pub mod tile_front;
 
-pub use algorithm::{build_optimizer, tile_seed};
+pub use algorithm::{build_optimizer, tile_params, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
 pub use file::TiledFrontFile;
 pub use mesh::TiledMesh;

@@ -194,6 +194,40 @@ fn tile_members_are_written_packed_and_read_in_either_form() {
 }
 
 #[test]
+fn memetic_tiles_share_the_whole_grids_search_budget() {
+    use crate::evolution::memetic::{MemeticParams, search_budget, seeding_budget};
+    let plan = TilePlan::new(2048, 2048, 1025).unwrap();
+    assert_eq!(plan.len(), 4);
+    let share = search_budget(2048 * 2048).div_ceil(4);
+    let given = serde_json::json!({"population": 30, "max_evaluations": null});
+    let tiled = tile_params(&plan, "memetic", &given);
+    assert_eq!(tiled["search_evaluations"], share);
+    assert_eq!(tiled["population"], 30);
+    // Idempotent, so recording the tile parameters and running tiles with them agree.
+    assert_eq!(tile_params(&plan, "memetic", &tiled), tiled);
+    assert_eq!(
+        tile_params(&plan, "memetic", &serde_json::Value::Null)["search_evaluations"],
+        share
+    );
+    // A budget given is kept, and other methods' parameters are left alone.
+    for kept in [
+        serde_json::json!({"max_evaluations": 5000}),
+        serde_json::json!({"search_evaluations": 7}),
+    ] {
+        assert_eq!(tile_params(&plan, "memetic", &kept), kept);
+    }
+    assert_eq!(tile_params(&plan, "greedy", &greedy()), greedy());
+    // A tile's memetic budget is its own seeding and the share; one tile is the untiled run.
+    let hf = terrain(40, 30, 1);
+    let params: MemeticParams = serde_json::from_value(tiled).unwrap();
+    assert_eq!(params.budget(&hf), seeding_budget(&hf) + share);
+    let one = TilePlan::new(40, 30, 40).unwrap();
+    let untiled: MemeticParams =
+        serde_json::from_value(tile_params(&one, "memetic", &serde_json::Value::Null)).unwrap();
+    assert_eq!(untiled.budget(&hf), MemeticParams::default().budget(&hf));
+}
+
+#[test]
 fn memetic_tiles_assemble_exact_members() {
     let hf = terrain(50, 40, 11);
     let params = serde_json::json!({"max_evaluations": 1500});

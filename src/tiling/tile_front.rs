@@ -1,7 +1,7 @@
 //! One tile's front: its optimizer's members with the fixed border points of each border level
 //! put in, scored exactly.
 
-use super::algorithm::{build_optimizer, tile_seed};
+use super::algorithm::{build_optimizer, tile_params, tile_seed};
 use super::border::{Side, TileBorders, level_count};
 use super::{TilePlan, TilingError};
 use crate::evaluator::{Evaluator, MeshState};
@@ -113,9 +113,9 @@ fn spread(ts: &[usize], count: usize) -> Vec<usize> {
     out
 }
 
-/// Runs `algorithm` with `params` on tile `index` of `plan`, whose own grid is `tile_hf` (cut by
-/// [`TilePlan::cut`] or read by window), and scores its members with the tile's fixed border
-/// points. A pure function of its inputs: a tile run in any thread or process gives the same
+/// Runs `algorithm` with `params` ([`tile_params`] of them) on tile `index` of `plan`, whose own
+/// grid is `tile_hf` (cut by [`TilePlan::cut`] or read by window), and scores its members with
+/// the tile's fixed border points. A pure function of its inputs: a tile run in any thread or process gives the same
 /// bits. The tile's seed is derived from `seed` and `index`.
 ///
 /// Each kept member (at most [`MEMBERS_PER_TILE`]) loses its points on the tile's border and is
@@ -141,7 +141,8 @@ pub fn run_tile(
         });
     }
     let hf = Arc::new(tile_hf.clone());
-    let mut optimizer = build_optimizer(hf.clone(), algorithm, params, tile_seed(seed, index))?;
+    let params = tile_params(plan, algorithm, params);
+    let mut optimizer = build_optimizer(hf.clone(), algorithm, &params, tile_seed(seed, index))?;
     let progress = optimizer.run_to_end();
     let (w, h) = (tile.w, tile.h);
     let borders = TileBorders::new(w, h, hf.z());

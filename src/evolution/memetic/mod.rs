@@ -48,4 +48,6 @@ pub mod params;
 pub mod seeding;
 
 pub use optimizer::Memetic;
-pub use params::{MemeticParams, MemeticParamsError, default_budget, seeding_budget};
+pub use params::{
+    MemeticParams, MemeticParamsError, default_budget, search_budget, seeding_budget,
+};

@@ -20,8 +20,14 @@ pub struct MemeticParams {
     /// [`LOCAL_SEARCH_SHARE`](super::optimizer::LOCAL_SEARCH_SHARE)).
     pub local_search_rounds: usize,
     /// Stop once this many evaluations were spent (checked between units of work); `None` =
-    /// [`default_budget`] of the grid.
+    /// [`seeding_budget`] plus [`search_evaluations`](Self::search_evaluations) of the grid.
     pub max_evaluations: Option<u64>,
+    /// When [`max_evaluations`](Self::max_evaluations) is not set, the evaluations after
+    /// seeding (the evolution's and the local search's); `None` = [`search_budget`] of the
+    /// grid. A tile of a tiled run gets its share of the whole grid's
+    /// ([`tile_params`](crate::tiling::tile_params)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search_evaluations: Option<u64>,
     /// Seed from the greedy sweeps ([`seeding`](super::seeding)); when off, the initial
     /// population is random kept sets at log-spaced densities (an ablation).
     #[serde(skip_serializing_if = "is_on")]
@@ -54,6 +60,7 @@ impl Default for MemeticParams {
             crossover_probability: 0.3,
             local_search_rounds: 24,
             max_evaluations: None,
+            search_evaluations: None,
             greedy_seeding: true,
             guided_mutation: true,
             neighbour_mating: true,
@@ -65,15 +72,20 @@ impl Default for MemeticParams {
 /// The default evaluation budget on `hf`: the two seeding sweeps (one evaluation per point
 /// they insert: every grid point, then half as many as the densest seed has triangles,
 /// [`densest_seed`]), the decimation ([`DECIMATION_EVALUATIONS`] per triangle of the mesh it
-/// starts from, [`start_triangles`]), then [`SEARCH_EVALUATIONS`] plus one per grid point, up
-/// to [`SEARCH_GRID_CAP`] of them, for the evolution and the local search. The search grows
-/// with the grid because the front has more to improve on a larger one, but more slowly than
-/// the grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more (its mesh is
-/// larger), so a search that grew with the grid would make the run grow faster than the
-/// sweeps do. docs/performance.md gives what it costs on grids of several sizes.
+/// starts from, [`start_triangles`]), then the search ([`search_budget`]).
+/// docs/performance.md gives what it costs on grids of several sizes.
 pub fn default_budget(hf: &Heightfield) -> u64 {
-    let n = hf.len() as u64;
-    seeding_budget(hf) + SEARCH_EVALUATIONS + n.min(SEARCH_GRID_CAP)
+    seeding_budget(hf) + search_budget(hf.len() as u64)
+}
+
+/// The evolution's and the local search's evaluations on a grid of `points` points:
+/// [`SEARCH_EVALUATIONS`] plus one per grid point, up to [`SEARCH_GRID_CAP`] of them. The
+/// search grows with the grid because the front has more to improve on a larger one, but more
+/// slowly than the grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more
+/// (its mesh is larger), so a search that grew with the grid would make the run grow faster
+/// than the sweeps do.
+pub fn search_budget(points: u64) -> u64 {
+    SEARCH_EVALUATIONS + points.min(SEARCH_GRID_CAP)
 }
 
 /// The part of [`default_budget`] that the seeding sweeps and the decimation take (an
@@ -137,6 +149,10 @@ impl MemeticParams {
 
     /// The evaluation budget on `hf`.
     pub fn budget(&self, hf: &Heightfield) -> u64 {
-        self.max_evaluations.unwrap_or_else(|| default_budget(hf))
+        self.max_evaluations
+            .unwrap_or_else(|| match self.search_evaluations {
+                Some(search) => seeding_budget(hf) + search,
+                None => default_budget(hf),
+            })
     }
 }
