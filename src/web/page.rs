@@ -10,6 +10,7 @@ use crate::app::camera::OrbitCamera;
 use crate::app::compare::{self, CompareRun};
 use crate::app::geometry::{self, Geometry, ViewMapping};
 use crate::app::loader;
+use crate::app::mesh_builds::MeshBuilds;
 use crate::app::plot::{self, Layout, PlotPoint};
 use crate::app::share::{Origin, ShareLink, ViewToggles};
 use crate::app::state::{App, MAX_DRAWN_TRIANGLES, ShownMesh, shown_mesh};
@@ -46,6 +47,8 @@ pub(super) struct Ui {
     pub(super) view_key: Option<ViewKey>,
     /// The selected mesh with its per-point errors, as the 3-D view shows it.
     pub(super) shown: Option<ShownMesh>,
+    /// A tiled member's mesh being built in the mesh worker.
+    pub(super) meshes: MeshBuilds,
     /// The 3-D view must be drawn again on the next frame.
     pub(super) redraw: bool,
     /// The plot's layout and front points as of the last frame, for hit-testing.
@@ -124,6 +127,7 @@ impl Ui {
             camera: OrbitCamera::default(),
             view_key: None,
             shown: None,
+            meshes: MeshBuilds::default(),
             redraw: true,
             plot_layout: Layout::fit(1.0, 1.0, []),
             front_points: Vec::new(),
@@ -181,7 +185,9 @@ impl Ui {
         dom::set_text("surface-source", &source);
     }
 
-    /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed.
+    /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed. A tiled
+    /// member's mesh is asked of the mesh worker instead: the layers shown stay until it comes
+    /// (see [`crate::app::mesh_builds`]).
     pub(super) fn update_layers(&mut self) {
         let toggles = self.toggles();
         let hf = self.app.surface().heightfield.clone();
@@ -193,14 +199,50 @@ impl Ui {
         if self.view_key.as_ref() == Some(&key) {
             return;
         }
-        let selection_changed = self
+        let surface_changed = self
             .view_key
             .as_ref()
-            .is_none_or(|k| k.surface != key.surface || k.selected != key.selected);
+            .is_none_or(|k| k.surface != key.surface);
+        let selection_changed =
+            surface_changed || self.view_key.as_ref().map(|k| k.selected) != Some(key.selected);
+        self.view_key = Some(key);
+        if surface_changed {
+            self.meshes.cancel();
+            self.meshes.grid_lost();
+        }
         if selection_changed {
+            if self.request_tiled_mesh() {
+                self.selection_info();
+                return;
+            }
+            self.meshes.cancel();
             self.refresh_shown();
         }
-        self.view_key = Some(key);
+        self.build_layers();
+    }
+
+    /// Asks the mesh worker for the selection's mesh when it is a tiled run's member; returns
+    /// whether it did.
+    fn request_tiled_mesh(&mut self) -> bool {
+        let request = super::costs::timed("mesh request", || {
+            self.app.selected_tiled_parts(Some(MAX_DRAWN_TRIANGLES))
+        });
+        match request {
+            Some(Ok((member, plan, parts))) => {
+                self.meshes.request(member, plan, parts);
+                true
+            }
+            // Nothing selected, an untiled run, or a member no longer on the front (which
+            // the page's own rebuild reports).
+            _ => false,
+        }
+    }
+
+    /// Builds the 3-D layers of the shown mesh (or of the full surface) and hands them to the
+    /// view.
+    pub(super) fn build_layers(&mut self) {
+        let toggles = self.toggles();
+        let hf = self.app.surface().heightfield.clone();
         let map = ViewMapping::new(&hf);
         let layers = match &self.shown {
             Some(mesh) => {
@@ -215,7 +257,7 @@ impl Ui {
             }
         };
         if let Some(r) = self.renderer.as_mut() {
-            r.set_layers(layers);
+            super::costs::timed("layer upload", || r.set_layers(layers));
         }
         self.redraw = true;
     }
@@ -237,7 +279,20 @@ impl Ui {
     }
 
     pub(super) fn selection_info(&self) {
+        let building = self.meshes.building();
         let text = match (self.app.selected(), &self.shown) {
+            (Some(s), _) if building.is_some() => format!(
+                "selected: T = {} triangles · E = {} · E_max = {} · building {}its mesh from \
+                 the tiles in a Web Worker…",
+                s.t,
+                plot::format_value(s.e_sum),
+                plot::format_value(s.e_max),
+                match building {
+                    Some(b) if b.t != s.t =>
+                        format!("the member with T = {} that stands in for it: ", b.t),
+                    _ => String::new(),
+                }
+            ),
             (Some(s), Some(m)) if m.triangles.len() != s.t => format!(
                 "selected: T = {} triangles · E = {} · E_max = {} · drawn as the front's member \
                  with T = {} ({} vertices): the view draws at most {} triangles; exports \
@@ -266,6 +321,7 @@ impl Ui {
                 &self
                     .shown
                     .as_ref()
+                    .filter(|_| building.is_none())
                     .map_or(String::new(), |m| m.kept.len().to_string()),
             );
         }

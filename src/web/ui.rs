@@ -3,6 +3,7 @@
 //! the listeners of the main controls, the plot and the 3-D view. The views of share links,
 //! teaching and compare mode are in their own modules; [`super::bindings`] is what the JS calls.
 
+use super::costs::timed;
 use super::dom::{self, by_id, listen};
 use super::gpu::{BackendChoice, Renderer};
 use super::page::{HIT_RADIUS, Ui, on_event, performance_now, z_unit};
@@ -92,9 +93,13 @@ fn install_panic_hook() {
 /// One animation frame: optimise within the budget, update the status, the panels, the plot
 /// and the 3-D view.
 pub(super) fn frame(ui: &mut Ui) {
+    timed("frame", || frame_steps(ui));
+}
+
+fn frame_steps(ui: &mut Ui) {
     let budget = ui.app.config().budget_ms;
     let mut clock = performance_now;
-    ui.app.tick(budget, &mut clock);
+    timed("tick", || ui.app.tick(budget, &mut clock));
     compare_view::compare_frame(ui);
     let mut status = dom::status_text(&ui.app.status(), ui.app.is_running());
     if let Some(r) = ui.app.reproduction() {
@@ -106,13 +111,13 @@ pub(super) fn frame(ui: &mut Ui) {
     super::pool::note_status(ui, &mut status);
     dom::set_text("status", &status);
     teaching_view::teaching_frame(ui, performance_now());
-    ui.update_layers();
-    draw_plot(ui);
+    timed("layers", || ui.update_layers());
+    timed("plot", || draw_plot(ui));
     ui.resize_view();
     if ui.redraw
         && let Some(r) = ui.renderer.as_mut()
     {
-        r.draw(&ui.camera);
+        timed("draw", || r.draw(&ui.camera));
         ui.redraw = false;
         if !ui.painted {
             // Lets anyone (the end-to-end test, DevTools) read the time to first paint.
