@@ -21,9 +21,10 @@ function buildMesh(job) {
   }
   if (!grid) throw new Error('the mesh worker has no grid');
   const start = performance.now();
-  const m = grid.build(job.header, job.kept, job.offsets);
+  const m = grid.build(job.header, job.kept, job.offsets, job.toggles);
+  const layers = m.layers.flatMap((l) => [l.vertices.buffer, l.indices.buffer]);
   self.postMessage({ kind: 'mesh', id: job.id, ms: performance.now() - start, ...m },
-    [m.kept.buffer, m.triangles.buffer, m.pointError.buffer]);
+    [m.kept.buffer, m.triangles.buffer, m.pointError.buffer, ...layers]);
 }
 
 function messageOf(e) {

@@ -56,7 +56,7 @@ export class WorkerPool {
       this.meshBusy = false;
       if (data.kind === 'mesh') {
         this.log.push({ kind: 'mesh', id: data.id, ms: data.ms, at: performance.now() });
-        this.app.meshBuilt(data.id, data.kept, data.triangles, data.pointError);
+        this.app.meshBuilt(data.id, data.kept, data.triangles, data.pointError, data.layers, data.maxError, data.toggles);
       } else {
         this.app.meshFailed(data.id, data.message);
       }

@@ -6,24 +6,105 @@
 use super::bindings::WebApp;
 use super::costs::timed;
 use super::dom;
+use super::page::mesh_layers;
+use super::style::Style;
+use crate::app::geometry::{Geometry, Vertex, ViewMapping};
 use crate::app::mesh_builds::{MeshJob, MeshJobParts};
+use crate::app::share::ViewToggles;
 use crate::app::state::{ShownMesh, shown_triangles};
 use crate::heightfield::Heightfield;
 use crate::tiling::mesh_of_parts;
-use js_sys::{Float64Array, Object, Reflect, Uint32Array};
+use js_sys::{Array, Float32Array, Float64Array, Object, Reflect, Uint32Array};
 use wasm_bindgen::prelude::*;
+
+/// The view toggles as bits (original 1, error 2, kept 4), as they travel to the worker.
+fn toggle_bits(t: ViewToggles) -> u32 {
+    u32::from(t.original) | u32::from(t.error) << 1 | u32::from(t.kept) << 2
+}
+
+fn toggles_of(bits: u32) -> ViewToggles {
+    ViewToggles {
+        original: bits & 1 != 0,
+        error: bits & 2 != 0,
+        kept: bits & 4 != 0,
+    }
+}
+
+const STYLES: [Style; 3] = [Style::Fill, Style::Lines, Style::Translucent];
+
+/// `layers` as `[{style, vertices, indices}]` with typed arrays (vertices as floats, ten per
+/// vertex), which the worker transfers.
+fn layers_to_js(layers: &[(Style, Geometry)]) -> Result<JsValue, JsValue> {
+    let out = Array::new();
+    for (style, g) in layers {
+        let o = Object::new();
+        let code = STYLES.iter().position(|s| s == style).unwrap_or(0);
+        set(&o, "style", &JsValue::from_f64(code as f64))?;
+        let floats: &[f32] = bytemuck::cast_slice(&g.vertices);
+        set(&o, "vertices", &Float32Array::from(floats).into())?;
+        set(&o, "indices", &Uint32Array::from(&g.indices[..]).into())?;
+        out.push(&o);
+    }
+    Ok(out.into())
+}
+
+/// The layers [`layers_to_js`] made, checked: they come from another thread.
+fn layers_from_js(layers: &JsValue) -> Result<Vec<(Style, Geometry)>, String> {
+    let bad = || "the mesh worker posted layers the page cannot read".to_string();
+    let array: &Array = layers.dyn_ref().ok_or_else(bad)?;
+    let per_vertex = std::mem::size_of::<Vertex>() / 4;
+    array
+        .iter()
+        .map(|o| {
+            let get = |key: &str| Reflect::get(&o, &key.into()).map_err(|_| bad());
+            let style = get("style")?.as_f64().ok_or_else(bad)? as usize;
+            let floats = get("vertices")?
+                .dyn_into::<Float32Array>()
+                .map_err(|_| bad())?
+                .to_vec();
+            let indices = get("indices")?
+                .dyn_into::<Uint32Array>()
+                .map_err(|_| bad())?
+                .to_vec();
+            if !floats.len().is_multiple_of(per_vertex)
+                || indices
+                    .iter()
+                    .any(|&i| i as usize >= floats.len() / per_vertex)
+            {
+                return Err(bad());
+            }
+            let vertices: Vec<Vertex> = floats
+                .chunks_exact(per_vertex)
+                .map(|v| *bytemuck::from_bytes(bytemuck::cast_slice(v)))
+                .collect();
+            Ok((
+                *STYLES.get(style).ok_or_else(bad)?,
+                Geometry { vertices, indices },
+            ))
+        })
+        .collect()
+}
 
 fn set(o: &Object, key: &str, value: &JsValue) -> Result<(), JsValue> {
     Reflect::set(o, &key.into(), value).map(|_| ())
 }
 
-/// The message the mesh worker is handed for `job`: `{id, header, kept, offsets}` (see
-/// [`MeshJobParts`]) and, when the worker has not got this surface's grid yet, `grid: {width,
+/// The message the mesh worker is handed for `job`: `{id, toggles, header, kept, offsets}`
+/// (see [`MeshJobParts`]; the view toggles the worker builds the 3-D layers for) and, when the worker has not got this surface's grid yet, `grid: {width,
 /// height, z}` (the page transfers the typed arrays).
-fn job_to_js(job: &MeshJob, grid: Option<&Heightfield>) -> Result<JsValue, JsValue> {
+fn job_to_js(
+    job: &MeshJob,
+    grid: Option<&Heightfield>,
+    toggles: ViewToggles,
+) -> Result<JsValue, JsValue> {
     let parts = MeshJobParts::of(&job.plan, &job.parts)?;
     let o = Object::new();
     set(&o, "id", &JsValue::from_f64(job.id as f64))?;
+    set(
+        &o,
+        "toggles",
+        &JsValue::from_f64(toggle_bits(toggles) as f64),
+    )?;
     set(&o, "header", &parts.header.into())?;
     set(&o, "kept", &Uint32Array::from(&parts.kept[..]).into())?;
     set(&o, "offsets", &Uint32Array::from(&parts.offsets[..]).into())?;
@@ -77,13 +158,25 @@ impl WebApp {
         };
         let hf = ui.app.surface().heightfield.clone();
         let grid = ui.meshes.send_grid().then_some(&*hf);
-        timed("mesh job hand-out", || job_to_js(&job, grid))
+        let toggles = ui.toggles();
+        timed("mesh job hand-out", || job_to_js(&job, grid, toggles))
     }
 
-    /// The mesh worker built request `id`: its kept points, triangles (flat index triples) and
-    /// error at every grid point. Drawn when it is the latest request, else dropped.
+    /// The mesh worker built request `id`: its kept points, triangles (flat index triples),
+    /// error at every grid point, and the 3-D layers for the view toggles `toggles` with the
+    /// largest error `max_error`. Drawn when it is the latest request, else dropped.
     #[wasm_bindgen(js_name = meshBuilt)]
-    pub fn mesh_built(&self, id: f64, kept: Vec<u32>, triangles: Vec<u32>, point_error: Vec<f64>) {
+    #[allow(clippy::too_many_arguments)]
+    pub fn mesh_built(
+        &self,
+        id: f64,
+        kept: Vec<u32>,
+        triangles: Vec<u32>,
+        point_error: Vec<f64>,
+        layers: JsValue,
+        max_error: f64,
+        toggles: u32,
+    ) {
         let mut ui = self.ui.borrow_mut();
         let Some(member) = ui.meshes.finish(id as u64) else {
             return;
@@ -92,14 +185,23 @@ impl WebApp {
         let mesh = timed("mesh take-in", || {
             mesh_from_parts(&hf, kept, triangles, point_error, member.e_sum)
         });
-        match mesh {
-            Ok(mesh) => ui.shown = Some(mesh),
+        let layers = mesh.and_then(|m| Ok((m, layers_from_js(&layers)?)));
+        match layers {
+            // The toggles changed while the worker built the layers: the page builds them.
+            Ok((mesh, _)) if toggles_of(toggles) != ui.toggles() => {
+                ui.shown = Some(mesh);
+                timed("layers", || ui.build_layers());
+            }
+            Ok((mesh, layers)) => {
+                ui.shown = Some(mesh);
+                timed("layers", || ui.set_layers(layers, Some(max_error)));
+            }
             Err(e) => {
                 dom::show_load_message(&format!("cannot show this mesh: {e}"), true);
                 ui.shown = None;
+                ui.build_layers();
             }
         }
-        timed("layers", || ui.build_layers());
         ui.selection_info();
     }
 
@@ -153,13 +255,15 @@ impl MeshGrid {
         Ok(Self { hf })
     }
 
-    /// Builds the mesh of a job's parts (`header`, `kept`, `offsets` as [`MeshJobParts`]):
-    /// `{kept, triangles, pointError, eSum, eMax}` with typed arrays to transfer.
+    /// Builds the mesh of a job's parts (`header`, `kept`, `offsets` as [`MeshJobParts`]) and
+    /// its 3-D layers for the view toggles `toggles` (as bits): `{kept, triangles, pointError,
+    /// eSum, eMax, maxError, layers, toggles}` with typed arrays to transfer.
     pub fn build(
         &self,
         header: String,
         kept: Vec<u32>,
         offsets: Vec<u32>,
+        toggles: u32,
     ) -> Result<JsValue, JsError> {
         let err = |e: String| JsError::new(&e);
         let (plan, parts) = MeshJobParts {
@@ -185,6 +289,16 @@ impl MeshGrid {
         )?;
         put("eSum", JsValue::from_f64(e_sum))?;
         put("eMax", JsValue::from_f64(e_max))?;
+        let max_error = shown.point_error.iter().cloned().fold(0.0, f64::max);
+        let map = ViewMapping::new(&self.hf);
+        let layers = mesh_layers(&self.hf, &map, &shown, max_error, toggles_of(toggles));
+        put("maxError", JsValue::from_f64(max_error))?;
+        put(
+            "layers",
+            layers_to_js(&layers)
+                .map_err(|_| JsError::new("cannot pass the layers to the page"))?,
+        )?;
+        put("toggles", JsValue::from_f64(toggles as f64))?;
         Ok(o.into())
     }
 }

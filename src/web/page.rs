@@ -36,6 +36,18 @@ pub(super) struct ViewKey {
     toggles: ViewToggles,
 }
 
+/// What the plot shows: the app's revision, the pointer's and the selection's members, the
+/// canvas size and the axes.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct PlotKey {
+    pub(super) revision: u64,
+    pub(super) hovered: Option<usize>,
+    pub(super) selected: Option<usize>,
+    pub(super) size: (f64, f64),
+    pub(super) e_axis: crate::app::plot::EAxis,
+    pub(super) log_e: bool,
+}
+
 /// The page's state: the app plus what only the page has (view, plot, pointers, links).
 pub(super) struct Ui {
     /// The surface, the run and the selection.
@@ -51,6 +63,8 @@ pub(super) struct Ui {
     pub(super) meshes: MeshBuilds,
     /// The 3-D view must be drawn again on the next frame.
     pub(super) redraw: bool,
+    /// What the plot was last drawn from: it is drawn again only when that changes.
+    pub(super) plot_key: Option<PlotKey>,
     /// The plot's layout and front points as of the last frame, for hit-testing.
     pub(super) plot_layout: Layout,
     pub(super) front_points: Vec<PlotPoint>,
@@ -129,6 +143,7 @@ impl Ui {
             shown: None,
             meshes: MeshBuilds::default(),
             redraw: true,
+            plot_key: None,
             plot_layout: Layout::fit(1.0, 1.0, []),
             front_points: Vec::new(),
             hovered: None,
@@ -244,18 +259,29 @@ impl Ui {
         let toggles = self.toggles();
         let hf = self.app.surface().heightfield.clone();
         let map = ViewMapping::new(&hf);
-        let layers = match &self.shown {
+        let (layers, max_error) = match &self.shown {
             Some(mesh) => {
                 let max_error = mesh.point_error.iter().cloned().fold(0.0, f64::max);
-                dom::set_text("legend-max", &plot::format_value(max_error));
-                dom::set_visible("legend", toggles.error);
-                mesh_layers(&hf, &map, mesh, max_error, toggles)
+                (
+                    mesh_layers(&hf, &map, mesh, max_error, toggles),
+                    Some(max_error),
+                )
             }
-            None => {
-                dom::set_visible("legend", false);
-                full_surface_layers(&hf, &map)
-            }
+            None => (full_surface_layers(&hf, &map), None),
         };
+        self.set_layers(layers, max_error);
+    }
+
+    /// Hands `layers` to the view, with the error legend's top value `max_error` (`None`:
+    /// no mesh, no legend).
+    pub(super) fn set_layers(&mut self, layers: Vec<(Style, Geometry)>, max_error: Option<f64>) {
+        match max_error {
+            Some(max) => {
+                dom::set_text("legend-max", &plot::format_value(max));
+                dom::set_visible("legend", self.toggles().error);
+            }
+            None => dom::set_visible("legend", false),
+        }
         if let Some(r) = self.renderer.as_mut() {
             super::costs::timed("layer upload", || r.set_layers(layers));
         }
@@ -390,7 +416,7 @@ const SURFACE_COLOUR: [f32; 4] = [0.80, 0.72, 0.58, 1.0];
 
 /// The layers of a selected mesh: its faces (flat, or coloured by each grid point's error when
 /// the error toggle is on), its wireframe, and the original surface and kept points on request.
-fn mesh_layers(
+pub(super) fn mesh_layers(
     hf: &Heightfield,
     map: &ViewMapping,
     mesh: &ShownMesh,

@@ -6,7 +6,7 @@
 use super::costs::timed;
 use super::dom::{self, by_id, listen};
 use super::gpu::{BackendChoice, Renderer};
-use super::page::{HIT_RADIUS, Ui, on_event, performance_now, z_unit};
+use super::page::{HIT_RADIUS, PlotKey, Ui, on_event, performance_now, z_unit};
 use super::{compare_view, plot_view, share_view, teaching_view};
 use crate::app::algorithms;
 use crate::app::camera::OrbitCamera;
@@ -139,9 +139,23 @@ fn draw_plot(ui: &mut Ui) {
     if let Some(layout) = teaching_view::draw_teaching_plot(ui, &ctx, cw, ch, &unit) {
         ui.plot_layout = layout;
         ui.front_points.clear();
+        ui.plot_key = None;
         return;
     }
     let e_axis = e_axis();
+    // Redrawing a front of thousands of members costs milliseconds: only when it changed.
+    let key = PlotKey {
+        revision: ui.app.revision(),
+        hovered: ui.hovered,
+        selected: ui.app.selected_front_index(),
+        size: (cw, ch),
+        e_axis,
+        log_e: dom::checked("plot-log-e"),
+    };
+    if ui.plot_key.as_ref() == Some(&key) {
+        return;
+    }
+    ui.plot_key = Some(key);
     let grid_points = ui.app.surface().heightfield.len();
     let members: &[Solution] = ui.app.front().map_or(&[], |f| f.solutions());
     ui.front_points = members
