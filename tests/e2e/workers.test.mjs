@@ -203,12 +203,14 @@ await withApp(async ({ browser, url }) => {
       selected: app.selectedObjectives(), triangles: app.shownTriangleCount(),
       info: document.getElementById('selection-info').textContent };
   }, [first, second]);
+  console.log(`mesh worker: ${race.frames} frames drawn while two meshes were built; ${race.info}`);
   assert.ok(race.building, 'selecting a member starts building its mesh');
   assert.ok(race.stillBuilding, 'the second member was selected while the worker built the first');
   assert.ok(race.frames >= 3, `animation frames kept coming while the meshes were built (${race.frames})`);
   assert.equal(race.jobs, 2, 'both meshes went to the worker');
   assert.equal(race.meshes, 2, 'the worker built both');
   assert.equal(race.selected[0], second, 'the newer member stays selected');
+  assert.ok(bigFront[second][0] <= 2000000, 'the member is under the view\'s triangle limit');
   assert.equal(race.triangles, bigFront[second][0], `the newer member is drawn (${race.info})`);
   assert.equal(await big.evaluate(() => Number(document.getElementById('selection-info').dataset.vertices) > 0), true, 'the selection line names its vertices');
   await big.waitForTimeout(300);
