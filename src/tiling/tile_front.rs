@@ -127,6 +127,29 @@ pub fn run_tile(
     params: &serde_json::Value,
     seed: u64,
 ) -> Result<TileFront, TilingError> {
+    run_tile_keeping(
+        tile_hf,
+        plan,
+        index,
+        algorithm,
+        params,
+        seed,
+        MEMBERS_PER_TILE,
+    )
+}
+
+/// [`run_tile`] keeping at most `keep` of the optimizer's members (at least 2) instead of
+/// [`MEMBERS_PER_TILE`]: scoring a member visits every point of the tile, so a quick look at a
+/// tile's front keeps fewer.
+pub fn run_tile_keeping(
+    tile_hf: &Heightfield,
+    plan: &TilePlan,
+    index: usize,
+    algorithm: &str,
+    params: &serde_json::Value,
+    seed: u64,
+    keep: usize,
+) -> Result<TileFront, TilingError> {
     let tile = plan.tile(index).ok_or(TilingError::NoSuchTile {
         index,
         tiles: plan.len(),
@@ -153,7 +176,7 @@ pub fn run_tile(
     let border_sets: Vec<Vec<u32>> = (0..levels).map(|l| borders.kept(l)).collect();
     let mut members = Vec::new();
     let mut candidates = Vec::new();
-    for at in spread(&ts, MEMBERS_PER_TILE) {
+    for at in spread(&ts, keep.max(2)) {
         let kept = &solutions[at].kept;
         let on_border = kept.iter().filter(|&&i| borders.on_border(i)).count();
         let corners = 4;
