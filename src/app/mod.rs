@@ -34,3 +34,6 @@ pub mod share;
 pub mod state;
 pub mod teaching;
 pub mod tiled_run;
+
+#[cfg(test)]
+mod tests;
