@@ -16,7 +16,7 @@
 //! seed.
 
 use super::algorithms::{self, Algorithm, Field, Params};
-use super::state::{App, RunConfig, Status, Surface};
+use super::state::{App, RunConfig, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
     Analysis, Budget, DatasetResults, GridSummary, Method, MethodRuns, Pick, RESULTS_FORMAT,
@@ -277,6 +277,7 @@ impl CompareRun {
     }
 
     /// The methods, in [`METHODS`] order.
+    #[cfg(test)]
     pub fn methods(&self) -> impl Iterator<Item = Method> + '_ {
         self.lanes.iter().map(|l| l.method)
     }
@@ -287,7 +288,8 @@ impl CompareRun {
     }
 
     /// The status of method `k` (in [`METHODS`] order).
-    pub fn status(&self, k: usize) -> Option<Status> {
+    #[cfg(test)]
+    pub fn status(&self, k: usize) -> Option<super::state::Status> {
         self.lanes.get(k).map(|l| l.app.status())
     }
 
@@ -302,12 +304,6 @@ impl CompareRun {
     /// A counter that changes whenever a front may have changed.
     pub fn revision(&self) -> u64 {
         self.lanes.iter().map(|l| l.app.revision()).sum()
-    }
-
-    /// The common normalisation, or why the surface has none (a plane: the corner-only mesh is
-    /// exact, so E cannot be divided by its error).
-    pub fn normalization(&self) -> Result<Normalization, String> {
-        self.normalization.clone()
     }
 
     /// The fronts as the experiment's [`Results`]: one dataset, one run per method with a

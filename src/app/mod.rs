@@ -36,3 +36,6 @@ pub mod share;
 pub mod state;
 pub mod teaching;
 pub mod tiled_run;
+
+#[cfg(test)]
+mod tests;

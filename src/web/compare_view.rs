@@ -42,7 +42,7 @@ pub(super) fn compare_frame(ui: &mut Ui) {
         compare_reset(ui);
         dom::set_text(
             "compare-message",
-            "the surface changed: press Compare to run the five methods on it",
+            "the surface changed: press Compare to run every method on it",
         );
     }
     if !dom::checked("compare-on") {

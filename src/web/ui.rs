@@ -49,6 +49,7 @@ pub(super) async fn start(backends: BackendChoice) -> Result<Rc<RefCell<Ui>>, Js
         RunConfig::default(),
     );
     let mut ui = Ui::new(app, Origin::Builtin(loader::BUILTIN_NAME));
+    dom::fill_algorithm_menu().map_err(|e| JsValue::from_str(&e))?;
     teaching_view::fill().map_err(|e| JsValue::from_str(&e))?;
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
     share_view::update_share_controls(&ui);
