@@ -10,7 +10,7 @@
 //!
 //! The indicator table ([`CompareTable`]) is [`Analysis::of`] — the code that computes the
 //! tables of `paretomesh experiment` — on a one-dataset, one-run-per-method [`Results`]: one
-//! common normalisation for the five fronts (E by the corner-only mesh's E, T by the full grid's
+//! common normalisation for the fronts (E by the corner-only mesh's E, T by the full grid's
 //! triangle count), the default reference point (1.1, 1.1), the reference front = the
 //! non-dominated merge of the fronts, and the trade-off picks' weights drawn from the run's
 //! seed.
@@ -107,7 +107,7 @@ pub struct PairRow {
 /// The live table of compare mode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CompareTable {
-    /// The common normalisation of the five fronts.
+    /// The common normalisation of the fronts.
     pub normalization: Normalization,
     /// The hypervolume reference point, normalised.
     pub reference_point: Point,
@@ -129,7 +129,7 @@ struct Lane {
     app: App,
 }
 
-/// A compare run: the five methods on one surface with one set of parameters.
+/// A compare run: every method on one surface with one set of parameters.
 pub struct CompareRun {
     surface: Surface,
     params: Params,
@@ -144,7 +144,7 @@ pub struct CompareRun {
 }
 
 impl CompareRun {
-    /// The five methods on `surface` with `params` (the GA parameters and seed; the classical
+    /// Every method on `surface` with `params` (the GA parameters and seed; the classical
     /// methods use their defaults, as in the experiment), paused, nothing done yet.
     ///
     /// Errors: the message of the first method that refuses the parameters.
@@ -261,7 +261,7 @@ impl CompareRun {
         report
     }
 
-    /// The paper's trade-off pick ([`pick::Pick::TradeOff`]) of the five fronts merged, with the
+    /// The paper's trade-off pick ([`pick::Pick::TradeOff`]) of the fronts merged, with the
     /// weights drawn from the run's seed: the best balance any method found. `None` while every
     /// front is empty.
     pub fn trade_off_solution(&self) -> Option<Solution> {

@@ -3,7 +3,7 @@
 //!
 //! - [`state`]: the app state and time-budgeted stepping of the chosen algorithm.
 //! - [`algorithms`]: the algorithm menu, parameters with the paper's defaults, the builder.
-//! - [`compare`]: compare mode: the five methods side by side and their indicator table;
+//! - [`compare`]: compare mode: every method side by side and their indicator table;
 //!   [`compare_html`] renders that table.
 //! - [`share`]: the share-link codec and its validation; [`examples`] are curated links.
 //! - [`teaching`]: the teaching view's phases and scenes; [`oax_panel`] its crossover panel.

@@ -1,4 +1,4 @@
-//! Compare mode (`app/compare.rs`): the five methods share the frame budget, each
+//! Compare mode (`app/compare.rs`): every method shares the frame budget, each
 //! reaches the front it reaches when run alone, and the live table holds exactly the numbers
 //! the core metrics compute.
 
