@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Greedy insertion against hmm (fogleman's C++ greedy insertion, PyPI `pydelatin`), side by side:
 # both on the same fractal terrains, both stopping once the largest vertical error is at most
-# 1 % of the z range, both single-threaded. hmm runs in a virtualenv in a scratch folder outside
+# 1 % of the z range, both single-threaded and on the whole grid (ours untiled: `--tile` is the
+# grid's side). hmm runs in a virtualenv in a scratch folder outside
 # the project ($BENCH_DIR, default /tmp/paretomesh-greedy-bench), which also holds the grids.
 #   bash scripts/bench-greedy-vs-hmm.sh [SIZE...]     # default sizes: 1025 2048 3601
 #   REPEATS=5 bash scripts/bench-greedy-vs-hmm.sh 2048
@@ -71,7 +72,7 @@ for n in "${sizes[@]}"; do
   for _ in $(seq "$repeats"); do
     if [ -z "$refused" ]; then
       if log=$( { /usr/bin/time -f 'cpu %U %S' "$bin" run "$grid.f32" --algo greedy \
-        --max-error-fraction 0.01 --out "$bench/front.json"; } 2>&1 ); then
+        --max-error-fraction 0.01 --tile "$n" --out "$bench/front.json"; } 2>&1 ); then
         ms=$(echo "$log" | sed -nE 's/^done: .* in ([0-9]+) ms.*/\1/p')
         cpu=$(echo "$log" | awk '/^cpu /{printf "%.2f", $2 + $3}')
         tris=$("$py" -c "import json,sys; print(max(m['T'] for m in json.load(open(sys.argv[1]))['front']))" "$bench/front.json")

@@ -6,8 +6,9 @@
 // Chooses FILE (a GeoTIFF, or a .f32 grid with its .json sidecar beside it) in the app's file
 // picker, keeps a CPU-bound process busy on one core (unless --no-load), and reports: the time
 // from Run to the first whole-grid front, the frame intervals while the run goes on for S
-// seconds (default 30), the tiles done by then, and the time from clicking a member of the front
-// to its mesh drawn. Needs the built app (bash scripts/build-web.sh).
+// seconds (default 30), the tiles done by then, the workers' time per job, the page's own time
+// per step (`mainThreadCosts`), and the time from clicking a member of the front to its mesh
+// drawn, with the frames the page drew meanwhile. Needs the built app (bash scripts/build-web.sh).
 import { spawn } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import path from 'node:path';
@@ -33,6 +34,11 @@ if (file.endsWith('.f32') && existsSync(sidecar)) files.push(path.resolve(sideca
 const pct = (xs, p) => { const s = [...xs].sort((a, b) => a - b); return s[Math.min(s.length - 1, Math.floor(p * s.length))]; };
 const frameLine = (xs) => `${xs.length} frames, median ${pct(xs, 0.5).toFixed(1)} ms, 95th percentile ${pct(xs, 0.95).toFixed(1)} ms, ${(100 * xs.filter((f) => f < 20).length / xs.length).toFixed(1)} % under 20 ms`;
 
+function printCosts(costs) {
+  const rows = Object.entries(costs).sort((a, b) => b[1].total - a[1].total);
+  for (const [name, c] of rows) console.log(`    ${name.padEnd(20)} ${String(c.count).padStart(6)} ${c.total.toFixed(0).padStart(8)} ${c.max.toFixed(1).padStart(8)}`);
+}
+
 // A CPU-bound job on the machine's other core while the app runs.
 const load = args.includes('--no-load') ? null : spawn(process.execPath, ['-e', 'for (;;) {}'], { stdio: 'ignore' });
 try {
@@ -54,6 +60,7 @@ try {
     console.log(`${name}: ${await page.locator('#surface-info').textContent()} · loaded ${loadMs} ms after it was chosen`);
 
     await page.selectOption('#algorithm', algorithm);
+    await page.evaluate(() => window.paretomesh.mainThreadCosts(true));
     await startFrameLog(page);
     const t1 = Date.now();
     await page.click('#run');
@@ -68,6 +75,14 @@ try {
     console.log(`  after ${seconds} s: ${await page.locator('#status').textContent()}`);
     console.log(`  frames while it runs${load ? ', one core busy with another process' : ''}: ${frameLine(frames)}`);
     console.log(`  run message: ${JSON.stringify(await page.locator('#run-message').textContent())}`);
+    const log = await page.evaluate(() => window.paretomeshPool?.log ?? []);
+    const tiles = log.filter((j) => j.kind === 'tile');
+    if (tiles.length) {
+      console.log(`  tile jobs done: ${tiles.length}; worker ms per job: ${tiles.map((j) => Math.round(j.ms)).join(' ')}`);
+      console.log(`  tile fronts posted: ${(tiles.reduce((a, j) => a + j.bytes, 0) / 1e6).toFixed(1)} MB of JSON in all`);
+    }
+    console.log('  main-thread time per step while it ran (count, total ms, longest ms):');
+    printCosts(JSON.parse(await page.evaluate(() => window.paretomesh.mainThreadCosts(true))));
 
     // Select a member of the front and time its mesh drawn.
     const n = await page.evaluate(() => window.paretomesh.frontLength());
@@ -75,12 +90,20 @@ try {
       const member = Math.floor(n / 2);
       const [x, y] = await page.evaluate((i) => window.paretomesh.frontPointPosition(i), member);
       const box = await page.locator('#plot').boundingBox();
+      await startFrameLog(page);
       const t2 = Date.now();
       await page.mouse.click(box.x + x, box.y + y);
       // The click may land on a neighbour of close points: any member selected and drawn.
-      await page.waitForFunction(() => window.paretomesh.selectedObjectives()?.[0] >= 0 && window.paretomesh.shownTriangleCount() > 0, null, { timeout: 300000, polling: 50 });
+      await page.waitForFunction(() => window.paretomesh.selectedObjectives()?.[0] >= 0 && !window.paretomesh.meshBuilding() && window.paretomesh.shownTriangleCount() > 0, null, { timeout: 300000, polling: 50 });
       await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
-      console.log(`  member ${(await page.evaluate(() => window.paretomesh.selectedObjectives()))[0]} (aimed at ${member}) drawn ${Date.now() - t2} ms after the click: ${await page.locator('#selection-info').textContent()}`);
+      const drawnMs = Date.now() - t2;
+      const during = await stopFrameLog(page);
+      console.log(`  member ${(await page.evaluate(() => window.paretomesh.selectedObjectives()))[0]} (aimed at ${member}) drawn ${drawnMs} ms after the click: ${await page.locator('#selection-info').textContent()}`);
+      console.log(`  frames from the click to the mesh drawn: ${frameLine(during)}`);
+      const meshes = (await page.evaluate(() => window.paretomeshPool?.log ?? [])).filter((j) => j.kind === 'mesh');
+      if (meshes.length) console.log(`  mesh worker: ${meshes.map((j) => Math.round(j.ms)).join(' ')} ms per mesh`);
+      console.log('  main-thread time per step from the click to the mesh drawn:');
+      printCosts(JSON.parse(await page.evaluate(() => window.paretomesh.mainThreadCosts(true))));
     }
     await page.screenshot({ path: path.join('target', 'bench-workers.png') });
   });

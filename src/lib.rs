@@ -22,10 +22,9 @@
 //!   the app.
 //! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
 //! - [`pyramid`]: a 3D Tiles pyramid of a front's members, placed on the globe when georeferenced.
-//! - [`app`]: the browser app's logic without the DOM (state, share links, plot layout, ...).
-//! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU.
+//! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU, on the
+//!   app's logic (state, share links, plot layout, ...), which is the crate's own.
 
-pub mod app;
 pub mod baselines;
 pub mod catalogue;
 pub mod evaluator;
@@ -44,5 +43,16 @@ pub mod pick;
 pub mod pyramid;
 pub mod tiling;
 
+// The browser app's logic without the DOM: only `web` (wasm32) and the crate's tests use it, so
+// a native build leaves its page-only parts (and their re-exports) unused.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code, unused_imports))]
+pub(crate) mod app;
+
 #[cfg(target_arch = "wasm32")]
 pub mod web;
+
+/// The app's share-link codec, for the fuzz harness (`fuzz/`) and its replay on stable
+/// (`tests/fuzz_corpus.rs`); not part of the library's API.
+#[cfg(feature = "test-support")]
+#[doc(hidden)]
+pub use app::share;

@@ -1,7 +1,6 @@
 //! The mesh writers and the front's CSV: world coordinates, formats the project's own
 //! importers read back, and one CSV row per front member.
 
-use paretomesh::app::state::shown_mesh;
 use paretomesh::evaluator::Evaluator;
 use paretomesh::export::csv::front_csv;
 use paretomesh::export::mesh::WorldMesh;
@@ -19,6 +18,23 @@ fn volcano() -> Arc<Heightfield> {
     Arc::new(raw::parse(GRID, SIDECAR, "volcano_33x33").unwrap())
 }
 
+/// The mesh the evaluator makes of `kept` (corners added), as the exports receive it.
+struct Mesh {
+    kept: Vec<u32>,
+    triangles: Vec<[u32; 3]>,
+    e_sum: f64,
+}
+
+fn mesh_of(hf: &Arc<Heightfield>, kept: &[u32]) -> Mesh {
+    let mut evaluator = Evaluator::new(hf.clone());
+    let evaluation = evaluator.evaluate(kept).unwrap();
+    Mesh {
+        kept: evaluator.kept().to_vec(),
+        triangles: evaluation.triangles,
+        e_sum: evaluation.score.e_sum,
+    }
+}
+
 // Kept points spread over the 33×33 grid (interior points of a few rows and columns).
 const KEPT: [u32; 6] = [34, 200, 530, 545, 800, 1000];
 
@@ -30,7 +46,7 @@ fn exports_use_the_inputs_own_coordinates() {
         .with_geometry([10.0, 20.0], [2.0, 5.0])
         .unwrap();
     // Kept: point 1 and the four corners (0, 2, 3, 5) = 5 vertices.
-    let mesh = shown_mesh(&Arc::new(hf.clone()), &[1]).unwrap();
+    let mesh = mesh_of(&Arc::new(hf.clone()), &[1]);
     let world = WorldMesh::new(&hf, &mesh.kept, &mesh.triangles).unwrap();
     assert_eq!(world.vertices.last(), Some(&[14.0, 25.0, 5.0]));
     let ply = to_ply(&world, "test");
@@ -61,7 +77,7 @@ fn a_cylindrical_unwrap_exports_back_onto_the_cylinder() {
             axis: [0.0, 0.0, 1.0],
             reference: [1.0, 0.0, 0.0],
         });
-    let mesh = shown_mesh(&Arc::new(hf.clone()), &[5, 6]).unwrap();
+    let mesh = mesh_of(&Arc::new(hf.clone()), &[5, 6]);
     let world = WorldMesh::new(&hf, &mesh.kept, &mesh.triangles).unwrap();
     for v in &world.vertices {
         assert!(
@@ -76,7 +92,7 @@ fn exported_meshes_parse_back_with_the_projects_importers() {
     use paretomesh::import::{obj, ply, stl};
     // volcano_33x33 has spacing 1 and origin 0, so grid and world coordinates agree.
     let hf = volcano();
-    let mesh = shown_mesh(&hf, &KEPT).unwrap();
+    let mesh = mesh_of(&hf, &KEPT);
     let world = WorldMesh::new(&hf, &mesh.kept, &mesh.triangles).unwrap();
     // The importers may renumber vertices (e.g. in order of first use), so compare positions:
     // the vertex sets, and each triangle as its corner positions in order (rotation-normalised,

@@ -1,5 +1,5 @@
 //! The browser bindings in a real headless browser (wasm-bindgen-test, Chromium). The app's
-//! logic is tested natively in tests/app.rs and tests/app_compare.rs.
+//! logic is tested natively in src/app/tests/.
 #![cfg(target_arch = "wasm32")]
 
 use wasm_bindgen_test::*;

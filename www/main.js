@@ -209,6 +209,7 @@ try {
   // Tiled runs go to one Web Worker per core; ?workers sends untiled runs there too, and
   // ?tile=N cuts grids with a side over N points (else the CLI's default tile size).
   pool = new WorkerPool(app);
+  window.paretomeshPool = pool; // its job log, for benchmarks
   app.setPoolSetup(navigator.hardwareConcurrency || 1, flags.has('workers'), Number(flags.get('tile')) || 0);
   if (location.hash.length > 1) app.openLink(location.hash); // a share link
   wireDrop();

@@ -2,13 +2,30 @@
 // that job's grid (see src/app/pool.rs). A whole-grid job posts its front as it grows and when
 // it is done, as three transferable typed arrays; a tile job posts its tile's front (JSON) when
 // done. A job that fails posts the message of what stopped it.
-import init, { JobRunner, runTile, keepPanicMessages, lastPanic } from './pkg/paretomesh.js';
+// The pool's mesh worker runs this script too: it keeps the whole grid (sent with its first
+// job) and builds tiled members' meshes (`kind: 'mesh'`), posting them as typed arrays.
+import init, { JobRunner, MeshGrid, runTile, keepPanicMessages, lastPanic } from './pkg/paretomesh.js';
 
 // How often a running job posts its front: often enough to watch it grow, rarely enough that
 // copying the front costs the job little.
 const POST_MS = 400;
 
 const ready = init().then(() => keepPanicMessages());
+let grid = null;
+
+function buildMesh(job) {
+  if (job.grid) {
+    grid?.free();
+    grid = null;
+    grid = new MeshGrid(job.grid.width, job.grid.height, job.grid.z);
+  }
+  if (!grid) throw new Error('the mesh worker has no grid');
+  const start = performance.now();
+  const m = grid.build(job.header, job.kept, job.offsets, job.toggles);
+  const layers = m.layers.flatMap((l) => [l.vertices.buffer, l.indices.buffer]);
+  self.postMessage({ kind: 'mesh', id: job.id, ms: performance.now() - start, ...m },
+    [m.kept.buffer, m.triangles.buffer, m.pointError.buffer, ...layers]);
+}
 
 function messageOf(e) {
   let panic = null;
@@ -20,9 +37,14 @@ self.onmessage = async ({ data: job }) => {
   const { run, index } = job;
   try {
     await ready;
+    if (job.kind === 'mesh') {
+      buildMesh(job);
+      return;
+    }
     if (job.kind === 'tile') {
-      const front = runTile(job.surface, job.plan, job.tile, job.algorithm, job.params, job.seed);
-      self.postMessage({ kind: 'tile', run, index, front });
+      const start = performance.now();
+      const front = runTile(job.surface, job.plan, job.tile, job.algorithm, job.params, job.seed, job.members);
+      self.postMessage({ kind: 'tile', run, index, front, ms: performance.now() - start });
       return;
     }
     const runner = new JobRunner(job.surface, job.algorithm, job.params);
@@ -35,6 +57,7 @@ self.onmessage = async ({ data: job }) => {
     }
     runner.free();
   } catch (e) {
-    self.postMessage({ kind: 'error', run, index, message: messageOf(e) });
+    if (job.kind === 'mesh') self.postMessage({ kind: 'mesh-error', id: job.id, message: messageOf(e) });
+    else self.postMessage({ kind: 'error', run, index, message: messageOf(e) });
   }
 };

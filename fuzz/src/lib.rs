@@ -8,10 +8,10 @@
 //! - a share link that decodes is valid, re-encodes to a link that decodes to the same thing,
 //!   and its embedded grid, if any, is a height field.
 
-use paretomesh::app::share;
 use paretomesh::heightfield::{Heightfield, MAX_POINTS, MAX_SIDE, MIN_SIDE};
 use paretomesh::import;
 use paretomesh::import::{ImportError, ImportOptions, Projection, Surface};
+use paretomesh::share;
 
 /// One fuzz target: an importer (or the share-link decoder) and the options it is run with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -10,13 +10,13 @@
 //!
 //! The indicator table ([`CompareTable`]) is [`Analysis::of`] — the code that computes the
 //! tables of `paretomesh experiment` — on a one-dataset, one-run-per-method [`Results`]: one
-//! common normalisation for the five fronts (E by the corner-only mesh's E, T by the full grid's
+//! common normalisation for the fronts (E by the corner-only mesh's E, T by the full grid's
 //! triangle count), the default reference point (1.1, 1.1), the reference front = the
 //! non-dominated merge of the fronts, and the trade-off picks' weights drawn from the run's
 //! seed.
 
 use super::algorithms::{self, Algorithm, Field, Params};
-use super::state::{App, RunConfig, Status, Surface};
+use super::state::{App, RunConfig, Surface};
 use crate::evaluator::Evaluator;
 use crate::experiment::{
     Analysis, Budget, DatasetResults, GridSummary, Method, MethodRuns, Pick, RESULTS_FORMAT,
@@ -107,7 +107,7 @@ pub struct PairRow {
 /// The live table of compare mode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CompareTable {
-    /// The common normalisation of the five fronts.
+    /// The common normalisation of the fronts.
     pub normalization: Normalization,
     /// The hypervolume reference point, normalised.
     pub reference_point: Point,
@@ -129,7 +129,7 @@ struct Lane {
     app: App,
 }
 
-/// A compare run: the five methods on one surface with one set of parameters.
+/// A compare run: every method on one surface with one set of parameters.
 pub struct CompareRun {
     surface: Surface,
     params: Params,
@@ -144,7 +144,7 @@ pub struct CompareRun {
 }
 
 impl CompareRun {
-    /// The five methods on `surface` with `params` (the GA parameters and seed; the classical
+    /// Every method on `surface` with `params` (the GA parameters and seed; the classical
     /// methods use their defaults, as in the experiment), paused, nothing done yet.
     ///
     /// Errors: the message of the first method that refuses the parameters.
@@ -261,7 +261,7 @@ impl CompareRun {
         report
     }
 
-    /// The paper's trade-off pick ([`pick::Pick::TradeOff`]) of the five fronts merged, with the
+    /// The paper's trade-off pick ([`pick::Pick::TradeOff`]) of the fronts merged, with the
     /// weights drawn from the run's seed: the best balance any method found. `None` while every
     /// front is empty.
     pub fn trade_off_solution(&self) -> Option<Solution> {
@@ -277,6 +277,7 @@ impl CompareRun {
     }
 
     /// The methods, in [`METHODS`] order.
+    #[cfg(test)]
     pub fn methods(&self) -> impl Iterator<Item = Method> + '_ {
         self.lanes.iter().map(|l| l.method)
     }
@@ -287,7 +288,8 @@ impl CompareRun {
     }
 
     /// The status of method `k` (in [`METHODS`] order).
-    pub fn status(&self, k: usize) -> Option<Status> {
+    #[cfg(test)]
+    pub fn status(&self, k: usize) -> Option<super::state::Status> {
         self.lanes.get(k).map(|l| l.app.status())
     }
 
@@ -302,12 +304,6 @@ impl CompareRun {
     /// A counter that changes whenever a front may have changed.
     pub fn revision(&self) -> u64 {
         self.lanes.iter().map(|l| l.app.revision()).sum()
-    }
-
-    /// The common normalisation, or why the surface has none (a plane: the corner-only mesh is
-    /// exact, so E cannot be divided by its error).
-    pub fn normalization(&self) -> Result<Normalization, String> {
-        self.normalization.clone()
     }
 
     /// The fronts as the experiment's [`Results`]: one dataset, one run per method with a

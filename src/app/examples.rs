@@ -1,5 +1,5 @@
-//! The curated demo links: the page's "Examples" and the README's list (tests/app.rs checks
-//! the README carries exactly these links).
+//! The curated demo links: the page's "Examples" and the README's list
+//! (`app/tests/logic.rs` checks the README carries exactly these links).
 //!
 //! Each is an ordinary share link ([`super::share`]) on a built-in surface, so opening one
 //! re-runs the algorithm in the page. The selected indices were picked from the CLI's fronts

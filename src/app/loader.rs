@@ -62,13 +62,6 @@ pub fn builtin() -> Heightfield {
     BUILTINS[0].heightfield()
 }
 
-/// Lower-case extension of a file name ("" when none).
-pub fn extension(name: &str) -> String {
-    name.rsplit_once('.')
-        .map(|(_, e)| e.to_ascii_lowercase())
-        .unwrap_or_default()
-}
-
 /// Import options from the dialog's values: projection "auto" | "planar" | "cylindrical", and a
 /// grid size where 0 × 0 means automatic. Fails on an unknown projection or half a size.
 pub fn options(projection: &str, width: u32, height: u32) -> Result<ImportOptions, String> {

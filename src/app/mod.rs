@@ -3,7 +3,7 @@
 //!
 //! - [`state`]: the app state and time-budgeted stepping of the chosen algorithm.
 //! - [`algorithms`]: the algorithm menu, parameters with the paper's defaults, the builder.
-//! - [`compare`]: compare mode: the five methods side by side and their indicator table;
+//! - [`compare`]: compare mode: every method side by side and their indicator table;
 //!   [`compare_html`] renders that table.
 //! - [`share`]: the share-link codec and its validation; [`examples`] are curated links.
 //! - [`teaching`]: the teaching view's phases and scenes; [`oax_panel`] its crossover panel.
@@ -12,7 +12,8 @@
 //! - [`loader`]: built-in surfaces and file parsing; [`preview`] the import dialog's image;
 //!   [`handoff`] the parsed surface as plain parts, for the import Worker's hand-off.
 //! - [`pool`]: a run done by a pool of Web Workers, as the page sees it; [`tiled_run`] its
-//!   tiles, their fronts and the whole-grid front assembled from them.
+//!   tiles, their fronts and the whole-grid front assembled from them; [`mesh_builds`] a
+//!   member's mesh built in a worker.
 //! - [`glb_export`]: the shown mesh as `.glb`; [`pyramid_export`] the front as a 3D Tiles
 //!   pyramid in a `.zip`.
 
@@ -25,6 +26,7 @@ pub mod geometry;
 pub mod glb_export;
 pub mod handoff;
 pub mod loader;
+pub mod mesh_builds;
 pub mod oax_panel;
 pub mod plot;
 pub mod pool;
@@ -34,3 +36,6 @@ pub mod share;
 pub mod state;
 pub mod teaching;
 pub mod tiled_run;
+
+#[cfg(test)]
+mod tests;

@@ -234,7 +234,7 @@ impl Layout {
     }
 
     /// Pixel position of a data point (T to the right, E upwards).
-    pub fn to_pixel(&self, p: PlotPoint) -> (f64, f64) {
+    pub fn to_pixel(self, p: PlotPoint) -> (f64, f64) {
         let (l, t, r, b) = self.area();
         let x = l + (p.t - self.t_range.0) / (self.t_range.1 - self.t_range.0) * (r - l);
         let y =

@@ -16,13 +16,17 @@ use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::optimizer::{Optimizer, Progress};
 use crate::pick::{Pick, pick_in_front};
-use crate::tiling::{TileFront, TilePlan};
+use crate::tiling::{TileFront, TilePart, TilePlan};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// The most triangles the 3-D view draws at once; a selected member over it is drawn as the
 /// member of least error within it (see [`App::selected_mesh`]).
 pub const MAX_DRAWN_TRIANGLES: usize = 2_000_000;
+
+/// The member the 3-D view draws for a tiled run's selection, the run's plan and the member's
+/// tile parts.
+pub type DrawnParts = (Solution, TilePlan, Vec<TilePart>);
 
 /// Default time budget of one frame's optimisation slice, in milliseconds.
 pub const DEFAULT_BUDGET_MS: f64 = 8.0;
@@ -221,13 +225,7 @@ impl App {
     /// member over it is stood in for by the member of least error within it (the mesh the 3-D
     /// view draws: a GPU draws a few million triangles smoothly, not tens of millions).
     pub fn selected_mesh(&self, max_triangles: Option<usize>) -> Option<Result<ShownMesh, String>> {
-        let mut member = self.selected.clone()?;
-        if let Some(max) = max_triangles
-            && member.t > max
-            && let Some(coarser) = self.front().and_then(|f| f.within(max))
-        {
-            member = coarser.clone();
-        }
+        let member = self.drawn_member(max_triangles)?;
         let hf = self.surface.heightfield.clone();
         if let Some(tiled) = self.tiled_run() {
             return Some(
@@ -237,6 +235,36 @@ impl App {
             );
         }
         Some(shown_mesh(&hf, &member.kept))
+    }
+
+    /// The member to draw for the selection when it belongs to a tiled run, with its tile
+    /// parts, for a worker to build its mesh ([`crate::tiling::mesh_of_parts`]); `None` when
+    /// nothing is selected or the run is not tiled. `max_triangles` as in
+    /// [`App::selected_mesh`].
+    pub fn selected_tiled_parts(
+        &self,
+        max_triangles: Option<usize>,
+    ) -> Option<Result<DrawnParts, String>> {
+        let member = self.drawn_member(max_triangles)?;
+        let tiled = self.tiled_run()?;
+        Some(
+            tiled
+                .parts(member.e_sum, member.t)
+                .map(|parts| (member, tiled.plan().clone(), parts)),
+        )
+    }
+
+    /// The selection, or with `max_triangles` the member of least error within it that stands
+    /// in for a larger selection.
+    fn drawn_member(&self, max_triangles: Option<usize>) -> Option<Solution> {
+        let member = self.selected.clone()?;
+        if let Some(max) = max_triangles
+            && member.t > max
+            && let Some(coarser) = self.front().and_then(|f| f.within(max))
+        {
+            return Some(coarser.clone());
+        }
+        Some(member)
     }
 
     /// Applies a worker's report to the pool run (see [`PoolRun::report`]); when its last job

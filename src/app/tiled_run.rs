@@ -14,7 +14,9 @@ use crate::baselines::{GreedyParams, GreedyStop};
 use crate::front::{Front, Solution};
 use crate::front_file::GridInfo;
 use crate::tiling::file::TiledFrontFile;
-use crate::tiling::{TileFront, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
+use crate::tiling::{
+    TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params,
+};
 
 /// The algorithm of the first, quick pass.
 pub const QUICK: Algorithm = Algorithm::Greedy;
@@ -34,6 +36,12 @@ fn quick_params(plan: &TilePlan, tile: usize) -> serde_json::Value {
 /// The first pass stops at 1 / this of a tile's full triangle count.
 const QUICK_SHARE: usize = 10;
 
+/// Members a first-pass tile front keeps (the second pass keeps
+/// [`MEMBERS_PER_TILE`](crate::tiling::tile_front::MEMBERS_PER_TILE)): each is scored over
+/// the whole tile, which costs the first pass more than its greedy insertion, and the
+/// whole-grid front combines the tiles' members, so it stays fine-grained with few per tile.
+pub const QUICK_MEMBERS: usize = 16;
+
 /// One tile job: which tile, with which algorithm and parameters (as front.json records them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TileJob {
@@ -47,6 +55,8 @@ pub struct TileJob {
     pub seed: u64,
     /// True for a first-pass job.
     pub quick: bool,
+    /// Members the tile's front keeps (see [`crate::tiling::run_tile_keeping`]).
+    pub members: usize,
 }
 
 /// The tiles of a pool run and what their workers reported.
@@ -109,6 +119,11 @@ impl TiledRun {
             params,
             seed: self.params.seed,
             quick,
+            members: if quick {
+                QUICK_MEMBERS
+            } else {
+                crate::tiling::tile_front::MEMBERS_PER_TILE
+            },
         })
     }
 
@@ -227,13 +242,15 @@ impl TiledRun {
         })
     }
 
-    /// The mesh of the whole-grid member with objectives (`e_sum`, `t`) on the grid `hf`.
-    pub fn mesh(
-        &self,
-        hf: &crate::heightfield::Heightfield,
-        e_sum: f64,
-        t: usize,
-    ) -> Result<TiledMesh, String> {
+    /// The tile parts of the whole-grid member with objectives (`e_sum`, `t`): what a worker
+    /// holding the grid needs to build its mesh ([`crate::tiling::mesh_of_parts`]).
+    pub fn parts(&self, e_sum: f64, t: usize) -> Result<Vec<TilePart>, String> {
+        let (assembled, member) = self.member(e_sum, t)?;
+        assembled.parts(member).map_err(|e| e.to_string())
+    }
+
+    /// The assembled front and the index of its member with objectives (`e_sum`, `t`).
+    fn member(&self, e_sum: f64, t: usize) -> Result<(&TiledFront, usize), String> {
         let assembled = self
             .assembled
             .as_ref()
@@ -243,6 +260,17 @@ impl TiledRun {
             .iter()
             .position(|m| m.t as usize == t && m.e_sum.to_bits() == e_sum.to_bits())
             .ok_or("this member is no longer on the tiled front")?;
+        Ok((assembled, member))
+    }
+
+    /// The mesh of the whole-grid member with objectives (`e_sum`, `t`) on the grid `hf`.
+    pub fn mesh(
+        &self,
+        hf: &crate::heightfield::Heightfield,
+        e_sum: f64,
+        t: usize,
+    ) -> Result<TiledMesh, String> {
+        let (assembled, member) = self.member(e_sum, t)?;
         assembled.mesh(hf, member).map_err(|e| e.to_string())
     }
 }
@@ -252,7 +280,7 @@ impl TiledRun {
 mod tests {
     use super::*;
     use crate::heightfield::Heightfield;
-    use crate::tiling::{run_tile, run_tiled};
+    use crate::tiling::{run_tile_keeping, run_tiled};
 
     fn grid() -> Heightfield {
         let (w, h) = (70, 40);
@@ -275,13 +303,14 @@ mod tests {
     fn work(run: &TiledRun, hf: &Heightfield, index: usize) -> TileFront {
         let job = run.job(index).unwrap();
         let tile = run.plan().cut(hf, job.tile).unwrap();
-        run_tile(
+        run_tile_keeping(
             &tile,
             run.plan(),
             job.tile,
             job.algorithm.name(),
             &job.params,
             job.seed,
+            job.members,
         )
         .unwrap()
     }
@@ -305,6 +334,14 @@ mod tests {
         }
         let quick = run.front();
         assert!(!quick.is_empty());
+        assert!(
+            run.assembled()
+                .unwrap()
+                .tiles
+                .iter()
+                .all(|t| t.members.len() <= QUICK_MEMBERS),
+            "first-pass tile fronts keep at most {QUICK_MEMBERS} members"
+        );
         assert_eq!(run.tiles_final(), 0);
 
         let early = run.run_file(&hf, 0, 1).unwrap_err();

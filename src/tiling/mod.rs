@@ -19,7 +19,7 @@
 //! - [`tile_front`]: [`run_tile`], one tile's front, [`TileFront`];
 //! - [`allocation`]: the multiple-choice allocation of one option per tile;
 //! - [`assemble`](mod@assemble): [`assemble`], the whole-grid front, [`TiledFront`];
-//! - [`mesh`]: a whole-grid member's kept points and triangles;
+//! - [`mesh`]: a whole-grid member's tile parts, kept points and triangles;
 //! - [`file`]: front.json of a tiled run;
 //! - `parallel` (native): [`run_tiled`] on a pool of threads.
 //!
@@ -55,11 +55,11 @@ pub mod tile_front;
 pub use algorithm::{build_optimizer, tile_params, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
 pub use file::TiledFrontFile;
-pub use mesh::TiledMesh;
+pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
 #[cfg(not(target_arch = "wasm32"))]
 pub use parallel::{run_tiled, run_tiled_with_progress};
 pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
-pub use tile_front::{TileCandidate, TileFront, run_tile};
+pub use tile_front::{TileCandidate, TileFront, run_tile, run_tile_keeping};
 
 /// Why a tiling step cannot go on.
 #[derive(Clone, Debug, PartialEq)]

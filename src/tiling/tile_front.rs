@@ -115,8 +115,8 @@ fn spread(ts: &[usize], count: usize) -> Vec<usize> {
 
 /// Runs `algorithm` with `params` ([`tile_params`] of them) on tile `index` of `plan`, whose own
 /// grid is `tile_hf` (cut by [`TilePlan::cut`] or read by window), and scores its members with
-/// the tile's fixed border points. A pure function of its inputs: a tile run in any thread or process gives the same
-/// bits. The tile's seed is derived from `seed` and `index`.
+/// the tile's fixed border points. A pure function of its inputs: a tile run in any thread or
+/// process gives the same bits. The tile's seed is derived from `seed` and `index`.
 ///
 /// Each kept member (at most [`MEMBERS_PER_TILE`]) loses its points on the tile's border and is
 /// scored at the border levels within [`LEVEL_REACH`] of the level nearest its own number of
@@ -129,6 +129,29 @@ pub fn run_tile(
     algorithm: &str,
     params: &serde_json::Value,
     seed: u64,
+) -> Result<TileFront, TilingError> {
+    run_tile_keeping(
+        tile_hf,
+        plan,
+        index,
+        algorithm,
+        params,
+        seed,
+        MEMBERS_PER_TILE,
+    )
+}
+
+/// [`run_tile`] keeping at most `keep` of the optimizer's members (at least 2) instead of
+/// [`MEMBERS_PER_TILE`]: scoring a member visits every point of the tile, so a quick look at a
+/// tile's front keeps fewer.
+pub fn run_tile_keeping(
+    tile_hf: &Heightfield,
+    plan: &TilePlan,
+    index: usize,
+    algorithm: &str,
+    params: &serde_json::Value,
+    seed: u64,
+    keep: usize,
 ) -> Result<TileFront, TilingError> {
     let tile = plan.tile(index).ok_or(TilingError::NoSuchTile {
         index,
@@ -157,7 +180,7 @@ pub fn run_tile(
     let border_sets: Vec<Vec<u32>> = (0..levels).map(|l| borders.kept(l)).collect();
     let mut members = Vec::new();
     let mut candidates = Vec::new();
-    for at in spread(&ts, MEMBERS_PER_TILE) {
+    for at in spread(&ts, keep.max(2)) {
         let kept = &solutions[at].kept;
         let on_border = kept.iter().filter(|&&i| borders.on_border(i)).count();
         let corners = 4;

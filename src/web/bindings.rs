@@ -2,6 +2,7 @@
 //! [`WebApp`] handle with its start-up and frame, file loading and read-only accessors for the
 //! end-to-end tests, and the free functions the Worker and the import dialog use.
 
+use super::costs::timed;
 use super::gpu::BackendChoice;
 use super::page::Ui;
 use super::{dom, pool, preview, share_view, teaching_view, transfer, ui};
@@ -20,7 +21,7 @@ use wasm_bindgen::prelude::*;
 /// The app as the page's JS sees it.
 #[wasm_bindgen]
 pub struct WebApp {
-    ui: Rc<RefCell<Ui>>,
+    pub(super) ui: Rc<RefCell<Ui>>,
 }
 
 /// Starts the app: panic hook, built-in surface, the 3-D view on the `#view` canvas (WebGL2 only when
@@ -123,6 +124,15 @@ impl WebApp {
         Some(vec![index, s.t as f64, s.e_sum])
     }
 
+    /// Selects the front member at `index` (by increasing T) as a click on its point in the
+    /// plot does; none when out of range.
+    #[wasm_bindgen(js_name = selectFrontMember)]
+    pub fn select_front_member(&self, index: usize) {
+        let mut ui = self.ui.borrow_mut();
+        ui.app.select_front_index(Some(index));
+        ui.update_layers();
+    }
+
     /// True while a share link's run is being re-done.
     #[wasm_bindgen(js_name = isReproducing)]
     pub fn is_reproducing(&self) -> bool {
@@ -204,7 +214,9 @@ impl WebApp {
         let Some(job) = run.next_job() else {
             return Ok(JsValue::NULL);
         };
-        pool::job_to_js(&job, &hf, run.tiled().map(|t| t.plan()))
+        timed("job hand-out", || {
+            pool::job_to_js(&job, &hf, run.tiled().map(|t| t.plan()))
+        })
     }
 
     /// A worker posts tile job `index` of pool run `run` done, with the tile's front as JSON.
@@ -212,9 +224,13 @@ impl WebApp {
     #[wasm_bindgen(js_name = poolReportTile)]
     pub fn pool_report_tile(&self, run: f64, index: usize, front: &str) {
         let mut ui = self.ui.borrow_mut();
-        let applied = serde_json::from_str(front)
+        let applied = timed("tile front parse", || serde_json::from_str(front))
             .map_err(|e| format!("a worker posted a tile front the page cannot read: {e}"))
-            .and_then(|front| ui.app.pool_report_tile(run as u64, index, front));
+            .and_then(|front| {
+                timed("tile front report", || {
+                    ui.app.pool_report_tile(run as u64, index, front)
+                })
+            });
         if let Err(e) = applied {
             ui.app.pool_failed(run as u64, Some(index), &e);
         }
@@ -270,8 +286,10 @@ pub fn run_tile(
     algorithm: &str,
     params: &str,
     seed: &str,
+    members: usize,
 ) -> Result<String, JsError> {
-    pool::run_tile(&surface, plan, tile, algorithm, params, seed).map_err(|e| JsError::new(&e))
+    pool::run_tile(&surface, plan, tile, algorithm, params, seed, members)
+        .map_err(|e| JsError::new(&e))
 }
 
 /// A job running in a Web Worker of the pool (`www/pool-worker.js`); see [`pool::JobRunner`].

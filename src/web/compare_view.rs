@@ -29,7 +29,7 @@ fn set_html(id: &str, html: &str) {
 }
 
 /// Compare mode's part of a frame: advance the run within the budget, refresh the table
-/// (throttled), and draw the five fronts.
+/// (throttled), and draw every method's front.
 pub(super) fn compare_frame(ui: &mut Ui) {
     let surface = Arc::as_ptr(&ui.app.surface().heightfield);
     if ui
@@ -42,7 +42,7 @@ pub(super) fn compare_frame(ui: &mut Ui) {
         compare_reset(ui);
         dom::set_text(
             "compare-message",
-            "the surface changed: press Compare to run the five methods on it",
+            "the surface changed: press Compare to run every method on it",
         );
     }
     if !dom::checked("compare-on") {

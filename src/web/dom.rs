@@ -73,6 +73,26 @@ fn parse_field<T: std::str::FromStr>(id: &str, what: &str) -> Result<T, String> 
         .map_err(|_| format!("{what}: “{v}” is not a valid number"))
 }
 
+/// Fills the method menu from the catalogue (its name is the value, its label the text), with
+/// the default method selected, so that a new method reaches the page with no edit here.
+pub fn fill_algorithm_menu() -> Result<(), String> {
+    let document = document();
+    let select: HtmlSelectElement = by_id("algorithm")?;
+    for algorithm in Algorithm::ALL {
+        let option = document
+            .create_element("option")
+            .map_err(|_| "cannot create a menu entry")?;
+        let _ = option.set_attribute("value", algorithm.name());
+        if algorithm == Algorithm::DEFAULT {
+            let _ = option.set_attribute("selected", "");
+        }
+        option.set_text_content(Some(algorithm.label()));
+        let _ = select.append_child(&option);
+    }
+    select.set_value(Algorithm::DEFAULT.name());
+    Ok(())
+}
+
 /// Reads the parameter form. Fails with a message naming the bad field.
 pub fn read_config() -> Result<RunConfig, String> {
     let algorithm =

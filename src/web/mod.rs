@@ -7,14 +7,18 @@
 //! - [`page`]: the page state every view works on.
 //! - [`dom`]: the page's controls; [`plot_view`]: the plot's drawing; [`preview`]: the import
 //!   preview; [`transfer`]: height fields to and from the Worker.
-//! - [`pool`]: pool runs' jobs, the worker's runner and its fronts at the JS boundary.
+//! - [`pool`]: pool runs' jobs, the worker's runner and its fronts at the JS boundary;
+//!   [`mesh_worker`]: tiled members' meshes built in a worker; [`costs`]: main-thread time
+//!   per step.
 //! - [`gpu`]: the 3-D view: WebGPU through wgpu where the browser offers an adapter, else
 //!   WebGL2 ([`webgl`], on web-sys).
 
 pub mod bindings;
 pub mod compare_view;
+pub mod costs;
 pub mod dom;
 pub mod gpu;
+pub mod mesh_worker;
 pub mod oax_panel;
 pub mod page;
 pub mod plot_view;

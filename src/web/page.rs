@@ -10,6 +10,7 @@ use crate::app::camera::OrbitCamera;
 use crate::app::compare::{self, CompareRun};
 use crate::app::geometry::{self, Geometry, ViewMapping};
 use crate::app::loader;
+use crate::app::mesh_builds::MeshBuilds;
 use crate::app::plot::{self, Layout, PlotPoint};
 use crate::app::share::{Origin, ShareLink, ViewToggles};
 use crate::app::state::{App, MAX_DRAWN_TRIANGLES, ShownMesh, shown_mesh};
@@ -35,6 +36,18 @@ pub(super) struct ViewKey {
     toggles: ViewToggles,
 }
 
+/// What the plot shows: the app's revision, the pointer's and the selection's members, the
+/// canvas size and the axes.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct PlotKey {
+    pub(super) revision: u64,
+    pub(super) hovered: Option<usize>,
+    pub(super) selected: Option<usize>,
+    pub(super) size: (f64, f64),
+    pub(super) e_axis: crate::app::plot::EAxis,
+    pub(super) log_e: bool,
+}
+
 /// The page's state: the app plus what only the page has (view, plot, pointers, links).
 pub(super) struct Ui {
     /// The surface, the run and the selection.
@@ -46,8 +59,12 @@ pub(super) struct Ui {
     pub(super) view_key: Option<ViewKey>,
     /// The selected mesh with its per-point errors, as the 3-D view shows it.
     pub(super) shown: Option<ShownMesh>,
+    /// A tiled member's mesh being built in the mesh worker.
+    pub(super) meshes: MeshBuilds,
     /// The 3-D view must be drawn again on the next frame.
     pub(super) redraw: bool,
+    /// What the plot was last drawn from: it is drawn again only when that changes.
+    pub(super) plot_key: Option<PlotKey>,
     /// The plot's layout and front points as of the last frame, for hit-testing.
     pub(super) plot_layout: Layout,
     pub(super) front_points: Vec<PlotPoint>,
@@ -124,7 +141,9 @@ impl Ui {
             camera: OrbitCamera::default(),
             view_key: None,
             shown: None,
+            meshes: MeshBuilds::default(),
             redraw: true,
+            plot_key: None,
             plot_layout: Layout::fit(1.0, 1.0, []),
             front_points: Vec::new(),
             hovered: None,
@@ -181,7 +200,9 @@ impl Ui {
         dom::set_text("surface-source", &source);
     }
 
-    /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed.
+    /// Rebuilds the 3-D layers when the selection, the surface or a toggle changed. A tiled
+    /// member's mesh is asked of the mesh worker instead: the layers shown stay until it comes
+    /// (see [`crate::app::mesh_builds`]).
     pub(super) fn update_layers(&mut self) {
         let toggles = self.toggles();
         let hf = self.app.surface().heightfield.clone();
@@ -193,29 +214,76 @@ impl Ui {
         if self.view_key.as_ref() == Some(&key) {
             return;
         }
-        let selection_changed = self
+        let surface_changed = self
             .view_key
             .as_ref()
-            .is_none_or(|k| k.surface != key.surface || k.selected != key.selected);
+            .is_none_or(|k| k.surface != key.surface);
+        let selection_changed =
+            surface_changed || self.view_key.as_ref().map(|k| k.selected) != Some(key.selected);
+        self.view_key = Some(key);
+        if surface_changed {
+            self.meshes.cancel();
+            self.meshes.grid_lost();
+        }
         if selection_changed {
+            if self.request_tiled_mesh() {
+                self.selection_info();
+                return;
+            }
+            self.meshes.cancel();
             self.refresh_shown();
         }
-        self.view_key = Some(key);
+        self.build_layers();
+    }
+
+    /// Asks the mesh worker for the selection's mesh when it is a tiled run's member; returns
+    /// whether it did.
+    fn request_tiled_mesh(&mut self) -> bool {
+        let request = super::costs::timed("mesh request", || {
+            self.app.selected_tiled_parts(Some(MAX_DRAWN_TRIANGLES))
+        });
+        match request {
+            Some(Ok((member, plan, parts))) => {
+                self.meshes.request(member, plan, parts);
+                true
+            }
+            // Nothing selected, an untiled run, or a member no longer on the front (which
+            // the page's own rebuild reports).
+            _ => false,
+        }
+    }
+
+    /// Builds the 3-D layers of the shown mesh (or of the full surface) and hands them to the
+    /// view.
+    pub(super) fn build_layers(&mut self) {
+        let toggles = self.toggles();
+        let hf = self.app.surface().heightfield.clone();
         let map = ViewMapping::new(&hf);
-        let layers = match &self.shown {
+        let (layers, max_error) = match &self.shown {
             Some(mesh) => {
                 let max_error = mesh.point_error.iter().cloned().fold(0.0, f64::max);
-                dom::set_text("legend-max", &plot::format_value(max_error));
-                dom::set_visible("legend", toggles.error);
-                mesh_layers(&hf, &map, mesh, max_error, toggles)
+                (
+                    mesh_layers(&hf, &map, mesh, max_error, toggles),
+                    Some(max_error),
+                )
             }
-            None => {
-                dom::set_visible("legend", false);
-                full_surface_layers(&hf, &map)
-            }
+            None => (full_surface_layers(&hf, &map), None),
         };
+        self.set_layers(layers, max_error);
+    }
+
+    /// Hands `layers` to the view, with the error legend's top value `max_error` (`None`:
+    /// no mesh, no legend).
+    pub(super) fn set_layers(&mut self, layers: Vec<(Style, Geometry)>, max_error: Option<f64>) {
+        match max_error {
+            Some(max) => {
+                dom::set_text("legend-max", &plot::format_value(max));
+                dom::set_visible("legend", self.toggles().error);
+            }
+            None => dom::set_visible("legend", false),
+        }
         if let Some(r) = self.renderer.as_mut() {
-            r.set_layers(layers);
+            super::costs::timed("layer upload", || r.set_layers(layers));
         }
         self.redraw = true;
     }
@@ -237,7 +305,20 @@ impl Ui {
     }
 
     pub(super) fn selection_info(&self) {
+        let building = self.meshes.building();
         let text = match (self.app.selected(), &self.shown) {
+            (Some(s), _) if building.is_some() => format!(
+                "selected: T = {} triangles · E = {} · E_max = {} · building {}its mesh from \
+                 the tiles in a Web Worker…",
+                s.t,
+                plot::format_value(s.e_sum),
+                plot::format_value(s.e_max),
+                match building {
+                    Some(b) if b.t != s.t =>
+                        format!("the member with T = {} that stands in for it: ", b.t),
+                    _ => String::new(),
+                }
+            ),
             (Some(s), Some(m)) if m.triangles.len() != s.t => format!(
                 "selected: T = {} triangles · E = {} · E_max = {} · drawn as the front's member \
                  with T = {} ({} vertices): the view draws at most {} triangles; exports \
@@ -266,6 +347,7 @@ impl Ui {
                 &self
                     .shown
                     .as_ref()
+                    .filter(|_| building.is_none())
                     .map_or(String::new(), |m| m.kept.len().to_string()),
             );
         }
@@ -334,7 +416,7 @@ const SURFACE_COLOUR: [f32; 4] = [0.80, 0.72, 0.58, 1.0];
 
 /// The layers of a selected mesh: its faces (flat, or coloured by each grid point's error when
 /// the error toggle is on), its wireframe, and the original surface and kept points on request.
-fn mesh_layers(
+pub(super) fn mesh_layers(
     hf: &Heightfield,
     map: &ViewMapping,
     mesh: &ShownMesh,

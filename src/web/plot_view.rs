@@ -3,8 +3,8 @@
 //! teaching and comparison scenes. Layout and hit-testing are in [`crate::app::plot`].
 
 use crate::app::plot::{
-    E_TITLE_LEFT, EAxis, Layout, Mark, PlotPoint, Scene, Shape, TICK_GAP, format_value,
-    rank_colour, ticks,
+    E_TITLE_LEFT, EAxis, Layout, Mark, PlotPoint, Scene, Shape, TICK_FONT_PX, TICK_GAP,
+    format_value, rank_colour, ticks,
 };
 use web_sys::CanvasRenderingContext2d;
 
@@ -40,7 +40,7 @@ pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
 fn axes(ctx: &CanvasRenderingContext2d, layout: &Layout, z_unit: &str, e_axis: EAxis) {
     let h = layout.height;
     let (l, t, r, b) = layout.area();
-    ctx.set_font("11px system-ui, sans-serif");
+    ctx.set_font(&format!("{TICK_FONT_PX}px system-ui, sans-serif"));
     ctx.set_line_width(1.0);
     ctx.set_stroke_style_str("#e6e6e6");
     ctx.set_fill_style_str("#444");

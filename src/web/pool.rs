@@ -24,8 +24,9 @@ fn set(o: &Object, key: &str, value: &JsValue) -> Result<(), JsValue> {
 /// The message a worker is handed for `job` on the surface `hf`: `{run, index, kind, algorithm,
 /// params, surface}` with `params` as JSON and `surface` (the job's own grid: the whole grid, or
 /// its tile cut from it) in [`transfer`]'s form, whose heights the page transfers. A tile job
-/// (`kind: "tile"`) also has `plan` (the tile plan as JSON), `tile` and `seed` (decimal
-/// text: a seed may exceed what a JavaScript number holds exactly).
+/// (`kind: "tile"`) also has `plan` (the tile plan as JSON), `tile`, `seed` (decimal text: a
+/// seed may exceed what a JavaScript number holds exactly) and `members` (how many of its
+/// optimizer's members the tile's front keeps).
 pub fn job_to_js(job: &Job, hf: &Heightfield, plan: Option<&TilePlan>) -> Result<JsValue, JsValue> {
     let o = Object::new();
     set(&o, "run", &JsValue::from_f64(job.run as f64))?;
@@ -46,6 +47,7 @@ pub fn job_to_js(job: &Job, hf: &Heightfield, plan: Option<&TilePlan>) -> Result
             set(&o, "plan", &json(plan)?.into())?;
             set(&o, "tile", &JsValue::from_f64(tile.tile as f64))?;
             set(&o, "seed", &tile.seed.to_string().into())?;
+            set(&o, "members", &JsValue::from_f64(tile.members as f64))?;
             set(&o, "surface", &transfer::surface_to_js(&cut)?)?;
         }
     }
@@ -53,8 +55,9 @@ pub fn job_to_js(job: &Job, hf: &Heightfield, plan: Option<&TilePlan>) -> Result
 }
 
 /// Runs tile `tile` of the plan `plan` (JSON) on its grid `surface` with `algorithm` (menu
-/// key), `params` (JSON) and `seed`, and returns the tile's front as JSON: the worker's side of
-/// a tile job, the same function a tiled CLI run calls for each tile.
+/// key), `params` (JSON) and `seed`, keeping `members` members, and returns the tile's front as
+/// JSON: the worker's side of a tile job, the same function a tiled CLI run calls for each
+/// tile.
 pub fn run_tile(
     surface: &JsValue,
     plan: &str,
@@ -62,14 +65,15 @@ pub fn run_tile(
     algorithm: &str,
     params: &str,
     seed: &str,
+    members: usize,
 ) -> Result<String, String> {
     let seed: u64 = seed.parse().map_err(|_| format!("bad seed {seed}"))?;
     let hf = transfer::surface_from_js(surface)?;
     let plan: TilePlan = serde_json::from_str(plan).map_err(|e| format!("bad tile plan: {e}"))?;
     let params: serde_json::Value =
         serde_json::from_str(params).map_err(|e| format!("bad parameters: {e}"))?;
-    let front =
-        tiling::run_tile(&hf, &plan, tile, algorithm, &params, seed).map_err(|e| e.to_string())?;
+    let front = tiling::run_tile_keeping(&hf, &plan, tile, algorithm, &params, seed, members)
+        .map_err(|e| e.to_string())?;
     serde_json::to_string(&front).map_err(|e| e.to_string())
 }
 

@@ -3,9 +3,10 @@
 //! the listeners of the main controls, the plot and the 3-D view. The views of share links,
 //! teaching and compare mode are in their own modules; [`super::bindings`] is what the JS calls.
 
+use super::costs::timed;
 use super::dom::{self, by_id, listen};
 use super::gpu::{BackendChoice, Renderer};
-use super::page::{HIT_RADIUS, Ui, on_event, performance_now, z_unit};
+use super::page::{HIT_RADIUS, PlotKey, Ui, on_event, performance_now, z_unit};
 use super::{compare_view, plot_view, share_view, teaching_view};
 use crate::app::algorithms;
 use crate::app::camera::OrbitCamera;
@@ -48,6 +49,7 @@ pub(super) async fn start(backends: BackendChoice) -> Result<Rc<RefCell<Ui>>, Js
         RunConfig::default(),
     );
     let mut ui = Ui::new(app, Origin::Builtin(loader::BUILTIN_NAME));
+    dom::fill_algorithm_menu().map_err(|e| JsValue::from_str(&e))?;
     teaching_view::fill().map_err(|e| JsValue::from_str(&e))?;
     share_view::fill_menus(&ui.app).map_err(|e| JsValue::from_str(&e))?;
     share_view::update_share_controls(&ui);
@@ -92,9 +94,13 @@ fn install_panic_hook() {
 /// One animation frame: optimise within the budget, update the status, the panels, the plot
 /// and the 3-D view.
 pub(super) fn frame(ui: &mut Ui) {
+    timed("frame", || frame_steps(ui));
+}
+
+fn frame_steps(ui: &mut Ui) {
     let budget = ui.app.config().budget_ms;
     let mut clock = performance_now;
-    ui.app.tick(budget, &mut clock);
+    timed("tick", || ui.app.tick(budget, &mut clock));
     compare_view::compare_frame(ui);
     let mut status = dom::status_text(&ui.app.status(), ui.app.is_running());
     if let Some(r) = ui.app.reproduction() {
@@ -106,13 +112,13 @@ pub(super) fn frame(ui: &mut Ui) {
     super::pool::note_status(ui, &mut status);
     dom::set_text("status", &status);
     teaching_view::teaching_frame(ui, performance_now());
-    ui.update_layers();
-    draw_plot(ui);
+    timed("layers", || ui.update_layers());
+    timed("plot", || draw_plot(ui));
     ui.resize_view();
     if ui.redraw
         && let Some(r) = ui.renderer.as_mut()
     {
-        r.draw(&ui.camera);
+        timed("draw", || r.draw(&ui.camera));
         ui.redraw = false;
         if !ui.painted {
             // Lets anyone (the end-to-end test, DevTools) read the time to first paint.
@@ -134,9 +140,23 @@ fn draw_plot(ui: &mut Ui) {
     if let Some(layout) = teaching_view::draw_teaching_plot(ui, &ctx, cw, ch, &unit) {
         ui.plot_layout = layout;
         ui.front_points.clear();
+        ui.plot_key = None;
         return;
     }
     let e_axis = e_axis();
+    // Redrawing a front of thousands of members costs milliseconds: only when it changed.
+    let key = PlotKey {
+        revision: ui.app.revision(),
+        hovered: ui.hovered,
+        selected: ui.app.selected_front_index(),
+        size: (cw, ch),
+        e_axis,
+        log_e: dom::checked("plot-log-e"),
+    };
+    if ui.plot_key.as_ref() == Some(&key) {
+        return;
+    }
+    ui.plot_key = Some(key);
     let grid_points = ui.app.surface().heightfield.len();
     let members: &[Solution] = ui.app.front().map_or(&[], |f| f.solutions());
     ui.front_points = members

@@ -8,6 +8,10 @@
 //    whole-grid front from the greedy pass, then the NSGA-II pass, ending on the front of the
 //    CLI's tiled run with the same seed and tile size; selecting a member draws its mesh,
 //    rebuilt from the tiles, with as many triangles as the member's T.
+// 4. A 1025×1025 grid with `?tile=257` (greedy insertion, 16 tiles): a member's mesh is built
+//    in the pool's mesh worker, not on the page: animation frames keep coming while it is
+//    built, and selecting another member while the worker still builds the first ends with the
+//    newer member drawn (the older mesh, when it comes, is dropped).
 // Needs the CLI (cargo build --bin paretomesh) and www/pkg (bash scripts/build-web.sh).
 import { readFileSync, writeFileSync, existsSync, mkdtempSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
@@ -26,7 +30,7 @@ function cliFront(args) {
   return JSON.parse(readFileSync(out, 'utf8')).front.map((m) => [m.T, m.E_sum]);
 }
 
-// A seeded 257×257 terrain as a raw f32 grid and its sidecar.
+// A seeded w×h terrain as a raw f32 grid and its sidecar.
 function terrain(w, h) {
   const z = new Float32Array(w * h);
   for (let y = 0; y < h; y++) {
@@ -36,8 +40,8 @@ function terrain(w, h) {
         + 60 * Math.exp(-((u - 0.3) ** 2 + (v - 0.6) ** 2) * 80) + 4 * Math.sin(61 * u) * Math.sin(47 * v);
     }
   }
-  return [{ name: 'terrain_257.f32', bytes: Buffer.from(z.buffer) },
-    { name: 'terrain_257.json', bytes: Buffer.from(JSON.stringify({ width: w, height: h })) }];
+  return [{ name: `terrain_${w}.f32`, bytes: Buffer.from(z.buffer) },
+    { name: `terrain_${w}.json`, bytes: Buffer.from(JSON.stringify({ width: w, height: h })) }];
 }
 
 // The CLI's tiled front for `args` on `files` (written to a scratch folder), as [T, E] pairs.
@@ -161,7 +165,59 @@ await withApp(async ({ browser, url }) => {
   const tiledVariance = await pixelVariance(tiled, await tiled.locator('#view').screenshot());
   assert.ok(tiledVariance > 50, `the tiled member is drawn (pixel variance ${tiledVariance.toFixed(1)})`);
   await tiled.screenshot({ path: path.join(shots, 'workers-02-tiled.png') });
+  assert.ok(await tiled.evaluate(() => window.paretomeshPool.log.some((j) => j.kind === 'mesh')), 'the member\'s mesh was built in the mesh worker');
   assert.deepEqual(realErrors(tiled), [], 'no page errors');
   await tiled.close();
+
+  // 4. Meshes built in the mesh worker while the page keeps drawing frames.
+  const big = await newPage(browser);
+  await big.goto(`${url}?tile=257`);
+  await waitForApp(big);
+  await big.evaluate(() => window.paretomesh.setPoolSetup(2, false, 257));
+  await dropFiles(big, terrain(1025, 1025));
+  await big.waitForFunction(() => window.paretomesh.surfaceName() === 'terrain_1025.f32', null, { timeout: 60000 });
+  await big.selectOption('#algorithm', 'greedy');
+  await big.click('#run');
+  await big.waitForFunction(() => /^done/.test(document.getElementById('status').textContent), null, { timeout: 600000, polling: 200 });
+  assert.match(await status(big), /16 with a front, 16 final/);
+  const bigFront = pairs(await big.evaluate(() => window.paretomesh.frontObjectives()));
+  assert.ok(bigFront.length >= 20, `the tiled front has members (${bigFront.length})`);
+  // The run ends with its trade-off pick selected; wait until its mesh is drawn.
+  await big.waitForFunction(() => !window.paretomesh.meshBuilding() && window.paretomesh.shownTriangleCount() > 0, null, { timeout: 120000 });
+  const [first, second] = [Math.floor(bigFront.length * 0.8), Math.floor(bigFront.length * 0.6)];
+  const race = await big.evaluate(async ([a, b]) => {
+    const app = window.paretomesh;
+    const pool = window.paretomeshPool;
+    const frame = () => new Promise((r) => requestAnimationFrame(r));
+    const meshes = () => pool.log.filter((j) => j.kind === 'mesh').length;
+    const [sent, built] = [pool.meshesSent, meshes()];
+    app.selectFrontMember(a);
+    const building = app.meshBuilding();
+    while (pool.meshesSent === sent) await frame();
+    // The worker has the first member's job: select the second before its mesh comes.
+    const stillBuilding = pool.meshBusy && meshes() === built;
+    app.selectFrontMember(b);
+    let frames = 0;
+    while (app.meshBuilding()) { await frame(); frames++; }
+    return { building, stillBuilding, frames, jobs: pool.meshesSent - sent, meshes: meshes() - built,
+      selected: app.selectedObjectives(), triangles: app.shownTriangleCount(),
+      info: document.getElementById('selection-info').textContent };
+  }, [first, second]);
+  console.log(`mesh worker: ${race.frames} frames drawn while two meshes were built; ${race.info}`);
+  assert.ok(race.building, 'selecting a member starts building its mesh');
+  assert.ok(race.stillBuilding, 'the second member was selected while the worker built the first');
+  assert.ok(race.frames >= 3, `animation frames kept coming while the meshes were built (${race.frames})`);
+  assert.equal(race.jobs, 2, 'both meshes went to the worker');
+  assert.equal(race.meshes, 2, 'the worker built both');
+  assert.equal(race.selected[0], second, 'the newer member stays selected');
+  assert.ok(bigFront[second][0] <= 2000000, 'the member is under the view\'s triangle limit');
+  assert.equal(race.triangles, bigFront[second][0], `the newer member is drawn (${race.info})`);
+  assert.equal(await big.evaluate(() => Number(document.getElementById('selection-info').dataset.vertices) > 0), true, 'the selection line names its vertices');
+  await big.waitForTimeout(300);
+  const bigVariance = await pixelVariance(big, await big.locator('#view').screenshot());
+  assert.ok(bigVariance > 50, `the member is drawn (pixel variance ${bigVariance.toFixed(1)})`);
+  await big.screenshot({ path: path.join(shots, 'workers-03-mesh-worker.png') });
+  assert.deepEqual(realErrors(big), [], 'no page errors');
+  await big.close();
 });
 console.log('workers e2e: ok');

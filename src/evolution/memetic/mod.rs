@@ -37,15 +37,17 @@
 //!
 //! [`Optimizer::front`]: crate::optimizer::Optimizer::front
 
-pub mod decimation;
-pub mod guide;
-pub mod local_search;
-pub mod member;
-pub mod mutation;
-pub mod neighbour_mating;
-pub mod optimizer;
-pub mod params;
-pub mod seeding;
+pub(crate) mod decimation;
+pub(crate) mod guide;
+pub(crate) mod local_search;
+pub(crate) mod member;
+pub(crate) mod mutation;
+pub(crate) mod neighbour_mating;
+pub(crate) mod optimizer;
+pub(crate) mod params;
+pub(crate) mod seeding;
+#[cfg(test)]
+mod tests;
 
 pub use optimizer::Memetic;
 pub use params::{

@@ -91,7 +91,7 @@ impl Cut {
     }
 
     /// Is grid point `i` beyond the cut (taken from the second parent)?
-    pub fn from_second(&self, hf: &Heightfield, i: u32) -> bool {
+    pub fn is_from_second(&self, hf: &Heightfield, i: u32) -> bool {
         let (x, y) = hf.coords(i);
         (if self.vertical { x } else { y }) >= self.at
     }
@@ -106,8 +106,13 @@ pub fn cross(evaluator: &mut Evaluator, a: &mut Member, b: &mut Member, cut: Cut
         .kept
         .iter()
         .copied()
-        .filter(|&i| !cut.from_second(&hf, i))
-        .chain(b.kept.iter().copied().filter(|&i| cut.from_second(&hf, i)))
+        .filter(|&i| !cut.is_from_second(&hf, i))
+        .chain(
+            b.kept
+                .iter()
+                .copied()
+                .filter(|&i| cut.is_from_second(&hf, i)),
+        )
         .collect();
     kept.sort_unstable();
     kept.dedup();
@@ -139,7 +144,7 @@ mod tests {
                     assert_eq!(bits.len(), (w * h).div_ceil(64));
                     for i in 0..(w * h) as u32 {
                         let bit = (bits[i as usize / 64] >> (i % 64)) & 1 == 1;
-                        assert_eq!(bit, cut.from_second(&hf, i), "{w}x{h} {cut:?} point {i}");
+                        assert_eq!(bit, cut.is_from_second(&hf, i), "{w}x{h} {cut:?} point {i}");
                     }
                     // No bit past the grid.
                     let tail = (w * h) % 64;

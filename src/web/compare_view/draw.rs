@@ -1,4 +1,4 @@
-//! The compare plot: the axes of the single-run plot, then the five fronts as staircases with
+//! The compare plot: the axes of the single-run plot, then every method's front as a staircase with
 //! one colour and marker shape per method, the picks ringed, the selection and the hovered
 //! member marked, and a hover read-out.
 
@@ -11,7 +11,7 @@ use crate::web::plot_view;
 use std::fmt::Write;
 use web_sys::CanvasRenderingContext2d;
 
-/// Draws the five fronts of the comparison on `#compare-plot` and keeps the layout and the
+/// Draws every method's front of the comparison on `#compare-plot` and keeps the layout and the
 /// plotted members for hit-testing.
 pub(super) fn compare_plot(ui: &mut Ui) {
     let Some((ctx, cw, ch)) = dom::canvas_2d("compare-plot") else {

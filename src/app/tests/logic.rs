@@ -2,11 +2,11 @@
 //! camera, loading, time-budgeted stepping, share links, the curated examples and the teaching
 //! view.
 
-const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
-const SIDECAR: &[u8] = include_bytes!("data/volcano_33x33.json");
+const GRID: &[u8] = include_bytes!("../../../tests/data/volcano_33x33.f32");
+const SIDECAR: &[u8] = include_bytes!("../../../tests/data/volcano_33x33.json");
 
 mod plot_hit_testing {
-    use paretomesh::app::plot::{Layout, PlotPoint, hit_test, ticks};
+    use crate::app::plot::{Layout, PlotPoint, hit_test, ticks};
 
     fn pt(t: f64, e: f64) -> PlotPoint {
         PlotPoint { t, e }
@@ -83,7 +83,7 @@ mod plot_hit_testing {
         // E from a 2048² grid's corner-only mesh (a billion) down to small errors, linear and
         // log, on small and wide canvases: every E tick label ends before the plotting area
         // and starts after the E title's band; the T labels end above the T title.
-        use paretomesh::app::plot::{
+        use crate::app::plot::{
             E_TITLE_LEFT, TICK_FONT_PX, TICK_GAP, TITLE_LINE, format_value, label_width,
         };
         for top in [3.5, 950.0, 12_345.0, 1.0e6, 1.0e9, 1.234_567e9, 4.2e12] {
@@ -115,8 +115,8 @@ mod plot_hit_testing {
 
     #[test]
     fn the_e_axis_shows_sum_mean_or_max_and_hover_gives_all_three() {
-        use paretomesh::app::plot::{EAxis, hover_text};
-        use paretomesh::evaluator::Score;
+        use crate::app::plot::{EAxis, hover_text};
+        use crate::evaluator::Score;
         let score = Score {
             e_sum: 2500.0,
             e_max: 3.25,
@@ -148,11 +148,11 @@ mod plot_hit_testing {
 }
 
 mod views {
-    use paretomesh::app::geometry::{ViewMapping, flat_mesh, wireframe};
-    use paretomesh::app::state::shown_mesh;
-    use paretomesh::evaluator::Evaluator;
-    use paretomesh::heightfield::Heightfield;
-    use paretomesh::import::raw;
+    use crate::app::geometry::{ViewMapping, flat_mesh, wireframe};
+    use crate::app::state::shown_mesh;
+    use crate::evaluator::Evaluator;
+    use crate::heightfield::Heightfield;
+    use crate::import::raw;
     use std::sync::Arc;
 
     fn volcano() -> Arc<Heightfield> {
@@ -194,9 +194,9 @@ mod views {
 }
 
 mod camera_and_loading {
-    use paretomesh::app::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
-    use paretomesh::app::loader;
-    use paretomesh::import::{ImportOptions, Projection, Surface};
+    use crate::app::camera::{MAX_PITCH, MIN_DISTANCE, OrbitCamera};
+    use crate::app::loader;
+    use crate::import::{ImportOptions, Projection, Surface};
 
     #[test]
     fn orbiting_and_zooming_stay_within_limits() {
@@ -355,7 +355,7 @@ mod camera_and_loading {
 
     #[test]
     fn a_geotiffs_georeferencing_is_summarised_for_the_dialog() {
-        let tif = include_bytes!("data/volcano_87x61_int16_lzw_nodata.tif");
+        let tif = include_bytes!("../../../tests/data/volcano_87x61_int16_lzw_nodata.tif");
         let name = "volcano_87x61_int16_lzw_nodata.tif";
         let hf = loader::parse(name, tif, None, &ImportOptions::default()).unwrap();
         let text = loader::georeference_summary(&hf).unwrap();
@@ -363,21 +363,21 @@ mod camera_and_loading {
         assert!(text.contains("map (2667400, 6478710)"), "{text}");
         assert!(text.contains("nodata -9999: 14 cells filled"), "{text}");
         // No georeferencing tags: said so; a grid from another format has no summary.
-        let plain = include_bytes!("data/volcano_87x61_uint16_packbits.tif");
+        let plain = include_bytes!("../../../tests/data/volcano_87x61_uint16_packbits.tif");
         let hf = loader::parse("p.tif", plain, None, &ImportOptions::default()).unwrap();
         let text = loader::georeference_summary(&hf).unwrap();
         assert!(
             text.contains("no pixel scale") && text.contains("no nodata"),
             "{text}"
         );
-        let ply = include_bytes!("data/volcano_87x61.ply");
+        let ply = include_bytes!("../../../tests/data/volcano_87x61.ply");
         let hf = loader::parse("v.ply", ply, None, &ImportOptions::default()).unwrap();
         assert_eq!(loader::georeference_summary(&hf), None);
     }
 
     #[test]
     fn an_oversized_grid_size_is_refused_with_the_limit_in_the_message() {
-        let ply = include_bytes!("data/bunny_33x33.ply");
+        let ply = include_bytes!("../../../tests/data/bunny_33x33.ply");
         let o = loader::options("planar", 4097, 4097).unwrap();
         let e = loader::parse("bunny.ply", ply, None, &o).unwrap_err();
         assert!(e.contains("16.8 M points") && e.contains("limit"), "{e}");
@@ -385,7 +385,7 @@ mod camera_and_loading {
 
     #[test]
     fn a_grid_ply_loads_as_is_and_needs_no_dialog() {
-        let ply = include_bytes!("data/volcano_87x61.ply");
+        let ply = include_bytes!("../../../tests/data/volcano_87x61.ply");
         let hf = loader::parse("volcano_87x61.ply", ply, None, &ImportOptions::default()).unwrap();
         assert_eq!((hf.width(), hf.height()), (87, 61));
         assert!(!hf.resampled());
@@ -393,9 +393,9 @@ mod camera_and_loading {
 }
 
 mod app_stepping {
-    use paretomesh::app::algorithms::{Algorithm, Params, build};
-    use paretomesh::app::state::{App, Reproduction, RunConfig, Surface};
-    use paretomesh::import::raw;
+    use crate::app::algorithms::{Algorithm, Params, build};
+    use crate::app::state::{App, Reproduction, RunConfig, Surface};
+    use crate::import::raw;
     use std::sync::Arc;
 
     // A small, quick NSGA-II run on the 33×33 volcano.
@@ -666,7 +666,7 @@ mod app_stepping {
             .iter()
             .map(|s| s.objectives())
             .collect();
-        paretomesh::metrics::trade_off_pick(&points, config().params.seed)
+        crate::metrics::trade_off_pick(&points, config().params.seed)
             .unwrap()
             .index
     }
@@ -675,9 +675,9 @@ mod app_stepping {
     fn the_trade_off_pick_is_one_call_away() {
         let mut app = app();
         while !app.step_once().unwrap().done {}
-        assert!(app.select_by(paretomesh::pick::Pick::TradeOff));
+        assert!(app.select_by(crate::pick::Pick::TradeOff));
         assert_eq!(app.selected_front_index(), Some(expected_trade_off(&app)));
-        assert!(app.select_by(paretomesh::pick::Pick::Knee));
+        assert!(app.select_by(crate::pick::Pick::Knee));
         assert_eq!(app.selected_front_index(), Some(expected_knee(&app)));
     }
 
@@ -755,8 +755,8 @@ mod app_stepping {
         assert_eq!(Algorithm::from_name("memetic"), Some(Algorithm::Memetic));
         // front.json records what `paretomesh run` without --algo records.
         assert_eq!(
-            paretomesh::app::algorithms::params_json(Algorithm::Memetic, &default.params),
-            serde_json::to_value(paretomesh::evolution::MemeticParams::default()).unwrap()
+            crate::app::algorithms::params_json(Algorithm::Memetic, &default.params),
+            serde_json::to_value(crate::evolution::MemeticParams::default()).unwrap()
         );
         // It runs in the app like any other algorithm.
         let mut a = app();
@@ -785,11 +785,11 @@ mod app_stepping {
 }
 
 mod curated_examples {
-    use paretomesh::app::examples::examples;
-    use paretomesh::app::loader::{BUILTINS, Builtin};
-    use paretomesh::app::share::{SharedSurface, decode, encode};
+    use crate::app::examples::examples;
+    use crate::app::loader::{BUILTINS, Builtin};
+    use crate::app::share::{SharedSurface, decode, encode};
 
-    const README: &str = include_str!("../README.md");
+    const README: &str = include_str!("../../../README.md");
 
     #[test]
     fn every_builtin_surface_loads_with_its_name_and_source() {
@@ -848,13 +848,13 @@ mod curated_examples {
 }
 
 mod teaching_view {
-    use paretomesh::app::oax_panel;
-    use paretomesh::app::plot::Shape;
-    use paretomesh::app::teaching::{Step, Stepper, scene};
-    use paretomesh::evolution::trace::Phase;
-    use paretomesh::evolution::{CrossoverKind, GaParams, Nsga2};
-    use paretomesh::import::raw;
-    use paretomesh::optimizer::Optimizer;
+    use crate::app::oax_panel;
+    use crate::app::plot::Shape;
+    use crate::app::teaching::{Step, Stepper, scene};
+    use crate::evolution::trace::Phase;
+    use crate::evolution::{CrossoverKind, GaParams, Nsga2};
+    use crate::import::raw;
+    use crate::optimizer::Optimizer;
     use std::sync::Arc;
 
     fn run_to(generation: u64) -> Nsga2 {
@@ -976,10 +976,10 @@ mod teaching_view {
 }
 
 mod glb_export {
-    use paretomesh::app::geometry::error_colour;
-    use paretomesh::app::glb_export::{mesh_glb, vertex_error_colours};
-    use paretomesh::app::state::shown_mesh;
-    use paretomesh::import::raw;
+    use crate::app::geometry::error_colour;
+    use crate::app::glb_export::{mesh_glb, vertex_error_colours};
+    use crate::app::state::shown_mesh;
+    use crate::import::raw;
     use std::sync::Arc;
 
     /// Vertex colours of a .glb, when it has them.
@@ -1056,11 +1056,11 @@ mod glb_export {
 }
 
 mod parameter_fields {
-    use paretomesh::app::algorithms::{Algorithm, Field, Params, build};
-    use paretomesh::app::compare;
-    use paretomesh::evaluator::Score;
-    use paretomesh::evolution::CrossoverKind;
-    use paretomesh::import::raw;
+    use crate::app::algorithms::{Algorithm, Field, Params, build};
+    use crate::app::compare;
+    use crate::evaluator::Score;
+    use crate::evolution::CrossoverKind;
+    use crate::import::raw;
     use std::sync::Arc;
 
     fn base() -> Params {
@@ -1113,10 +1113,10 @@ mod parameter_fields {
             for field in Field::ALL {
                 let after = outcome(algorithm, &changed(&base(), field));
                 assert_eq!(
-                    paretomesh::app::algorithms::uses(algorithm, field),
+                    crate::app::algorithms::uses(algorithm, field),
                     after != before,
                     "{algorithm:?} and {field:?}: shown = {}",
-                    paretomesh::app::algorithms::uses(algorithm, field)
+                    crate::app::algorithms::uses(algorithm, field)
                 );
             }
         }
@@ -1127,7 +1127,7 @@ mod parameter_fields {
         let used = |a: Algorithm| -> Vec<Field> {
             Field::ALL
                 .into_iter()
-                .filter(|&f| paretomesh::app::algorithms::uses(a, f))
+                .filter(|&f| crate::app::algorithms::uses(a, f))
                 .collect()
         };
         assert_eq!(used(Algorithm::Memetic), vec![Field::Seed]);
@@ -1145,11 +1145,11 @@ mod parameter_fields {
 }
 
 mod worker_handoff {
-    use paretomesh::app::handoff::SurfaceParts;
-    use paretomesh::app::loader;
-    use paretomesh::export::mesh::WorldMesh;
-    use paretomesh::heightfield::Heightfield;
-    use paretomesh::import::ImportOptions;
+    use crate::app::handoff::SurfaceParts;
+    use crate::app::loader;
+    use crate::export::mesh::WorldMesh;
+    use crate::heightfield::Heightfield;
+    use crate::import::ImportOptions;
 
     fn parse(name: &str, options: &ImportOptions) -> Heightfield {
         let bytes =

@@ -1,18 +1,18 @@
 //! The app's "3D Tiles (.zip)" download, natively: the current front's pyramid in one zip, read
 //! back through the archive's central directory, and the fronts it refuses.
 
-use paretomesh::app::algorithms::{Algorithm, Params};
-use paretomesh::app::pool::PoolSetup;
-use paretomesh::app::pyramid_export::{TILED_FRONT, pyramid_zip};
-use paretomesh::app::state::{App, RunConfig, Surface};
-use paretomesh::heightfield::Heightfield;
-use paretomesh::import::raw;
+use crate::app::algorithms::{Algorithm, Params};
+use crate::app::pool::PoolSetup;
+use crate::app::pyramid_export::{TILED_FRONT, pyramid_zip};
+use crate::app::state::{App, RunConfig, Surface};
+use crate::heightfield::Heightfield;
+use crate::import::raw;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
-const SIDECAR: &[u8] = include_bytes!("data/volcano_33x33.json");
+const GRID: &[u8] = include_bytes!("../../../tests/data/volcano_33x33.f32");
+const SIDECAR: &[u8] = include_bytes!("../../../tests/data/volcano_33x33.json");
 
 fn app(hf: Heightfield) -> App {
     App::new(

@@ -3,12 +3,12 @@
 //! the CLI's tiled run it compares with runs threads.
 #![cfg(not(target_arch = "wasm32"))]
 
-use paretomesh::app::algorithms::{self, Algorithm, Params};
-use paretomesh::app::pool::{FrontParts, PoolSetup, Work};
-use paretomesh::app::state::{App, RunConfig, Surface};
-use paretomesh::heightfield::Heightfield;
-use paretomesh::optimizer::Progress;
-use paretomesh::tiling::{run_tile, run_tiled};
+use crate::app::algorithms::{self, Algorithm, Params};
+use crate::app::pool::{FrontParts, PoolSetup, Work};
+use crate::app::state::{App, RunConfig, Surface};
+use crate::heightfield::Heightfield;
+use crate::optimizer::Progress;
+use crate::tiling::{run_tile, run_tiled};
 use std::sync::Arc;
 
 fn terrain(w: usize, h: usize) -> Heightfield {

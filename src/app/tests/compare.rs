@@ -1,24 +1,24 @@
-//! Compare mode (`paretomesh::app::compare`): the five methods share the frame budget, each
+//! Compare mode (`app/compare.rs`): every method shares the frame budget, each
 //! reaches the front it reaches when run alone, and the live table holds exactly the numbers
 //! the core metrics compute.
 
-use paretomesh::app::algorithms::{Params, build};
-use paretomesh::app::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS};
-use paretomesh::app::state::Surface;
-use paretomesh::evaluator::Evaluator;
-use paretomesh::evolution::{Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
-use paretomesh::experiment::Method;
-use paretomesh::heightfield::Heightfield;
-use paretomesh::import::raw;
-use paretomesh::metrics::{
+use crate::app::algorithms::{Params, build};
+use crate::app::compare::{CompareRun, METHODS, TABLE_INTERVAL_MS};
+use crate::app::state::Surface;
+use crate::evaluator::Evaluator;
+use crate::evolution::{Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
+use crate::experiment::Method;
+use crate::heightfield::Heightfield;
+use crate::import::raw;
+use crate::metrics::{
     self, DEFAULT_REFERENCE_POINT, Normalization, additive_epsilon, best_error_pick, coverage,
     fewest_triangles_pick, hypervolume_ratio, trade_off_pick,
 };
-use paretomesh::optimizer::Optimizer;
+use crate::optimizer::Optimizer;
 use std::sync::Arc;
 
-const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
-const SIDECAR: &[u8] = include_bytes!("data/volcano_33x33.json");
+const GRID: &[u8] = include_bytes!("../../../tests/data/volcano_33x33.f32");
+const SIDECAR: &[u8] = include_bytes!("../../../tests/data/volcano_33x33.json");
 
 fn volcano() -> Surface {
     let hf = raw::parse(GRID, SIDECAR, "volcano_33x33").unwrap();
@@ -72,7 +72,7 @@ fn a_finished_comparison_offers_the_trade_off_pick_of_the_merged_fronts() {
     let all: Vec<_> = (0..METHODS.len())
         .flat_map(|k| run.front(k).unwrap().solutions().to_vec())
         .collect();
-    let merged = paretomesh::front::Front::merged(&all);
+    let merged = crate::front::Front::merged(&all);
     let points: Vec<_> = merged.solutions().iter().map(|s| s.objectives()).collect();
     let expected = &merged.solutions()[trade_off_pick(&points, params().seed).unwrap().index];
     let pick = run.trade_off_solution().unwrap();
