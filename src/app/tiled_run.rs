@@ -14,9 +14,7 @@ use crate::baselines::{GreedyParams, GreedyStop};
 use crate::front::{Front, Solution};
 use crate::front_file::GridInfo;
 use crate::tiling::file::TiledFrontFile;
-use crate::tiling::{
-    TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params,
-};
+use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
 
 /// The algorithm of the first, quick pass.
 pub const QUICK: Algorithm = Algorithm::Greedy;
