@@ -271,3 +271,37 @@ fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
         );
     }
 }
+
+/// Ctrl-C in the middle of a run: front.json is written to a hidden file and renamed into place
+/// only once complete, so the output path must not exist after an interrupted run.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_run_leaves_no_front_json() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = scratch("interrupted");
+    let out = dir.join("front.json");
+    let grid = data("jacksboro_65x65.f32");
+    // A budget no machine finishes in the second before the interrupt.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_paretomesh"))
+        .args(["run", grid.to_str().unwrap(), "--evals", "1000000000"])
+        .arg("--out")
+        .arg(&out)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("the paretomesh binary runs");
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(sent.success());
+    let status = child.wait().unwrap();
+    assert_eq!(
+        status.signal(),
+        Some(2),
+        "the run ended by itself: {status:?}"
+    );
+    assert!(!out.exists(), "an interrupted run left {}", out.display());
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "an interrupted run left files: {left:?}");
+}

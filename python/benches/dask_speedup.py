@@ -3,7 +3,8 @@
     python python/benches/dask_speedup.py [SIDE] [EVALS_PER_TILE]
 
 A SIDE² fractal terrain (default 3601) in tiles of paretomesh.DEFAULT_TILE, memetic with
-EVALS_PER_TILE evaluations per tile (default 2000), seed 1.
+EVALS_PER_TILE evaluations per tile (default: the method's own budget, as `paretomesh run`
+gives a tile), seed 1.
 """
 
 import sys
@@ -25,7 +26,7 @@ def members(front):
 
 def main() -> None:
     side = int(sys.argv[1]) if len(sys.argv) > 1 else 3601
-    evals = int(sys.argv[2]) if len(sys.argv) > 2 else 2000
+    evals = int(sys.argv[2]) if len(sys.argv) > 2 else None
     z = terrain(side, side)
     fronts, times = {}, {}
     for workers in (1, 2):
