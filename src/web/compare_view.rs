@@ -1,9 +1,10 @@
 //! Compare mode in the page: the toggle and buttons of the `#compare` fieldset, the plot of the
-//! five fronts (`#compare-plot`), the live tables and click-to-select into the 3-D view. The
+//! fronts (`#compare-plot`), the live tables and click-to-select into the 3-D view. The
 //! logic is [`CompareRun`]; this is its DOM.
 
+use super::costs::performance_now;
 use super::dom::{self, by_id, listen};
-use super::page::{CompareView, HIT_RADIUS, Ui, on_event, performance_now};
+use super::page::{CompareView, HIT_RADIUS, Ui, on_event};
 use crate::app::compare::CompareRun;
 use crate::app::compare_html::{legend_html, method_index, note_text, table_html};
 use crate::app::plot::{self, PlotPoint};

@@ -2,7 +2,6 @@
 //! steps, taking in the workers' fronts, handing out jobs), each with its count, total and
 //! longest time. A benchmark reads them (`mainThreadCosts`) to tell which step holds frames up.
 
-use super::page::performance_now;
 use serde::Serialize;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -47,4 +46,11 @@ pub fn report(reset: bool) -> String {
         }
         text
     })
+}
+
+/// Milliseconds on the page's performance clock (0 without one).
+pub(super) fn performance_now() -> f64 {
+    web_sys::window()
+        .and_then(|w| w.performance())
+        .map_or(0.0, |p| p.now())
 }

@@ -84,13 +84,6 @@ pub(super) struct Ui {
     pub(super) compare: CompareView,
 }
 
-/// Milliseconds on the page's performance clock (0 without one).
-pub(super) fn performance_now() -> f64 {
-    web_sys::window()
-        .and_then(|w| w.performance())
-        .map_or(0.0, |p| p.now())
-}
-
 /// The unit of z named in the surface's source note ("" when it names none).
 pub(super) fn z_unit(hf: &Heightfield) -> String {
     hf.source()

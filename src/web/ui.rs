@@ -3,10 +3,11 @@
 //! the listeners of the main controls, the plot and the 3-D view. The views of share links,
 //! teaching and compare mode are in their own modules; [`super::bindings`] is what the JS calls.
 
+use super::costs::performance_now;
 use super::costs::timed;
 use super::dom::{self, by_id, listen};
 use super::gpu::{BackendChoice, Renderer};
-use super::page::{HIT_RADIUS, PlotKey, Ui, on_event, performance_now, z_unit};
+use super::page::{HIT_RADIUS, PlotKey, Ui, on_event, z_unit};
 use super::{compare_view, plot_view, share_view, teaching_view};
 use crate::app::algorithms;
 use crate::app::camera::OrbitCamera;
