@@ -5,7 +5,7 @@
 //! the mesh is built, and the worker's result is the same bits the page would compute.
 
 use crate::front::Solution;
-use crate::tiling::border::TileBorders;
+use crate::tiling::TileBorders;
 use crate::tiling::{TilePart, TilePlan};
 use serde::{Deserialize, Serialize};
 

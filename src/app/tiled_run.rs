@@ -13,7 +13,7 @@ use super::algorithms::{self, Algorithm, Params};
 use crate::baselines::{GreedyParams, GreedyStop};
 use crate::front::{Front, Solution};
 use crate::front_file::GridInfo;
-use crate::tiling::file::TiledFrontFile;
+use crate::tiling::TiledFrontFile;
 use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
 
 /// The algorithm of the first, quick pass.
@@ -35,7 +35,7 @@ fn quick_params(plan: &TilePlan, tile: usize) -> serde_json::Value {
 const QUICK_SHARE: usize = 10;
 
 /// Members a first-pass tile front keeps (the second pass keeps
-/// [`MEMBERS_PER_TILE`](crate::tiling::tile_front::MEMBERS_PER_TILE)): each is scored over
+/// [`MEMBERS_PER_TILE`](crate::tiling::MEMBERS_PER_TILE)): each is scored over
 /// the whole tile, which costs the first pass more than its greedy insertion, and the
 /// whole-grid front combines the tiles' members, so it stays fine-grained with few per tile.
 pub const QUICK_MEMBERS: usize = 16;
@@ -120,7 +120,7 @@ impl TiledRun {
             members: if quick {
                 QUICK_MEMBERS
             } else {
-                crate::tiling::tile_front::MEMBERS_PER_TILE
+                crate::tiling::MEMBERS_PER_TILE
             },
         })
     }

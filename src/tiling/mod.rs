@@ -5,23 +5,25 @@
 //! **The mesh of a tiled grid** is the union of its tiles' canonical triangulations (an untiled
 //! grid keeps the canonical Delaunay triangulation of its kept set). It is crack-free by
 //! construction: every border line's vertices are fixed before optimisation from the line's
-//! profile alone ([`border`]), the same from both sides, at one of a few nested border levels;
+//! profile alone (`border`), the same from both sides, at one of a few nested border levels;
 //! each tile keeps its corners and its border vertices, so its triangulation has the border
 //! polyline as hull edges, and z̃ along a shared line is the same 1-D interpolation from both
 //! sides: no cracks and no T-junctions. A line's points are then counted by one of its two
 //! tiles only, so E_sum and T of the whole mesh are the sums of the tiles' shares, and E_max the
 //! largest tile's.
 //!
-//! - [`plan`]: [`TilePlan`], the cut, and [`TilePlan::cut`], a tile's own grid;
-//! - [`border`]: border lines ranked by 1-D greedy insertion, border levels;
-//! - [`algorithm`]: an optimizer from a name, parameters as JSON and a seed; per-tile
+//! - `plan`: [`TilePlan`], the cut, and [`TilePlan::cut`], a tile's own grid;
+//! - `border`: border lines ranked by 1-D greedy insertion, border levels;
+//! - `algorithm`: an optimizer from a name, parameters as JSON and a seed; per-tile
 //!   parameters and seeds;
-//! - [`tile_front`]: [`run_tile`], one tile's front, [`TileFront`];
-//! - [`allocation`]: the multiple-choice allocation of one option per tile;
-//! - [`assemble`](mod@assemble): [`assemble`], the whole-grid front, [`TiledFront`];
-//! - [`mesh`]: a whole-grid member's tile parts, kept points and triangles;
-//! - [`file`]: front.json of a tiled run;
+//! - `tile_front`: [`run_tile`], one tile's front, [`TileFront`];
+//! - `allocation`: the multiple-choice allocation of one option per tile;
+//! - `assemble`: [`assemble()`], the whole-grid front, [`TiledFront`];
+//! - `mesh`: a whole-grid member's tile parts, kept points and triangles;
+//! - `file`: front.json of a tiled run;
 //! - `parallel` (native): [`run_tiled`] on a pool of threads.
+//!
+//! The files are private; what callers need is re-exported here.
 //!
 //! ```
 //! use paretomesh::heightfield::Heightfield;
@@ -39,18 +41,18 @@
 //! assert_eq!(mesh.triangles.len() as u64, front.members[0].t);
 //! ```
 
-pub mod algorithm;
-pub mod allocation;
-pub mod assemble;
-pub mod border;
-pub mod file;
-pub mod mesh;
+mod algorithm;
+mod allocation;
+mod assemble;
+mod border;
+mod file;
+mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
-pub mod parallel;
-pub mod plan;
+mod parallel;
+mod plan;
 #[cfg(test)]
 mod tests;
-pub mod tile_front;
+mod tile_front;
 
 pub use algorithm::{build_optimizer, tile_params, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
@@ -60,6 +62,9 @@ pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
 pub use parallel::{run_tiled, run_tiled_with_progress};
 pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
 pub use tile_front::{TileCandidate, TileFront, run_tile, run_tile_keeping};
+
+pub(crate) use border::TileBorders;
+pub(crate) use tile_front::MEMBERS_PER_TILE;
 
 /// Why a tiling step cannot go on.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,7 +104,7 @@ pub enum TilingError {
         /// Members there are.
         members: usize,
     },
-    /// [`assemble`] did not get exactly one front per tile.
+    /// [`assemble()`] did not get exactly one front per tile.
     WrongTiles {
         /// Tiles in the plan.
         expected: usize,
