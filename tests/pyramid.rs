@@ -4,10 +4,7 @@
 
 use paretomesh::front_file::FrontFile;
 use paretomesh::import;
-use paretomesh::pyramid::borders::with_border_points;
-use paretomesh::pyramid::globe::{Frame, MapSystem, ecef};
-use paretomesh::pyramid::quadtree::Level;
-use paretomesh::pyramid::tile_mesh::tile_mesh;
+use paretomesh::pyramid::{Frame, Level, MapSystem, ecef, tile_mesh, with_border_points};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
