@@ -5,11 +5,11 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::export::mesh::WorldMesh;
-use paretomesh::export::solid::{SolidError, SolidOptions, signed_volume, solid};
-use paretomesh::export::threemf::{to_3mf, to_3mf_deflated};
+use paretomesh::export::WorldMesh;
+use paretomesh::export::{SolidError, SolidOptions, signed_volume, solid};
+use paretomesh::export::{to_3mf, to_3mf_deflated};
 use paretomesh::heightfield::{Heightfield, Placement};
-use paretomesh::import::raw;
+use paretomesh::import::readers::raw;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::sync::Arc;

@@ -23,7 +23,7 @@ fn the_core_evaluates_in_the_browser_like_natively() {
         .as_f64()
         .unwrap();
     let native = {
-        let hf = paretomesh::import::raw::parse(GRID, SIDECAR, "t").unwrap();
+        let hf = paretomesh::import::readers::raw::parse(GRID, SIDECAR, "t").unwrap();
         paretomesh::evaluator::Evaluator::new(std::sync::Arc::new(hf))
             .score(&[])
             .unwrap()

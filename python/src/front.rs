@@ -4,7 +4,7 @@
 use crate::errors::value_error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, ndarray::Array2};
 use paretomesh::evaluator::{Evaluator, canonical_set, check_indices};
-use paretomesh::export::mesh::WorldMesh;
+use paretomesh::export::WorldMesh;
 use paretomesh::front_file::{FrontFile, GridInfo, RunSolution};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::metrics::trade_off_pick;

@@ -1,4 +1,4 @@
-//! The shown mesh as binary glTF (`.glb`, see [`crate::export::glb`]) for the app's export
+//! The shown mesh as binary glTF (`.glb`, see [`crate::export::write_glb`]) for the app's export
 //! button: positions in the input's own coordinates, smooth normals and, when the error map is
 //! shown, vertex colours that carry it.
 
@@ -6,8 +6,8 @@ use super::geometry::error_colour;
 use super::state::ShownMesh;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::evaluator::raster::Grid;
-use crate::export::glb::{GlbMesh, VertexColors, vertex_normals, write_glb};
-use crate::export::mesh::WorldMesh;
+use crate::export::WorldMesh;
+use crate::export::{GlbMesh, VertexColors, vertex_normals, write_glb};
 use crate::heightfield::Heightfield;
 
 /// The error map at the mesh's vertices: a kept point interpolates itself exactly, so a vertex

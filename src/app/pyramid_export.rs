@@ -2,7 +2,7 @@
 //! files, laid out as `paretomesh tiles` writes them) for the app's export button.
 
 use super::state::App;
-use crate::export::zip_archive::deflated_zip;
+use crate::export::deflated_zip;
 use crate::front::Solution;
 use crate::heightfield::Heightfield;
 use crate::pyramid::{build, default_levels};

@@ -1,7 +1,7 @@
 //! `paretomesh run GRID [--algo ALGO] [...] --out front.json [--triangles] [--csv front.csv]
 //! [import options]`:
 //! runs one optimizer to the end, shows progress on stderr, writes front.json (and the front as
-//! CSV, see [`paretomesh::export::csv`]).
+//! CSV, see [`paretomesh::export::front_csv`]).
 //!
 //! The methods and the parameters each reads come from [`paretomesh::catalogue`].
 
@@ -11,7 +11,7 @@ use paretomesh::baselines::InsertionRule;
 use paretomesh::catalogue::{Algorithm, Built, Param, Params};
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::CrossoverKind;
-use paretomesh::export::csv::front_csv;
+use paretomesh::export::front_csv;
 use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
 use paretomesh::front_file::{GridInfo, ImportRecord};

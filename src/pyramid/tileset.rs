@@ -4,7 +4,7 @@
 use super::globe::Frame;
 use super::quadtree::Tile;
 use super::tile_mesh::tile_mesh;
-use crate::export::glb::{GlbMesh, vertex_normals, write_glb};
+use crate::export::{GlbMesh, vertex_normals, write_glb};
 use crate::heightfield::Heightfield;
 use serde_json::{Value, json};
 

@@ -9,7 +9,7 @@ use crate::app::share::{
     SharedSurface, ViewToggles, decode, encode, fnv1a64,
 };
 use crate::evolution::CrossoverKind;
-use crate::export::mesh::WorldMesh;
+use crate::export::WorldMesh;
 use crate::heightfield::{Georeference, Heightfield};
 use crate::import::ImportOptions;
 use base64::Engine;

@@ -1147,7 +1147,7 @@ mod parameter_fields {
 mod worker_handoff {
     use crate::app::handoff::SurfaceParts;
     use crate::app::loader;
-    use crate::export::mesh::WorldMesh;
+    use crate::export::WorldMesh;
     use crate::heightfield::Heightfield;
     use crate::import::ImportOptions;
 
