@@ -168,7 +168,7 @@ mod members {
         triangles: Option<Vec<[u32; 3]>>,
     }
 
-    pub fn serialize<S: Serializer>(front: &[RunSolution], s: S) -> Result<S::Ok, S::Error> {
+    pub(super) fn serialize<S: Serializer>(front: &[RunSolution], s: S) -> Result<S::Ok, S::Error> {
         let mut previous: &[u32] = &[];
         let written: Vec<Written<'_>> = front
             .iter()
@@ -195,7 +195,9 @@ mod members {
         written.serialize(s)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<RunSolution>, D::Error> {
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<RunSolution>, D::Error> {
         let read = Vec::<Read>::deserialize(d)?;
         let mut out: Vec<RunSolution> = Vec::with_capacity(read.len());
         for (i, r) in read.into_iter().enumerate() {

@@ -7,13 +7,13 @@ use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-pub use crate::catalogue::{Algorithm, Running};
+pub(crate) use crate::catalogue::{Algorithm, Running};
 
 /// True when [`build`] reads `field` of the form for `algorithm`: the seed for a stochastic
 /// method; the GA fields for a generational GA that reads them. A method with an evaluation
 /// budget (memetic) keeps its own population and budget, and a method with its own stopping
 /// rule reads nothing.
-pub fn uses(algorithm: Algorithm, field: Field) -> bool {
+pub(crate) fn uses(algorithm: Algorithm, field: Field) -> bool {
     let spec = algorithm.spec();
     match field.param() {
         None => spec.stochastic,
@@ -23,7 +23,7 @@ pub fn uses(algorithm: Algorithm, field: Field) -> bool {
 
 /// A field of the parameter form (a member of [`Params`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Field {
+pub(crate) enum Field {
     /// [`Params::population`].
     Population,
     /// [`Params::generations`].
@@ -40,7 +40,7 @@ pub enum Field {
 
 impl Field {
     /// Every field, in the form's order.
-    pub const ALL: [Field; 6] = [
+    pub(crate) const ALL: [Field; 6] = [
         Field::Population,
         Field::Generations,
         Field::Crossover,
@@ -50,7 +50,7 @@ impl Field {
     ];
 
     /// The catalogue parameter the field sets (`None` for the seed, which is not one).
-    pub fn param(self) -> Option<Param> {
+    pub(crate) fn param(self) -> Option<Param> {
         match self {
             Field::Population => Some(Param::Population),
             Field::Generations => Some(Param::Generations),
@@ -62,7 +62,7 @@ impl Field {
     }
 
     /// The id of the field's input in the page.
-    pub fn id(self) -> &'static str {
+    pub(crate) fn id(self) -> &'static str {
         match self {
             Field::Population => "population",
             Field::Generations => "generations",
@@ -75,7 +75,7 @@ impl Field {
 }
 
 /// The menu value of a crossover kind (its serde name).
-pub fn crossover_key(kind: CrossoverKind) -> &'static str {
+pub(crate) fn crossover_key(kind: CrossoverKind) -> &'static str {
     match kind {
         CrossoverKind::Oax => "oax",
         CrossoverKind::Uniform => "uniform",
@@ -84,7 +84,7 @@ pub fn crossover_key(kind: CrossoverKind) -> &'static str {
 }
 
 /// The crossover kind with menu value `key`.
-pub fn crossover_from_key(key: &str) -> Option<CrossoverKind> {
+pub(crate) fn crossover_from_key(key: &str) -> Option<CrossoverKind> {
     [
         CrossoverKind::Oax,
         CrossoverKind::Uniform,
@@ -176,7 +176,7 @@ fn catalogue_params(algorithm: Algorithm, params: &Params) -> CatalogueParams {
 }
 
 /// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
-pub fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
+pub(crate) fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
     algorithm
         .configure(&catalogue_params(algorithm, params))
         .map_or(serde_json::Value::Null, |c| c.json())
@@ -184,7 +184,7 @@ pub fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
 
 /// Builds `algorithm` on `hf`. Fails with a message for the user when the parameters are out
 /// of range.
-pub fn build(
+pub(crate) fn build(
     algorithm: Algorithm,
     params: &Params,
     hf: Arc<Heightfield>,

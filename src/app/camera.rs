@@ -18,11 +18,11 @@ pub struct OrbitCamera {
 }
 
 /// Pitch limit: just short of straight down or up, where the up vector degenerates.
-pub const MAX_PITCH: f32 = 1.55;
+pub(crate) const MAX_PITCH: f32 = 1.55;
 /// Closest zoom.
-pub const MIN_DISTANCE: f32 = 0.05;
+pub(crate) const MIN_DISTANCE: f32 = 0.05;
 /// Farthest zoom.
-pub const MAX_DISTANCE: f32 = 20.0;
+pub(crate) const MAX_DISTANCE: f32 = 20.0;
 /// Vertical field of view, radians.
 const FOV_Y: f32 = 0.8;
 

@@ -17,7 +17,7 @@ use crate::tiling::TiledFrontFile;
 use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
 
 /// The algorithm of the first, quick pass.
-pub const QUICK: Algorithm = Algorithm::Greedy;
+pub(crate) const QUICK: Algorithm = Algorithm::Greedy;
 
 /// The first pass's greedy insertion on tile `tile`: it stops at a tenth of the tile's full
 /// triangle count, which holds every mesh a whole-grid front is looked at for, in a fraction of
@@ -38,11 +38,11 @@ const QUICK_SHARE: usize = 10;
 /// [`MEMBERS_PER_TILE`](crate::tiling::MEMBERS_PER_TILE)): each is scored over
 /// the whole tile, which costs the first pass more than its greedy insertion, and the
 /// whole-grid front combines the tiles' members, so it stays fine-grained with few per tile.
-pub const QUICK_MEMBERS: usize = 16;
+pub(crate) const QUICK_MEMBERS: usize = 16;
 
 /// One tile job: which tile, with which algorithm and parameters (as front.json records them).
 #[derive(Clone, Debug, PartialEq)]
-pub struct TileJob {
+pub(crate) struct TileJob {
     /// The tile's index in the plan.
     pub tile: usize,
     /// The algorithm.
@@ -58,7 +58,7 @@ pub struct TileJob {
 }
 
 /// The tiles of a pool run and what their workers reported.
-pub struct TiledRun {
+pub(crate) struct TiledRun {
     plan: TilePlan,
     algorithm: Algorithm,
     params: Params,
@@ -69,7 +69,7 @@ pub struct TiledRun {
 
 impl TiledRun {
     /// A run of `algorithm` with `params` on the tiles of `plan`.
-    pub fn new(plan: TilePlan, algorithm: Algorithm, params: Params) -> Self {
+    pub(crate) fn new(plan: TilePlan, algorithm: Algorithm, params: Params) -> Self {
         let tiles = plan.len();
         Self {
             plan,
@@ -81,7 +81,7 @@ impl TiledRun {
     }
 
     /// The plan.
-    pub fn plan(&self) -> &TilePlan {
+    pub(crate) fn plan(&self) -> &TilePlan {
         &self.plan
     }
 
@@ -91,12 +91,12 @@ impl TiledRun {
     }
 
     /// Jobs: a pass over every tile, two when [`QUICK`] is not the chosen method.
-    pub fn job_count(&self) -> usize {
+    pub(crate) fn job_count(&self) -> usize {
         self.plan.len() * if self.two_passes() { 2 } else { 1 }
     }
 
     /// Job `index`: the first pass's tiles in order, then the second's.
-    pub fn job(&self, index: usize) -> Option<TileJob> {
+    pub(crate) fn job(&self, index: usize) -> Option<TileJob> {
         if index >= self.job_count() {
             return None;
         }
@@ -128,7 +128,7 @@ impl TiledRun {
     /// The front of job `index` came: it becomes its tile's front unless the tile already has
     /// its final one (a first-pass front may come after the second pass's on a busy pool).
     /// Returns whether the whole-grid front changed.
-    pub fn report(&mut self, index: usize, front: TileFront) -> Result<bool, String> {
+    pub(crate) fn report(&mut self, index: usize, front: TileFront) -> Result<bool, String> {
         let job = self
             .job(index)
             .ok_or_else(|| format!("a worker reported job {index} of a run with fewer jobs"))?;
@@ -157,7 +157,7 @@ impl TiledRun {
     }
 
     /// Tiles whose final front is in.
-    pub fn tiles_final(&self) -> usize {
+    pub(crate) fn tiles_final(&self) -> usize {
         self.fronts
             .iter()
             .filter(|f| f.as_ref().is_some_and(|(_, last)| *last))
@@ -165,12 +165,12 @@ impl TiledRun {
     }
 
     /// Tiles with a front of either pass.
-    pub fn tiles_reported(&self) -> usize {
+    pub(crate) fn tiles_reported(&self) -> usize {
         self.fronts.iter().flatten().count()
     }
 
     /// Evaluations of the tiles' current fronts.
-    pub fn evaluations(&self) -> u64 {
+    pub(crate) fn evaluations(&self) -> u64 {
         self.fronts
             .iter()
             .flatten()
@@ -181,7 +181,7 @@ impl TiledRun {
     /// The whole-grid front as the app's plot and selection read it: each member's E_sum,
     /// E_max and T, without kept lists (a member's mesh is rebuilt on demand by
     /// [`TiledRun::mesh`]). Empty until every tile has a front.
-    pub fn front(&self) -> Front {
+    pub(crate) fn front(&self) -> Front {
         let Some(assembled) = &self.assembled else {
             return Front::default();
         };
@@ -194,14 +194,14 @@ impl TiledRun {
     }
 
     /// The assembled whole-grid front, once every tile has a front.
-    pub fn assembled(&self) -> Option<&TiledFront> {
+    pub(crate) fn assembled(&self) -> Option<&TiledFront> {
         self.assembled.as_ref()
     }
 
     /// front.json of the run, as `paretomesh run --tile` writes it, once every tile's final
     /// front is in (before, some tiles hold the first pass's greedy fronts, which the file's
     /// algorithm would misname); the message says how far the run is.
-    pub fn run_file(
+    pub(crate) fn run_file(
         &self,
         hf: &crate::heightfield::Heightfield,
         millis: u64,
@@ -242,7 +242,7 @@ impl TiledRun {
 
     /// The tile parts of the whole-grid member with objectives (`e_sum`, `t`): what a worker
     /// holding the grid needs to build its mesh ([`crate::tiling::mesh_of_parts`]).
-    pub fn parts(&self, e_sum: f64, t: usize) -> Result<Vec<TilePart>, String> {
+    pub(crate) fn parts(&self, e_sum: f64, t: usize) -> Result<Vec<TilePart>, String> {
         let (assembled, member) = self.member(e_sum, t)?;
         assembled.parts(member).map_err(|e| e.to_string())
     }
@@ -262,7 +262,7 @@ impl TiledRun {
     }
 
     /// The mesh of the whole-grid member with objectives (`e_sum`, `t`) on the grid `hf`.
-    pub fn mesh(
+    pub(crate) fn mesh(
         &self,
         hf: &crate::heightfield::Heightfield,
         e_sum: f64,

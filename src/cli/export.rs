@@ -24,7 +24,7 @@ use std::sync::Arc;
 
 /// The mesh formats `export` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum MeshFormat {
+pub(super) enum MeshFormat {
     /// ASCII PLY, double-precision vertices.
     Ply,
     /// Wavefront OBJ.
@@ -61,7 +61,7 @@ impl MeshFormat {
             "max_vertical_error",
         ])
 ))]
-pub struct ExportArgs {
+pub(super) struct ExportArgs {
     /// The front.json that `paretomesh run` (or the app) wrote.
     front: PathBuf,
     /// Export the member at this index of the front, in the file's order (0 = first).
@@ -257,7 +257,7 @@ fn encode(format: MeshFormat, mesh: &WorldMesh, note: &str) -> Result<Vec<u8>, S
     })
 }
 
-pub fn run(args: &ExportArgs) -> Result<(), String> {
+pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     let format = match args.format {
         Some(f) => f,
         None => MeshFormat::of_path(&args.out).ok_or_else(|| {

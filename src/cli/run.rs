@@ -27,7 +27,7 @@ use std::time::Instant;
 
 /// The greedy-insertion rules, as the command line spells them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RuleArg {
+pub(super) enum RuleArg {
     /// Insert the point of largest vertical error (classic).
     MaxError,
     /// Insert the point whose insertion reduces E_sum the most.
@@ -38,7 +38,7 @@ pub enum RuleArg {
 
 /// The crossover operators, as the command line spells them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum CrossoverArg {
+pub(super) enum CrossoverArg {
     /// Orthogonal-array crossover over spatial blocks.
     Oax,
     /// Uniform crossover.
@@ -49,7 +49,7 @@ pub enum CrossoverArg {
 
 /// Options of `paretomesh run`.
 #[derive(Args, Debug)]
-pub struct RunArgs {
+pub(super) struct RunArgs {
     /// The grid file and how to import it.
     #[command(flatten)]
     input: InputArgs,
@@ -217,7 +217,7 @@ fn status(p: &Progress, generations: u64, front: &Front, full_triangles: usize) 
     line
 }
 
-pub fn run(args: &RunArgs) -> Result<(), String> {
+pub(super) fn run(args: &RunArgs) -> Result<(), String> {
     check_tile(args.tile.unwrap_or(DEFAULT_TILE)).map_err(|e| format!("--tile: {e}"))?;
     if args.threads == Some(0) {
         return Err("--threads must be at least 1".to_string());

@@ -13,7 +13,7 @@ use std::time::Instant;
 
 /// Options of `paretomesh tiles`.
 #[derive(Args, Debug)]
-pub struct TilesArgs {
+pub(super) struct TilesArgs {
     /// The front.json that `paretomesh run` (or the app) wrote.
     front: PathBuf,
     /// The folder to write tileset.json and the tiles into (made if missing).
@@ -36,7 +36,7 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-pub fn run(args: &TilesArgs) -> Result<(), String> {
+pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
     let start = Instant::now();
     let file = match front_reader::read(&args.front)? {
         AnyFront::Untiled(file) => *file,

@@ -53,7 +53,7 @@ impl OrthogonalArray {
 ///
 /// Sums rather than means are compared: each level occurs in exactly M/2 rows, so they rank
 /// the same.
-pub fn factor_analysis(
+pub(crate) fn factor_analysis(
     array: &OrthogonalArray,
     factors: usize,
     fitness: &[f64],

@@ -3,7 +3,7 @@
 /// Largest accepted share of doubly covered grid points (10 %) for [`Surface::Single`]: small
 /// overhangs are resolved by "highest wins", a surface folded over on a larger share is not a
 /// height field.
-pub const MAX_OVERLAP: f64 = 0.10;
+pub(super) const MAX_OVERLAP: f64 = 0.10;
 
 /// How a mesh that is not already a regular grid is turned into one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

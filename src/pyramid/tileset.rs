@@ -69,12 +69,12 @@ pub struct TileContent {
 }
 
 /// The content file of `tile`, relative to tileset.json.
-pub fn content_uri(tile: &Tile) -> String {
+pub(super) fn content_uri(tile: &Tile) -> String {
     format!("{}/{}/{}.glb", tile.level, tile.x, tile.y)
 }
 
 /// Triangulates `tile` over `kept` (see [`tile_mesh`]) and encodes it in `frame`.
-pub fn tile_content(
+pub(super) fn tile_content(
     hf: &Heightfield,
     frame: &Frame,
     tile: &Tile,
@@ -108,7 +108,7 @@ pub fn tile_content(
 
 /// What tileset.json records about one level: the front member it shows.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LevelNote {
+pub(crate) struct LevelNote {
     /// The member's index in front.json.
     pub member: usize,
     /// Its triangles over the whole grid.
@@ -124,7 +124,7 @@ pub struct LevelNote {
 /// its own E_max and its children's errors, so errors never grow down the tree; its box holds
 /// its own and its children's. `frame` gives the root transform; `z_range` the tileset's
 /// error (nothing shown is off by at most the surface's whole height).
-pub fn tileset_json(
+pub(super) fn tileset_json(
     levels: &[Vec<TileContent>],
     notes: &[LevelNote],
     frame: &Frame,

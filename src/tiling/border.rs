@@ -48,7 +48,7 @@ impl Side {
 
 /// Interior points (end points excluded) a line keeps at border level `level`: 0, 1, 2, 4, 8,
 /// … (before the cap of the line's own interior points).
-pub fn interior_points(level: usize) -> usize {
+pub(super) fn interior_points(level: usize) -> usize {
     if level == 0 {
         0
     } else {
@@ -58,14 +58,14 @@ pub fn interior_points(level: usize) -> usize {
 
 /// The number of border levels for tiles of at most `tile` points a side: up to the first level
 /// that keeps every point of the longest line.
-pub fn level_count(tile: usize) -> usize {
+pub(super) fn level_count(tile: usize) -> usize {
     let interior = tile.saturating_sub(2);
     (0..).find(|&k| interior_points(k) >= interior).unwrap_or(0) + 1
 }
 
 /// The interior points of a line with heights `profile` (at least 2), ranked by 1-D greedy
 /// insertion: positions 1 ..= n − 2, most important first.
-pub fn insertion_order(profile: &[f64]) -> Vec<u32> {
+pub(super) fn insertion_order(profile: &[f64]) -> Vec<u32> {
     let n = profile.len();
     let mut order = Vec::with_capacity(n.saturating_sub(2));
     if n <= 2 {
@@ -130,7 +130,7 @@ impl Ord for Entry {
 
 /// Σ |z − z̃| over the points of a line that are not kept, z̃ interpolating linearly between
 /// kept neighbours; `kept` flags the kept positions (both end points must be).
-pub fn line_error(profile: &[f64], kept: &[bool]) -> f64 {
+pub(super) fn line_error(profile: &[f64], kept: &[bool]) -> f64 {
     let mut sum = 0.0;
     let mut a = 0;
     for b in 1..profile.len() {

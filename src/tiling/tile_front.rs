@@ -12,11 +12,11 @@ use std::sync::Arc;
 /// At most this many of a tile optimizer's members are kept, spread evenly over log T: the
 /// whole-grid front combines the tiles' members, so it stays fine-grained with far fewer per
 /// tile than the tile's own front holds.
-pub const MEMBERS_PER_TILE: usize = 64;
+pub(crate) const MEMBERS_PER_TILE: usize = 64;
 
 /// Each member is scored at the border levels within this many levels of its own border
 /// density (see [`run_tile`]).
-pub const LEVEL_REACH: usize = 2;
+pub(super) const LEVEL_REACH: usize = 2;
 
 /// A member of a tile's front at one border level, scored exactly.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -261,11 +261,11 @@ mod packed_members {
         Packed(PackedSet),
     }
 
-    pub fn serialize<S: Serializer>(members: &[Vec<u32>], s: S) -> Result<S::Ok, S::Error> {
+    pub(super) fn serialize<S: Serializer>(members: &[Vec<u32>], s: S) -> Result<S::Ok, S::Error> {
         pack_list(members).serialize(s)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<u32>>, D::Error> {
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<u32>>, D::Error> {
         let read = Vec::<Read>::deserialize(d)?;
         let mut out: Vec<Vec<u32>> = Vec::with_capacity(read.len());
         for (i, r) in read.into_iter().enumerate() {

@@ -81,11 +81,6 @@ impl FileFingerprint {
             import: None,
         }
     }
-
-    /// True when `bytes` are the file this fingerprint describes (size and hash agree).
-    pub fn matches(&self, bytes: &[u8]) -> bool {
-        self.size == bytes.len() as u64 && self.fnv1a64 == fnv1a64(bytes)
-    }
 }
 
 /// 64-bit FNV-1a (offset basis 0xcbf29ce484222325, prime 0x100000001b3): a fast

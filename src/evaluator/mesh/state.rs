@@ -57,7 +57,7 @@ pub struct MeshState {
 }
 
 /// See [`MeshState::largest`].
-pub const LARGEST_MAXIMA: usize = 16;
+pub(crate) const LARGEST_MAXIMA: usize = 16;
 
 /// A mesh state's arrays indexed by grid point (kept marks, hints, kept bitset), taken out of a
 /// state that is not being edited ([`MeshState::detach_lookups`]) and lent to one that is

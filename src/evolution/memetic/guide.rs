@@ -14,7 +14,7 @@ thread_local! {
 }
 
 /// [`Guide::worst_point`] of a triangle that owns no grid point with a nonzero error.
-pub const NO_POINT: u32 = u32::MAX;
+pub(crate) const NO_POINT: u32 = u32::MAX;
 
 /// The error landscape of one mesh; see the module doc. The sums come from the totals the mesh
 /// keeps ([`MeshState::triangle_error_sums`]), so a guide costs a pass over the triangles, and

@@ -16,7 +16,7 @@ pub struct LookupPool {
 }
 
 /// Arrays a [`LookupPool`] keeps at most: a child, its two parents and one spare.
-pub const POOLED_LOOKUPS: usize = 4;
+pub(crate) const POOLED_LOOKUPS: usize = 4;
 
 impl LookupPool {
     fn take(&mut self) -> GridLookups {
@@ -142,13 +142,13 @@ impl Edit {
 
 /// Offers a scored kept set to the archive, copying the kept list only when it enters
 /// ([`Front::offer_score`]).
-pub fn offer(archive: &mut Front, kept: &[u32], score: &Score) -> bool {
+pub(crate) fn offer(archive: &mut Front, kept: &[u32], score: &Score) -> bool {
     archive.offer_score(*score, || kept.to_vec())
 }
 
 /// Is grid point `i` on the grid's border? Swapping a border point for an interior one (or
 /// back) changes the triangle count by one, so the fixed-T moves keep the two apart.
-pub fn on_border(hf: &Heightfield, i: u32) -> bool {
+pub(crate) fn on_border(hf: &Heightfield, i: u32) -> bool {
     let (x, y) = hf.coords(i);
     x == 0 || y == 0 || x + 1 == hf.width() || y + 1 == hf.height()
 }

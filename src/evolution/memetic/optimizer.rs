@@ -20,7 +20,7 @@ use std::sync::Arc;
 /// local-search phase runs its [`MemeticParams::local_search_rounds`] units and then goes on
 /// until the local search holds this share, so that the split between offspring and local
 /// search does not drift with how many evaluations a round happens to cost.
-pub const LOCAL_SEARCH_SHARE: f64 = 0.98;
+pub(crate) const LOCAL_SEARCH_SHARE: f64 = 0.98;
 
 /// Where a generation stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -98,16 +98,16 @@ pub fn seeding_budget(hf: &Heightfield) -> u64 {
 
 /// See [`default_budget`]: a decimation costs about 3.8 evaluations per triangle of its start
 /// mesh (a first cost per vertex, then a removal and its neighbours' new costs).
-pub const DECIMATION_EVALUATIONS: u64 = 4;
+pub(crate) const DECIMATION_EVALUATIONS: u64 = 4;
 
 /// See [`default_budget`]: the search's floor, which on a small grid (where evaluations are
 /// cheap) is most of it. The sparsest meshes need it most: each of their points carries much
 /// of the error, so a few good moves change E the most.
-pub const SEARCH_EVALUATIONS: u64 = 120_000;
+pub(crate) const SEARCH_EVALUATIONS: u64 = 120_000;
 
 /// See [`default_budget`]: 2¹⁷, twice a 257×257 grid, so grids up to that size search as
 /// long as ever, and larger ones search at most 251 072 evaluations.
-pub const SEARCH_GRID_CAP: u64 = 1 << 17;
+pub(crate) const SEARCH_GRID_CAP: u64 = 1 << 17;
 
 /// Why a set of parameters cannot run.
 #[derive(Clone, Debug, PartialEq)]

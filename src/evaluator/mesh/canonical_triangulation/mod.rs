@@ -18,20 +18,20 @@ use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 /// sign, so spade still returns a triangulation of the real points), and [`Triangulation::legalize_all`]'s
 /// flips with the exact tie rule then reach the one canonical triangulation, as they would from
 /// any triangulation.
-pub const SHEAR: f64 = 1.0 / 1024.0;
+pub(crate) const SHEAR: f64 = 1.0 / 1024.0;
 
 /// "No half-edge": the twin of a border edge.
-pub const NONE: u32 = u32::MAX;
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// The next half-edge of the same triangle.
 #[inline]
-pub fn next(e: u32) -> u32 {
+pub(crate) fn next(e: u32) -> u32 {
     if e % 3 == 2 { e - 2 } else { e + 1 }
 }
 
 /// The previous half-edge of the same triangle.
 #[inline]
-pub fn prev(e: u32) -> u32 {
+pub(crate) fn prev(e: u32) -> u32 {
     if e.is_multiple_of(3) { e + 2 } else { e - 1 }
 }
 
