@@ -121,7 +121,7 @@ impl Algorithm {
     ];
 
     /// The method run when none is named: the project's best.
-    pub const DEFAULT: Algorithm = Algorithm::Memetic;
+    pub(crate) const DEFAULT: Algorithm = Algorithm::Memetic;
 
     /// The method's fixed facts.
     pub fn spec(self) -> Spec {
@@ -336,7 +336,7 @@ impl Algorithm {
 
     /// How many GA runs one run of the method is made of (the weighted-sum GA: one per
     /// weight), and so how many shares an equal budget is split into.
-    pub fn runs_per_run(self) -> usize {
+    pub(crate) fn runs_per_run(self) -> usize {
         match self {
             Algorithm::Weighted => WeightedSumParams::default().weights.len(),
             _ => 1,

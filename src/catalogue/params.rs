@@ -36,7 +36,7 @@ pub enum Param {
 
 impl Param {
     /// Which methods a parameter belongs to, in the words of a refusal ("it belongs to …").
-    pub fn owner(self) -> &'static str {
+    pub(crate) fn owner(self) -> &'static str {
         match self {
             Param::Rule | Param::MaxErrorFraction | Param::MaxVerticalError => "greedy insertion",
             Param::Without => "the memetic method",

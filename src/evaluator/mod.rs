@@ -62,7 +62,7 @@ pub use compose::{Crossing, PartClasses};
 pub use error::{EvaluateError, check_indices};
 pub use mesh::canonical_form::canonical_set;
 pub use mesh::canonical_triangulation::Triangulation;
-pub use mesh::delaunay_check::is_delaunay;
+pub(crate) use mesh::delaunay_check::is_delaunay;
 pub use mesh::state::{GridLookups, MeshState};
 pub use part_scores::{Changes, PartScores};
 pub use score::{Evaluation, Score};

@@ -130,7 +130,7 @@ impl GaParams {
     }
 
     /// The mutation probability on `hf`: the given one, else 1/L.
-    pub fn mutation_on(&self, hf: &Heightfield) -> f64 {
+    pub(crate) fn mutation_on(&self, hf: &Heightfield) -> f64 {
         self.mutation_probability
             .unwrap_or(1.0 / free_genes(hf) as f64)
     }

@@ -54,7 +54,7 @@ pub enum Mark {
 
 impl Mark {
     /// The mark as printed: `+`, `−`, `=` or `n/a`.
-    pub fn symbol(self) -> &'static str {
+    pub(crate) fn symbol(self) -> &'static str {
         match self {
             Mark::Better => "+",
             Mark::Worse => "−",

@@ -26,7 +26,7 @@ use serde::Deserialize;
 
 /// How far (in grid units) a PLY or OBJ vertex may lie from its grid point: far below a grid
 /// step, far above the rounding of coordinates written with a few decimals.
-pub const GRID_TOLERANCE: f64 = 1e-3;
+pub(crate) const GRID_TOLERANCE: f64 = 1e-3;
 
 /// One mesh over grid points, before it is scored.
 #[derive(Clone, Debug, PartialEq)]

@@ -35,7 +35,7 @@ pub enum MapSystem {
 
 impl MapSystem {
     /// The system an EPSG code names, if it is one of those supported.
-    pub fn from_epsg(code: u16) -> Option<Self> {
+    pub(crate) fn from_epsg(code: u16) -> Option<Self> {
         match code {
             4326 => Some(Self::LonLat),
             32601..=32660 => Some(Self::Utm {
@@ -191,7 +191,7 @@ pub enum Frame {
 
 impl Frame {
     /// The east-north-up frame at longitude `lon`, latitude `lat` (radians) and `height`.
-    pub fn east_north_up(system: MapSystem, lon: f64, lat: f64, height: f64) -> Self {
+    pub(crate) fn east_north_up(system: MapSystem, lon: f64, lat: f64, height: f64) -> Self {
         let (sin_lat, cos_lat) = lat.sin_cos();
         let (sin_lon, cos_lon) = lon.sin_cos();
         Self::Globe {

@@ -34,7 +34,7 @@ use std::fmt;
 use tileset::{LevelNote, content_uri, tile_content, tileset_json};
 
 /// Each level's triangle budget is this many times its parent's.
-pub const GROWTH: usize = 4;
+pub(crate) const GROWTH: usize = 4;
 
 /// Why a pyramid cannot be made.
 #[derive(Clone, Debug, PartialEq)]
@@ -83,7 +83,7 @@ impl fmt::Display for PyramidError {
 impl std::error::Error for PyramidError {}
 
 /// The most levels a `width` × `height` grid takes.
-pub fn most_levels(width: usize, height: usize) -> usize {
+pub(crate) fn most_levels(width: usize, height: usize) -> usize {
     max_level(width, height) as usize + 1
 }
 
@@ -158,7 +158,7 @@ pub fn plan(
 }
 
 /// Levels when none are asked for, fewer when the grid or the front has fewer.
-pub const DEFAULT_LEVELS: usize = 4;
+pub(crate) const DEFAULT_LEVELS: usize = 4;
 
 /// The levels a pyramid of a front of `members` on a `width` × `height` grid gets when none are
 /// asked for: [`DEFAULT_LEVELS`], or fewer when the grid or the front's distinct triangle

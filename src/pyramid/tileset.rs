@@ -41,7 +41,7 @@ impl Bounds {
 
     /// The 3D Tiles `box`: centre and three half-axes. A flat side gets a small thickness,
     /// since a box with a zero half-axis has no volume to test against.
-    pub fn to_box(self) -> [f64; 12] {
+    pub(crate) fn to_box(self) -> [f64; 12] {
         let c: [f64; 3] = std::array::from_fn(|k| (self.min[k] + self.max[k]) / 2.0);
         let half: [f64; 3] = std::array::from_fn(|k| (self.max[k] - self.min[k]) / 2.0);
         let floor = 1e-3 * half.iter().copied().fold(0.0, f64::max);

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 /// The four sides of a tile, in the order [`TileBorders`] keeps them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Side {
+pub(crate) enum Side {
     /// Row 0, left to right.
     Top,
     /// The last row, left to right.
@@ -24,10 +24,10 @@ pub enum Side {
 
 impl Side {
     /// Every side, in storage order.
-    pub const ALL: [Side; 4] = [Side::Top, Side::Bottom, Side::Left, Side::Right];
+    pub(crate) const ALL: [Side; 4] = [Side::Top, Side::Bottom, Side::Left, Side::Right];
 
     /// The tile-local index of point `position` along this side of a `w`×`h` tile.
-    pub fn local_index(self, position: usize, w: usize, h: usize) -> u32 {
+    pub(crate) fn local_index(self, position: usize, w: usize, h: usize) -> u32 {
         let (x, y) = match self {
             Side::Top => (position, 0),
             Side::Bottom => (position, h - 1),
@@ -38,7 +38,7 @@ impl Side {
     }
 
     /// Points along this side of a `w`×`h` tile, end points included.
-    pub fn length(self, w: usize, h: usize) -> usize {
+    pub(crate) fn length(self, w: usize, h: usize) -> usize {
         match self {
             Side::Top | Side::Bottom => w,
             Side::Left | Side::Right => h,
@@ -173,7 +173,7 @@ impl TileBorders {
     }
 
     /// The positions `side` keeps at `level`, most important first.
-    pub fn kept_on(&self, side: Side, level: usize) -> &[u32] {
+    pub(crate) fn kept_on(&self, side: Side, level: usize) -> &[u32] {
         let order = &self.order[side as usize];
         &order[..interior_points(level).min(order.len())]
     }
@@ -195,7 +195,7 @@ impl TileBorders {
     }
 
     /// The error Σ |z − z̃| of `side`'s points at `level` (z̃ on the line's kept polyline).
-    pub fn side_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
+    pub(crate) fn side_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
         let n = side.length(self.w, self.h);
         let profile: Vec<f64> = (0..n)
             .map(|p| z[side.local_index(p, self.w, self.h) as usize])
@@ -210,7 +210,7 @@ impl TileBorders {
     }
 
     /// True when tile-local index `local` lies on the tile's border.
-    pub fn on_border(&self, local: u32) -> bool {
+    pub(crate) fn on_border(&self, local: u32) -> bool {
         let (x, y) = (local as usize % self.w, local as usize / self.w);
         x == 0 || y == 0 || x == self.w - 1 || y == self.h - 1
     }

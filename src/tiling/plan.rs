@@ -177,12 +177,12 @@ impl TilePlan {
     }
 
     /// True when tile `index` shares its left column with another tile.
-    pub fn has_left_neighbour(&self, index: usize) -> bool {
+    pub(crate) fn has_left_neighbour(&self, index: usize) -> bool {
         !index.is_multiple_of(self.columns())
     }
 
     /// True when tile `index` shares its top row with another tile.
-    pub fn has_top_neighbour(&self, index: usize) -> bool {
+    pub(crate) fn has_top_neighbour(&self, index: usize) -> bool {
         index / self.columns() > 0
     }
 

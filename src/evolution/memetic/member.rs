@@ -11,7 +11,7 @@ use crate::heightfield::Heightfield;
 /// holds its mesh and kept list only, so a member's memory grows with its mesh, not with the
 /// grid.
 #[derive(Debug, Default)]
-pub struct LookupPool {
+pub(crate) struct LookupPool {
     free: Vec<GridLookups>,
 }
 
@@ -75,7 +75,7 @@ impl Member {
     }
 
     /// Its guide, made now if it was not.
-    pub fn guide(&mut self, hf: &Heightfield) -> &Guide {
+    pub(crate) fn guide(&mut self, hf: &Heightfield) -> &Guide {
         if self.guide.is_none() {
             self.guide = Some(Guide::of(hf, &self.state, &self.kept));
         }
@@ -84,21 +84,21 @@ impl Member {
 
     /// Fills the lookups [`Evaluator::score_mutant`] reads, if stale (an edit or a copy leaves
     /// them so).
-    pub fn ready_for_trials(&mut self) {
+    pub(crate) fn ready_for_trials(&mut self) {
         self.state.ensure_lookups();
     }
 
     /// Sets the member aside: its mesh's per-grid-point arrays go back to `pool`
     /// ([`MeshState::detach_lookups`]). It must be [unstowed](Self::unstow) before it is edited,
     /// tried or composed from; its guide and score stay.
-    pub fn stow(&mut self, pool: &mut LookupPool) {
+    pub(crate) fn stow(&mut self, pool: &mut LookupPool) {
         if let Some(lookups) = self.state.detach_lookups() {
             pool.give(lookups);
         }
     }
 
     /// Makes a stowed member editable again, with arrays from `pool` (a pass over its mesh).
-    pub fn unstow(&mut self, pool: &mut LookupPool) {
+    pub(crate) fn unstow(&mut self, pool: &mut LookupPool) {
         if !self.state.has_lookups() {
             self.state.attach_lookups(pool.take());
         }
@@ -126,7 +126,7 @@ pub struct Edit {
 
 impl Edit {
     /// Makes the change on an increasing kept list, which stays increasing.
-    pub fn apply_to(&self, kept: &mut Vec<u32>) {
+    pub(crate) fn apply_to(&self, kept: &mut Vec<u32>) {
         for r in &self.remove {
             if let Ok(at) = kept.binary_search(r) {
                 kept.remove(at);
