@@ -56,7 +56,7 @@ pub struct Spec {
     /// The parameters it reads; it refuses the others.
     pub reads: &'static [Param],
     /// Why it does not read a parameter, where that is more than the parameter's
-    /// [`owner`](Param::owner).
+    /// `owner`.
     pub refusals: &'static [(Param, &'static str)],
     /// Its colour in the experiment's fronts figure (the colour-blind-safe Okabe–Ito hues).
     pub colour: &'static str,

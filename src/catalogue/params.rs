@@ -46,7 +46,7 @@ impl Param {
 }
 
 /// A method's parameters as a caller sets them: `None` leaves the method's own default.
-/// A method refuses nothing here by itself; callers check [`Algorithm::reads`]
+/// A method refuses nothing here by itself; callers check `Algorithm::reads`
 /// (crate::catalogue::Algorithm::reads) before they set a field.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Params {

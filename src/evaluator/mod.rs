@@ -289,7 +289,7 @@ impl Evaluator {
 
     /// [`score_parts`](Self::score_parts) for that child with `changes` made to its kept
     /// points (a mutant of it), bit for bit the changed set's fresh score, still without a
-    /// mesh ([`PartScores::score_changed`]).
+    /// mesh (`PartScores::score_changed`).
     pub fn score_parts_changed(
         &mut self,
         a: &MeshState,

@@ -139,7 +139,7 @@ fn mark_block(mask: &mut Chromosome, block: &Block, width: usize) {
 }
 
 /// How a child of a crossover is made, for a scorer that reuses the parents' meshes
-/// ([`Scorer::score_crossed`](super::scorer::Scorer::score_crossed)): each gene comes from
+/// (`Scorer::score_crossed`): each gene comes from
 /// `parents[0]` where `from_b` is clear and from `parents[1]` where it is set, which is block
 /// by block: from B in the blocks whose level is 1.
 #[derive(Clone, Copy, Debug)]

@@ -26,7 +26,7 @@ pub struct GaParams {
     /// Stop once this many evaluations were spent (checked between units of work).
     pub max_evaluations: Option<u64>,
     /// Fraction of the initial population NSGA-II seeds from greedy insertion, in [0, 1]:
-    /// ⌊fraction · population⌋ individuals (see [`super::nsga2`]). 0 (the default, and the paper's
+    /// ⌊fraction · population⌋ individuals (see `super::nsga2`). 0 (the default, and the paper's
     /// setting) seeds nothing. The weighted-sum GA refuses values above 0.
     pub greedy_seed_fraction: f64,
 }

@@ -7,7 +7,7 @@
 //!   triangles indexing `vertices` (0-based); without `triangles` the mesh is the project's
 //!   Delaunay triangulation of its vertices, which must include the four grid corners;
 //! - a PLY or OBJ mesh whose vertices lie on grid points: x = column, y = row in grid units, each
-//!   within [`GRID_TOLERANCE`] of a whole number inside the grid. z is ignored: the error is
+//!   within `GRID_TOLERANCE` of a whole number inside the grid. z is ignored: the error is
 //!   measured against the grid's own heights.
 //!
 //! A mesh is scored on its own triangles ([`Evaluator::score_triangulation`]), so a mesh that

@@ -31,7 +31,7 @@ pub fn to_3mf(mesh: &WorldMesh, name: &str) -> Result<Vec<u8>, String> {
     return to_3mf_deflated(mesh, name);
 }
 
-/// [`to_3mf`] packed by [`super::zip_archive::deflated_zip`], as the browser build writes it.
+/// [`to_3mf`] packed by `super::zip_archive::deflated_zip`, as the browser build writes it.
 pub fn to_3mf_deflated(mesh: &WorldMesh, name: &str) -> Result<Vec<u8>, String> {
     let xml = model(mesh, name);
     super::zip_archive::deflated_zip(&[

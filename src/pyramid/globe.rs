@@ -206,7 +206,7 @@ impl Frame {
     }
 
     /// The frame for `hf`'s grid, and why it is local when it is: a plain height field whose
-    /// GeoTIFF names a supported system (see [`MapSystem::from_epsg`]) is placed on the globe
+    /// GeoTIFF names a supported system (see `MapSystem::from_epsg`) is placed on the globe
     /// with its centre as the origin; every other input stays in its own coordinates.
     pub fn of(hf: &Heightfield) -> (Self, Option<String>) {
         let Some(geo) = hf.georeference() else {

@@ -90,7 +90,7 @@ pub(crate) fn most_levels(width: usize, height: usize) -> usize {
 /// The member (index into `members`) each of `levels` levels shows, the root's first.
 ///
 /// The finest level shows the member of least E_sum. Each coarser level's budget is the finest
-/// member's T divided by [`GROWTH`] per level up; it shows the member of least E_sum within its
+/// member's T divided by `GROWTH` per level up; it shows the member of least E_sum within its
 /// budget among those with fewer triangles than the level below, keeping enough members with
 /// fewer triangles still for the levels above it (when none fits the budget, the fewest
 /// triangles it may take). Triangle counts therefore fall strictly towards the root.
@@ -161,7 +161,7 @@ pub fn plan(
 pub(crate) const DEFAULT_LEVELS: usize = 4;
 
 /// The levels a pyramid of a front of `members` on a `width` × `height` grid gets when none are
-/// asked for: [`DEFAULT_LEVELS`], or fewer when the grid or the front's distinct triangle
+/// asked for: `DEFAULT_LEVELS`, or fewer when the grid or the front's distinct triangle
 /// counts allow fewer.
 pub fn default_levels(members: &[Score], width: usize, height: usize) -> usize {
     let mut ts: Vec<usize> = members.iter().map(|s| s.t).collect();
@@ -211,7 +211,7 @@ pub(crate) fn frame_note(frame: &Frame, why_local: Option<&str>) -> String {
 }
 
 /// One level's tiles and each tile's share of the kept points, to be turned into contents with
-/// [`tile_content`]; a [`build_with`] caller chooses how (in one thread or spread over cores).
+/// `tile_content`; a [`build_with`] caller chooses how (in one thread or spread over cores).
 pub struct LevelWork<'a> {
     /// The grid.
     pub hf: &'a Heightfield,

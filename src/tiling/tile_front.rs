@@ -44,7 +44,7 @@ pub struct TileFront {
     /// Its border lines' rankings, which fix its border points at every level.
     pub borders: TileBorders,
     /// The members' kept points off the border (tile-local indices, increasing). Written as
-    /// [`PackedSet`](crate::kept_codec::PackedSet)s, each whole or as a diff with the member
+    /// `PackedSet`s, each whole or as a diff with the member
     /// before it; plain index arrays (older files) are read too.
     #[serde(with = "packed_members")]
     pub members: Vec<Vec<u32>>,
@@ -118,8 +118,8 @@ fn spread(ts: &[usize], count: usize) -> Vec<usize> {
 /// the tile's fixed border points. A pure function of its inputs: a tile run in any thread or
 /// process gives the same bits. The tile's seed is derived from `seed` and `index`.
 ///
-/// Each kept member (at most [`MEMBERS_PER_TILE`]) loses its points on the tile's border and is
-/// scored at the border levels within [`LEVEL_REACH`] of the level nearest its own number of
+/// Each kept member (at most `MEMBERS_PER_TILE`) loses its points on the tile's border and is
+/// scored at the border levels within `LEVEL_REACH` of the level nearest its own number of
 /// points per border line, each level's border points added by editing the previous level's
 /// mesh.
 pub fn run_tile(
@@ -142,7 +142,7 @@ pub fn run_tile(
 }
 
 /// [`run_tile`] keeping at most `keep` of the optimizer's members (at least 2) instead of
-/// [`MEMBERS_PER_TILE`]: scoring a member visits every point of the tile, so a quick look at a
+/// `MEMBERS_PER_TILE`: scoring a member visits every point of the tile, so a quick look at a
 /// tile's front keeps fewer.
 pub fn run_tile_keeping(
     tile_hf: &Heightfield,

@@ -60,7 +60,7 @@ impl PartClasses {
 
     /// Classifies the triangles of `a` and `b` (scored on `hf`, disc boxes filled) against the
     /// rectangles `parts` (`[x0, y0, x1, y1]`, half-open; empty ones allowed), which must tile the
-    /// grid. `None` when they do not, when there are more than [`MAX_PARTS`](Self::MAX_PARTS),
+    /// grid. `None` when they do not, when there are more than `MAX_PARTS`,
     /// or when a parent is not ready to compose from.
     pub fn new(
         hf: &Arc<Heightfield>,

@@ -60,8 +60,8 @@ pub struct MeshState {
 pub(crate) const LARGEST_MAXIMA: usize = 16;
 
 /// A mesh state's arrays indexed by grid point (kept marks, hints, kept bitset), taken out of a
-/// state that is not being edited ([`MeshState::detach_lookups`]) and lent to one that is
-/// ([`MeshState::attach_lookups`]). A state without them costs memory in proportion to its
+/// state that is not being edited (`MeshState::detach_lookups`) and lent to one that is
+/// (`MeshState::attach_lookups`). A state without them costs memory in proportion to its
 /// mesh, not to the grid; a handful of these serve a whole population. Between states the kept
 /// marks and bits are all clear (the hints are unspecified), so lending one costs a pass over
 /// the mesh, not over the grid.
@@ -177,7 +177,7 @@ impl MeshState {
 
     /// The kept points that share a triangle with kept point `v`, each once, counter-clockwise
     /// around it: a walk around its star from the triangle its hint names. The state must
-    /// hold its lookups ([`has_lookups`](Self::has_lookups)).
+    /// hold its lookups (`has_lookups`).
     pub fn neighbours(&self, v: u32) -> Vec<u32> {
         let hf = self.hf.as_ref().expect("a scored state");
         let lattice = Lattice::new(hf.width());

@@ -351,7 +351,7 @@ impl Optimizer for Memetic {
     /// costs, or one removal with its neighbours' new costs); then one seed's scoring, one
     /// child (a crossover and a mutation, up to 10 evaluations with a move's trials), or one
     /// local-search step (a visit's start, one padding step, or a round or the part of it that
-    /// its [`TRIALS_PER_UNIT`](super::local_search::TRIALS_PER_UNIT) new trials allow).
+    /// its `TRIALS_PER_UNIT` new trials allow).
     fn unit(&mut self) {
         self.advance();
     }

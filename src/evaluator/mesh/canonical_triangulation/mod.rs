@@ -154,8 +154,8 @@ impl Triangulation {
     ///
     /// When `kept` holds the four corners of its bounding box (the evaluator always keeps the
     /// grid's corners), the points are inserted one by one into the box's two triangles
-    /// ([`insert_all`](Self::insert_all)); otherwise spade builds it
-    /// ([`rebuild_with_spade`](Self::rebuild_with_spade)). Both give the same triangles.
+    /// (`insert_all`); otherwise spade builds it
+    /// (`rebuild_with_spade`). Both give the same triangles.
     pub fn rebuild_delaunay(&mut self, width: usize, kept: &[u32]) {
         if !self.insert_all(width, kept) {
             self.rebuild_with_spade(width, kept);
@@ -352,7 +352,7 @@ impl Triangulation {
     }
 
     /// The half-edges leaving the origin of half-edge `e`, one per triangle of its star,
-    /// counter-clockwise from the fan's first ([`fan_start`](Self::fan_start)).
+    /// counter-clockwise from the fan's first (`fan_start`).
     pub fn fan(&self, e: u32) -> impl Iterator<Item = u32> + '_ {
         let first = self.fan_start(e);
         std::iter::successors(Some(first), move |&at| {
