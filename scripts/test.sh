@@ -35,6 +35,10 @@ cargo clippy --all-targets -- -D warnings
 stage "clippy (wasm32)"
 cargo clippy --target wasm32-unknown-unknown --lib --tests -- -D warnings
 
+# The library's public API (rustdoc, stable) against tests/public-api.txt, and warning-free docs.
+stage "public API"
+bash scripts/public-api.sh
+
 # This also builds target/debug/paretomesh, the CLI that share.test.mjs compares with.
 stage "native tests"
 cargo test --all-targets
