@@ -3,7 +3,8 @@
 
 Usage: public_api.py DOC_DIR, where DOC_DIR is target/doc/paretomesh after
 `cargo doc --no-deps --lib`. Prints one line per public module, item, enum variant, field,
-inherent method and associated item, and trait method: `kind path`. Trait implementations
+inherent method and associated item, trait method, and re-export of an item documented
+elsewhere: `kind path`. Trait implementations
 (derived or written) are left out: they change with derives, not with what users call.
 """
 import html
@@ -45,6 +46,10 @@ def main(doc):
         module = os.path.relpath(directory, os.path.dirname(doc)).replace(os.sep, '::')
         if 'index.html' in files:
             lines.add(f'mod {module}')
+            # Re-exports of items documented elsewhere (a public module's item, re-exported).
+            index = open(os.path.join(directory, 'index.html'), encoding='utf-8').read()
+            for m in re.finditer(r'id="reexport\.(\w+)"', index):
+                lines.add(f'use {module}::{m.group(1)}')
         for name in files:
             m = PAGE.match(name)
             if not m:
