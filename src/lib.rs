@@ -4,17 +4,20 @@
 //! (error, triangle count) meshes, after the source paper's NSGA-II with orthogonal-array
 //! crossover and its baselines.
 //!
-//! - [`heightfield`]: the height field z = f(x, y) on a W×H grid and its import (raw f32, PNG,
-//!   GeoTIFF, PLY, OBJ, STL).
+//! - [`heightfield`]: the height field z = f(x, y) on a W×H grid, its geometry and
+//!   georeferencing.
+//! - [`import`]: the readers (raw f32, PNG, GeoTIFF, PLY, OBJ, STL) and mesh resampling.
 //! - [`evaluator`]: the ruler: Delaunay triangulation of a kept set of grid points and the exact
 //!   error E = Σ|z − z̃| over every grid point, counted once.
 //! - [`front`]: solutions and the non-dominated front of (E, T).
 //! - [`optimizer`]: the steppable interface every algorithm implements.
-//! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA.
+//! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA, the memetic
+//!   method.
 //! - [`baselines`]: greedy insertion and edge decimation.
 //! - [`catalogue`]: every method with its names, budget kind, the parameters it reads and how
 //!   it is built; the CLI, the experiment and the app take their methods from it.
-//! - [`front_file`]: front.json, the self-contained result of a run.
+//! - [`front_file`]: front.json, the self-contained result of a run; [`kept_codec`] packs its
+//!   kept sets.
 //! - [`pick`]: choosing one member of a front (index, trade-off, knee, limits on T or error).
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
