@@ -2,7 +2,7 @@
 # Makes the generated grids that docs/performance.md and the benchmarks name, from seeds, so
 # that a clone reproduces every figure: fbm fractal terrains (scripts/terrain.py) at 257²,
 # 1025², 2048² (raw .f32 with .json sidecars) and 3601² (a float32 GeoTIFF in 16-row strips,
-# uncompressed, as the figures measured it). `--big` adds 10 801² (466 MB as .f32). Existing
+# uncompressed, as the figures measured it, and the same in UTM zone 33N). `--big` adds 10 801² (466 MB as .f32). Existing
 # files are kept. Needs numpy: the project's .venv-python (scripts/setup.sh) when present.
 #
 #   bash scripts/make-grids.sh [DIR] [--big]     # DIR defaults to out/grids
@@ -33,6 +33,9 @@ make fractal_257.f32 --size 257 --out "$dir/fractal_257.f32"
 make fractal_1025.f32 --size 1025 --out "$dir/fractal_1025.f32"
 make fractal_2048.f32 --size 2048 --out "$dir/fractal_2048.f32"
 make fractal_3601.tif --size 3601 --tif "$dir/fractal_3601.tif" --layout strips --compression none
+# The same heights placed in WGS84 UTM zone 33N (30 m cells), for the pyramid on the globe.
+make utm_3601.tif --size 3601 --tif "$dir/utm_3601.tif" --layout strips --compression none \
+  --epsg 32633 --origin 400000 4000000
 if [ "$big" = 1 ]; then
   make fractal_10801.f32 --size 10801 --out "$dir/fractal_10801.f32"
 fi
