@@ -29,6 +29,10 @@ bash scripts/setup.sh
 stage "cargo fmt --check"
 cargo fmt --all -- --check
 
+# No import circle between files, and ARCHITECTURE.md's module table is the code's (a second).
+stage "import circles and the module table"
+python3 scripts/import-cycles.py > /dev/null
+
 stage "clippy (native)"
 cargo clippy --all-targets -- -D warnings
 

@@ -238,7 +238,10 @@ mod tests {
             decode(&STANDARD.encode([5u8, 0])),
             Err(CodecError::NotIncreasing { at: 1 })
         );
-        assert!(decode(&encode(&[u32::MAX, 3])).is_err());
+        assert_eq!(
+            decode(&encode(&[u32::MAX, 3])),
+            Err(CodecError::NotIncreasing { at: 1 })
+        );
     }
 
     #[test]
@@ -273,6 +276,9 @@ mod tests {
         };
         let e = orphan.unpack(None, "tile 0's member 0").unwrap_err();
         assert!(e.contains("tile 0's member 0 has kept_diff"), "{e}");
-        assert!(PackedSet::default().unpack(None, "set").is_err());
+        assert_eq!(
+            PackedSet::default().unpack(None, "set"),
+            Err("set needs exactly one of kept_packed and kept_diff".to_string())
+        );
     }
 }

@@ -50,6 +50,7 @@ pub mod optimizer;
 pub mod pick;
 pub mod pyramid;
 pub mod tiling;
+pub(crate) mod xml;
 
 // The browser app's logic without the DOM: only `web` (wasm32) and the crate's tests use it, so
 // a native build leaves its page-only parts (and their re-exports) unused.

@@ -148,7 +148,11 @@ fn exported_meshes_parse_back_with_the_projects_importers() {
 #[test]
 fn a_triangle_on_a_point_that_is_not_kept_is_an_error() {
     let hf = Heightfield::new(2, 2, vec![0.0; 4]).unwrap();
-    assert!(WorldMesh::new(&hf, &[0, 1, 3], &[[0, 1, 2]]).is_err());
+    let err = WorldMesh::new(&hf, &[0, 1, 3], &[[0, 1, 2]]).err();
+    assert_eq!(
+        err.as_deref(),
+        Some("triangle vertex 2 is not a kept point")
+    );
 }
 
 #[test]

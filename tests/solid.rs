@@ -14,6 +14,9 @@ use std::collections::HashMap;
 use std::io::Cursor;
 use std::sync::Arc;
 
+mod common;
+use common::cli::paretomesh;
+
 fn grid(name: &str) -> Arc<Heightfield> {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
     let z = std::fs::read(format!("{dir}{name}.f32")).unwrap();
@@ -352,13 +355,6 @@ fn bumpy_tube_stl() -> String {
     }
     stl.push_str("endsolid tube\n");
     stl
-}
-
-fn paretomesh(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
 }
 
 /// A binary STL's triangles, with corners welded by their exact position.

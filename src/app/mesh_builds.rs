@@ -182,7 +182,7 @@ impl MeshBuilds {
 mod tests {
     use super::*;
     use crate::heightfield::Heightfield;
-    use crate::tiling::{assemble, mesh_of_parts, run_tile};
+    use crate::tiling::{TilingError, assemble, mesh_of_parts, run_tile};
 
     fn member(t: usize) -> Solution {
         Solution::recorded(t as f64, 1.0, t, Vec::new())
@@ -252,10 +252,15 @@ mod tests {
         assert!(bad.unpack().unwrap_err().contains("do not fit"));
         let mut short = packed;
         short.offsets.pop();
-        assert!(short.unpack().is_err());
-        assert!(
-            mesh_of_parts(&plan, &hf, &parts[1..]).is_err(),
-            "a tile missing"
+        assert_eq!(
+            short.unpack().err().as_deref(),
+            Some("a mesh job whose arrays do not fit its header")
         );
+        // A tile missing.
+        assert!(matches!(
+            mesh_of_parts(&plan, &hf, &parts[1..]),
+            Err(TilingError::WrongTiles { expected, ref given })
+                if expected == plan.len() && given[..] == (1..plan.len()).collect::<Vec<_>>()[..]
+        ));
     }
 }

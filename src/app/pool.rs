@@ -458,9 +458,9 @@ mod tests {
                 .unwrap()
         );
         assert!(run.front().is_empty());
-        assert!(
-            run.report(2, 3, front(&[(1.0, 2)]), progress(5, true))
-                .is_err()
+        assert_eq!(
+            run.report(2, 3, front(&[(1.0, 2)]), progress(5, true)),
+            Err("a worker reported job 3 of a run with fewer jobs".to_string())
         );
         run.fail(1, Some(0), "old");
         assert!(run.failure().is_none());

@@ -383,7 +383,10 @@ mod tests {
         let s = &front.solutions()[front.len() / 2];
         let mesh = run.mesh(&hf, s.e_sum, s.t).unwrap();
         assert_eq!(mesh.triangles.len(), s.t);
-        assert!(run.mesh(&hf, s.e_sum + 1.0, s.t).is_err());
+        assert_eq!(
+            run.mesh(&hf, s.e_sum + 1.0, s.t).err().as_deref(),
+            Some("this member is no longer on the tiled front")
+        );
         // Its front.json is the CLI's, and reads back.
         let file = run.run_file(&hf, 5, 2).unwrap();
         assert_eq!(
@@ -405,6 +408,12 @@ mod tests {
                 .unwrap_err()
                 .contains("tile 1 for job 0")
         );
-        assert!(run.report(plan.len(), front).is_err());
+        assert_eq!(
+            run.report(plan.len(), front),
+            Err(format!(
+                "a worker reported job {} of a run with fewer jobs",
+                plan.len()
+            ))
+        );
     }
 }

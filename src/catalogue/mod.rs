@@ -596,7 +596,11 @@ mod tests {
                 .unwrap()
                 .contains("use --evals")
         );
-        assert!(Algorithm::Memetic.configure(&gens).is_err());
+        let err = Algorithm::Memetic.configure(&gens).unwrap_err();
+        assert!(
+            err.starts_with("memetic does not read Generations: ") && err.contains("use --evals"),
+            "{err}"
+        );
         assert_eq!(
             Algorithm::Greedy.refusal(Param::Population).as_deref(),
             Some("it belongs to the evolutionary methods")

@@ -353,6 +353,10 @@ mod tests {
         let json = br#"{"grid":{"width":5,"height":5,"source":""},"algorithm":"x","params":null,"seed":0,"evaluations":0,"millis":0,"front":[]}"#;
         let err = from_json(json, 3, 3).unwrap_err();
         assert!(err.contains("5×5 grid, this data set is 3×3"), "{err}");
-        assert!(from_json(b"{\"a\":1}", 3, 3).is_err());
+        let err = from_json(b"{\"a\":1}", 3, 3).unwrap_err();
+        assert!(
+            err.starts_with("expected a front.json (an object with \"front\") or a list"),
+            "{err}"
+        );
     }
 }
