@@ -19,6 +19,7 @@
 //! file, and the kept set determines them (the canonical Delaunay triangulation, which
 //! `paretomesh eval --keep` reproduces).
 
+use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::{EvaluateError, Evaluator, MeshState, canonical_set, check_indices};
 use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
@@ -104,21 +105,48 @@ pub struct RunSolution {
     pub triangles: Option<Vec<[u32; 3]>>,
 }
 
-/// The whole file.
+/// What every front.json holds before its members, untiled ([`FrontFile`]) or tiled
+/// ([`TiledFrontFile`](crate::tiling::TiledFrontFile)): the grid, the method and its
+/// parameters, the seed and the run's cost. Both files flatten it, so its fields are the
+/// file's first ones, in this order.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FrontFile {
+pub struct RunHeader {
     /// The grid.
     pub grid: GridInfo,
-    /// The algorithm's name as the CLI spells it (`nsga2`, `weighted`, …).
-    pub algorithm: String,
-    /// The algorithm's parameters, as its params type serialises them.
+    /// The method, written as its command-line name (`nsga2`, `weighted`, …).
+    pub algorithm: Algorithm,
+    /// The method's parameters, as its params type serialises them (for a tiled run, as each
+    /// tile ran them).
     pub params: serde_json::Value,
-    /// The seed of the run's random generator.
+    /// The seed of the run's random generator (tile k of a tiled run runs with
+    /// [`tile_seed`](crate::tiling::tile_seed)`(seed, k)`).
     pub seed: u64,
-    /// Evaluations spent.
+    /// Evaluations spent (over all tiles).
     pub evaluations: u64,
     /// Wall time of the run in milliseconds (0 when unknown).
     pub millis: u64,
+}
+
+impl RunHeader {
+    /// The header of a run of `config` with `seed` on the grid `grid`.
+    pub fn new(grid: GridInfo, config: &Config, seed: u64, evaluations: u64, millis: u64) -> Self {
+        Self {
+            grid,
+            algorithm: config.algorithm(),
+            params: config.json(),
+            seed,
+            evaluations,
+            millis,
+        }
+    }
+}
+
+/// The whole file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrontFile {
+    /// The grid, the method, the seed and the run's cost.
+    #[serde(flatten)]
+    pub header: RunHeader,
     /// The front, by increasing T; kept sets are written compactly (see the module doc).
     #[serde(with = "members")]
     pub front: Vec<RunSolution>,
@@ -234,8 +262,7 @@ impl FrontFile {
     /// index is out of range ([`EvaluateError::IndexOutOfRange`]).
     pub fn new(
         evaluator: &mut Evaluator,
-        algorithm: &str,
-        params: serde_json::Value,
+        config: &Config,
         seed: u64,
         evaluations: u64,
         millis: u64,
@@ -260,19 +287,14 @@ impl FrontFile {
             })
             .collect();
         Ok(Self {
-            grid,
-            algorithm: algorithm.to_string(),
-            params,
-            seed,
-            evaluations,
-            millis,
+            header: RunHeader::new(grid, config, seed, evaluations, millis),
             front: members,
         })
     }
 
     /// Records the import options the grid was read with (see [`GridInfo::import`]).
     pub fn with_import(mut self, options: &ImportOptions) -> Self {
-        self.grid.import = Some(ImportRecord::of(options));
+        self.header.grid.import = Some(ImportRecord::of(options));
         self
     }
 
@@ -373,6 +395,10 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use std::sync::Arc;
 
+    fn greedy() -> Config {
+        Algorithm::Greedy.defaults()
+    }
+
     #[test]
     fn triangles_are_the_canonical_fresh_ones_whether_edited_or_rebuilt() {
         // A 17×13 grid of integer heights (many co-circular ties) and a chain of kept sets: most
@@ -402,8 +428,7 @@ mod tests {
             assert!(front.offer(Solution::recorded(100.0 - step as f64, 0.0, step, kept)));
         }
         let mut ev = Evaluator::new(hf.clone());
-        let mut file =
-            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let mut file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front).unwrap();
         assert_eq!(file.front.len(), 40);
         file.add_triangles(&mut ev).unwrap();
         let mut fresh = Evaluator::new(hf);
@@ -423,8 +448,7 @@ mod tests {
         let mut front = Front::default();
         front.offer(Solution::recorded(4.0, 4.0, 2, vec![0, 2, 6, 8]));
         let mut ev = Evaluator::new(hf);
-        let mut file =
-            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let mut file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front).unwrap();
         let json = serde_json::to_string(&file).unwrap();
         assert!(
             json.ends_with(
@@ -455,7 +479,7 @@ mod tests {
             terrain_rgb: true,
             ..ImportOptions::default()
         };
-        let file = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front)
+        let file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front)
             .unwrap()
             .with_import(&options);
         let json = serde_json::to_string(&file).unwrap();
@@ -464,11 +488,15 @@ mod tests {
             "{json}"
         );
         let read: FrontFile = serde_json::from_str(&json).unwrap();
-        assert_eq!(read.grid.import.unwrap().options(), Ok(options));
+        assert_eq!(read.header.grid.import.unwrap().options(), Ok(options));
         // A file without the record reads as before; a bad name is an error, not a default.
         let old = json.replace(r#","import":{"projection":"cylindrical","grid_size":[65,33],"surface":"outer","terrain_rgb":true}"#, "");
         assert_eq!(
-            serde_json::from_str::<FrontFile>(&old).unwrap().grid.import,
+            serde_json::from_str::<FrontFile>(&old)
+                .unwrap()
+                .header
+                .grid
+                .import,
             None
         );
         let bad = ImportRecord {
@@ -486,7 +514,7 @@ mod tests {
         front.offer(Solution::recorded(1.0, 1.0, 2, vec![0, 2, 6, 8]));
         front.offer(Solution::recorded(0.0, 0.0, 4, vec![0, 2, 6, 8, 9]));
         let mut ev = Evaluator::new(hf);
-        let made = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front);
+        let made = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front);
         assert!(
             matches!(made, Err(EvaluateError::IndexOutOfRange { .. })),
             "{made:?}"
@@ -544,8 +572,7 @@ mod tests {
         front.offer(Solution::recorded(2.0, 1.0, 800, base.clone()));
         front.offer(Solution::recorded(9.0, 1.0, 2, vec![0, 39, 1560, 1599]));
         let mut ev = Evaluator::new(hf);
-        let file =
-            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front).unwrap();
         let json: serde_json::Value = serde_json::to_value(&file).unwrap();
         let members = json["front"].as_array().unwrap();
         // By T: the corners packed whole, then the 534-point member in whichever form is

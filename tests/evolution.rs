@@ -535,10 +535,11 @@ fn cli_run_writes_a_front_json_that_rescores_identically() {
         );
         let file: FrontFile =
             serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-        assert_eq!((file.grid.width, file.grid.height), (33, 33));
-        assert_eq!((file.algorithm.as_str(), file.seed), (algo, 3));
-        assert_eq!(file.params["population"], 6);
-        assert!(file.evaluations > 0);
+        let run = &file.header;
+        assert_eq!((run.grid.width, run.grid.height), (33, 33));
+        assert_eq!((run.algorithm.name(), run.seed), (algo, 3));
+        assert_eq!(run.params["population"], 6);
+        assert!(run.evaluations > 0);
         let mut ev = Evaluator::new(hf.clone());
         for s in &file.front {
             let fresh = ev.evaluate(&s.solution.kept).unwrap();

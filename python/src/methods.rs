@@ -1,18 +1,15 @@
-//! The parameters `simplify` runs a method with: the catalogue's configuration of `--algo NAME`
-//! with its `--evals`, as the JSON the library's algorithm catalogue
-//! ([`paretomesh::tiling::build_optimizer`]) takes and front.json records. The CLI's `run`
-//! configures its method the same way ([`Algorithm::configure`], then [`Config::json`]), so both
-//! give the same parameters by construction.
-//!
-//! [`Config::json`]: paretomesh::catalogue::Config::json
+//! The method `simplify` runs: the catalogue's [`Config`] of `--algo NAME` with its `--evals`.
+//! The CLI's `run` configures its method the same way ([`Algorithm::configure`]), so both give
+//! the same parameters by construction. Dask ships the config to its tasks as JSON text
+//! (its serde form, `{"algorithm": …, "params": …}`), read back with [`from_text`].
 
 use crate::errors::value_error;
-use paretomesh::catalogue::{Algorithm, Param, Params};
+use paretomesh::catalogue::{Algorithm, Config, Param, Params};
 use pyo3::PyResult;
 
-/// The full parameters of `method` stopping after about `evals` evaluations (the method's own
-/// budget when `None`), as `paretomesh run --algo METHOD [--evals N]` sets them.
-pub fn params(method: &str, evals: Option<u64>) -> PyResult<serde_json::Value> {
+/// The config of `method` stopping after about `evals` evaluations (the method's own budget
+/// when `None`), as `paretomesh run --algo METHOD [--evals N]` sets it.
+pub fn config(method: &str, evals: Option<u64>) -> PyResult<Config> {
     let algorithm = Algorithm::from_name(method).ok_or_else(|| {
         value_error(format!(
             "unknown method {method:?}; the methods are {}",
@@ -30,6 +27,10 @@ pub fn params(method: &str, evals: Option<u64>) -> PyResult<serde_json::Value> {
         max_evaluations: evals,
         ..Params::default()
     };
-    let config = algorithm.configure(&given).map_err(value_error)?;
-    Ok(config.json())
+    algorithm.configure(&given).map_err(value_error)
+}
+
+/// A config shipped as JSON text (see [`config`]).
+pub fn from_text(text: &str) -> PyResult<Config> {
+    serde_json::from_str(text).map_err(|e| value_error(format!("config: {e}")))
 }

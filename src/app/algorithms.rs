@@ -1,7 +1,7 @@
 //! The parameter form of the app (the source paper's defaults) and how it fills the
 //! [`catalogue`](crate::catalogue)'s parameters; the methods themselves are the catalogue's.
 
-use crate::catalogue::{BudgetKind, Param, Params as CatalogueParams};
+use crate::catalogue::{BudgetKind, Config, Param, Params as CatalogueParams};
 use crate::evolution::{CrossoverKind, GaParams};
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
@@ -175,11 +175,17 @@ fn catalogue_params(algorithm: Algorithm, params: &Params) -> CatalogueParams {
     }
 }
 
-/// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
-pub(crate) fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
+/// The method the form sets, as the catalogue runs it (what `paretomesh run` runs for the same
+/// options); the method's defaults when the form's values contradict each other.
+pub(crate) fn config(algorithm: Algorithm, params: &Params) -> Config {
     algorithm
         .configure(&catalogue_params(algorithm, params))
-        .map_or(serde_json::Value::Null, |c| c.json())
+        .unwrap_or_else(|_| algorithm.defaults())
+}
+
+/// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
+pub(crate) fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
+    config(algorithm, params).json()
 }
 
 /// Builds `algorithm` on `hf`. Fails with a message for the user when the parameters are out

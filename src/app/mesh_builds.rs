@@ -230,9 +230,12 @@ mod tests {
             .collect();
         let hf = Heightfield::new(w, h, z).unwrap();
         let plan = TilePlan::new(w, h, 36).unwrap();
-        let params = serde_json::json!({"records": 16});
+        let greedy = crate::catalogue::Config::Greedy(crate::baselines::GreedyParams {
+            records: 16,
+            ..Default::default()
+        });
         let fronts = (0..plan.len())
-            .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, "greedy", &params, 3).unwrap())
+            .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, &greedy, 3).unwrap())
             .collect();
         let front = assemble(&plan, fronts).unwrap();
         let k = front.members.len() / 2;

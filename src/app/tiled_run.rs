@@ -11,10 +11,11 @@
 
 use super::algorithms::{self, Algorithm, Params};
 use crate::baselines::{GreedyParams, GreedyStop};
+use crate::catalogue::Config;
 use crate::front::{Front, Solution};
-use crate::front_file::GridInfo;
+use crate::front_file::{GridInfo, RunHeader};
 use crate::tiling::TiledFrontFile;
-use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
+use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_config};
 
 /// The algorithm of the first, quick pass.
 pub(crate) const QUICK: Algorithm = Algorithm::Greedy;
@@ -22,13 +23,12 @@ pub(crate) const QUICK: Algorithm = Algorithm::Greedy;
 /// The first pass's greedy insertion on tile `tile`: it stops at a tenth of the tile's full
 /// triangle count, which holds every mesh a whole-grid front is looked at for, in a fraction of
 /// the time of inserting every point.
-fn quick_params(plan: &TilePlan, tile: usize) -> serde_json::Value {
+fn quick_config(plan: &TilePlan, tile: usize) -> Config {
     let t = plan.tile(tile).map_or(2, |t| 2 * (t.w - 1) * (t.h - 1));
-    let params = GreedyParams {
+    Config::Greedy(GreedyParams {
         stop: GreedyStop::Triangles((t / QUICK_SHARE).max(2)),
         ..GreedyParams::default()
-    };
-    serde_json::to_value(params).unwrap_or(serde_json::Value::Null)
+    })
 }
 
 /// The first pass stops at 1 / this of a tile's full triangle count.
@@ -40,15 +40,13 @@ const QUICK_SHARE: usize = 10;
 /// whole-grid front combines the tiles' members, so it stays fine-grained with few per tile.
 pub(crate) const QUICK_MEMBERS: usize = 16;
 
-/// One tile job: which tile, with which algorithm and parameters (as front.json records them).
+/// One tile job: which tile, with which method.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct TileJob {
     /// The tile's index in the plan.
     pub tile: usize,
-    /// The algorithm.
-    pub algorithm: Algorithm,
-    /// Its parameters as JSON, as [`crate::tiling::run_tile`] takes them.
-    pub params: serde_json::Value,
+    /// The method and its parameters, as [`crate::tiling::run_tile`] takes them.
+    pub config: Config,
     /// The run's seed (the tile's own seed is derived from it and the tile).
     pub seed: u64,
     /// True for a first-pass job.
@@ -103,18 +101,14 @@ impl TiledRun {
         let tiles = self.plan.len();
         let quick = self.two_passes() && index < tiles;
         let tile = index % tiles;
-        let (algorithm, params) = if quick {
-            (QUICK, quick_params(&self.plan, tile))
+        let config = if quick {
+            quick_config(&self.plan, tile)
         } else {
-            (
-                self.algorithm,
-                algorithms::params_json(self.algorithm, &self.params),
-            )
+            algorithms::config(self.algorithm, &self.params)
         };
         Some(TileJob {
             tile,
-            algorithm,
-            params,
+            config,
             seed: self.params.seed,
             quick,
             members: if quick {
@@ -218,23 +212,25 @@ impl TiledRun {
                     self.plan.len()
                 )
             })?;
+        let grid = GridInfo {
+            width: hf.width(),
+            height: hf.height(),
+            source: hf.source().to_string(),
+            import: None,
+        };
+        // As the tiles ran it (the memetic search's share per tile).
+        let config = tile_config(
+            &self.plan,
+            &algorithms::config(self.algorithm, &self.params),
+        );
         Ok(TiledFrontFile {
-            grid: GridInfo {
-                width: hf.width(),
-                height: hf.height(),
-                source: hf.source().to_string(),
-                import: None,
-            },
-            algorithm: self.algorithm.name().to_string(),
-            // As the tiles ran them (the memetic search's share per tile).
-            params: tile_params(
-                &self.plan,
-                self.algorithm.name(),
-                &algorithms::params_json(self.algorithm, &self.params),
+            header: RunHeader::new(
+                grid,
+                &config,
+                self.params.seed,
+                assembled.evaluations(),
+                millis,
             ),
-            seed: self.params.seed,
-            evaluations: assembled.evaluations(),
-            millis,
             threads: workers,
             tiled: assembled.clone(),
         })
@@ -305,8 +301,7 @@ mod tests {
             &tile,
             run.plan(),
             job.tile,
-            job.algorithm.name(),
-            &job.params,
+            &job.config,
             job.seed,
             job.members,
         )
@@ -360,8 +355,7 @@ mod tests {
         let cli = run_tiled(
             &hf,
             &plan,
-            "nsga2",
-            &algorithms::params_json(Algorithm::Nsga2, &p),
+            &algorithms::config(Algorithm::Nsga2, &p),
             p.seed,
             1,
         )
@@ -390,8 +384,8 @@ mod tests {
         // Its front.json is the CLI's, and reads back.
         let file = run.run_file(&hf, 5, 2).unwrap();
         assert_eq!(
-            (file.tiled, file.algorithm.as_str(), file.seed),
-            (cli, "nsga2", 9)
+            (file.tiled, file.header.algorithm, file.header.seed),
+            (cli, Algorithm::Nsga2, 9)
         );
     }
 

@@ -274,8 +274,8 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     }
     let file = front_reader::read(&args.front)?;
     let (grid, seed) = match &file {
-        AnyFront::Untiled(f) => (&f.grid, f.seed),
-        AnyFront::Tiled(f) => (&f.grid, f.seed),
+        AnyFront::Untiled(f) => (&f.header.grid, f.header.seed),
+        AnyFront::Tiled(f) => (&f.header.grid, f.header.seed),
     };
     let scores: Vec<Score> = match &file {
         AnyFront::Untiled(f) => f.front.iter().map(|m| m.solution.score).collect(),

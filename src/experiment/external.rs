@@ -67,10 +67,10 @@ pub fn from_json(bytes: &[u8], width: usize, height: usize) -> Result<Vec<MeshIn
         serde_json::Value::Object(ref o) if o.contains_key("front") => {
             let file: FrontFile = serde_json::from_value(value)
                 .map_err(|e| format!("not a front.json as `paretomesh run` writes it: {e}"))?;
-            if (file.grid.width, file.grid.height) != (width, height) {
+            if (file.header.grid.width, file.header.grid.height) != (width, height) {
                 return Err(format!(
                     "the front.json was made on a {}×{} grid, this data set is {width}×{height}",
-                    file.grid.width, file.grid.height
+                    file.header.grid.width, file.header.grid.height
                 ));
             }
             Ok(file
@@ -350,7 +350,7 @@ mod tests {
 
     #[test]
     fn a_front_json_of_another_grid_is_refused_whole() {
-        let json = br#"{"grid":{"width":5,"height":5,"source":""},"algorithm":"x","params":null,"seed":0,"evaluations":0,"millis":0,"front":[]}"#;
+        let json = br#"{"grid":{"width":5,"height":5,"source":""},"algorithm":"greedy","params":null,"seed":0,"evaluations":0,"millis":0,"front":[]}"#;
         let err = from_json(json, 3, 3).unwrap_err();
         assert!(err.contains("5×5 grid, this data set is 3×3"), "{err}");
         let err = from_json(b"{\"a\":1}", 3, 3).unwrap_err();

@@ -14,8 +14,8 @@
 //!
 //! - `plan`: [`TilePlan`], the cut, and [`TilePlan::cut`], a tile's own grid;
 //! - `border`: border lines ranked by 1-D greedy insertion, border levels;
-//! - `algorithm`: an optimizer from a name, parameters as JSON and a seed; per-tile
-//!   parameters and seeds;
+//! - `algorithm`: a tile's method (the run's catalogue [`Config`](crate::catalogue::Config)
+//!   with its tile share of the budget) and seed;
 //! - `tile_front`: [`run_tile`], one tile's front, [`TileFront`];
 //! - `allocation`: the multiple-choice allocation of one option per tile;
 //! - `assemble`: [`assemble()`], the whole-grid front, [`TiledFront`];
@@ -26,15 +26,17 @@
 //! The files are private; what callers need is re-exported here.
 //!
 //! ```
+//! use paretomesh::baselines::GreedyParams;
+//! use paretomesh::catalogue::Config;
 //! use paretomesh::heightfield::Heightfield;
 //! use paretomesh::tiling::{TilePlan, assemble, run_tile};
 //! let (w, h) = (70, 40);
 //! let z = (0..w * h).map(|i| ((i % w) as f64 * 0.3).sin() + (i / w) as f64 * 0.05).collect();
 //! let hf = Heightfield::new(w, h, z).unwrap();
 //! let plan = TilePlan::new(w, h, 36).unwrap();
-//! let params = serde_json::json!({"records": 16});
+//! let greedy = Config::Greedy(GreedyParams { records: 16, ..GreedyParams::default() });
 //! let fronts = (0..plan.len())
-//!     .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, "greedy", &params, 1).unwrap())
+//!     .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, &greedy, 1).unwrap())
 //!     .collect();
 //! let front = assemble(&plan, fronts).unwrap();
 //! let mesh = front.mesh(&hf, 0).unwrap();
@@ -54,7 +56,7 @@ mod plan;
 mod tests;
 mod tile_front;
 
-pub use algorithm::{build_optimizer, tile_params, tile_seed};
+pub use algorithm::{tile_config, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
 pub use file::TiledFrontFile;
 pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
@@ -111,12 +113,10 @@ pub enum TilingError {
         /// The tile indices given, sorted.
         given: Vec<usize>,
     },
-    /// An algorithm [`build_optimizer`] does not know.
-    UnknownAlgorithm(String),
     /// Parameters the algorithm refuses.
     BadParams {
         /// The algorithm.
-        algorithm: String,
+        algorithm: crate::catalogue::Algorithm,
         /// Why.
         reason: String,
     },
@@ -156,15 +156,8 @@ impl std::fmt::Display for TilingError {
                 f,
                 "assembling needs one front for each of the {expected} tiles, got tiles {given:?}"
             ),
-            Self::UnknownAlgorithm(name) => write!(
-                f,
-                "unknown algorithm {name:?}: expected one of {}",
-                crate::catalogue::Algorithm::ALL
-                    .map(|a| a.name())
-                    .join(", ")
-            ),
             Self::BadParams { algorithm, reason } => {
-                write!(f, "bad parameters for {algorithm}: {reason}")
+                write!(f, "bad parameters for {}: {reason}", algorithm.name())
             }
             Self::Grid(e) => write!(f, "cannot cut the tile: {e}"),
             Self::Evaluate(e) => write!(f, "cannot score a tile's mesh: {e}"),

@@ -1,9 +1,10 @@
 //! One tile's front: its optimizer's members with the fixed border points of each border level
 //! put in, scored exactly.
 
-use super::algorithm::{build_optimizer, tile_params, tile_seed};
+use super::algorithm::build_tile;
 use super::border::{Side, TileBorders, level_count};
 use super::{TilePlan, TilingError};
+use crate::catalogue::{Config, Running};
 use crate::evaluator::{Evaluator, MeshState};
 use crate::heightfield::Heightfield;
 use serde::{Deserialize, Serialize};
@@ -113,10 +114,10 @@ fn spread(ts: &[usize], count: usize) -> Vec<usize> {
     out
 }
 
-/// Runs `algorithm` with `params` ([`tile_params`] of them) on tile `index` of `plan`, whose own
-/// grid is `tile_hf` (cut by [`TilePlan::cut`] or read by window), and scores its members with
-/// the tile's fixed border points. A pure function of its inputs: a tile run in any thread or
-/// process gives the same bits. The tile's seed is derived from `seed` and `index`.
+/// Runs `config` ([`tile_config`](super::tile_config) of it) on tile `index` of `plan`, whose
+/// own grid is `tile_hf` (cut by [`TilePlan::cut`] or read by window), and scores its members
+/// with the tile's fixed border points. A pure function of its inputs: a tile run in any
+/// thread or process gives the same bits. The tile's seed is derived from `seed` and `index`.
 ///
 /// Each kept member (at most `MEMBERS_PER_TILE`) loses its points on the tile's border and is
 /// scored at the border levels within `LEVEL_REACH` of the level nearest its own number of
@@ -126,19 +127,10 @@ pub fn run_tile(
     tile_hf: &Heightfield,
     plan: &TilePlan,
     index: usize,
-    algorithm: &str,
-    params: &serde_json::Value,
+    config: &Config,
     seed: u64,
 ) -> Result<TileFront, TilingError> {
-    run_tile_keeping(
-        tile_hf,
-        plan,
-        index,
-        algorithm,
-        params,
-        seed,
-        MEMBERS_PER_TILE,
-    )
+    run_tile_keeping(tile_hf, plan, index, config, seed, MEMBERS_PER_TILE)
 }
 
 /// [`run_tile`] keeping at most `keep` of the optimizer's members (at least 2) instead of
@@ -148,24 +140,28 @@ pub fn run_tile_keeping(
     tile_hf: &Heightfield,
     plan: &TilePlan,
     index: usize,
-    algorithm: &str,
-    params: &serde_json::Value,
+    config: &Config,
     seed: u64,
+    keep: usize,
+) -> Result<TileFront, TilingError> {
+    let hf = Arc::new(tile_hf.clone());
+    let optimizer = build_tile(hf.clone(), plan, index, config, seed)?;
+    run_built_tile(hf, optimizer, plan, index, keep)
+}
+
+/// [`run_tile_keeping`] with the tile's optimizer already built on its grid `hf` (by
+/// [`build_tile`]).
+pub(crate) fn run_built_tile(
+    hf: Arc<Heightfield>,
+    mut optimizer: Box<dyn Running>,
+    plan: &TilePlan,
+    index: usize,
     keep: usize,
 ) -> Result<TileFront, TilingError> {
     let tile = plan.tile(index).ok_or(TilingError::NoSuchTile {
         index,
         tiles: plan.len(),
     })?;
-    if (tile_hf.width(), tile_hf.height()) != (tile.w, tile.h) {
-        return Err(TilingError::GridMismatch {
-            plan: (tile.w, tile.h),
-            grid: (tile_hf.width(), tile_hf.height()),
-        });
-    }
-    let hf = Arc::new(tile_hf.clone());
-    let params = tile_params(plan, algorithm, params);
-    let mut optimizer = build_optimizer(hf.clone(), algorithm, &params, tile_seed(seed, index))?;
     let progress = optimizer.run_to_end();
     let (w, h) = (tile.w, tile.h);
     let borders = TileBorders::new(w, h, hf.z());

@@ -5,6 +5,7 @@
 use super::transfer;
 use crate::app::algorithms::{self, Algorithm, Params, Running};
 use crate::app::pool::{FrontParts, Job, Work};
+use crate::catalogue::Config;
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::Progress;
@@ -21,12 +22,14 @@ fn set(o: &Object, key: &str, value: &JsValue) -> Result<(), JsValue> {
     Reflect::set(o, &key.into(), value).map(|_| ())
 }
 
-/// The message a worker is handed for `job` on the surface `hf`: `{run, index, kind, algorithm,
-/// params, surface}` with `params` as JSON and `surface` (the job's own grid: the whole grid, or
-/// its tile cut from it) in [`transfer`]'s form, whose heights the page transfers. A tile job
-/// (`kind: "tile"`) also has `plan` (the tile plan as JSON), `tile`, `seed` (decimal text: a
-/// seed may exceed what a JavaScript number holds exactly) and `members` (how many of its
-/// optimizer's members the tile's front keeps).
+/// The message a worker is handed for `job` on the surface `hf`: `{run, index, kind, surface}`
+/// with `surface` (the job's own grid: the whole grid, or its tile cut from it) in
+/// [`transfer`]'s form, whose heights the page transfers. A whole-grid job (`kind: "whole"`)
+/// also has `algorithm` (its menu key) and `params` (the form's, as JSON). A tile job (`kind:
+/// "tile"`) has `config` (the catalogue's [`Config`](crate::catalogue::Config) as JSON), `plan`
+/// (the tile plan as JSON), `tile`, `seed` (decimal text: a seed may exceed what a JavaScript
+/// number holds exactly) and `members` (how many of its optimizer's members the tile's front
+/// keeps).
 pub(super) fn job_to_js(
     job: &Job,
     hf: &Heightfield,
@@ -46,8 +49,7 @@ pub(super) fn job_to_js(
             let plan = plan.ok_or("a tile job without a plan")?;
             let cut = plan.cut(hf, tile.tile).map_err(|e| e.to_string())?;
             set(&o, "kind", &"tile".into())?;
-            set(&o, "algorithm", &tile.algorithm.name().into())?;
-            set(&o, "params", &json(&tile.params)?.into())?;
+            set(&o, "config", &json(&tile.config)?.into())?;
             set(&o, "plan", &json(plan)?.into())?;
             set(&o, "tile", &JsValue::from_f64(tile.tile as f64))?;
             set(&o, "seed", &tile.seed.to_string().into())?;
@@ -58,25 +60,23 @@ pub(super) fn job_to_js(
     Ok(o.into())
 }
 
-/// Runs tile `tile` of the plan `plan` (JSON) on its grid `surface` with `algorithm` (menu
-/// key), `params` (JSON) and `seed`, keeping `members` members, and returns the tile's front as
-/// JSON: the worker's side of a tile job, the same function a tiled CLI run calls for each
-/// tile.
+/// Runs tile `tile` of the plan `plan` (JSON) on its grid `surface` with `config` (the
+/// catalogue's [`Config`] as JSON) and `seed`, keeping `members` members, and returns the
+/// tile's front as JSON: the worker's side of a tile job, the same function a tiled CLI run
+/// calls for each tile.
 pub(super) fn run_tile(
     surface: &JsValue,
     plan: &str,
     tile: usize,
-    algorithm: &str,
-    params: &str,
+    config: &str,
     seed: &str,
     members: usize,
 ) -> Result<String, String> {
     let seed: u64 = seed.parse().map_err(|_| format!("bad seed {seed}"))?;
     let hf = transfer::surface_from_js(surface)?;
     let plan: TilePlan = serde_json::from_str(plan).map_err(|e| format!("bad tile plan: {e}"))?;
-    let params: serde_json::Value =
-        serde_json::from_str(params).map_err(|e| format!("bad parameters: {e}"))?;
-    let front = tiling::run_tile_keeping(&hf, &plan, tile, algorithm, &params, seed, members)
+    let config: Config = serde_json::from_str(config).map_err(|e| format!("bad method: {e}"))?;
+    let front = tiling::run_tile_keeping(&hf, &plan, tile, &config, seed, members)
         .map_err(|e| e.to_string())?;
     serde_json::to_string(&front).map_err(|e| e.to_string())
 }

@@ -297,8 +297,7 @@ fn export_front_file(ui: &Ui, stem: &str) -> Result<(), String> {
     let status = ui.app.status();
     let file = FrontFile::new(
         &mut Evaluator::new(ui.app.surface().heightfield.clone()),
-        config.algorithm.name(),
-        algorithms::params_json(config.algorithm, &config.params),
+        &algorithms::config(config.algorithm, &config.params),
         config.params.seed,
         status.evaluations,
         status.elapsed_ms.round() as u64,

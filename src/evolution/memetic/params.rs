@@ -25,7 +25,7 @@ pub struct MemeticParams {
     /// When [`max_evaluations`](Self::max_evaluations) is not set, the evaluations after
     /// seeding (the evolution's and the local search's); `None` = [`search_budget`] of the
     /// grid. A tile of a tiled run gets its share of the whole grid's
-    /// ([`tile_params`](crate::tiling::tile_params)).
+    /// (the catalogue's `Config::tile_share`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub search_evaluations: Option<u64>,
     /// Seed from the greedy sweeps (`seeding`); when off, the initial
