@@ -12,7 +12,9 @@
 pub mod borders;
 pub mod globe;
 pub mod quadtree;
+pub mod refine;
 pub mod tile_mesh;
+pub mod tiled_levels;
 pub mod tileset;
 
 use crate::evaluator::Score;
@@ -211,12 +213,21 @@ pub struct LevelWork<'a> {
     pub tiles: Vec<Tile>,
     /// Each tile's kept points, border points included.
     pub shares: Vec<Vec<u32>>,
+    /// The bound each tile's mesh is refined to meet ([`refine::refine_share`]), if any.
+    pub bound: Option<f64>,
 }
 
 impl LevelWork<'_> {
     /// The content of tile `i`.
     pub fn content(&self, i: usize) -> Result<TileContent, String> {
-        tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i])
+        match self.bound {
+            None => tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i]),
+            Some(bound) => {
+                let (share, _) =
+                    refine::refine_share(self.hf, &self.tiles[i], &self.shares[i], bound)?;
+                tile_content(self.hf, self.frame, &self.tiles[i], &share)
+            }
+        }
     }
 }
 
@@ -230,17 +241,44 @@ pub fn build_with(
     picks: &[usize],
     contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
 ) -> Result<Pyramid, String> {
+    build_levels(hf, scores, kept, picks, None, contents)
+}
+
+/// [`build_with`] for levels chosen from a tiled front (level L shows member L), each tile's
+/// mesh refined until it meets its level's bound `bounds[L]`: cut from a whole-grid mesh, a
+/// tile's own triangulation may otherwise miss the bound its run tiles met.
+pub fn build_refined(
+    hf: &Heightfield,
+    scores: &[Score],
+    kept: &[&[u32]],
+    bounds: &[f64],
+    contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
+) -> Result<Pyramid, String> {
+    let picks: Vec<usize> = (0..scores.len()).collect();
+    build_levels(hf, scores, kept, &picks, Some(bounds), contents)
+}
+
+fn build_levels(
+    hf: &Heightfield,
+    scores: &[Score],
+    kept: &[&[u32]],
+    picks: &[usize],
+    bounds: Option<&[f64]>,
+    contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
+) -> Result<Pyramid, String> {
     let (frame, why_local) = Frame::of(hf);
     let mut out = Vec::with_capacity(picks.len());
     for (depth, &member) in picks.iter().enumerate() {
         let level = Level::new(hf.width(), hf.height(), depth as u32);
-        let with_borders =
-            borders::with_border_points(hf, &level, kept[member], scores[member].e_max);
+        let bound = bounds.map(|b| b[depth]);
+        let tolerance = bound.unwrap_or(scores[member].e_max);
+        let with_borders = borders::with_border_points(hf, &level, kept[member], tolerance);
         let work = LevelWork {
             hf,
             frame: &frame,
             shares: level.share_out(&with_borders),
             tiles: level.tiles(),
+            bound,
         };
         out.push(contents(&work)?);
     }
