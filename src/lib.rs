@@ -41,6 +41,8 @@ pub mod metrics;
 pub mod optimizer;
 pub mod pick;
 pub mod pyramid;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod terrain;
 pub mod tiling;
 
 // The browser app's logic without the DOM: only `web` (wasm32) and the crate's tests use it, so
