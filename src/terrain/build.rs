@@ -209,7 +209,7 @@ pub const METADATA_LEVELS: u32 = 10;
 /// of them at a zoom that is a multiple of it, else one), the range of its descendants the
 /// tileset has; `None` when it has none.
 fn metadata(id: TileId, available: &BTreeMap<u32, Vec<[u64; 4]>>) -> Option<String> {
-    let depth = if id.zoom % METADATA_LEVELS == 0 {
+    let depth = if id.zoom.is_multiple_of(METADATA_LEVELS) {
         METADATA_LEVELS
     } else {
         1
