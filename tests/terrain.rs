@@ -99,7 +99,11 @@ fn edge(tile: &DecodedTile, side: usize) -> Vec<(u16, f64)> {
         .iter()
         .map(|&i| {
             let i = i as usize;
-            let along = if side.is_multiple_of(2) { tile.v[i] } else { tile.u[i] };
+            let along = if side.is_multiple_of(2) {
+                tile.v[i]
+            } else {
+                tile.u[i]
+            };
             (along, tile.height_of(i))
         })
         .collect();
