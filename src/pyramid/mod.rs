@@ -12,7 +12,7 @@
 pub mod borders;
 pub mod globe;
 pub mod quadtree;
-pub mod refine;
+pub(crate) mod refine;
 pub mod tile_mesh;
 pub mod tiled_levels;
 pub mod tileset;
@@ -213,7 +213,7 @@ pub struct LevelWork<'a> {
     pub tiles: Vec<Tile>,
     /// Each tile's kept points, border points included.
     pub shares: Vec<Vec<u32>>,
-    /// The bound each tile's mesh is refined to meet ([`refine::refine_share`]), if any.
+    /// The bound each tile's mesh is refined to meet (its worst off-border points added), if any.
     pub bound: Option<f64>,
 }
 
