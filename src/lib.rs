@@ -49,6 +49,8 @@ pub mod metrics;
 pub mod optimizer;
 pub mod pick;
 pub mod pyramid;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod terrain;
 pub mod tiling;
 pub(crate) mod xml;
 

@@ -39,7 +39,8 @@ fn bad_input_is_an_error_not_a_panic() {
     let Err(err) = paretomesh::web::evaluate_raw(&GRID[..100], SIDECAR, &[]) else {
         panic!("a cut-off grid was scored");
     };
-    let native = paretomesh::import::readers::raw::parse(&GRID[..100], SIDECAR, "upload").unwrap_err();
+    let native =
+        paretomesh::import::readers::raw::parse(&GRID[..100], SIDECAR, "upload").unwrap_err();
     assert!(
         matches!(native, paretomesh::import::ImportError::Truncated { .. }),
         "{native:?}"

@@ -6,6 +6,7 @@ mod export;
 mod front_reader;
 mod info;
 mod input;
+mod progress;
 mod run;
 mod tiles;
 
@@ -45,9 +46,8 @@ enum Command {
     /// Write one member of a front.json as a mesh (PLY, OBJ, STL or binary glTF) in the input's
     /// own coordinates.
     Export(export::ExportArgs),
-    /// Write a 3D Tiles pyramid of a front.json: tileset.json and one binary glTF per tile,
-    /// each quadtree level a member of the front, placed on the globe for a georeferenced
-    /// GeoTIFF (EPSG:4326 or WGS84 UTM).
+    /// Write a terrain tileset of a front.json or a DEM: a 3D Tiles pyramid (tileset.json and
+    /// one binary glTF per tile) or quantized-mesh-1.0 terrain (layer.json and .terrain tiles).
     Tiles(tiles::TilesArgs),
     /// Run the paper's experiment on one or more grids: every method, the indicators and the
     /// Wilcoxon tests; writes report.md, fronts-<name>.svg and results.json.

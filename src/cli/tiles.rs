@@ -1,99 +1,379 @@
-//! `paretomesh tiles FRONT.json --out DIR [--levels N] [--grid GRID] [import options]`: writes a
-//! 3D Tiles 1.1 quadtree pyramid of a front (tileset.json and one .glb per tile), each level a
-//! whole-grid member, placed on the globe for a GeoTIFF in EPSG:4326 or WGS84 UTM.
+//! `paretomesh tiles INPUT --out DIR`: a terrain tileset for web globes from a front.json
+//! (untiled or tiled) or straight from a DEM (run tile by tile with the default method).
+//! `--format 3dtiles` (the default) writes a 3D Tiles 1.1 pyramid (tileset.json and one .glb
+//! per tile); `--format quantized-mesh` writes CesiumTerrainProvider's quantized-mesh-1.0
+//! tiles and layer.json on the geographic or Web Mercator TMS scheme. The tileset is written
+//! into a temporary folder beside DIR and renamed to DIR when complete.
 
 use super::front_reader::{self, AnyFront, find_grid};
 use super::input::ImportArgs;
-use clap::Args;
+use super::progress::Progress;
+use clap::{Args, ValueEnum};
+use paretomesh::catalogue::{Algorithm, Params};
+use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
-use paretomesh::pyramid::{build_with, default_levels, plan};
+use paretomesh::pyramid::{
+    DEFAULT_LEVELS, LevelWork, build_refined, build_with, default_levels, most_levels, plan,
+    tiled_levels,
+};
+use paretomesh::terrain::{RasterOptions, Scheme, TerrainOptions, build_terrain, reproject};
+use paretomesh::tiling::{
+    DEFAULT_TILE, TilePlan, TiledFront, run_tiled_with_progress, tile_config,
+};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
+
+/// The tileset's format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FormatArg {
+    /// 3D Tiles 1.1: tileset.json and binary glTF tiles.
+    #[value(name = "3dtiles")]
+    ThreeDTiles,
+    /// quantized-mesh-1.0 terrain: layer.json and gzip .terrain tiles.
+    QuantizedMesh,
+}
+
+/// The quantized-mesh tiling scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SchemeArg {
+    /// EPSG:4326, two root tiles.
+    Geographic,
+    /// EPSG:3857 Web Mercator, one root tile.
+    Mercator,
+}
+
+/// What the DEM's heights are measured from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum GeoidArg {
+    /// Heights are above the WGS84 ellipsoid already.
+    None,
+    /// Heights are above the EGM96 geoid: the undulation is added.
+    Egm96,
+}
 
 /// Options of `paretomesh tiles`.
 #[derive(Args, Debug)]
 pub(super) struct TilesArgs {
-    /// The front.json that `paretomesh run` (or the app) wrote.
-    front: PathBuf,
-    /// The folder to write tileset.json and the tiles into (made if missing).
+    /// A front.json that `paretomesh run` (or the app) wrote, untiled or tiled, or a DEM (any
+    /// grid the CLI reads), which is run tile by tile first.
+    input: PathBuf,
+    /// The folder to write the tileset into (replaced when the tileset is complete).
     #[arg(long)]
     out: PathBuf,
-    /// Quadtree levels: level L has 2^L × 2^L tiles and shows a member of about 4^L times the
-    /// root's triangles [default: 4, or fewer when the grid or the front has fewer].
+    /// The tileset format.
+    #[arg(long, value_enum, default_value = "3dtiles")]
+    format: FormatArg,
+    /// The quantized-mesh tiling scheme.
+    #[arg(long, value_enum, default_value = "geographic")]
+    scheme: SchemeArg,
+    /// What the DEM's heights are measured from (quantized-mesh).
+    #[arg(long, value_enum, default_value = "none")]
+    geoid: GeoidArg,
+    /// Write the quantized-mesh water mask: points outside the DEM and flat water.
+    #[arg(long)]
+    water_mask: bool,
+    /// Quadtree levels: for 3D Tiles, level L has 2^L × 2^L tiles [default: 4, or fewer when
+    /// the grid or the front has fewer]; for quantized-mesh, the levels under and including
+    /// the scheme tile that holds the DEM [default: until the finest tiles' cells are no
+    /// larger than the DEM's].
     #[arg(long, value_name = "N")]
     levels: Option<usize>,
-    /// The grid the front was made on [default: the file named in front.json, looked for as
-    /// named, then beside front.json].
+    /// The finest level's error bound for a tiled front or a DEM, in z units [default: 1 % of
+    /// the z range, or the least the front allows when that is larger]; each level above
+    /// doubles it.
+    #[arg(long, value_name = "E")]
+    max_error: Option<f64>,
+    /// The grid a front was made on [default: the file named in front.json].
     #[arg(long)]
     grid: Option<PathBuf>,
-    /// How to import the grid: the options the front was made with.
+    /// For a DEM: the method run on each tile.
+    #[arg(long, value_enum, default_value = "memetic")]
+    algo: Algorithm,
+    /// For a DEM: the run's seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// For a DEM: tile size of the run [default: 1025].
+    #[arg(long, value_name = "N")]
+    tile: Option<usize>,
+    /// Threads [default: every core].
+    #[arg(long)]
+    threads: Option<usize>,
+    /// How to import the grid.
     #[command(flatten)]
     import: ImportArgs,
 }
 
-fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
+/// True when `path` names a front.json rather than a grid.
+fn is_front(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}
+
+/// Refuses an output path that is a file, before any work.
+fn check_out(out: &Path) -> Result<(), String> {
+    if out.is_file() {
+        return Err(format!(
+            "--out {}: is a file, and a tileset is a folder; give a folder's path or remove the file",
+            out.display()
+        ));
+    }
+    Ok(())
+}
+
+/// Writes `files` into a temporary folder beside `out` and renames it to `out` (an old folder
+/// there is replaced only once the new one is complete).
+fn write_folder(out: &Path, files: Vec<(String, Vec<u8>)>) -> Result<usize, String> {
+    check_out(out)?;
+    let name = out
+        .file_name()
+        .ok_or_else(|| format!("--out {}: not a folder name", out.display()))?
+        .to_string_lossy()
+        .into_owned();
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent)
+        .map_err(|e| format!("cannot make {}: {e}", parent.display()))?;
+    let pid = std::process::id();
+    let partial = parent.join(format!(".{name}.partial-{pid}"));
+    let _ = std::fs::remove_dir_all(&partial);
+    let mut bytes = 0;
+    let result = (|| {
+        for (path, data) in &files {
+            let path = partial.join(path);
+            if let Some(folder) = path.parent() {
+                std::fs::create_dir_all(folder)
+                    .map_err(|e| format!("cannot make {}: {e}", folder.display()))?;
+            }
+            std::fs::write(&path, data)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            bytes += data.len();
+        }
+        let old = parent.join(format!(".{name}.old-{pid}"));
+        if out.exists() {
+            std::fs::rename(out, &old)
+                .map_err(|e| format!("cannot move the old {} aside: {e}", out.display()))?;
+        }
+        std::fs::rename(&partial, out).map_err(|e| {
+            format!(
+                "cannot rename {} to {}: {e}",
+                partial.display(),
+                out.display()
+            )
+        })?;
+        let _ = std::fs::remove_dir_all(&old);
+        Ok(())
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_dir_all(&partial);
+    }
+    result.map(|()| bytes)
+}
+
+fn threads(args: &TilesArgs) -> Result<usize, String> {
+    match args.threads {
+        Some(0) => Err("--threads must be at least 1".into()),
+        Some(n) => Ok(n),
+        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
+
+/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`).
+fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String> {
+    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
+        .map_err(|e| e.to_string())?;
+    let name = args.algo.name();
+    let config = tile_config(&plan, &args.algo.configure(&Params::default())?);
+    let threads = threads(args)?;
+    eprintln!(
+        "running {name} on the {}×{} grid in {} tiles on {threads} threads",
+        hf.width(),
+        hf.height(),
+        plan.len()
+    );
+    let progress = Progress::new("tiles run");
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let report = |_| {
+        let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        progress.report(n, plan.len());
+    };
+    run_tiled_with_progress(hf, &plan, &config, args.seed, threads, &report)
+        .map_err(|e| e.to_string())
 }
 
 pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
-    let start = Instant::now();
-    let file = match front_reader::read(&args.front)? {
-        AnyFront::Untiled(file) => *file,
-        AnyFront::Tiled(_) => {
-            return Err(format!(
-                "{} is a tiled front: a pyramid is made from an untiled front (run with a --tile as large as the grid)",
-                args.front.display()
-            ));
-        }
-    };
-    let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
-    let (w, h) = (file.header.grid.width, file.header.grid.height);
-    let levels = args.levels.unwrap_or_else(|| default_levels(&scores, w, h));
-    // Every check on the front and the levels comes before the grid is read or a file written.
-    let picks = plan(&scores, levels, w, h).map_err(|e| e.to_string())?;
-    let grid_path = match &args.grid {
-        Some(path) => path.clone(),
-        None => find_grid(&args.front, &file.header.grid.source)?,
-    };
-    let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
-    if (hf.width(), hf.height()) != (w, h) {
+    check_out(&args.out)?;
+    threads(args)?;
+    if let Some(n) = args.threads {
+        // Tiles, levels and encoding all run on rayon's global pool.
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global();
+    }
+    match args.format {
+        FormatArg::QuantizedMesh => quantized_mesh(args),
+        FormatArg::ThreeDTiles => three_d_tiles(args),
+    }
+}
+
+fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
+    if is_front(&args.input) {
         return Err(format!(
-            "the grid {} is {}×{}, but {} was made on a {w}×{h} grid",
-            grid_path.display(),
-            hf.width(),
-            hf.height(),
-            args.front.display()
+            "{}: quantized-mesh tiles are cut on the tiling scheme's grid, which a front made on the DEM's own grid does not follow; give the DEM itself (paretomesh tiles DEM.tif --format quantized-mesh --out DIR)",
+            args.input.display()
         ));
     }
-    for &member in &picks {
-        if let Some(&bad) = file.front[member]
-            .solution
-            .kept
-            .iter()
-            .find(|&&g| g as usize >= hf.len())
-        {
-            return Err(format!(
-                "member {member} of {} keeps grid index {bad}, past the grid's {} points",
-                args.front.display(),
-                hf.len()
-            ));
-        }
+    let start = Instant::now();
+    let dem = import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?;
+    let scheme = match args.scheme {
+        SchemeArg::Geographic => Scheme::Geographic,
+        SchemeArg::Mercator => Scheme::Mercator,
+    };
+    let raster = reproject(
+        &dem,
+        RasterOptions {
+            scheme,
+            geoid: args.geoid == GeoidArg::Egm96,
+            cells_per_tile: 64,
+            levels: args.levels.map(|l| l.max(1) as u32),
+        },
+    )
+    .map_err(|e| format!("{}: {e}", args.input.display()))?;
+    drop(dem);
+    let b = raster.block;
+    eprintln!(
+        "the DEM lies in {}×{} {} tiles from {}/{}/{}: a {}×{} grid for {} levels (zoom {} to {})",
+        b.columns,
+        b.rows,
+        scheme.projection(),
+        b.zoom,
+        b.x0,
+        b.y0,
+        raster.hf.width(),
+        raster.hf.height(),
+        raster.levels,
+        b.zoom,
+        b.zoom + raster.levels - 1
+    );
+    let hf = Arc::new(raster.hf.clone());
+    let front = run_dem(args, &hf)?;
+    let progress = Progress::new("tiles written");
+    let tileset = build_terrain(
+        &raster,
+        &front,
+        TerrainOptions {
+            water_mask: args.water_mask,
+            finest_error: args.max_error,
+        },
+        &|done, total| progress.report(done, total),
+    )?;
+    for level in &tileset.levels {
+        eprintln!(
+            "zoom {}: {} tiles, {} triangles, geometric error {:.4}{}",
+            level.zoom,
+            level.tiles,
+            level.triangles,
+            level.error,
+            if level.bound.is_none() {
+                " (flat, outside the DEM's tiles)"
+            } else {
+                ""
+            }
+        );
     }
-    let loaded = start.elapsed();
+    let count = tileset.files.len() - 1;
+    let bytes = write_folder(&args.out, tileset.files)?;
+    eprintln!(
+        "wrote {count} tiles ({:.1} MB) and layer.json to {} in {:.1} s",
+        bytes as f64 / 1e6,
+        args.out.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
 
+fn three_d_tiles(args: &TilesArgs) -> Result<(), String> {
+    let start = Instant::now();
+    // Each level's member: its score and kept set, from an untiled front's members or chosen
+    // from a tiled front's tiles.
+    let (hf, scores, kept, picks, bounds, source) = if is_front(&args.input) {
+        match front_reader::read(&args.input)? {
+            AnyFront::Untiled(file) => {
+                let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
+                let (w, h) = (file.header.grid.width, file.header.grid.height);
+                let levels = args.levels.unwrap_or_else(|| default_levels(&scores, w, h));
+                // Every check on the front and the levels comes before the grid is read.
+                let picks = plan(&scores, levels, w, h).map_err(|e| e.to_string())?;
+                let hf = load_grid(args, &file.header.grid.source, w, h)?;
+                for &member in &picks {
+                    if let Some(&bad) = file.front[member]
+                        .solution
+                        .kept
+                        .iter()
+                        .find(|&&g| g as usize >= hf.len())
+                    {
+                        return Err(format!(
+                            "member {member} of {} keeps grid index {bad}, past the grid's {} points",
+                            args.input.display(),
+                            hf.len()
+                        ));
+                    }
+                }
+                let kept: Vec<Vec<u32>> = file.front.into_iter().map(|m| m.solution.kept).collect();
+                (hf, scores, kept, picks, None, "front")
+            }
+            AnyFront::Tiled(file) => {
+                let (w, h) = (file.header.grid.width, file.header.grid.height);
+                let levels = levels_for(args, w, h)?;
+                let hf = load_grid(args, &file.header.grid.source, w, h)?;
+                let (scores, kept, bounds) = from_tiled(&file.tiled, &hf, levels, args.max_error)?;
+                (
+                    hf,
+                    scores,
+                    kept,
+                    (0..levels).collect(),
+                    Some(bounds),
+                    "tiled front",
+                )
+            }
+        }
+    } else {
+        let hf = Arc::new(
+            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?,
+        );
+        let levels = levels_for(args, hf.width(), hf.height())?;
+        let front = run_dem(args, &hf)?;
+        let (scores, kept, bounds) = from_tiled(&front, &hf, levels, args.max_error)?;
+        let hf = Arc::try_unwrap(hf).unwrap_or_else(|a| (*a).clone());
+        (hf, scores, kept, (0..levels).collect(), Some(bounds), "DEM")
+    };
+    let loaded = start.elapsed();
     let built = Instant::now();
-    let kept: Vec<&[u32]> = file.front.iter().map(|m| &m.solution.kept[..]).collect();
-    let pyramid = build_with(&hf, &scores, &kept, &picks, |work| {
+    let kept_refs: Vec<&[u32]> = kept.iter().map(|k| &k[..]).collect();
+    let progress = Progress::new("tiles written");
+    let total: usize = (0..picks.len()).map(|d| 1usize << (2 * d)).sum();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let contents = |work: &LevelWork| {
         (0..work.tiles.len())
             .into_par_iter()
-            .map(|i| work.content(i))
+            .map(|i| {
+                let c = work.content(i);
+                let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress.report(n, total);
+                c
+            })
             .collect()
-    })?;
+    };
+    let pyramid = match &bounds {
+        None => build_with(&hf, &scores, &kept_refs, &picks, contents)?,
+        Some(bounds) => build_refined(&hf, &scores, &kept_refs, bounds, contents)?,
+    };
     if let Some(why) = &pyramid.why_local {
         eprintln!("the pyramid stays in the input's own coordinates: {why}");
     }
-    // Each level's tile count, triangles and worst tile E_max, for the summary.
     let summary: Vec<(usize, usize, f64)> = pyramid
         .levels
         .iter()
@@ -103,29 +383,19 @@ pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
             (level.len(), triangles, worst)
         })
         .collect();
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("cannot make {}: {e}", args.out.display()))?;
-    let mut bytes = 0usize;
-    for (name, data) in pyramid.into_files() {
-        let path = args.out.join(&name);
-        if let Some(folder) = path.parent() {
-            std::fs::create_dir_all(folder)
-                .map_err(|e| format!("cannot make {}: {e}", folder.display()))?;
-        }
-        write(&path, &data)?;
-        if name != "tileset.json" {
-            bytes += data.len();
-        }
-    }
+    let files = pyramid.into_files();
+    let json_bytes = files[0].1.len();
+    let bytes = write_folder(&args.out, files)? - json_bytes;
     for (depth, (&(tiles, triangles, worst), &member)) in summary.iter().zip(&picks).enumerate() {
         let s = &scores[member];
         eprintln!(
-            "level {depth}: member {member} (T = {}, E_max = {}), {} tiles, {triangles} triangles, tile E_max up to {worst}",
-            s.t, s.e_max, tiles
+            "level {depth}: {source} member {member} (T = {}, E_max = {}), {tiles} tiles, {triangles} triangles, tile E_max up to {worst}",
+            s.t, s.e_max
         );
     }
     eprintln!(
-        "wrote {levels} levels ({} tiles, {:.1} MB) to {} in {:.2} s (reading the front and grid {:.2} s)",
+        "wrote {} levels ({} tiles, {:.1} MB) to {} in {:.2} s (reading and running {:.2} s)",
+        picks.len(),
         summary.iter().map(|l| l.0).sum::<usize>(),
         bytes as f64 / 1e6,
         args.out.display(),
@@ -133,4 +403,53 @@ pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
         loaded.as_secs_f64()
     );
     Ok(())
+}
+
+/// Levels of a 3D Tiles pyramid from a tiled front or a DEM: asked for, or the default.
+fn levels_for(args: &TilesArgs, w: usize, h: usize) -> Result<usize, String> {
+    let most = most_levels(w, h);
+    match args.levels {
+        Some(0) => Err("a pyramid needs at least one level".into()),
+        Some(n) if n > most => Err(format!(
+            "too many levels: the {w}×{h} grid takes at most {most} levels"
+        )),
+        Some(n) => Ok(n),
+        None => Ok(DEFAULT_LEVELS.min(most)),
+    }
+}
+
+/// Each level's score, kept set and error bound chosen from a tiled front (the root's first).
+type Levels = (Vec<paretomesh::evaluator::Score>, Vec<Vec<u32>>, Vec<f64>);
+
+fn from_tiled(
+    front: &TiledFront,
+    hf: &Heightfield,
+    levels: usize,
+    finest: Option<f64>,
+) -> Result<Levels, String> {
+    let (lo, hi) = hf.z_range();
+    let finest = finest.unwrap_or(paretomesh::terrain::DEFAULT_FINEST * (hi - lo));
+    let chosen = tiled_levels(front, hf, levels, Some(finest))?;
+    let bounds = chosen.iter().map(|l| l.bound).collect();
+    let (scores, kept) = chosen.into_iter().map(|l| (l.score, l.kept)).unzip();
+    Ok((scores, kept, bounds))
+}
+
+/// The grid a front was made on, checked against its size.
+fn load_grid(args: &TilesArgs, source: &str, w: usize, h: usize) -> Result<Heightfield, String> {
+    let grid_path = match &args.grid {
+        Some(path) => path.clone(),
+        None => find_grid(&args.input, source)?,
+    };
+    let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
+    if (hf.width(), hf.height()) != (w, h) {
+        return Err(format!(
+            "the grid {} is {}×{}, but {} was made on a {w}×{h} grid",
+            grid_path.display(),
+            hf.width(),
+            hf.height(),
+            args.input.display()
+        ));
+    }
+    Ok(hf)
 }

@@ -19,9 +19,10 @@ pub fn with_border_points(
     tolerance: f64,
 ) -> Vec<u32> {
     let (w, h) = (hf.width(), hf.height());
-    let side = level.side();
-    let columns: Vec<usize> = (1..side).map(|i| level.tile(i, 0).columns.0).collect();
-    let rows: Vec<usize> = (1..side).map(|i| level.tile(0, i).rows.0).collect();
+    let columns: Vec<usize> = (1..level.side())
+        .map(|i| level.tile(i, 0).columns.0)
+        .collect();
+    let rows: Vec<usize> = (1..level.rows()).map(|i| level.tile(0, i).rows.0).collect();
     // Each inner line's positions along it (y for a column, x for a row) of its kept points.
     let mut on_columns = vec![Vec::new(); columns.len()];
     let mut on_rows = vec![Vec::new(); rows.len()];

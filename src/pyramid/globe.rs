@@ -9,9 +9,9 @@
 use crate::heightfield::{Georeference, Heightfield, Placement};
 
 /// WGS84 semi-major axis, metres.
-pub(super) const WGS84_A: f64 = 6_378_137.0;
+pub(crate) const WGS84_A: f64 = 6_378_137.0;
 /// WGS84 flattening.
-pub(super) const WGS84_F: f64 = 1.0 / 298.257_223_563;
+pub(crate) const WGS84_F: f64 = 1.0 / 298.257_223_563;
 /// UTM's scale on the central meridian.
 const UTM_K0: f64 = 0.9996;
 /// UTM's false easting, metres.

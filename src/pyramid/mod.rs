@@ -10,21 +10,27 @@
 //! [`build_with`], with the same result. The files are private; what callers need is
 //! re-exported here.
 
-mod borders;
-mod globe;
-mod quadtree;
-mod tile_mesh;
+pub(crate) mod borders;
+pub(crate) mod globe;
+pub(crate) mod quadtree;
+pub(crate) mod refine;
+pub(crate) mod tile_mesh;
+mod tiled_levels;
 mod tileset;
 
 pub use globe::{Frame, MapSystem};
 pub use quadtree::Tile;
+pub use tiled_levels::{level_within, tiled_levels};
 pub use tileset::{Bounds, TileContent};
 
 /// The parts a pyramid is made of, for the crate's tests (the `test-support` feature); not part
 /// of the API.
 #[cfg(feature = "test-support")]
 #[doc(hidden)]
-pub use {borders::with_border_points, globe::ecef, quadtree::Level, tile_mesh::tile_mesh};
+pub use {
+    borders::with_border_points, globe::ecef, quadtree::Level, tile_mesh::TileMesh,
+    tile_mesh::tile_mesh,
+};
 
 use crate::evaluator::Score;
 use crate::heightfield::Heightfield;
@@ -83,7 +89,7 @@ impl fmt::Display for PyramidError {
 impl std::error::Error for PyramidError {}
 
 /// The most levels a `width` × `height` grid takes.
-pub(crate) fn most_levels(width: usize, height: usize) -> usize {
+pub fn most_levels(width: usize, height: usize) -> usize {
     max_level(width, height) as usize + 1
 }
 
@@ -158,7 +164,7 @@ pub fn plan(
 }
 
 /// Levels when none are asked for, fewer when the grid or the front has fewer.
-pub(crate) const DEFAULT_LEVELS: usize = 4;
+pub const DEFAULT_LEVELS: usize = 4;
 
 /// The levels a pyramid of a front of `members` on a `width` × `height` grid gets when none are
 /// asked for: `DEFAULT_LEVELS`, or fewer when the grid or the front's distinct triangle
@@ -221,12 +227,21 @@ pub struct LevelWork<'a> {
     pub tiles: Vec<Tile>,
     /// Each tile's kept points, border points included.
     pub shares: Vec<Vec<u32>>,
+    /// The bound each tile's mesh is refined to meet (its worst off-border points added), if any.
+    pub bound: Option<f64>,
 }
 
 impl LevelWork<'_> {
     /// The content of tile `i`.
     pub fn content(&self, i: usize) -> Result<TileContent, String> {
-        tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i])
+        match self.bound {
+            None => tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i]),
+            Some(bound) => {
+                let (share, _) =
+                    refine::refine_share(self.hf, &self.tiles[i], &self.shares[i], bound)?;
+                tile_content(self.hf, self.frame, &self.tiles[i], &share)
+            }
+        }
     }
 }
 
@@ -240,17 +255,44 @@ pub fn build_with(
     picks: &[usize],
     contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
 ) -> Result<Pyramid, String> {
+    build_levels(hf, scores, kept, picks, None, contents)
+}
+
+/// [`build_with`] for levels chosen from a tiled front (level L shows member L), each tile's
+/// mesh refined until it meets its level's bound `bounds[L]`: cut from a whole-grid mesh, a
+/// tile's own triangulation may otherwise miss the bound its run tiles met.
+pub fn build_refined(
+    hf: &Heightfield,
+    scores: &[Score],
+    kept: &[&[u32]],
+    bounds: &[f64],
+    contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
+) -> Result<Pyramid, String> {
+    let picks: Vec<usize> = (0..scores.len()).collect();
+    build_levels(hf, scores, kept, &picks, Some(bounds), contents)
+}
+
+fn build_levels(
+    hf: &Heightfield,
+    scores: &[Score],
+    kept: &[&[u32]],
+    picks: &[usize],
+    bounds: Option<&[f64]>,
+    contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
+) -> Result<Pyramid, String> {
     let (frame, why_local) = Frame::of(hf);
     let mut out = Vec::with_capacity(picks.len());
     for (depth, &member) in picks.iter().enumerate() {
         let level = quadtree::Level::new(hf.width(), hf.height(), depth as u32);
-        let with_borders =
-            borders::with_border_points(hf, &level, kept[member], scores[member].e_max);
+        let bound = bounds.map(|b| b[depth]);
+        let tolerance = bound.unwrap_or(scores[member].e_max);
+        let with_borders = borders::with_border_points(hf, &level, kept[member], tolerance);
         let work = LevelWork {
             hf,
             frame: &frame,
             shares: level.share_out(&with_borders),
             tiles: level.tiles(),
+            bound,
         };
         out.push(contents(&work)?);
     }

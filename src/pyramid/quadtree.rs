@@ -61,9 +61,30 @@ impl Level {
         }
     }
 
-    /// Tiles per side, 2^level.
+    /// A level cut along the given grid lines (each list increasing from 0 to the grid's last
+    /// point): a block of several quadtree roots, as a terrain scheme's tiles over a DEM.
+    pub fn from_cuts(
+        level: u32,
+        width: usize,
+        column_cuts: Vec<usize>,
+        row_cuts: Vec<usize>,
+    ) -> Self {
+        Self {
+            level,
+            width,
+            column_cuts,
+            row_cuts,
+        }
+    }
+
+    /// Tiles per side, 2^level (for a block, the tiles along x).
     pub fn side(&self) -> usize {
         self.column_cuts.len() - 1
+    }
+
+    /// Tiles along y.
+    pub fn rows(&self) -> usize {
+        self.row_cuts.len() - 1
     }
 
     /// The tile at column `x`, row `y`.
@@ -80,7 +101,7 @@ impl Level {
     /// Every tile, row by row (index y·side + x).
     pub fn tiles(&self) -> Vec<Tile> {
         let side = self.side();
-        (0..side * side)
+        (0..side * self.rows())
             .map(|i| self.tile(i % side, i / side))
             .collect()
     }
@@ -90,11 +111,11 @@ impl Level {
     /// border line goes to every tile that shares the line.
     pub fn share_out(&self, kept: &[u32]) -> Vec<Vec<u32>> {
         let side = self.side();
-        let mut lists = vec![Vec::new(); side * side];
+        let mut lists = vec![Vec::new(); side * self.rows()];
         let spans = |cuts: &[usize], v: usize| -> (usize, usize) {
             // The last tile whose first line is at or before v, and the one before it when v
             // is on that line.
-            let last = cuts[..side].partition_point(|&c| c <= v) - 1;
+            let last = cuts[..cuts.len() - 1].partition_point(|&c| c <= v) - 1;
             let first = if last > 0 && cuts[last] == v {
                 last - 1
             } else {
