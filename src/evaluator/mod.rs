@@ -271,7 +271,7 @@ impl Evaluator {
     /// let score = ev.score_parts(&a, &b, &classes, &mut scores, 0b10).unwrap();
     /// assert_eq!(score, ev.score(&[6, 8]).unwrap());
     /// ```
-    pub(crate) fn score_parts(
+    pub fn score_parts(
         &mut self,
         a: &MeshState,
         b: &MeshState,

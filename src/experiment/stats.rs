@@ -23,7 +23,7 @@ impl Summary {
     /// assert_eq!((s.n, s.mean, s.std), (3, 2.0, Some(1.0)));
     /// assert_eq!(Summary::of(&[5.0]).unwrap().std, None);
     /// ```
-    pub(crate) fn of(values: &[f64]) -> Option<Summary> {
+    pub fn of(values: &[f64]) -> Option<Summary> {
         let n = values.len();
         if n == 0 {
             return None;

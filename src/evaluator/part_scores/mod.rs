@@ -53,9 +53,10 @@ impl PartScores {
         self.made_from == id && id != 0 && crossing.classes_fit()
     }
 
-    /// Prepares the children of `crossing` to be scored by [`score`](Self::score). False (and
-    /// unusable) when its classification is not for its parents.
-    pub(crate) fn prepare(&mut self, crossing: Crossing<'_>) -> bool {
+    /// Prepares the children of `crossing` to be scored by `score` (through
+    /// `Evaluator::score_parts`). False (and unusable) when its classification is not for its
+    /// parents.
+    pub fn prepare(&mut self, crossing: Crossing<'_>) -> bool {
         let Crossing {
             hf,
             parents,

@@ -141,7 +141,7 @@ impl LevelSet {
 }
 
 /// What the children of one crossover share, for scoring them without their meshes (see the
-/// module docs). Made by `prepare` from a [`PartClasses`] and its parents.
+/// module docs). Made by [`prepare`](Self::prepare) from a [`PartClasses`] and its parents.
 #[derive(Clone, Debug, Default)]
 pub struct PartScores {
     /// The classification it was made from ([`PartClasses`]' id; 0 when not made).
