@@ -127,7 +127,7 @@ impl Default for Params {
 
 impl Params {
     /// The GA parameters these stand for (the other fields at their defaults).
-    pub fn ga(&self) -> GaParams {
+    pub(crate) fn ga(&self) -> GaParams {
         GaParams {
             population: self.population,
             generations: self.generations,
@@ -140,7 +140,7 @@ impl Params {
 
     /// Checks the ranges; the message says which field is wrong and what is allowed. Upper
     /// bounds keep a browser tab's run finite.
-    pub fn validate(&self) -> Result<(), String> {
+    pub(crate) fn validate(&self) -> Result<(), String> {
         if self.population > 10_000 {
             return Err(format!(
                 "population must be at most 10000, got {}",

@@ -290,7 +290,7 @@ impl Evaluator {
     /// [`score_parts`](Self::score_parts) for that child with `changes` made to its kept
     /// points (a mutant of it), bit for bit the changed set's fresh score, still without a
     /// mesh (`PartScores::score_changed`).
-    pub fn score_parts_changed(
+    pub(crate) fn score_parts_changed(
         &mut self,
         a: &MeshState,
         b: &MeshState,
@@ -313,7 +313,7 @@ impl Evaluator {
     /// triangles but those the changes drop are reused, and the region they leave is tiled and
     /// rasterised). `None` when `base` is not ready, a removed point is a corner or not kept,
     /// an inserted one is kept, or a guard fails: score it another way.
-    pub fn score_mutant(&mut self, base: &MeshState, changes: Changes<'_>) -> Option<Score> {
+    pub(crate) fn score_mutant(&mut self, base: &MeshState, changes: Changes<'_>) -> Option<Score> {
         part_scores::score_mutant(&self.hf, base, changes, &mut self.row_scratch)
     }
 

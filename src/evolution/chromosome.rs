@@ -46,7 +46,7 @@ impl Chromosome {
     }
 
     /// Sets gene `i` to `on`. `i < len`.
-    pub fn set(&mut self, i: usize, on: bool) {
+    pub(crate) fn set(&mut self, i: usize, on: bool) {
         let bit = 1u64 << (i % 64);
         if on {
             self.words[i / 64] |= bit;
@@ -56,7 +56,7 @@ impl Chromosome {
     }
 
     /// Flips gene `i`. `i < len`.
-    pub fn flip(&mut self, i: usize) {
+    pub(crate) fn flip(&mut self, i: usize) {
         self.words[i / 64] ^= 1u64 << (i % 64);
     }
 

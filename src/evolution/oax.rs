@@ -49,7 +49,7 @@ pub struct Block {
 
 impl Block {
     /// Number of grid points in the block.
-    pub fn area(&self) -> usize {
+    pub(crate) fn area(&self) -> usize {
         (self.x1 - self.x0) * (self.y1 - self.y0)
     }
 }

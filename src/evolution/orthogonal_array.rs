@@ -26,7 +26,7 @@ impl OrthogonalArray {
     }
 
     /// Number of rows M (combinations to evaluate).
-    pub fn rows(&self) -> usize {
+    pub(crate) fn rows(&self) -> usize {
         self.rows
     }
 
@@ -36,7 +36,7 @@ impl OrthogonalArray {
     }
 
     /// The level (0 or 1) of `row` (0..M) in `column` (1..M).
-    pub fn level(&self, row: usize, column: usize) -> u8 {
+    pub(crate) fn level(&self, row: usize, column: usize) -> u8 {
         debug_assert!(row < self.rows && (1..self.rows).contains(&column));
         ((row & column).count_ones() & 1) as u8
     }

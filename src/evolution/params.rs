@@ -99,7 +99,7 @@ impl std::error::Error for ParamsError {}
 
 impl GaParams {
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), ParamsError> {
+    pub(crate) fn validate(&self) -> Result<(), ParamsError> {
         if self.population < 2 {
             return Err(ParamsError::PopulationTooSmall(self.population));
         }

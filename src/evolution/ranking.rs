@@ -65,7 +65,7 @@ pub(crate) fn ranks_and_crowding(points: &[[f64; 2]]) -> Vec<(usize, f64)> {
 /// fronts (`fronts`, best rank first, as [`non_dominated_fronts`] gives them) are kept while they
 /// fit; the front that does not fit keeps its members of largest crowding distance, ties going
 /// to the earlier member of the front.
-pub fn survivors(points: &[[f64; 2]], fronts: &[Vec<usize>], mu: usize) -> Vec<usize> {
+pub(crate) fn survivors(points: &[[f64; 2]], fronts: &[Vec<usize>], mu: usize) -> Vec<usize> {
     let mut kept = Vec::with_capacity(mu);
     for front in fronts {
         let room = mu - kept.len();

@@ -16,7 +16,7 @@ pub enum Contender {
 
 impl Contender {
     /// The name the tables and the figure show: the method's label, or the given name.
-    pub fn label(&self) -> &str {
+    pub(crate) fn label(&self) -> &str {
         match self {
             Contender::Method(m) => m.label(),
             Contender::External(name) => name,
@@ -25,7 +25,7 @@ impl Contender {
 
     /// A short key for the figure's `data-method` attribute: the method's command-line name,
     /// or the given name.
-    pub fn key(&self) -> &str {
+    pub(crate) fn key(&self) -> &str {
         match self {
             Contender::Method(m) => m.name(),
             Contender::External(name) => name,
@@ -33,7 +33,7 @@ impl Contender {
     }
 
     /// The method, when it is one.
-    pub fn method(&self) -> Option<Method> {
+    pub(crate) fn method(&self) -> Option<Method> {
         match self {
             Contender::Method(m) => Some(*m),
             Contender::External(_) => None,

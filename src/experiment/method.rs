@@ -70,7 +70,7 @@ impl Method {
     pub const MEMETIC_NO_LOCAL_SEARCH: Method = Method::ablation(Component::LocalSearch);
 
     /// The catalogue method `algorithm` itself.
-    pub const fn of(algorithm: Algorithm) -> Method {
+    pub(crate) const fn of(algorithm: Algorithm) -> Method {
         Method {
             algorithm,
             without: None,
@@ -86,7 +86,7 @@ impl Method {
 
     /// Every method and ablation variant, in the order the tables list them: the catalogue's
     /// methods, then each one's variants.
-    pub fn all() -> Vec<Method> {
+    pub(crate) fn all() -> Vec<Method> {
         let variants = Algorithm::ALL.into_iter().flat_map(|a| {
             a.spec().ablations.iter().map(move |v| Method {
                 algorithm: a,

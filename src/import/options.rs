@@ -23,7 +23,7 @@ pub enum Projection {
 
 impl Projection {
     /// The word used on the command line and in messages.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Self::Auto => "auto",
             Self::Planar => "planar",

@@ -21,7 +21,7 @@ pub struct TriangleMesh {
 impl TriangleMesh {
     /// Checks what every parser promises: within the limits, at least one vertex, only finite
     /// coordinates, only valid indices. `format` names the file format in the error.
-    pub fn validate(&self, format: &'static str) -> Result<(), ImportError> {
+    pub(crate) fn validate(&self, format: &'static str) -> Result<(), ImportError> {
         check_counts(
             format,
             self.vertices.len() as u64,

@@ -5,7 +5,7 @@
 //! [`plan`] picks a member per level, `quadtree::Level` cuts a level into tiles and shares the
 //! member's kept points out to them (with `borders`' points on inner tile borders, so that a
 //! border follows the surface within the member's E_max), `tileset::tile_content` triangulates
-//! and encodes one tile, and `tileset::tileset_json` ties the tiles together. [`build`] does it
+//! and encodes one tile, and `tileset::tileset_json` ties the tiles together. `build` does it
 //! all in one thread (the app's download); the CLI spreads the tiles over every core through
 //! [`build_with`], with the same result. The files are private; what callers need is
 //! re-exported here.
@@ -313,7 +313,7 @@ fn build_levels(
 
 /// Builds the pyramid of `levels` levels of `hf`'s front, given as each member's score and
 /// kept set, in one thread.
-pub fn build(
+pub(crate) fn build(
     hf: &Heightfield,
     scores: &[Score],
     kept: &[&[u32]],

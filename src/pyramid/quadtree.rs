@@ -26,7 +26,7 @@ pub struct Tile {
 
 impl Tile {
     /// The tile's width and height in grid points.
-    pub fn size(&self) -> (usize, usize) {
+    pub(crate) fn size(&self) -> (usize, usize) {
         (
             self.columns.1 - self.columns.0 + 1,
             self.rows.1 - self.rows.0 + 1,
@@ -34,7 +34,7 @@ impl Tile {
     }
 
     /// True when grid point (`x`, `y`) is in the tile (its border included).
-    pub fn contains(&self, x: usize, y: usize) -> bool {
+    pub(crate) fn contains(&self, x: usize, y: usize) -> bool {
         (self.columns.0..=self.columns.1).contains(&x) && (self.rows.0..=self.rows.1).contains(&y)
     }
 }
@@ -88,7 +88,7 @@ impl Level {
     }
 
     /// The tile at column `x`, row `y`.
-    pub fn tile(&self, x: usize, y: usize) -> Tile {
+    pub(crate) fn tile(&self, x: usize, y: usize) -> Tile {
         Tile {
             level: self.level,
             x,

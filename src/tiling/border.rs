@@ -162,7 +162,7 @@ pub struct TileBorders {
 
 impl TileBorders {
     /// The ranking of the four sides of a `w`×`h` tile with heights `z` (row-major).
-    pub fn new(w: usize, h: usize, z: &[f64]) -> Self {
+    pub(crate) fn new(w: usize, h: usize, z: &[f64]) -> Self {
         let order = Side::ALL.map(|side| {
             let profile: Vec<f64> = (0..side.length(w, h))
                 .map(|p| z[side.local_index(p, w, h) as usize])
@@ -180,7 +180,7 @@ impl TileBorders {
 
     /// The tile-local indices of the border points kept at `level`, corners excluded,
     /// increasing, without repeats.
-    pub fn kept(&self, level: usize) -> Vec<u32> {
+    pub(crate) fn kept(&self, level: usize) -> Vec<u32> {
         let mut out: Vec<u32> = Side::ALL
             .iter()
             .flat_map(|&side| {

@@ -40,13 +40,13 @@ pub struct TilePart {
     pub level: u8,
     /// The tile's border lines (which of their errors the tile's neighbours count).
     pub borders: TileBorders,
-    /// The tile-local kept set, increasing, corners left out (see [`super::TileFront::kept`]).
+    /// The tile-local kept set, increasing, corners left out (see `TileFront::kept`).
     pub kept: Vec<u32>,
 }
 
 impl TiledFront {
     /// The tile parts of member `member`: each tile's chosen candidate as a kept set.
-    pub fn parts(&self, member: usize) -> Result<Vec<TilePart>, TilingError> {
+    pub(crate) fn parts(&self, member: usize) -> Result<Vec<TilePart>, TilingError> {
         let m = self.members.get(member).ok_or(TilingError::NoSuchMember {
             member,
             members: self.members.len(),

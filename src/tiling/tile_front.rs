@@ -58,7 +58,7 @@ pub struct TileFront {
 impl TileFront {
     /// The tile-local kept set of candidate `c`: its member's points and its level's border
     /// points (corners are always kept and not listed).
-    pub fn kept(&self, c: &TileCandidate) -> Vec<u32> {
+    pub(crate) fn kept(&self, c: &TileCandidate) -> Vec<u32> {
         let mut kept = self.members[c.member as usize].clone();
         kept.extend(self.borders.kept(c.level as usize));
         kept.sort_unstable();

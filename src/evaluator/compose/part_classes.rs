@@ -287,7 +287,7 @@ impl PartClasses {
     }
 
     /// A number no other classification had (0 until made); a copy keeps it.
-    pub fn id(&self) -> u64 {
+    pub(crate) fn id(&self) -> u64 {
         self.id
     }
 

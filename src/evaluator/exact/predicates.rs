@@ -22,14 +22,14 @@ pub(crate) type GridPoint = [i64; 2];
 /// term index·(m − 2⁴²/width)/2⁴² < index/2⁴² ≤ 2⁻¹⁴ stays below the 1/width gap, and
 /// index·m < height·2⁴² + index ≤ 2⁵⁶ + 2²⁸ fits in `u64`.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Lattice {
+pub(crate) struct Lattice {
     width: u64,
     magic: u64,
 }
 
 impl Lattice {
     /// Coordinates on a grid `width` columns wide.
-    pub fn new(width: usize) -> Self {
+    pub(crate) fn new(width: usize) -> Self {
         let width = width.max(1) as u64;
         Self {
             width,
@@ -38,13 +38,13 @@ impl Lattice {
     }
 
     /// The grid's width.
-    pub fn width(&self) -> usize {
+    pub(crate) fn width(&self) -> usize {
         self.width as usize
     }
 
     /// (column, row) of a grid index.
     #[inline]
-    pub fn point(&self, index: u32) -> GridPoint {
+    pub(crate) fn point(&self, index: u32) -> GridPoint {
         let row = (index as u64 * self.magic) >> 42;
         [(index as u64 - row * self.width) as i64, row as i64]
     }

@@ -178,7 +178,7 @@ impl MeshState {
     /// The kept points that share a triangle with kept point `v`, each once, counter-clockwise
     /// around it: a walk around its star from the triangle its hint names. The state must
     /// hold its lookups (`has_lookups`).
-    pub fn neighbours(&self, v: u32) -> Vec<u32> {
+    pub(crate) fn neighbours(&self, v: u32) -> Vec<u32> {
         let hf = self.hf.as_ref().expect("a scored state");
         let lattice = Lattice::new(hf.width());
         let t = self.locate(lattice, self.hint[v as usize], lattice.point(v));
@@ -309,7 +309,7 @@ impl MeshState {
     /// [`ensure_discs`](Self::ensure_discs), and all that
     /// [`Evaluator::score_mutant`](crate::evaluator::Evaluator::score_mutant) needs). Edits keep
     /// it up to date, so a mesh that is edited and tried in turn pays for it once.
-    pub fn ensure_lookups(&mut self) {
+    pub(crate) fn ensure_lookups(&mut self) {
         let Some(hf) = self.hf.clone() else {
             return;
         };

@@ -53,8 +53,9 @@ impl PartScores {
         self.made_from == id && id != 0 && crossing.classes_fit()
     }
 
-    /// Prepares the children of `crossing` to be scored by [`score`](Self::score). False (and
-    /// unusable) when its classification is not for its parents.
+    /// Prepares the children of `crossing` to be scored by `score` (through
+    /// `Evaluator::score_parts`). False (and unusable) when its classification is not for its
+    /// parents.
     pub fn prepare(&mut self, crossing: Crossing<'_>) -> bool {
         let Crossing {
             hf,
@@ -390,7 +391,7 @@ impl PartScores {
     /// gives, without building the child's mesh. `None` when this was not prepared for the
     /// crossing's parents as they are now, or when a guard fails (the caller then scores the
     /// child another way).
-    pub fn score(
+    pub(crate) fn score(
         &mut self,
         crossing: Crossing<'_>,
         levels: u32,

@@ -39,7 +39,7 @@ pub struct Guide {
 impl Guide {
     /// The guide of `state`, the scored mesh of the kept set `kept` (increasing, corners
     /// included) on `hf`.
-    pub fn of(hf: &Heightfield, state: &MeshState, kept: &[u32]) -> Self {
+    pub(crate) fn of(hf: &Heightfield, state: &MeshState, kept: &[u32]) -> Self {
         let lattice = Lattice::new(hf.width());
         let z = hf.z();
         let triangles = state.triangles();
@@ -100,7 +100,7 @@ impl Guide {
     }
 
     /// E_sum as the sum of the triangles' sums (in f64, so up to rounding).
-    pub fn total(&self) -> f64 {
+    pub(crate) fn total(&self) -> f64 {
         self.cumulative.last().copied().unwrap_or(0.0)
     }
 

@@ -49,7 +49,7 @@ pub struct Member {
 
 impl Member {
     /// Scores `kept` (increasing, corners included) from scratch: one evaluation.
-    pub fn fresh(evaluator: &mut Evaluator, kept: Vec<u32>) -> Self {
+    pub(crate) fn fresh(evaluator: &mut Evaluator, kept: Vec<u32>) -> Self {
         let mut state = MeshState::default();
         let score = evaluator
             .score_into(&kept, &mut state)
@@ -58,7 +58,7 @@ impl Member {
     }
 
     /// A member from a kept set already scored into `state`.
-    pub fn scored(kept: Vec<u32>, score: Score, state: MeshState) -> Self {
+    pub(crate) fn scored(kept: Vec<u32>, score: Score, state: MeshState) -> Self {
         Self {
             kept,
             score,
@@ -70,7 +70,7 @@ impl Member {
     }
 
     /// (E_sum, T), both minimised.
-    pub fn pair(&self) -> [f64; 2] {
+    pub(crate) fn pair(&self) -> [f64; 2] {
         [self.score.e_sum, self.score.t as f64]
     }
 
@@ -105,7 +105,7 @@ impl Member {
     }
 
     /// Applies `edit` to the mesh ([`Evaluator::edit`], one evaluation) and the kept list.
-    pub fn apply(&mut self, evaluator: &mut Evaluator, edit: &Edit) {
+    pub(crate) fn apply(&mut self, evaluator: &mut Evaluator, edit: &Edit) {
         self.score = evaluator
             .edit(&mut self.state, &edit.remove, &edit.insert)
             .expect("operators remove kept non-corner points and insert free ones");
@@ -117,7 +117,7 @@ impl Member {
 /// A local change of a kept set: points to remove (kept, not corners) and points to insert
 /// (not kept).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Edit {
+pub(crate) struct Edit {
     /// Kept points that leave.
     pub remove: Vec<u32>,
     /// Free points that join.

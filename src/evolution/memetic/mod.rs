@@ -8,7 +8,7 @@
 //!   archive and the seeds.
 //! - `mutation`: error-guided insertion, removal and vertex moves, each a local edit scored
 //!   incrementally ([`Evaluator::edit`](crate::evaluator::Evaluator::edit),
-//!   [`Evaluator::score_mutant`](crate::evaluator::Evaluator::score_mutant)).
+//!   `Evaluator::score_mutant`).
 //! - `neighbour_mating`: crossover between parents of similar T.
 //! - `local_search`: swap moves at fixed T on archive members, spread over the front.
 //! - `guide`: the per-triangle errors and per-vertex removal costs the operators read.

@@ -105,7 +105,7 @@ impl Memetic {
     }
 
     /// The evaluation budget the run stops at.
-    pub fn budget(&self) -> u64 {
+    pub(crate) fn budget(&self) -> u64 {
         self.budget
     }
 
@@ -115,7 +115,7 @@ impl Memetic {
     }
 
     /// The current population.
-    pub fn population(&self) -> &[Member] {
+    pub(crate) fn population(&self) -> &[Member] {
         &self.population
     }
 

@@ -135,7 +135,7 @@ impl std::error::Error for MemeticParamsError {}
 
 impl MemeticParams {
     /// Checks the ranges.
-    pub fn validate(&self) -> Result<(), MemeticParamsError> {
+    pub(crate) fn validate(&self) -> Result<(), MemeticParamsError> {
         if self.population < 2 {
             return Err(MemeticParamsError::PopulationTooSmall(self.population));
         }
@@ -148,7 +148,7 @@ impl MemeticParams {
     }
 
     /// The evaluation budget on `hf`.
-    pub fn budget(&self, hf: &Heightfield) -> u64 {
+    pub(crate) fn budget(&self, hf: &Heightfield) -> u64 {
         self.max_evaluations
             .unwrap_or_else(|| match self.search_evaluations {
                 Some(search) => seeding_budget(hf) + search,

@@ -130,7 +130,7 @@ impl Triangulation {
     }
 
     /// Triangle `t` as three grid indices, counter-clockwise.
-    pub fn triangle(&self, t: usize) -> [u32; 3] {
+    pub(crate) fn triangle(&self, t: usize) -> [u32; 3] {
         [
             self.vertices[3 * t],
             self.vertices[3 * t + 1],
@@ -139,7 +139,7 @@ impl Triangulation {
     }
 
     /// All triangles as grid-index triples.
-    pub fn triangles(&self) -> Vec<[u32; 3]> {
+    pub(crate) fn triangles(&self) -> Vec<[u32; 3]> {
         (0..self.len()).map(|t| self.triangle(t)).collect()
     }
 
@@ -287,7 +287,7 @@ impl Triangulation {
     /// `start`: each step crosses an edge that has `p` strictly outside it. `None` after
     /// `max_steps` steps; on a Delaunay triangulation the walk cannot cycle (Edelsbrunner
     /// 1990), so a cap only guards a broken invariant.
-    pub fn walk(&self, start: u32, p: GridPoint, max_steps: usize) -> Option<u32> {
+    pub(crate) fn walk(&self, start: u32, p: GridPoint, max_steps: usize) -> Option<u32> {
         let mut t = start;
         let mut came_from = NONE;
         for _ in 0..=max_steps {
@@ -353,7 +353,7 @@ impl Triangulation {
 
     /// The half-edges leaving the origin of half-edge `e`, one per triangle of its star,
     /// counter-clockwise from the fan's first (`fan_start`).
-    pub fn fan(&self, e: u32) -> impl Iterator<Item = u32> + '_ {
+    pub(crate) fn fan(&self, e: u32) -> impl Iterator<Item = u32> + '_ {
         let first = self.fan_start(e);
         std::iter::successors(Some(first), move |&at| {
             let after = self.fan_next(at);
@@ -492,7 +492,7 @@ impl Triangulation {
     }
 
     /// The coordinates of the grid the last rebuild was on.
-    pub fn lattice(&self) -> Lattice {
+    pub(crate) fn lattice(&self) -> Lattice {
         self.lattice
     }
 

@@ -3,12 +3,12 @@
 //! random parents cut by block masks like an orthogonal-array crossover's and by scattered
 //! masks; and a composed mesh must edit and compose further like any other.
 
-mod common;
-
-use common::{bits, fixture, random_kept, synthetic};
-use paretomesh::evaluator::canonical_set as triangle_set;
-use paretomesh::evaluator::{Changes, Crossing, Evaluator, MeshState, PartClasses, PartScores};
-use paretomesh::heightfield::Heightfield;
+use crate::evaluator::canonical_set as triangle_set;
+use crate::evaluator::test_grids::{
+    bits, random_subset as random_kept, shared_fixture as fixture, synthetic,
+};
+use crate::evaluator::{Changes, Crossing, Evaluator, MeshState, PartClasses, PartScores};
+use crate::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;

@@ -1,4 +1,8 @@
-//! The evaluator against the paper's E computed by brute force, on real grids.
+//! The evaluator against the paper's E computed by brute force, on real grids; `compose` and
+//! `incremental` check composed children and edited meshes against fresh evaluation.
+
+mod compose;
+mod incremental;
 
 use super::Evaluator;
 use super::exact::paper_e;

@@ -2,12 +2,12 @@
 //! the same triangles and the same score, bit for bit, over seeded random kept sets and random
 //! edit sequences, plus tiny hand-made cases.
 
-mod common;
-
-use common::{bits, fixture, random_kept, synthetic};
-use paretomesh::evaluator::canonical_set as triangle_set;
-use paretomesh::evaluator::{Changes, EvaluateError, Evaluator, MeshState};
-use paretomesh::heightfield::Heightfield;
+use crate::evaluator::canonical_set as triangle_set;
+use crate::evaluator::test_grids::{
+    bits, random_subset as random_kept, shared_fixture as fixture, synthetic,
+};
+use crate::evaluator::{Changes, EvaluateError, Evaluator, MeshState};
+use crate::heightfield::Heightfield;
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
