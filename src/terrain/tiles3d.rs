@@ -355,3 +355,192 @@ pub fn glb(
     out.extend_from_slice(&v.bin);
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(k: f64) -> TileInfo {
+        TileInfo {
+            min_height: k,
+            max_height: k + 0.5,
+            sphere: [k, 2.0 * k, 3.0 * k, 4.0 * k],
+            horizon_occlusion: [-k, -2.0 * k, -3.0 * k],
+        }
+    }
+
+    fn at(level: u32, x: u64, y: u64) -> Implicit {
+        Implicit {
+            root: 1,
+            level,
+            x,
+            y,
+        }
+    }
+
+    /// The subtree file's JSON and binary chunks, after checking its header.
+    fn chunks(bytes: &[u8]) -> (Value, &[u8]) {
+        assert_eq!(&bytes[..4], b"subt");
+        assert_eq!(u32::from_le_bytes(bytes[4..8].try_into().unwrap()), 1);
+        let json_len = u64::from_le_bytes(bytes[8..16].try_into().unwrap()) as usize;
+        let bin_len = u64::from_le_bytes(bytes[16..24].try_into().unwrap()) as usize;
+        assert_eq!(json_len % 8, 0, "the JSON chunk is padded to 8 bytes");
+        assert_eq!(bin_len % 8, 0);
+        assert_eq!(bytes.len(), 24 + json_len + bin_len);
+        let json = serde_json::from_slice(&bytes[24..24 + json_len]).unwrap();
+        (json, &bytes[24 + json_len..])
+    }
+
+    fn view<'a>(json: &Value, bin: &'a [u8], k: &Value) -> &'a [u8] {
+        let v = &json["bufferViews"][k.as_u64().unwrap() as usize];
+        let off = v["byteOffset"].as_u64().unwrap() as usize;
+        assert_eq!(off % 8, 0, "views start on 8 bytes");
+        &bin[off..off + v["byteLength"].as_u64().unwrap() as usize]
+    }
+
+    fn f64s(bytes: &[u8]) -> Vec<f64> {
+        bytes
+            .chunks(8)
+            .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn morton_interleaves_x_low_and_y_high() {
+        assert_eq!(morton(0, 0), 0);
+        assert_eq!(morton(1, 0), 1);
+        assert_eq!(morton(0, 1), 2);
+        assert_eq!(morton(1, 1), 3);
+        assert_eq!(morton(2, 0), 4);
+        assert_eq!(morton(3, 5), 0b100111);
+    }
+
+    #[test]
+    fn a_subtree_has_its_tiles_bits_rows_in_bit_order_and_child_subtrees() {
+        // Two levels per subtree under (1, 1, 0, 1): the root, children (0, 3) and (1, 2) of
+        // level 2, and one tile at level 3 (a child subtree's root); (0, 0, 0) is elsewhere.
+        let mut info = BTreeMap::new();
+        info.insert(at(1, 0, 1), row(1.0));
+        info.insert(at(2, 1, 2), row(2.0));
+        info.insert(at(2, 0, 3), row(3.0));
+        info.insert(at(3, 3, 4), row(4.0));
+        info.insert(at(2, 3, 3), row(9.0)); // outside the subtree
+        let bytes = subtree(at(1, 0, 1), 2, &info);
+        let (json, bin) = chunks(&bytes);
+        // Level 0: bit 0; level 1 starts at bit 1: (1, 2) is local (1, 0), Morton 1, bit 2;
+        // (0, 3) is local (0, 1), Morton 2, bit 3.
+        let tiles = view(&json, bin, &json["tileAvailability"]["bitstream"]);
+        assert_eq!(tiles, &[0b0000_1101]);
+        assert_eq!(json["tileAvailability"]["availableCount"], 3);
+        assert_eq!(
+            json["contentAvailability"][0]["bitstream"],
+            json["tileAvailability"]["bitstream"]
+        );
+        // Child subtrees at level 3, local (3 − 0·4, 4 − 1·4) = (3, 0): Morton 5, of 16 bits.
+        let child = view(&json, bin, &json["childSubtreeAvailability"]["bitstream"]);
+        assert_eq!(child, &[0b0010_0000, 0]);
+        // Rows in bit order: the root (1), then (1, 2) at Morton 1 (2), then (0, 3) (3).
+        let table = &json["propertyTables"][json["tileMetadata"].as_u64().unwrap() as usize];
+        assert_eq!(table["class"], "tile");
+        assert_eq!(table["count"], 3);
+        let p = &table["properties"];
+        assert_eq!(
+            f64s(view(&json, bin, &p["minimumHeight"]["values"])),
+            [1.0, 2.0, 3.0]
+        );
+        assert_eq!(
+            f64s(view(&json, bin, &p["maximumHeight"]["values"])),
+            [1.5, 2.5, 3.5]
+        );
+        assert_eq!(
+            f64s(view(&json, bin, &p["boundingSphere"]["values"]))[4..8],
+            [2.0, 4.0, 6.0, 8.0]
+        );
+        assert_eq!(
+            f64s(view(&json, bin, &p["horizonOcclusionPoint"]["values"]))[6..],
+            [-3.0, -6.0, -9.0]
+        );
+        // A subtree without child subtrees says so by a constant.
+        let (leaf, _) = chunks(&subtree(at(3, 3, 4), 2, &info));
+        assert_eq!(leaf["childSubtreeAvailability"], json!({"constant": 0}));
+    }
+
+    #[test]
+    fn the_schema_gives_the_semantics_the_terrain_provider_reads() {
+        let s = schema();
+        let props = &s["classes"]["tile"]["properties"];
+        for (name, semantic) in [
+            ("minimumHeight", "TILE_MINIMUM_HEIGHT"),
+            ("maximumHeight", "TILE_MAXIMUM_HEIGHT"),
+            ("boundingSphere", "TILE_BOUNDING_SPHERE"),
+            ("horizonOcclusionPoint", "TILE_HORIZON_OCCLUSION_POINT"),
+        ] {
+            assert_eq!(props[name]["semantic"], semantic);
+        }
+        assert_eq!(props["boundingSphere"]["count"], 4);
+        // tileset.json: two implicit children with subtrees every SUBTREE_LEVELS (fewer when
+        // the tileset is shallower), the schema, and a subtree file per subtree root.
+        let mut info = BTreeMap::new();
+        for root in 0..2 {
+            info.insert(
+                Implicit {
+                    root,
+                    ..at(0, 0, 0)
+                },
+                row(0.0),
+            );
+        }
+        info.insert(at(1, 1, 0), row(5.0));
+        let files = tileset_files(&info, 10.0, json!({}));
+        let names: Vec<&str> = files.iter().map(|f| f.0.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "tileset.json",
+                "0/subtrees/0/0/0.subtree",
+                "1/subtrees/0/0/0.subtree"
+            ]
+        );
+        let t: Value = serde_json::from_slice(&files[0].1).unwrap();
+        assert_eq!(t["asset"]["version"], "1.1");
+        let children = t["root"]["children"].as_array().unwrap();
+        assert_eq!(children.len(), 2);
+        assert_eq!(children[1]["implicitTiling"]["subtreeLevels"], 2);
+        assert_eq!(children[1]["implicitTiling"]["availableLevels"], 2);
+        assert_eq!(children[1]["content"]["uri"], "1/{level}/{x}/{y}.glb");
+        assert_eq!(t["root"]["boundingVolume"]["region"][5], 5.5);
+    }
+
+    #[test]
+    fn a_glb_places_its_positions_by_the_node_matrix_in_y_up() {
+        let positions = [[6.4e6, 1.0, 2.0], [6.4e6, 11.0, 2.0], [6.4e6, 1.0, 12.0]];
+        let edges = [vec![0, 2], vec![0, 1], vec![1, 2], vec![2]];
+        let bytes = glb([6.4e6, 0.0, 0.0], &positions, &[[0, 1, 2]], &edges);
+        assert_eq!(&bytes[..4], b"glTF");
+        assert_eq!(
+            u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize,
+            bytes.len()
+        );
+        let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let doc: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        let m: Vec<f64> = doc["nodes"][0]["matrix"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let bin = &bytes[28 + json_len..];
+        let pos: Vec<f32> = bin[..36]
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        for (k, p) in positions.iter().enumerate() {
+            // Node frame, then y-up to z-up: (x, y, z) → (x, −z, y).
+            let q = [0, 1, 2].map(|a| f64::from(pos[3 * k + a]) + m[12 + a]);
+            assert_eq!([q[0], -q[2], q[1]], *p);
+        }
+        let prim = &doc["meshes"][0]["primitives"][0];
+        assert_eq!(prim["extensions"]["CESIUM_tile_edges"]["top"], 5);
+        assert_eq!(doc["accessors"][5]["count"], 1);
+    }
+}
