@@ -80,8 +80,9 @@ node tests/e2e/export.test.mjs
 # The 3D Tiles pyramid (the CLI's debug build): every glb through the Khronos glTF validator,
 # then CesiumJS shows it offline.
 node tests/e2e/tiles.test.mjs
-# quantized-mesh terrain straight from a GeoTIFF, gzip-served, in CesiumJS's
-# CesiumTerrainProvider: tiles at every zoom load, heights match the DEM per level.
+# Terrain straight from a GeoTIFF in CesiumJS: quantized-mesh (gzip-served) in
+# CesiumTerrainProvider and 3D Tiles terrain (glbs validated) in Cesium3DTilesTerrainProvider:
+# tiles at every zoom load, heights match the DEM per level.
 node tests/e2e/terrain.test.mjs
 # Runs in the pool of Web Workers, untiled and in tiles, against the CLI's (tiled) fronts.
 node tests/e2e/workers.test.mjs

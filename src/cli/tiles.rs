@@ -2,7 +2,9 @@
 //! (untiled or tiled) or straight from a DEM (run tile by tile with the default method).
 //! `--format 3dtiles` (the default) writes a 3D Tiles 1.1 pyramid (tileset.json and one .glb
 //! per tile); `--format quantized-mesh` writes CesiumTerrainProvider's quantized-mesh-1.0
-//! tiles and layer.json on the geographic or Web Mercator TMS scheme. The tileset is written
+//! tiles and layer.json on the geographic or Web Mercator TMS scheme; `--format
+//! 3dtiles-terrain` the same pyramid as 3D Tiles terrain (Cesium3DTilesTerrainProvider's
+//! implicit tiling on the geographic scheme). The tileset is written
 //! into a temporary folder beside DIR and renamed to DIR when complete.
 
 use super::front_reader::{self, AnyFront, find_grid};
@@ -16,7 +18,9 @@ use paretomesh::pyramid::{
     DEFAULT_LEVELS, LevelWork, build_refined, build_with, default_levels, most_levels, plan,
     tiled_levels,
 };
-use paretomesh::terrain::{RasterOptions, Scheme, TerrainOptions, build_terrain, reproject};
+use paretomesh::terrain::{
+    RasterOptions, Scheme, TerrainOptions, build_3dtiles_terrain, build_terrain, reproject,
+};
 use paretomesh::tiling::{
     DEFAULT_TILE, TilePlan, TiledFront, run_tiled_with_progress, tile_config,
 };
@@ -33,6 +37,10 @@ enum FormatArg {
     ThreeDTiles,
     /// quantized-mesh-1.0 terrain: layer.json and gzip .terrain tiles.
     QuantizedMesh,
+    /// 3D Tiles 1.1 as terrain (Cesium3DTilesTerrainProvider): implicit tiling on the
+    /// geographic scheme, subtree files with tile metadata, glb tiles.
+    #[value(name = "3dtiles-terrain")]
+    ThreeDTilesTerrain,
 }
 
 /// The quantized-mesh tiling scheme.
@@ -214,7 +222,7 @@ pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
             .build_global();
     }
     match args.format {
-        FormatArg::QuantizedMesh => quantized_mesh(args),
+        FormatArg::QuantizedMesh | FormatArg::ThreeDTilesTerrain => quantized_mesh(args),
         FormatArg::ThreeDTiles => three_d_tiles(args),
     }
 }
@@ -261,7 +269,12 @@ fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
     let hf = Arc::new(raster.hf.clone());
     let front = run_dem(args, &hf)?;
     let progress = Progress::new("tiles written");
-    let tileset = build_terrain(
+    let build = if args.format == FormatArg::ThreeDTilesTerrain {
+        build_3dtiles_terrain
+    } else {
+        build_terrain
+    };
+    let tileset = build(
         &raster,
         &front,
         TerrainOptions {
@@ -285,9 +298,13 @@ fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
         );
     }
     let count = tileset.files.len() - 1;
+    let index = match args.format {
+        FormatArg::ThreeDTilesTerrain => "tileset.json and subtree files",
+        _ => "layer.json",
+    };
     let bytes = write_folder(&args.out, tileset.files)?;
     eprintln!(
-        "wrote {count} tiles ({:.1} MB) and layer.json to {} in {:.1} s",
+        "wrote {count} files ({:.1} MB) with {index} to {} in {:.1} s",
         bytes as f64 / 1e6,
         args.out.display(),
         start.elapsed().as_secs_f64()

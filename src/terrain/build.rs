@@ -10,6 +10,7 @@ use super::bounds::{bounding_sphere, horizon_occlusion_point};
 use super::raster::SchemeRaster;
 use super::scheme::{Block, Scheme, TileId};
 use super::tile_file::{Header, QUANTIZED_MAX, TerrainTile, WaterMask};
+use super::tiles3d::{self, Implicit, TileInfo};
 use crate::pyramid::borders::with_border_points;
 use crate::pyramid::globe::ecef;
 use crate::pyramid::quadtree::{Level, Tile};
@@ -120,7 +121,7 @@ fn terrain_tile(
     triangles: &[[u32; 3]],
     water: Option<WaterMask>,
     metadata: Option<String>,
-) -> TerrainTile {
+) -> (TerrainTile, Vec<[f64; 3]>) {
     let mut order = vec![u32::MAX; vertices.len()];
     let mut first_use = Vec::with_capacity(vertices.len());
     let renumbered: Vec<[u32; 3]> = triangles
@@ -176,7 +177,7 @@ fn terrain_tile(
             edges[3].push(i);
         }
     }
-    TerrainTile {
+    let tile = TerrainTile {
         header: Header {
             center,
             min_height: lo as f32,
@@ -197,7 +198,8 @@ fn terrain_tile(
         ),
         water,
         metadata,
-    }
+    };
+    (tile, positions)
 }
 
 /// Levels of availability a tile's metadata gives at every [`METADATA_LEVELS`]-th zoom
@@ -266,7 +268,7 @@ fn dem_tile(
     mesh: &TileMesh,
     metadata: Option<String>,
     options: TerrainOptions,
-) -> TerrainTile {
+) -> (TerrainTile, Vec<[f64; 3]>) {
     let n = r.side();
     let (tw, th) = tile.size();
     let vertices: Vec<Vertex> = mesh
@@ -301,7 +303,12 @@ fn dem_tile(
 }
 
 /// A flat tile at height 0 on a `k` × `k` lattice (so that it follows the ellipsoid's curve).
-fn flat_tile(scheme: Scheme, id: TileId, metadata: Option<String>, water: bool) -> TerrainTile {
+fn flat_tile(
+    scheme: Scheme,
+    id: TileId,
+    metadata: Option<String>,
+    water: bool,
+) -> (TerrainTile, Vec<[f64; 3]>) {
     let k = 9usize;
     let [w, s, e, n] = scheme.rectangle(id);
     let vertices: Vec<Vertex> = (0..k * k)
@@ -380,14 +387,46 @@ pub(crate) fn level_meshes(
     Ok((tiles, meshes))
 }
 
-/// The tileset of `r` from `front` (run on `r.hf`), calling `progress(done, total)` as tiles
-/// are made.
+/// The quantized-mesh tileset of `r` from `front` (run on `r.hf`), calling
+/// `progress(done, total)` as tiles are made.
 pub fn build_terrain(
     r: &SchemeRaster,
     front: &TiledFront,
     options: TerrainOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<TerrainTileset, String> {
+    build(r, front, options, progress, Format::QuantizedMesh)
+}
+
+/// The same pyramid as [`build_terrain`] as 3D Tiles terrain (`tiles3d`):
+/// tileset.json, subtree files and glb tiles (the water mask is not written). Geographic
+/// scheme only, as `Cesium3DTilesTerrainProvider` reads.
+pub fn build_3dtiles_terrain(
+    r: &SchemeRaster,
+    front: &TiledFront,
+    options: TerrainOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<TerrainTileset, String> {
+    if r.scheme != Scheme::Geographic {
+        return Err(
+            "3D Tiles terrain is on the geographic scheme only (Cesium3DTilesTerrainProvider reads no other); drop --scheme mercator".into(),
+        );
+    }
+    build(r, front, options, progress, Format::Tiles3d)
+}
+
+fn build(
+    r: &SchemeRaster,
+    front: &TiledFront,
+    options: TerrainOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    format: Format,
+) -> Result<TerrainTileset, String> {
+    let options = TerrainOptions {
+        water_mask: options.water_mask && format == Format::QuantizedMesh,
+        ..options
+    };
+    let mut rows: Vec<(TileId, Header)> = Vec::new();
     let scheme = r.scheme;
     let depth_count = r.levels as usize;
     let (lo, hi) = r.hf.z_range();
@@ -465,8 +504,11 @@ pub fn build_terrain(
     }
     for ids in &placeholders {
         for id in ids {
-            let tile = flat_tile(scheme, *id, metadata(*id, &available), options.water_mask);
-            files.push((tile_path(*id), gzip(&tile.encode())));
+            let (tile, positions) =
+                flat_tile(scheme, *id, metadata(*id, &available), options.water_mask);
+            let (path, bytes) = encode(format, *id, &tile, &positions);
+            rows.push((*id, tile.header));
+            files.push((path, bytes));
             tick(1);
         }
         if ids[0].zoom < r.block.zoom {
@@ -500,18 +542,22 @@ pub fn build_terrain(
             error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
         }
         previous_error = error;
-        let encoded: Vec<(String, Vec<u8>)> = tiles
+        let encoded: Vec<(File, (TileId, Header))> = tiles
             .par_iter()
             .zip(&meshes)
             .map(|(tile, mesh)| {
                 let id = tile_id(r.block, tile);
                 let meta = metadata(id, &available);
-                let bytes = gzip(&dem_tile(r, tile, mesh, meta, options).encode());
+                let (tile, positions) = dem_tile(r, tile, mesh, meta, options);
+                let file = encode(format, id, &tile, &positions);
                 tick(1);
-                (tile_path(id), bytes)
+                (file, (id, tile.header))
             })
             .collect();
-        files.extend(encoded);
+        for (file, row) in encoded {
+            files.push(file);
+            rows.push(row);
+        }
         let zoom = r.block.zoom + depth;
         levels.push(TerrainLevel {
             zoom,
@@ -521,15 +567,88 @@ pub fn build_terrain(
             triangles: meshes.iter().map(|m| m.triangles.len()).sum(),
         });
     }
-    let layer = layer_json(r, &available, &levels, options);
-    files.insert(
-        0,
-        (
-            "layer.json".into(),
-            serde_json::to_vec_pretty(&layer).expect("JSON serialises"),
-        ),
-    );
+    match format {
+        Format::QuantizedMesh => {
+            let layer = layer_json(r, &available, &levels, options);
+            files.insert(
+                0,
+                (
+                    "layer.json".into(),
+                    serde_json::to_vec_pretty(&layer).expect("JSON serialises"),
+                ),
+            );
+        }
+        Format::Tiles3d => {
+            let info = rows
+                .into_iter()
+                .map(|(id, h)| {
+                    let row = TileInfo {
+                        min_height: f64::from(h.min_height),
+                        max_height: f64::from(h.max_height),
+                        sphere: [
+                            h.sphere_center[0],
+                            h.sphere_center[1],
+                            h.sphere_center[2],
+                            h.sphere_radius,
+                        ],
+                        horizon_occlusion: h.horizon_occlusion,
+                    };
+                    (Implicit::of(id), row)
+                })
+                .collect();
+            let top_error = levels.first().map_or(0.0, |l| l.error);
+            let extras = json!({
+                "roots": {"zoom": r.block.zoom, "x": r.block.x0, "y": r.block.y0, "columns": r.block.columns, "rows": r.block.rows},
+                "demBounds": r.dem_box,
+                "levels": level_notes(&levels),
+            });
+            let mut head = tiles3d::tileset_files(&info, top_error, extras);
+            head.append(&mut files);
+            files = head;
+        }
+    }
     Ok(TerrainTileset { files, levels })
+}
+
+/// A file of the tileset: its path in the folder and its bytes.
+type File = (String, Vec<u8>);
+
+/// The two tileset formats of one pyramid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    QuantizedMesh,
+    Tiles3d,
+}
+
+/// A tile's file: a gzip `.terrain`, or a glb about its bounding sphere's centre.
+fn encode(
+    format: Format,
+    id: TileId,
+    tile: &TerrainTile,
+    positions: &[[f64; 3]],
+) -> (String, Vec<u8>) {
+    match format {
+        Format::QuantizedMesh => (tile_path(id), gzip(&tile.encode())),
+        Format::Tiles3d => (
+            tiles3d::glb_path(id),
+            tiles3d::glb(
+                tile.header.sphere_center,
+                positions,
+                &tile.triangles,
+                &tile.edges,
+            ),
+        ),
+    }
+}
+
+/// Each level's figures, as the tileset's notes give them.
+fn level_notes(levels: &[TerrainLevel]) -> Vec<Value> {
+    levels
+        .iter()
+        .map(|l| {
+            json!({"zoom": l.zoom, "geometricError": l.error, "bound": l.bound, "tiles": l.tiles, "triangles": l.triangles})
+        })
+        .collect()
 }
 
 /// layer.json: the TileJSON CesiumTerrainProvider reads, with every level's available ranges
@@ -561,12 +680,7 @@ fn layer_json(
     if options.water_mask {
         extensions.push("watermask");
     }
-    let level_notes: Vec<Value> = levels
-        .iter()
-        .map(|l| {
-            json!({"zoom": l.zoom, "geometricError": l.error, "bound": l.bound, "tiles": l.tiles, "triangles": l.triangles})
-        })
-        .collect();
+    let level_notes = level_notes(levels);
     json!({
         "tilejson": "2.1.0",
         "name": "ParetoMesh terrain",

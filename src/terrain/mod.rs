@@ -6,6 +6,7 @@
 //! - `scheme`: the geographic (EPSG:4326) and Web Mercator (EPSG:3857) TMS schemes;
 //! - `raster`: the DEM on the scheme's grid (proj4rs with EPSG definitions, EGM96);
 //! - `build`: the levels, their tiles and layer.json;
+//! - `tiles3d`: the same pyramid as 3D Tiles terrain (`Cesium3DTilesTerrainProvider`);
 //! - `tile_file`, `codec`, `bounds`: the `.terrain` format, its number codings, its header's
 //!   bounds.
 //!
@@ -17,9 +18,11 @@ mod codec;
 mod raster;
 mod scheme;
 mod tile_file;
+mod tiles3d;
 
 pub use build::{
-    DEFAULT_FINEST, TerrainLevel, TerrainOptions, TerrainTileset, build_terrain, tile_path,
+    DEFAULT_FINEST, TerrainLevel, TerrainOptions, TerrainTileset, build_3dtiles_terrain,
+    build_terrain, tile_path,
 };
 pub use raster::{GeoError, RasterOptions, SchemeRaster, reproject};
 pub use scheme::{Scheme, TileId};

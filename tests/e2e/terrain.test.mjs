@@ -1,8 +1,10 @@
-// Quantized-mesh terrain in a real viewer. The CLI's debug build (target/debug/paretomesh)
-// writes a tileset of the EPSG:4326 Jacksboro DEM straight from the GeoTIFF (greedy insertion
-// tile by tile) to target/e2e/terrain; a small node server hands its .terrain files out
-// gzip-encoded, as a terrain server does; CesiumJS (npm `cesium`, offline: no Ion token, no
-// base layer) loads it with CesiumTerrainProvider in headless Chromium. Checks: tiles load at
+// Terrain in a real viewer, in both formats. The CLI's debug build (target/debug/paretomesh)
+// writes tilesets of the EPSG:4326 Jacksboro DEM straight from the GeoTIFF (greedy insertion
+// tile by tile) to target/e2e/terrain (quantized-mesh) and target/e2e/terrain-3dtiles (3D
+// Tiles terrain); a small node server hands the .terrain files out gzip-encoded, as a terrain
+// server does; CesiumJS (npm `cesium`, offline: no Ion token, no base layer) loads them with
+// CesiumTerrainProvider and Cesium3DTilesTerrainProvider in headless Chromium; the glbs pass
+// the Khronos glTF validator. Checks, for each: tiles load at
 // several zoom levels as the camera comes down, no request fails or leaves this machine, no
 // page error, and heights sampled at the DEM's own sample points (sampleTerrain at each level of
 // the DEM's tiles, sampleTerrainMostDetailed) match the DEM within that level's geometric
@@ -10,7 +12,7 @@
 import { chromium } from 'playwright-core';
 import { execFileSync } from 'node:child_process';
 import { createServer } from 'node:http';
-import { mkdirSync, rmSync, readFileSync, existsSync, statSync } from 'node:fs';
+import { mkdirSync, rmSync, readFileSync, readdirSync, existsSync, statSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 import assert from 'node:assert/strict';
@@ -19,15 +21,40 @@ const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..')
 const cli = path.join(process.env.CARGO_TARGET_DIR ?? path.join(root, 'target'), 'debug/paretomesh');
 assert.ok(existsSync(cli), 'build the CLI first: cargo build');
 const out = path.join(root, 'target/e2e/terrain');
-rmSync(out, { recursive: true, force: true });
+const out3d = path.join(root, 'target/e2e/terrain-3dtiles');
+for (const o of [out, out3d]) rmSync(o, { recursive: true, force: true });
 mkdirSync(path.dirname(out), { recursive: true });
 
-// 1. The tileset, straight from the DEM.
+// 1. The tilesets, straight from the DEM.
 const dem = path.join(root, 'tests/data/jacksboro_65x65_wgs84.tif');
 execFileSync(cli, ['tiles', dem, '--format', 'quantized-mesh', '--algo', 'greedy', '--water-mask', '--out', out], { stdio: 'inherit' });
+execFileSync(cli, ['tiles', dem, '--format', '3dtiles-terrain', '--algo', 'greedy', '--out', out3d], { stdio: 'inherit' });
 const layer = JSON.parse(readFileSync(path.join(out, 'layer.json'), 'utf8'));
-const demLevels = layer.paretomesh.levels.filter((l) => l.bound !== null);
-assert.ok(demLevels.length >= 2, 'the DEM has at least two levels of its own');
+const tileset = JSON.parse(readFileSync(path.join(out3d, 'tileset.json'), 'utf8'));
+const formats = [
+  { name: 'quantized-mesh', key: 'layer', url: 'target/e2e/terrain/', tile: /\/(\d+)\/(\d+)\/(\d+)\.terrain/, levels: layer.paretomesh.levels },
+  { name: '3dtiles-terrain', key: 'tileset', url: 'target/e2e/terrain-3dtiles/tileset.json', tile: /terrain-3dtiles\/[01]\/(\d+)\/(\d+)\/(\d+)\.glb/, levels: tileset.extras.paretomesh.levels },
+];
+for (const f of formats) {
+  f.demLevels = f.levels.filter((l) => l.bound !== null);
+  assert.ok(f.demLevels.length >= 2, `${f.name}: the DEM has at least two levels of its own`);
+}
+
+// Every glb of the 3D Tiles terrain passes the Khronos glTF validator (CESIUM_tile_edges is
+// an extension it does not know: a warning, not an error).
+const validator = (await import('gltf-validator')).default;
+let glbs = 0;
+let glbErrors = 0;
+const walk = (dir) => readdirSync(dir, { withFileTypes: true }).flatMap((e) => (e.isDirectory() ? walk(path.join(dir, e.name)) : [path.join(dir, e.name)]));
+for (const file of walk(out3d).filter((f) => f.endsWith('.glb'))) {
+  const report = await validator.validateBytes(new Uint8Array(readFileSync(file)), { uri: file });
+  if (report.issues.numErrors > 0) console.log(file, JSON.stringify(report.issues.messages.slice(0, 3)));
+  glbErrors += report.issues.numErrors;
+  glbs += 1;
+}
+assert.ok(glbs > 10, `${glbs} glbs`);
+assert.equal(glbErrors, 0, 'the 3D Tiles terrain glbs pass the glTF validator');
+console.log(`glTF validator: ${glbs} 3D Tiles terrain glbs, no errors`);
 
 // The DEM's heights at its sample centres (gdal_translate -a_ullr -84.41 36.73 -84.08 36.45 of
 // jacksboro_65x65.f32, row 0 north).
@@ -62,56 +89,59 @@ try {
     executablePath: '/usr/bin/chromium',
     args: ['--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
   });
-  const page = await browser.newPage({ viewport: { width: 900, height: 600 } });
-  const errors = [];
-  const outside = [];
-  const terrainRequests = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-  page.on('response', (r) => { if (r.status() >= 400) errors.push(`${r.status()} ${r.url()}`); });
-  page.on('requestfailed', (r) => errors.push(`failed ${r.url()}`));
-  page.on('request', (r) => {
-    const u = r.url();
-    if (!u.startsWith(base) && !u.startsWith('data:') && !u.startsWith('blob:')) outside.push(u);
-    const m = u.match(/\/(\d+)\/(\d+)\/(\d+)\.terrain/);
-    if (m) terrainRequests.push(Number(m[1]));
-  });
-  await page.goto(`${base}tests/e2e/terrain.html?layer=${encodeURIComponent(`${base}target/e2e/terrain/`)}`);
-  await page.waitForFunction(() => window.terrain && (window.terrain.ready || window.terrain.error), null, { timeout: 120000 });
-  assert.equal(await page.evaluate(() => window.terrain.error), null);
-
-  // Down from space to the DEM: every view's tiles load.
-  const [cx, cy] = [-84.245, 36.59];
-  for (const height of [8e6, 4e5, 4e4, 8e3]) {
-    assert.ok(await page.evaluate(([x, y, h]) => window.terrain.view(x, y, h), [cx, cy, height]), `tiles load from ${height} m`);
-  }
-  await page.screenshot({ path: path.join(root, 'target/e2e/terrain-cesium.png') });
-  const zooms = [...new Set(terrainRequests)].sort((a, b) => a - b);
-  console.log(`terrain tiles requested at zooms ${zooms.join(', ')} (${terrainRequests.length} requests)`);
-  assert.ok(zooms.length >= 3, `tiles load at several zoom levels: ${zooms}`);
-  assert.ok(zooms.includes(demLevels[0].zoom), 'the DEM\'s root tiles load');
-
-  // Heights at every DEM level, and the most detailed.
-  const points = samples.map((s) => s.p);
-  for (const level of demLevels) {
-    const got = await page.evaluate(([p, l]) => window.terrain.sample(p, l), [points, level.zoom]);
-    let worst = 0;
-    samples.forEach((s, k) => {
-      const off = Math.abs(got[k] - s.z);
-      worst = Math.max(worst, off);
-      assert.ok(off <= level.geometricError + s.slack + 1e-3, `zoom ${level.zoom} at ${s.p}: ${got[k]} vs the DEM's ${s.z} (error ${level.geometricError}, slack ${s.slack})`);
+  for (const f of formats) {
+    const page = await browser.newPage({ viewport: { width: 900, height: 600 } });
+    const errors = [];
+    const outside = [];
+    const terrainRequests = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+    page.on('response', (r) => { if (r.status() >= 400) errors.push(`${r.status()} ${r.url()}`); });
+    page.on('requestfailed', (r) => errors.push(`failed ${r.url()}`));
+    page.on('request', (r) => {
+      const u = r.url();
+      if (!u.startsWith(base) && !u.startsWith('data:') && !u.startsWith('blob:')) outside.push(u);
+      const m = u.match(f.tile);
+      if (m) terrainRequests.push(Number(m[1]));
     });
-    console.log(`zoom ${level.zoom}: ${samples.length} heights within the level's geometric error ${level.geometricError.toFixed(2)} m (largest difference ${worst.toFixed(2)} m)`);
-  }
-  const finest = demLevels[demLevels.length - 1];
-  const detailed = await page.evaluate((p) => window.terrain.sample(p), points);
-  samples.forEach((s, k) => assert.ok(Math.abs(detailed[k] - s.z) <= finest.geometricError + s.slack + 1e-3, `most detailed at ${s.p}: ${detailed[k]} vs ${s.z}`));
-  console.log(`sampleTerrainMostDetailed: ${samples.length} heights within ${finest.geometricError.toFixed(2)} m`);
+    await page.goto(`${base}tests/e2e/terrain.html?${f.key}=${encodeURIComponent(base + f.url)}`);
+    await page.waitForFunction(() => window.terrain && (window.terrain.ready || window.terrain.error), null, { timeout: 120000 });
+    assert.equal(await page.evaluate(() => window.terrain.error), null);
 
-  assert.deepEqual(errors.filter((e) => !/GPU stall|WebGL-/.test(e)), [], 'no failed request, no page error');
-  assert.deepEqual(outside, [], 'no request leaves this machine');
+    // Down from space to the DEM: every view's tiles load.
+    const [cx, cy] = [-84.245, 36.59];
+    for (const height of [8e6, 4e5, 4e4, 8e3]) {
+      assert.ok(await page.evaluate(([x, y, h]) => window.terrain.view(x, y, h), [cx, cy, height]), `tiles load from ${height} m`);
+    }
+    await page.screenshot({ path: path.join(root, `target/e2e/${f.name}-cesium.png`) });
+    const zooms = [...new Set(terrainRequests)].sort((a, b) => a - b);
+    console.log(`${f.name}: tiles requested at zooms ${zooms.join(', ')} (${terrainRequests.length} requests)`);
+    assert.ok(zooms.length >= 3, `tiles load at several zoom levels: ${zooms}`);
+    assert.ok(zooms.includes(f.demLevels[0].zoom), 'the DEM\'s root tiles load');
+
+    // Heights at every DEM level, and the most detailed.
+    const points = samples.map((s) => s.p);
+    for (const level of f.demLevels) {
+      const got = await page.evaluate(([p, l]) => window.terrain.sample(p, l), [points, level.zoom]);
+      let worst = 0;
+      samples.forEach((s, k) => {
+        const off = Math.abs(got[k] - s.z);
+        worst = Math.max(worst, off);
+        assert.ok(off <= level.geometricError + s.slack + 1e-3, `zoom ${level.zoom} at ${s.p}: ${got[k]} vs the DEM's ${s.z} (error ${level.geometricError}, slack ${s.slack})`);
+      });
+      console.log(`${f.name} zoom ${level.zoom}: ${samples.length} heights within the level's geometric error ${level.geometricError.toFixed(2)} m (largest difference ${worst.toFixed(2)} m)`);
+    }
+    const finest = f.demLevels[f.demLevels.length - 1];
+    const detailed = await page.evaluate((p) => window.terrain.sample(p), points);
+    samples.forEach((s, k) => assert.ok(Math.abs(detailed[k] - s.z) <= finest.geometricError + s.slack + 1e-3, `most detailed at ${s.p}: ${detailed[k]} vs ${s.z}`));
+    console.log(`${f.name} sampleTerrainMostDetailed: ${samples.length} heights within ${finest.geometricError.toFixed(2)} m`);
+
+    assert.deepEqual(errors.filter((e) => !/GPU stall|WebGL-/.test(e)), [], 'no failed request, no page error');
+    assert.deepEqual(outside, [], 'no request leaves this machine');
+    await page.close();
+  }
 } finally {
   if (browser) await browser.close();
   server.close();
 }
-console.log('terrain.test.mjs: 1 passed, 0 failed');
+console.log('terrain.test.mjs: 2 passed, 0 failed');
