@@ -18,6 +18,7 @@ pub mod raw;
 pub mod resample;
 pub mod stl;
 pub mod triangle_mesh;
+pub mod window;
 
 pub use error::ImportError;
 pub use options::{ImportOptions, Projection, Surface};
