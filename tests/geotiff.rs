@@ -543,3 +543,136 @@ fn tiles_land_in_place_including_the_padded_edge_tiles() {
     assert_eq!(hf.z(), expected);
     assert_eq!(hf.filled(), 0);
 }
+
+/// `count` random windows of a `width`×`height` image, with the whole image and its corners.
+fn random_windows(width: usize, height: usize, count: usize) -> Vec<(usize, usize, usize, usize)> {
+    let mut state = 0x9E37_79B9u32;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        state as usize % n
+    };
+    let mut out = vec![
+        (0, 0, width, height),
+        (width - 1, height - 1, 1, 1),
+        (0, 0, 1, 1),
+    ];
+    for _ in 0..count {
+        let (x0, y0) = (next(width), next(height));
+        out.push((x0, y0, 1 + next(width - x0), 1 + next(height - y0)));
+    }
+    out
+}
+
+/// Every window of `windows` against the whole-image grid `hf`: the same values, and NaN
+/// exactly on the cells the whole reader filled.
+fn assert_windows_match<R: std::io::Read + std::io::Seek>(
+    name: &str,
+    windows: &mut import::GeoTiffWindows<R>,
+    hf: &Heightfield,
+) {
+    assert_eq!(
+        (windows.width(), windows.height()),
+        (hf.width(), hf.height())
+    );
+    for (x0, y0, w, h) in random_windows(hf.width(), hf.height(), 40) {
+        let z = windows.read(x0, y0, w, h).unwrap();
+        assert_eq!(z.len(), w * h);
+        let mut missing = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let (got, whole) = (z[y * w + x], hf.z()[(y0 + y) * hf.width() + x0 + x]);
+                if got.is_nan() {
+                    missing += 1;
+                } else {
+                    assert_eq!(
+                        got.to_bits(),
+                        whole.to_bits(),
+                        "{name} ({x0}+{x}, {y0}+{y})"
+                    );
+                }
+            }
+        }
+        if (w, h) == (hf.width(), hf.height()) {
+            assert_eq!(
+                missing,
+                hf.filled(),
+                "{name}: missing cells of the whole window"
+            );
+        }
+    }
+}
+
+#[test]
+fn windows_of_every_test_geotiff_are_the_whole_readers_values() {
+    let mut read = 0;
+    for entry in std::fs::read_dir(data("")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "tif") {
+            continue;
+        }
+        let name = path.display().to_string();
+        let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+        let windows = import::GeoTiffWindows::new(file);
+        match import::load(&path) {
+            Ok(hf) => {
+                assert_windows_match(&name, &mut windows.unwrap(), &hf);
+                assert!(import::open_file(&path).unwrap().is_some(), "{name}");
+                read += 1;
+            }
+            // What the whole reader refuses (a codec, several bands) the windows refuse too.
+            Err(e) => {
+                let w = windows
+                    .err()
+                    .unwrap_or_else(|| panic!("{name} opened: {e}"));
+                assert_eq!(w.to_string(), e.to_string());
+            }
+        }
+    }
+    assert!(read >= 6, "{read} GeoTIFFs read");
+}
+
+#[test]
+fn windows_of_a_striped_tiff_and_bigtiff_are_the_whole_readers_values() {
+    for big in [false, true] {
+        for rows in [1, 7, 16, 70] {
+            let (_, bytes) = striped(130, 70, rows, big);
+            let hf = parse(&bytes).unwrap();
+            let mut windows = import::GeoTiffWindows::new(Cursor::new(bytes)).unwrap();
+            assert_windows_match(&format!("big {big}, {rows} rows"), &mut windows, &hf);
+        }
+    }
+}
+
+#[test]
+fn a_window_outside_the_image_is_an_error() {
+    let (_, bytes) = striped(40, 30, 8, false);
+    let mut windows = import::GeoTiffWindows::new(Cursor::new(bytes)).unwrap();
+    for (x0, y0, w, h) in [(0, 0, 41, 30), (39, 0, 2, 1), (0, 30, 1, 1), (0, 0, 0, 5)] {
+        let err = windows.read(x0, y0, w, h).unwrap_err();
+        assert!(
+            err.to_string().contains("not inside the 40×30 image"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn a_truncated_strip_is_refused_by_the_windowed_reader() {
+    for big in [false, true] {
+        let (_, bytes) = striped(64, 64, 8, big);
+        let cut = truncate_last_strip(&bytes, big);
+        let err = import::GeoTiffWindows::new(Cursor::new(cut))
+            .err()
+            .expect("a truncated strip is refused");
+        assert!(matches!(err, ImportError::Truncated { .. }), "{err}");
+        assert!(err.to_string().contains("strip 7 of 8"), "{err}");
+        // A file cut short in its data: the strip that meets the window names the cut.
+        let mut short = bytes.clone();
+        short.truncate(bytes.len() - 64 * 4 * 4);
+        let opened = import::GeoTiffWindows::new(Cursor::new(short));
+        let err = opened.err().expect("a cut file is refused");
+        assert!(matches!(err, ImportError::Truncated { .. }), "{err}");
+    }
+}

@@ -3,10 +3,10 @@
 //! this module runs the library with the GIL released.
 
 mod errors;
+mod file_window;
 mod front;
 mod grid;
 mod methods;
-mod window;
 
 use errors::value_error;
 use front::{FrontData, GridSource, Members, PyFront, PyMember};
@@ -298,7 +298,7 @@ fn fill_nodata<'py>(
 /// The grid size the importer gives the file at `path`, from its header when it can.
 #[pyfunction]
 fn grid_size(py: Python<'_>, path: PathBuf) -> PyResult<(usize, usize)> {
-    py.detach(move || window::grid_size(&path))
+    py.detach(move || file_window::grid_size(&path))
         .map_err(value_error)
 }
 
@@ -314,7 +314,7 @@ fn read_window<'py>(
     h: usize,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let z = py
-        .detach(move || window::read(&path, x0, y0, w, h))
+        .detach(move || file_window::read(&path, x0, y0, w, h))
         .map_err(value_error)?;
     Ok(Array2::from_shape_vec((h, w), z)
         .expect("a window holds w × h values")

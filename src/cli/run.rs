@@ -353,13 +353,10 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     );
     let started = Instant::now();
     let finished = std::sync::atomic::AtomicUsize::new(0);
-    let report = |index: usize| {
+    let progress = super::progress::Progress::new("tiles run");
+    let report = |_index: usize| {
         let n = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-        eprintln!(
-            "tile {index} done ({n}/{}, {:.1} s)",
-            plan.len(),
-            started.elapsed().as_secs_f64()
-        );
+        progress.report(n, plan.len());
     };
     let tiled = run_tiled_with_progress(hf, plan, &config, args.seed, threads, &report).map_err(
         |e| match e {

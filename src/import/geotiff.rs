@@ -108,7 +108,9 @@ fn f64_tag<R: Read + Seek>(
 }
 
 /// Reads the georeferencing tags. Only the values the grid uses are checked.
-fn georeference<R: Read + Seek>(decoder: &mut Decoder<R>) -> Result<Georeference, ImportError> {
+pub(super) fn georeference<R: Read + Seek>(
+    decoder: &mut Decoder<R>,
+) -> Result<Georeference, ImportError> {
     let scale = f64_tag(decoder, Tag::ModelPixelScaleTag)?;
     let pixel_scale = match scale {
         None => None,
@@ -193,7 +195,7 @@ fn samples(result: DecodingResult) -> Result<Vec<f64>, ImportError> {
 
 /// Grid origin and spacing in map units from the georeferencing, for the rows turned over so
 /// that row 0 is the southern one; `None` without both tags or with an unusable scale.
-fn map_geometry(geo: &Georeference, height: usize) -> Option<([f64; 2], [f64; 2])> {
+pub(super) fn map_geometry(geo: &Georeference, height: usize) -> Option<([f64; 2], [f64; 2])> {
     let ([sx, sy, _], [i, j, _, x, y, _]) = (geo.pixel_scale?, geo.tiepoint?);
     if !(sx.is_finite() && sy.is_finite() && sx > 0.0 && sy > 0.0) {
         return None;
@@ -236,14 +238,20 @@ pub(super) fn read<R: Read + Seek>(
     let nodata = nodata_value(&geo)?;
     let geometry = map_geometry(&geo, height);
     let mut z = allocate(width, height)?;
-    decode_into(
+    let whole = Rect {
+        x0: 0,
+        y0: 0,
+        w: width,
+        h: height,
+    };
+    decode_window(
         &mut decoder,
         &chunks,
-        &mut z,
-        width,
-        height,
+        (width, height),
         nodata,
         geometry.is_some(),
+        whole,
+        &mut z,
     )?;
     if z.iter().all(|v| v.is_nan()) {
         return Err(malformed(
@@ -353,9 +361,7 @@ fn allocate(width: usize, height: usize) -> Result<Vec<f64>, ImportError> {
 }
 
 /// Where each strip or tile lands in the image.
-struct Chunks {
-    /// Chunks in the image.
-    count: u32,
+pub(super) struct Chunks {
     /// Nominal chunk width and height (strips: the image width and rows per strip).
     size: (usize, usize),
     /// Chunks per row of chunks (1 for strips).
@@ -364,7 +370,7 @@ struct Chunks {
 
 /// The strips or tiles of the image, checked against the file's length so that a truncated
 /// file is refused before anything is decoded.
-fn chunk_layout<R: Read + Seek>(
+pub(super) fn chunk_layout<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     width: usize,
     height: usize,
@@ -413,52 +419,74 @@ fn chunk_layout<R: Read + Seek>(
         }
     }
     Ok(Chunks {
-        count,
         size: (cw, ch),
         across,
     })
 }
 
-/// Decodes every chunk into `z` (row-major, grid row 0 first): nodata and non-finite samples
-/// become NaN, and with `flip` file row r goes to grid row H−1−r.
-fn decode_into<R: Read + Seek>(
+/// A rectangle of the grid: columns `x0 .. x0 + w`, grid rows `y0 .. y0 + h`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Rect {
+    pub x0: usize,
+    pub y0: usize,
+    pub w: usize,
+    pub h: usize,
+}
+
+/// Decodes the chunks that meet `rect` into `out` (row-major, `rect.w` wide, grid row
+/// `rect.y0` first) and nothing else: nodata and non-finite samples become NaN, and with
+/// `flip` file row r is grid row H−1−r. The whole image is the window that covers it, so a
+/// window's values are the whole-image reader's, bit for bit.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn decode_window<R: Read + Seek>(
     decoder: &mut Decoder<R>,
     chunks: &Chunks,
-    z: &mut [f64],
-    width: usize,
-    height: usize,
+    (width, height): (usize, usize),
     nodata: Option<f64>,
     flip: bool,
+    rect: Rect,
+    out: &mut [f64],
 ) -> Result<(), ImportError> {
     let (cw, ch) = chunks.size;
-    for i in 0..chunks.count {
-        let values = samples(decoder.read_chunk(i).map_err(decoding)?)?;
-        let (x0, y0) = (
-            (i as usize % chunks.across) * cw,
-            (i as usize / chunks.across) * ch,
-        );
-        let dw = cw.min(width.saturating_sub(x0));
-        let dh = ch.min(height.saturating_sub(y0));
-        if dw == 0 || dh == 0 || values.len() < dw * dh {
-            return Err(malformed(format!(
-                "chunk {i} decoded to {} samples, expected {dw}×{dh}",
-                values.len()
-            )));
-        }
-        for (r, row) in values.chunks_exact(dw).take(dh).enumerate() {
-            let file_row = y0 + r;
-            let grid_row = if flip {
-                height - 1 - file_row
-            } else {
-                file_row
-            };
-            let out = &mut z[grid_row * width + x0..grid_row * width + x0 + dw];
-            for (o, &v) in out.iter_mut().zip(row) {
-                *o = if !v.is_finite() || nodata.is_some_and(|n| v == n) {
-                    f64::NAN
+    let Rect { x0, y0, w, h } = rect;
+    // The file rows that hold grid rows y0 .. y0 + h.
+    let (f0, f1) = if flip {
+        (height - y0 - h, height - y0)
+    } else {
+        (y0, y0 + h)
+    };
+    for cy in f0 / ch..=(f1 - 1) / ch {
+        for cx in x0 / cw..=(x0 + w - 1) / cw {
+            let i = cy * chunks.across + cx;
+            let values = samples(decoder.read_chunk(i as u32).map_err(decoding)?)?;
+            let (cx0, cy0) = (cx * cw, cy * ch);
+            let dw = cw.min(width.saturating_sub(cx0));
+            let dh = ch.min(height.saturating_sub(cy0));
+            if dw == 0 || dh == 0 || values.len() < dw * dh {
+                return Err(malformed(format!(
+                    "chunk {i} decoded to {} samples, expected {dw}×{dh}",
+                    values.len()
+                )));
+            }
+            let (c0, c1) = (x0.max(cx0), (x0 + w).min(cx0 + dw));
+            for file_row in f0.max(cy0)..f1.min(cy0 + dh) {
+                let grid_row = if flip {
+                    height - 1 - file_row
                 } else {
-                    v
+                    file_row
                 };
+                let row = &values[(file_row - cy0) * dw..][..dw];
+                let target = &mut out[(grid_row - y0) * w..][..w];
+                for (o, &v) in target[c0 - x0..c1 - x0]
+                    .iter_mut()
+                    .zip(&row[c0 - cx0..c1 - cx0])
+                {
+                    *o = if !v.is_finite() || nodata.is_some_and(|n| v == n) {
+                        f64::NAN
+                    } else {
+                        v
+                    };
+                }
             }
         }
     }
@@ -466,7 +494,7 @@ fn decode_into<R: Read + Seek>(
 }
 
 /// The nodata value (GDAL_NODATA) as a number: NaN for "nan", an error when it is not a number.
-fn nodata_value(geo: &Georeference) -> Result<Option<f64>, ImportError> {
+pub(super) fn nodata_value(geo: &Georeference) -> Result<Option<f64>, ImportError> {
     Ok(match &geo.nodata {
         Some(text) if text.eq_ignore_ascii_case("nan") => Some(f64::NAN),
         Some(text) => Some(text.parse::<f64>().map_err(|_| {
@@ -487,7 +515,7 @@ fn io_error(e: std::io::Error) -> ImportError {
 
 /// Opens the TIFF and checks what this reader supports (one band, compression) before
 /// anything is decoded; returns the decoder and the image's width and height.
-fn open<R: Read + Seek>(reader: R) -> Result<(Decoder<R>, usize, usize), ImportError> {
+pub(super) fn open<R: Read + Seek>(reader: R) -> Result<(Decoder<R>, usize, usize), ImportError> {
     let mut limits = Limits::default();
     // One strip or tile is decoded at a time; the grid's own size is checked separately.
     limits.decoding_buffer_size = MAX_CHUNK_BYTES;

@@ -19,11 +19,13 @@ pub(crate) mod raw;
 mod resample;
 mod stl;
 mod triangle_mesh;
+mod window;
 
 pub use error::ImportError;
 pub use options::{ImportOptions, Projection, Surface};
 pub use resample::fill_nearest;
 pub use triangle_mesh::TriangleMesh;
+pub use window::{GeoTiffWindows, open_file};
 
 /// Each format's reader by itself, for the crate's tests and fuzz harness (the `test-support`
 /// feature); not part of the API.
