@@ -11,6 +11,7 @@
 //! re-score it. GRID must be the grid the front was made on.
 
 use paretomesh::baselines::{GreedyInsertion, GreedyParams};
+use paretomesh::catalogue::Config;
 use paretomesh::evaluator::Evaluator;
 use paretomesh::front_file::FrontFile;
 use paretomesh::import;
@@ -33,8 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut ev = Evaluator::new(hf);
             let mut file = FrontFile::new(
                 &mut ev,
-                "greedy",
-                serde_json::to_value(params)?,
+                &Config::Greedy(params),
                 0,
                 progress.evaluations,
                 0,
@@ -50,15 +50,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let file: FrontFile = serde_json::from_str(&json)?;
     println!(
         "{} on a {}×{} grid, seed {}, {} evaluations: {} solutions",
-        file.algorithm,
-        file.grid.width,
-        file.grid.height,
-        file.seed,
-        file.evaluations,
+        file.header.algorithm.name(),
+        file.header.grid.width,
+        file.header.grid.height,
+        file.header.seed,
+        file.header.evaluations,
         file.front.len()
     );
     let hf = Arc::new(import::load(&grid)?);
-    if (hf.width(), hf.height()) != (file.grid.width, file.grid.height) {
+    if (hf.width(), hf.height()) != (file.header.grid.width, file.header.grid.height) {
         return Err(format!("{} is not the grid of this front", grid.display()).into());
     }
 

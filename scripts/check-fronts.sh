@@ -6,6 +6,10 @@
 #   bash scripts/check-fronts.sh           # check the working tree against tests/fronts.sha256
 #   bash scripts/check-fronts.sh write     # record the working tree's hashes there
 # A deliberate change of any front updates tests/fronts.sha256 in the same commit and says why.
+# Every tests/data grid is under the default tile size, so each method also runs in tiles of 33
+# points (`--tile 33`, lines ending `tile33`) on the .f32 grids over 33 points a side, and one
+# small 3D Tiles pyramid (`paretomesh tiles`, a line ending `pyramid`) is pinned by the hashes
+# of all its files.
 # Budgets are small so the check stays under a minute on 2 cores; each method's budget follows
 # its budget kind in `paretomesh algorithms`. PROFILE=release checks the release build instead of
 # the debug one (they give the same bits).
@@ -36,35 +40,63 @@ for grid in tests/data/*.f32 tests/data/*.ply tests/data/*.tif; do
       generations) options="--pop 20 --gens 10" ;;
       *) options="" ;;
     esac
-    echo "$grid $algo $options" >> "$jobs"
+    echo "$grid $algo - $options" >> "$jobs"
     case $grid in
       *.f32)
         for measure in ${measures//,/ }; do
-          [ "$measure" = sum ] || echo "$grid $algo $options --error $measure" >> "$jobs"
+          [ "$measure" = sum ] || echo "$grid $algo --error=$measure $options --error $measure" >> "$jobs"
         done ;;
     esac
   done < "$tmp/algorithms"
 done
+for grid in tests/data/*_65x65.f32 tests/data/volcano_87x61.f32; do
+  while read -r algo budget _measures; do
+    case $budget in
+      evaluations) options="--evals 1500" ;;
+      generations) options="--pop 20 --gens 10" ;;
+      *) options="" ;;
+    esac
+    echo "$grid $algo tile33 --tile 33 $options" >> "$jobs"
+  done < "$tmp/algorithms"
+done
+# A georeferenced grid (UTM), so the pyramid's placement on the globe is pinned too.
+echo "tests/data/jacksboro_65x65_utm16n.tif greedy pyramid" >> "$jobs"
 
-# One job (a line of $jobs: grid, method, options): run, blank millis, print "HASH  GRID METHOD".
+# One job (a line of $jobs: grid, method, label, options): run, blank millis, print
+# "HASH  GRID METHOD" (label `-`) or "HASH  GRID METHOD LABEL" (`--error=MEASURE` for a
+# measure other than sum, `tile33` for a tiled run). Label `pyramid` hashes the files of
+# `paretomesh tiles` on the run's front.json instead.
 one() {
   local bin=$1 tmp=$2
   # shellcheck disable=SC2086  # the line's words are the arguments
   set -- $3
-  local grid=$1 algo=$2
-  shift 2
-  local name out hash label=$algo
+  local grid=$1 algo=$2 label=$3
+  shift 3
+  local name out hash
   name=$(basename "$grid")
-  # A measure other than sum is named after the method: "greedy --error=max".
-  case "$*" in *--error*) label="$algo --error=${*: -1}" ;; esac
-  out="$tmp/$name.$algo.$$.json"
-  if "$bin" run "$grid" --algo "$algo" --seed 7 --triangles "$@" --out "$out" 2>/dev/null; then
+  out="$tmp/$name.$algo.$label.json"
+  # Untiled front.json files list each member's triangles too; a tiled run refuses that.
+  case $label in -|--error=*) set -- --triangles "$@" ;; esac
+  if "$bin" run "$grid" --algo "$algo" --seed 7 "$@" --out "$out" 2>/dev/null; then
     hash=$(sed -E 's/"millis":[0-9]+/"millis":0/' "$out" | sha256sum | cut -d' ' -f1)
+    if [ "$label" = pyramid ]; then
+      local dir="$tmp/$name.pyramid"
+      if "$bin" tiles "$out" --levels 3 --out "$dir" > /dev/null 2>&1; then
+        hash=$(cd "$dir" && find . -type f | LC_ALL=C sort | xargs sha256sum | sha256sum | cut -d' ' -f1)
+      else
+        hash=refused
+      fi
+      rm -rf "$dir"
+    fi
     rm -f "$out"
   else
     hash=refused
   fi
-  echo "$hash  $name $label"
+  if [ "$label" = - ]; then
+    echo "$hash  $name $algo"
+  else
+    echo "$hash  $name $algo $label"
+  fi
 }
 export -f one
 xargs -P "$(nproc)" -d '\n' -n 1 bash -c 'one "$@"' _ "$bin" "$tmp" < "$jobs" \

@@ -29,11 +29,19 @@ bash scripts/setup.sh
 stage "cargo fmt --check"
 cargo fmt --all -- --check
 
+# No import circle between files, and ARCHITECTURE.md's module table is the code's (a second).
+stage "import circles and the module table"
+python3 scripts/import-cycles.py > /dev/null
+
 stage "clippy (native)"
 cargo clippy --all-targets -- -D warnings
 
 stage "clippy (wasm32)"
 cargo clippy --target wasm32-unknown-unknown --lib --tests -- -D warnings
+
+# The library's public API (rustdoc, stable) against tests/public-api.txt, and warning-free docs.
+stage "public API"
+bash scripts/public-api.sh
 
 # This also builds target/debug/paretomesh, the CLI that share.test.mjs compares with.
 stage "native tests"

@@ -163,7 +163,7 @@ impl Front {
     /// [`offer`](Self::offer) of a solution with `score`, asking for its kept set (`kept`)
     /// only when it enters: most offers of a run are refused, and listing the kept set is the
     /// costly part.
-    pub fn offer_score(&mut self, score: Score, kept: impl FnOnce() -> Vec<u32>) -> bool {
+    pub(crate) fn offer_score(&mut self, score: Score, kept: impl FnOnce() -> Vec<u32>) -> bool {
         // Sorted by increasing T and decreasing E: the member with the largest T ≤ score.t is
         // the only one that can dominate or equal the score.
         let measure = self.measure;

@@ -24,6 +24,7 @@
 //! file, and the kept set determines them (the canonical Delaunay triangulation, which
 //! `paretomesh eval --keep` reproduces).
 
+use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::{EvaluateError, Evaluator, MeshState, canonical_set, check_indices};
 use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
@@ -110,21 +111,48 @@ pub struct RunSolution {
     pub triangles: Option<Vec<[u32; 3]>>,
 }
 
-/// The whole file.
+/// What every front.json holds before its members, untiled ([`FrontFile`]) or tiled
+/// ([`TiledFrontFile`](crate::tiling::TiledFrontFile)): the grid, the method and its
+/// parameters, the seed and the run's cost. Both files flatten it, so its fields are the
+/// file's first ones, in this order.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct FrontFile {
+pub struct RunHeader {
     /// The grid.
     pub grid: GridInfo,
-    /// The algorithm's name as the CLI spells it (`nsga2`, `weighted`, …).
-    pub algorithm: String,
-    /// The algorithm's parameters, as its params type serialises them.
+    /// The method, written as its command-line name (`nsga2`, `weighted`, …).
+    pub algorithm: Algorithm,
+    /// The method's parameters, as its params type serialises them (for a tiled run, as each
+    /// tile ran them).
     pub params: serde_json::Value,
-    /// The seed of the run's random generator.
+    /// The seed of the run's random generator (tile k of a tiled run runs with
+    /// [`tile_seed`](crate::tiling::tile_seed)`(seed, k)`).
     pub seed: u64,
-    /// Evaluations spent.
+    /// Evaluations spent (over all tiles).
     pub evaluations: u64,
     /// Wall time of the run in milliseconds (0 when unknown).
     pub millis: u64,
+}
+
+impl RunHeader {
+    /// The header of a run of `config` with `seed` on the grid `grid`.
+    pub fn new(grid: GridInfo, config: &Config, seed: u64, evaluations: u64, millis: u64) -> Self {
+        Self {
+            grid,
+            algorithm: config.algorithm(),
+            params: config.json(),
+            seed,
+            evaluations,
+            millis,
+        }
+    }
+}
+
+/// The whole file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FrontFile {
+    /// The grid, the method, the seed and the run's cost.
+    #[serde(flatten)]
+    pub header: RunHeader,
     /// The front, by increasing T; kept sets are written compactly (see the module doc).
     #[serde(with = "members")]
     pub front: Vec<RunSolution>,
@@ -178,7 +206,7 @@ mod members {
         triangles: Option<Vec<[u32; 3]>>,
     }
 
-    pub fn serialize<S: Serializer>(front: &[RunSolution], s: S) -> Result<S::Ok, S::Error> {
+    pub(super) fn serialize<S: Serializer>(front: &[RunSolution], s: S) -> Result<S::Ok, S::Error> {
         let mut previous: &[u32] = &[];
         let written: Vec<Written<'_>> = front
             .iter()
@@ -206,7 +234,9 @@ mod members {
         written.serialize(s)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<RunSolution>, D::Error> {
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<RunSolution>, D::Error> {
         let read = Vec::<Read>::deserialize(d)?;
         let mut out: Vec<RunSolution> = Vec::with_capacity(read.len());
         for (i, r) in read.into_iter().enumerate() {
@@ -247,8 +277,7 @@ impl FrontFile {
     /// index is out of range ([`EvaluateError::IndexOutOfRange`]).
     pub fn new(
         evaluator: &mut Evaluator,
-        algorithm: &str,
-        params: serde_json::Value,
+        config: &Config,
         seed: u64,
         evaluations: u64,
         millis: u64,
@@ -281,12 +310,7 @@ impl FrontFile {
             })
             .collect();
         Ok(Self {
-            grid,
-            algorithm: algorithm.to_string(),
-            params,
-            seed,
-            evaluations,
-            millis,
+            header: RunHeader::new(grid, config, seed, evaluations, millis),
             front: members,
         })
     }
@@ -294,12 +318,12 @@ impl FrontFile {
     /// The error measure the run minimised: its parameters' `error`, `sum` when absent. Fails
     /// on a name no measure has.
     pub fn measure(&self) -> Result<ErrorMeasure, String> {
-        measure_of(&self.params)
+        measure_of(&self.header.params)
     }
 
     /// Records the import options the grid was read with (see [`GridInfo::import`]).
     pub fn with_import(mut self, options: &ImportOptions) -> Self {
-        self.grid.import = Some(ImportRecord::of(options));
+        self.header.grid.import = Some(ImportRecord::of(options));
         self
     }
 
@@ -340,7 +364,7 @@ impl FrontFile {
 }
 
 /// The error measure a run's recorded parameters name (`error`), `sum` when absent.
-pub fn measure_of(params: &serde_json::Value) -> Result<ErrorMeasure, String> {
+pub(crate) fn measure_of(params: &serde_json::Value) -> Result<ErrorMeasure, String> {
     match params.get("error") {
         None | Some(serde_json::Value::Null) => Ok(ErrorMeasure::Sum),
         Some(serde_json::Value::String(name)) => ErrorMeasure::parse(name),
@@ -411,6 +435,10 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use std::sync::Arc;
 
+    fn greedy() -> Config {
+        Algorithm::Greedy.defaults()
+    }
+
     #[test]
     fn triangles_are_the_canonical_fresh_ones_whether_edited_or_rebuilt() {
         // A 17×13 grid of integer heights (many co-circular ties) and a chain of kept sets: most
@@ -440,8 +468,7 @@ mod tests {
             assert!(front.offer(Solution::recorded(100.0 - step as f64, 0.0, step, kept)));
         }
         let mut ev = Evaluator::new(hf.clone());
-        let mut file =
-            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let mut file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front).unwrap();
         assert_eq!(file.front.len(), 40);
         file.add_triangles(&mut ev).unwrap();
         let mut fresh = Evaluator::new(hf);
@@ -461,8 +488,7 @@ mod tests {
         let mut front = Front::default();
         front.offer(Solution::recorded(4.0, 4.0, 2, vec![0, 2, 6, 8]));
         let mut ev = Evaluator::new(hf);
-        let mut file =
-            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let mut file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front).unwrap();
         let json = serde_json::to_string(&file).unwrap();
         assert!(
             json.ends_with(
@@ -493,7 +519,7 @@ mod tests {
             terrain_rgb: true,
             ..ImportOptions::default()
         };
-        let file = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front)
+        let file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front)
             .unwrap()
             .with_import(&options);
         let json = serde_json::to_string(&file).unwrap();
@@ -502,11 +528,15 @@ mod tests {
             "{json}"
         );
         let read: FrontFile = serde_json::from_str(&json).unwrap();
-        assert_eq!(read.grid.import.unwrap().options(), Ok(options));
+        assert_eq!(read.header.grid.import.unwrap().options(), Ok(options));
         // A file without the record reads as before; a bad name is an error, not a default.
         let old = json.replace(r#","import":{"projection":"cylindrical","grid_size":[65,33],"surface":"outer","terrain_rgb":true}"#, "");
         assert_eq!(
-            serde_json::from_str::<FrontFile>(&old).unwrap().grid.import,
+            serde_json::from_str::<FrontFile>(&old)
+                .unwrap()
+                .header
+                .grid
+                .import,
             None
         );
         let bad = ImportRecord {
@@ -524,7 +554,7 @@ mod tests {
         front.offer(Solution::recorded(1.0, 1.0, 2, vec![0, 2, 6, 8]));
         front.offer(Solution::recorded(0.0, 0.0, 4, vec![0, 2, 6, 8, 9]));
         let mut ev = Evaluator::new(hf);
-        let made = FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front);
+        let made = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front);
         assert!(
             matches!(made, Err(EvaluateError::IndexOutOfRange { .. })),
             "{made:?}"
@@ -582,8 +612,7 @@ mod tests {
         front.offer(Solution::recorded(2.0, 1.0, 800, base.clone()));
         front.offer(Solution::recorded(9.0, 1.0, 2, vec![0, 39, 1560, 1599]));
         let mut ev = Evaluator::new(hf);
-        let file =
-            FrontFile::new(&mut ev, "test", serde_json::Value::Null, 1, 0, 0, &front).unwrap();
+        let file = FrontFile::new(&mut ev, &greedy(), 1, 0, 0, &front).unwrap();
         let json: serde_json::Value = serde_json::to_value(&file).unwrap();
         let members = json["front"].as_array().unwrap();
         // By T: the corners packed whole, then the 534-point member in whichever form is

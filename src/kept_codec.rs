@@ -142,7 +142,7 @@ pub fn toggle(a: &[u32], b: &[u32]) -> Vec<u32> {
 /// A kept set of a list as front.json writes it: `packed` (its indices, [`encode`]d) or `diff`
 /// (its [`toggle`] with the set before it in the list, encoded), whichever is shorter.
 #[derive(Clone, Debug, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-pub struct PackedSet {
+pub(crate) struct PackedSet {
     /// The set's own indices, encoded.
     #[serde(
         rename = "kept_packed",
@@ -157,7 +157,7 @@ pub struct PackedSet {
 
 impl PackedSet {
     /// Packs `kept`, the set after `previous` in its list (`None` for the first).
-    pub fn new(previous: Option<&[u32]>, kept: &[u32]) -> Self {
+    pub(crate) fn new(previous: Option<&[u32]>, kept: &[u32]) -> Self {
         let packed = encode(kept);
         match previous.map(|p| encode(&toggle(p, kept))) {
             Some(diff) if diff.len() < packed.len() => Self {
@@ -173,7 +173,7 @@ impl PackedSet {
 
     /// The set, given the one before it in its list (`None` for the first). `what` names the
     /// set in errors ("front member 3").
-    pub fn unpack(&self, previous: Option<&[u32]>, what: &str) -> Result<Vec<u32>, String> {
+    pub(crate) fn unpack(&self, previous: Option<&[u32]>, what: &str) -> Result<Vec<u32>, String> {
         match (&self.packed, &self.diff) {
             (Some(packed), None) => decode(packed).map_err(|e| format!("{what}: {e}")),
             (None, Some(diff)) => {
@@ -190,7 +190,7 @@ impl PackedSet {
 }
 
 /// Packs a list of kept sets, each whole or as a diff with the one before (see [`PackedSet`]).
-pub fn pack_list(sets: &[Vec<u32>]) -> Vec<PackedSet> {
+pub(crate) fn pack_list(sets: &[Vec<u32>]) -> Vec<PackedSet> {
     let mut previous: Option<&[u32]> = None;
     sets.iter()
         .map(|kept| {
@@ -238,7 +238,10 @@ mod tests {
             decode(&STANDARD.encode([5u8, 0])),
             Err(CodecError::NotIncreasing { at: 1 })
         );
-        assert!(decode(&encode(&[u32::MAX, 3])).is_err());
+        assert_eq!(
+            decode(&encode(&[u32::MAX, 3])),
+            Err(CodecError::NotIncreasing { at: 1 })
+        );
     }
 
     #[test]
@@ -273,6 +276,9 @@ mod tests {
         };
         let e = orphan.unpack(None, "tile 0's member 0").unwrap_err();
         assert!(e.contains("tile 0's member 0 has kept_diff"), "{e}");
-        assert!(PackedSet::default().unpack(None, "set").is_err());
+        assert_eq!(
+            PackedSet::default().unpack(None, "set"),
+            Err("set needs exactly one of kept_packed and kept_diff".to_string())
+        );
     }
 }

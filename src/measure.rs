@@ -33,7 +33,7 @@ impl ErrorMeasure {
     }
 
     /// The measure named `name`, if any.
-    pub fn from_name(name: &str) -> Option<ErrorMeasure> {
+    pub(crate) fn from_name(name: &str) -> Option<ErrorMeasure> {
         Self::ALL.into_iter().find(|m| m.name() == name)
     }
 
@@ -63,7 +63,7 @@ impl ErrorMeasure {
     }
 
     /// The minimised objective vector (this error, T) of `score`.
-    pub fn objectives(self, score: &Score) -> [f64; 2] {
+    pub(crate) fn objectives(self, score: &Score) -> [f64; 2] {
         [self.of(score), score.t as f64]
     }
 

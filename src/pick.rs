@@ -125,7 +125,7 @@ pub fn pick(
 }
 
 /// The member of `front` that `rule` picks (see [`pick`]).
-pub fn pick_in_front(
+pub(crate) fn pick_in_front(
     front: &Front,
     rule: Pick,
     seed: u64,

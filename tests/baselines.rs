@@ -3,6 +3,7 @@
 
 use paretomesh::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
+    ParamsError,
 };
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evaluator::canonical_set as canonical;
@@ -274,13 +275,24 @@ fn bad_greedy_params_are_refused() {
         stop: GreedyStop::MaxError(f64::NAN),
         ..GreedyParams::default()
     };
-    assert!(GreedyInsertion::new(hf.clone(), bad).is_err());
+    assert!(matches!(
+        GreedyInsertion::new(hf.clone(), bad),
+        Err(ParamsError::OutOfRange { name: "stop max-error", value, .. }) if value.is_nan()
+    ));
     let bad = GreedyParams {
         records: 1,
         ..GreedyParams::default()
     };
-    let message = GreedyInsertion::new(hf, bad).err().unwrap().to_string();
-    assert!(message.contains("records"), "{message}");
+    let err = GreedyInsertion::new(hf, bad).err().unwrap();
+    assert_eq!(
+        err,
+        ParamsError::OutOfRange {
+            name: "records",
+            value: 1.0,
+            allowed: "at least 2"
+        }
+    );
+    assert!(err.to_string().contains("records"), "{err}");
 }
 
 #[test]
@@ -367,12 +379,25 @@ fn decimation_is_slicing_invariant() {
 #[test]
 fn bad_decimation_params_are_refused() {
     let hf = single_bump(3, 3, 1, 1);
-    for reductions in [vec![0.0], vec![0.2, 0.1], vec![1.0], vec![f64::NAN]] {
+    // Each list's first value out of order or out of (0, 1) is the one named.
+    for (reductions, refused) in [
+        (vec![0.0], 0.0),
+        (vec![0.2, 0.1], 0.1),
+        (vec![1.0], 1.0),
+        (vec![f64::NAN], f64::NAN),
+    ] {
         let params = DecimationParams {
             reductions,
             ..DecimationParams::default()
         };
-        assert!(EdgeDecimation::new(hf.clone(), params).is_err());
+        match EdgeDecimation::new(hf.clone(), params) {
+            Err(ParamsError::OutOfRange {
+                name: "reductions",
+                value,
+                ..
+            }) => assert!(value == refused || (value.is_nan() && refused.is_nan())),
+            other => panic!("{:?}", other.err()),
+        }
     }
 }
 

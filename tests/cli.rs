@@ -1,31 +1,7 @@
 //! The real `paretomesh` binary on fixtures and on bad files: output, exit status, messages.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn paretomesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
-}
-
-/// A scratch directory for this test process.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("paretomesh-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod common;
+use common::cli::{data, paretomesh, scratch, text};
 
 #[test]
 fn info_reports_size_range_and_provenance() {
@@ -278,6 +254,7 @@ fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
 #[test]
 fn an_interrupted_run_leaves_no_front_json() {
     use std::os::unix::process::ExitStatusExt;
+    use std::process::Command;
     let dir = scratch("interrupted");
     let out = dir.join("front.json");
     let grid = data("jacksboro_65x65.f32");

@@ -15,19 +15,15 @@ use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::optimizer::Optimizer;
-use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(format!("{name}.f32"))
-}
+mod common;
+use common::cli::{data, paretomesh};
 
 /// The top-left 17×17 corner of the 33×33 Jacksboro terrain: real relief, small enough that a
 /// few hundred evaluations take well under a second in a debug build.
 fn terrain_17() -> Arc<Heightfield> {
-    let full = import::load(&data("jacksboro_33x33")).unwrap();
+    let full = import::load(&data("jacksboro_33x33.f32")).unwrap();
     let z = (0..17)
         .flat_map(|y| (0..17).map(move |x| (x, y)))
         .map(|(x, y)| full.z_at(x, y))
@@ -501,18 +497,11 @@ fn explicit_zero_seed_fraction_is_the_default_run() {
     }
 }
 
-fn paretomesh(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
 #[test]
 fn cli_run_writes_a_front_json_that_rescores_identically() {
     let dir = std::env::temp_dir().join(format!("paretomesh-evolution-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let grid = data("jacksboro_33x33");
+    let grid = data("jacksboro_33x33.f32");
     let hf = Arc::new(import::load(&grid).unwrap());
     for algo in ["nsga2", "weighted"] {
         let out = dir.join(format!("{algo}.json"));
@@ -546,10 +535,11 @@ fn cli_run_writes_a_front_json_that_rescores_identically() {
         );
         let file: FrontFile =
             serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-        assert_eq!((file.grid.width, file.grid.height), (33, 33));
-        assert_eq!((file.algorithm.as_str(), file.seed), (algo, 3));
-        assert_eq!(file.params["population"], 6);
-        assert!(file.evaluations > 0);
+        let run = &file.header;
+        assert_eq!((run.grid.width, run.grid.height), (33, 33));
+        assert_eq!((run.algorithm.name(), run.seed), (algo, 3));
+        assert_eq!(run.params["population"], 6);
+        assert!(run.evaluations > 0);
         let mut ev = Evaluator::new(hf.clone());
         for s in &file.front {
             let fresh = ev.evaluate(&s.solution.kept).unwrap();
@@ -593,7 +583,7 @@ fn cli_run_writes_a_front_json_that_rescores_identically() {
 
 #[test]
 fn cli_run_rejects_bad_parameters_with_a_message() {
-    let grid = data("jacksboro_33x33");
+    let grid = data("jacksboro_33x33.f32");
     let run = paretomesh(&[
         "run",
         grid.to_str().unwrap(),
@@ -614,7 +604,7 @@ fn cli_run_rejects_bad_parameters_with_a_message() {
 
 #[test]
 fn cli_run_rejects_a_bad_greedy_seed_fraction() {
-    let grid = data("jacksboro_33x33");
+    let grid = data("jacksboro_33x33.f32");
     for (algo, fraction, message) in [
         (
             "nsga2",

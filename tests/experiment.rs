@@ -10,31 +10,11 @@ use paretomesh::experiment::{Budget, Dataset, DatasetResults, Method, Results, S
 use paretomesh::import;
 use paretomesh::metrics::{self, Normalization, Point};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 use std::sync::Arc;
 
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "paretomesh-experiment-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn paretomesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
-}
+mod common;
+use common::cli::{data, paretomesh, scratch};
 
 /// A 17×17 grid: every other row and column of volcano_33x33 (a real surface, small enough for
 /// a debug-build experiment), with a sidecar that names its unit.

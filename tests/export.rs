@@ -2,13 +2,13 @@
 //! importers read back, and one CSV row per front member.
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::export::csv::front_csv;
-use paretomesh::export::mesh::WorldMesh;
-use paretomesh::export::obj::to_obj;
-use paretomesh::export::ply::to_ply;
-use paretomesh::export::stl::to_stl;
+use paretomesh::export::WorldMesh;
+use paretomesh::export::front_csv;
+use paretomesh::export::to_obj;
+use paretomesh::export::to_ply;
+use paretomesh::export::to_stl;
 use paretomesh::heightfield::{Heightfield, Placement};
-use paretomesh::import::raw;
+use paretomesh::import::readers::raw;
 use std::sync::Arc;
 
 const GRID: &[u8] = include_bytes!("data/volcano_33x33.f32");
@@ -89,7 +89,7 @@ fn a_cylindrical_unwrap_exports_back_onto_the_cylinder() {
 
 #[test]
 fn exported_meshes_parse_back_with_the_projects_importers() {
-    use paretomesh::import::{obj, ply, stl};
+    use paretomesh::import::readers::{obj, ply, stl};
     // volcano_33x33 has spacing 1 and origin 0, so grid and world coordinates agree.
     let hf = volcano();
     let mesh = mesh_of(&hf, &KEPT);
@@ -148,7 +148,11 @@ fn exported_meshes_parse_back_with_the_projects_importers() {
 #[test]
 fn a_triangle_on_a_point_that_is_not_kept_is_an_error() {
     let hf = Heightfield::new(2, 2, vec![0.0; 4]).unwrap();
-    assert!(WorldMesh::new(&hf, &[0, 1, 3], &[[0, 1, 2]]).is_err());
+    let err = WorldMesh::new(&hf, &[0, 1, 3], &[[0, 1, 2]]).err();
+    assert_eq!(
+        err.as_deref(),
+        Some("triangle vertex 2 is not a kept point")
+    );
 }
 
 #[test]

@@ -12,37 +12,10 @@ use paretomesh::pick::knee;
 use serde_json::Value;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 use std::sync::OnceLock;
 
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn paretomesh_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
-}
-
-fn paretomesh(args: &[&str]) -> Output {
-    paretomesh_in(Path::new(env!("CARGO_MANIFEST_DIR")), args)
-}
-
-/// A scratch directory for this test process.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("paretomesh-export-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod common;
+use common::cli::{data, paretomesh, paretomesh_in, scratch, text};
 
 fn s(path: &Path) -> &str {
     path.to_str().unwrap()

@@ -112,13 +112,68 @@ fn seed_corpus_imports_without_panic_and_every_format_has_a_valid_seed() {
     }
 }
 
+/// Every file of `fuzz/regressions/`: its target, its name, and words its error must contain.
+/// Each is a tiny file whose header claims a huge grid or mesh, the shape of the inputs found
+/// around the campaigns (docs/fuzzing.md): the PNG decoder refused such a claim only after a bare
+/// "limits are exceeded", and every importer must refuse one before allocating what it claims.
+const REGRESSIONS: [(Target, &str, &str); 9] = [
+    (
+        Target::Raw,
+        "sidecar_claims_100000_square",
+        "10000.0 M points",
+    ),
+    (
+        Target::Raw,
+        "sidecar_claims_2048_square",
+        "needs 16777216 bytes",
+    ),
+    (Target::Png, "ihdr_claims_2pow30_square", "M points"),
+    (Target::Png, "ihdr_claims_u32max_wide", "16384 per side"),
+    (Target::Tiff, "claims_100000_square", "100000×100000"),
+    (
+        Target::Ply,
+        "ascii_claims_1e12_vertices",
+        "claims 1000000000000 vertices",
+    ),
+    (
+        Target::Ply,
+        "binary_claims_16m_vertices",
+        "need at least 192000000 bytes",
+    ),
+    (
+        Target::Stl,
+        "claims_u32max_triangles",
+        "claims 4294967295 triangles",
+    ),
+    (
+        Target::Stl,
+        "promises_30m_triangles",
+        "promises 30000000 triangles",
+    ),
+];
+
 #[test]
-fn crash_regressions_replay_without_panic() {
-    // Each file once made a target panic, exceed its memory bound or time out; all now give an
-    // import or a descriptive error.
+fn crash_regressions_replay_as_descriptive_refusals() {
+    // Through the fuzz targets' own checks (no panic, an error naming the format), every kept
+    // regression, and nothing but the listed ones, is refused under every option set.
     let outcomes = replay("regressions");
+    let mut replayed: Vec<(Target, String)> = outcomes
+        .iter()
+        .map(|(target, file, _)| (*target, file.file_name().unwrap().to_string_lossy().into()))
+        .collect();
+    replayed.sort_by_key(|(t, name)| (t.name(), name.clone()));
+    let mut listed: Vec<(Target, String)> = REGRESSIONS
+        .iter()
+        .map(|&(target, name, _)| (target, name.to_string()))
+        .collect();
+    listed.sort_by_key(|(t, name)| (t.name(), name.clone()));
+    assert_eq!(replayed, listed, "fuzz/regressions/ and REGRESSIONS differ");
     for (target, file, lines) in &outcomes {
-        assert!(!lines.is_empty(), "{target:?} {}", file.display());
+        assert!(
+            !lines.is_empty() && lines.iter().all(|l| l.starts_with("error: ")),
+            "{target:?} {}: {lines:?}",
+            file.display()
+        );
     }
 }
 
@@ -131,157 +186,39 @@ fn raw_inputs_split_into_sidecar_and_grid() {
     assert_eq!((json, grid), (&b"{}"[..], &b""[..]));
 }
 
-/// A PNG chunk with its CRC-32 (the decoder checks it).
-fn png_chunk(kind: &[u8; 4], body: &[u8]) -> Vec<u8> {
-    let mut crc = !0u32;
-    for &b in kind.iter().chain(body) {
-        crc ^= u32::from(b);
-        for _ in 0..8 {
-            crc = if crc & 1 == 1 {
-                (crc >> 1) ^ 0xEDB8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    let mut out = (body.len() as u32).to_be_bytes().to_vec();
-    out.extend_from_slice(kind);
-    out.extend_from_slice(body);
-    out.extend_from_slice(&(!crc).to_be_bytes());
-    out
-}
-
-/// A PNG that claims `width`×`height` 16-bit RGBA pixels and holds a few bytes of image data.
-fn png_claiming(width: u32, height: u32) -> Vec<u8> {
-    let mut ihdr = width.to_be_bytes().to_vec();
-    ihdr.extend_from_slice(&height.to_be_bytes());
-    ihdr.extend_from_slice(&[16, 6, 0, 0, 0]);
-    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-    out.extend(png_chunk(b"IHDR", &ihdr));
-    out.extend(png_chunk(
-        b"IDAT",
-        &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01],
-    ));
-    out.extend(png_chunk(b"IEND", &[]));
-    out
-}
-
-/// A little-endian TIFF that claims `width`×`height` 64-bit float samples in one uncompressed
-/// strip of a few bytes.
-fn tiff_claiming(width: u32, height: u32) -> Vec<u8> {
-    // (tag, type, count, value): type 3 = SHORT, 4 = LONG.
-    let entries: [(u16, u16, u32, u32); 10] = [
-        (256, 4, 1, width),
-        (257, 4, 1, height),
-        (258, 3, 1, 64),
-        (259, 3, 1, 1),
-        (262, 3, 1, 1),
-        (273, 4, 1, 8 + 2 + 10 * 12 + 4),
-        (277, 3, 1, 1),
-        (278, 4, 1, height),
-        (279, 4, 1, 8),
-        (339, 3, 1, 3),
-    ];
-    let mut out = b"II*\0".to_vec();
-    out.extend_from_slice(&8u32.to_le_bytes());
-    out.extend_from_slice(&(entries.len() as u16).to_le_bytes());
-    for (tag, kind, count, value) in entries {
-        out.extend_from_slice(&tag.to_le_bytes());
-        out.extend_from_slice(&kind.to_le_bytes());
-        out.extend_from_slice(&count.to_le_bytes());
-        out.extend_from_slice(&value.to_le_bytes());
-    }
-    out.extend_from_slice(&0u32.to_le_bytes());
-    out.extend_from_slice(&[0; 8]);
-    out
-}
-
-/// A binary STL header that claims `count` triangles, with no triangle after it.
-fn stl_claiming(count: u32) -> Vec<u8> {
-    let mut out = vec![0u8; 80];
-    out.extend_from_slice(&count.to_le_bytes());
-    out
-}
-
 #[test]
 fn absurd_declared_sizes_are_refused_before_allocating() {
-    // Each file is tiny but its header claims a huge grid or mesh; the import must refuse it
-    // having allocated little (not the claimed size), with an error that names the problem.
-    let ply = |format: &str, vertices: &str| {
-        format!(
-            "ply\nformat {format} 1.0\nelement vertex {vertices}\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n"
-        )
-        .into_bytes()
-    };
-    let raw = |w: u64, h: u64| format!("{{\"width\": {w}, \"height\": {h}}}").into_bytes();
-    // (file name, bytes, sidecar, words the error must contain)
-    type Case = (&'static str, Vec<u8>, Option<Vec<u8>>, &'static str);
-    let cases: Vec<Case> = vec![
-        (
-            "a.ply",
-            ply("ascii", "1000000000000"),
-            None,
-            "claims 1000000000000 vertices",
-        ),
-        (
-            "a.ply",
-            ply("binary_little_endian", "16000000"),
-            None,
-            "need at least 192000000 bytes",
-        ),
-        (
-            "a.f32",
-            vec![0; 16],
-            Some(raw(100_000, 100_000)),
-            "10000.0 M points",
-        ),
-        (
-            "a.f32",
-            vec![0; 16],
-            Some(raw(2048, 2048)),
-            "needs 16777216 bytes",
-        ),
-        ("a.png", png_claiming(1 << 30, 1 << 30), None, "M points"),
-        ("a.png", png_claiming(u32::MAX, 3), None, "16384 per side"),
-        (
-            "a.tif",
-            tiff_claiming(100_000, 100_000),
-            None,
-            "100000×100000",
-        ),
-        (
-            "a.stl",
-            stl_claiming(u32::MAX),
-            None,
-            "claims 4294967295 triangles",
-        ),
-        (
-            "a.stl",
-            stl_claiming(30_000_000),
-            None,
-            "promises 30000000 triangles",
-        ),
-    ];
-    for (name, bytes, sidecar, expected) in cases {
+    // Each file of fuzz/regressions/ is tiny but its header claims a huge grid or mesh; the
+    // import must refuse it having allocated little (not the claimed size), with an error that
+    // names the problem.
+    for (target, file, expected) in REGRESSIONS {
+        let data = std::fs::read(fuzz_dir("regressions", target).join(file)).expect("readable");
+        let (bytes, sidecar) = match target {
+            Target::Raw => {
+                let (json, grid) = fuzz_harness::split_raw(&data);
+                (grid, Some(json))
+            }
+            _ => (&data[..], None),
+        };
+        let name = target.file_name();
         let before = LIVE.load(Ordering::Relaxed);
         PEAK.store(before, Ordering::Relaxed);
-        let result =
-            import::from_bytes(name, &bytes, sidecar.as_deref(), &ImportOptions::default());
+        let result = import::from_bytes(name, bytes, sidecar, &ImportOptions::default());
         let peak = PEAK.load(Ordering::Relaxed).saturating_sub(before);
         let err: ImportError = match result {
             Ok(hf) => panic!(
-                "{name} claiming a huge size imported as {}×{}",
+                "{file} claiming a huge size imported as {}×{}",
                 hf.width(),
                 hf.height()
             ),
             Err(e) => e,
         };
         let message = err.to_string();
-        assert!(message.contains(expected), "{name}: {message}");
+        assert!(message.contains(expected), "{file}: {message}");
         // Other tests run at the same time and allocate a little; the claims are gigabytes.
         assert!(
             peak < 64 << 20,
-            "{name}: {peak} bytes allocated before refusing: {message}"
+            "{file}: {peak} bytes allocated before refusing: {message}"
         );
     }
 }

@@ -1,6 +1,6 @@
 //! The .glb writer, read back with the `gltf` crate: positions, normals, indices and colours.
 
-use paretomesh::export::glb::{GlbError, GlbMesh, VertexColors, vertex_normals, write_glb};
+use paretomesh::export::{GlbError, GlbMesh, VertexColors, vertex_normals, write_glb};
 
 /// A 3×2 grid of points lifted by z = x·y + offset, as two rows of triangles.
 fn patch(offset: [f64; 3]) -> (Vec<[f64; 3]>, Vec<u32>) {

@@ -3,9 +3,8 @@
 
 use paretomesh::heightfield::{Heightfield, HeightfieldError, Placement};
 use paretomesh::import;
-use paretomesh::import::{
-    ImportError, ImportOptions, Projection, Surface, TriangleMesh, mesh, ply, stl,
-};
+use paretomesh::import::readers::{mesh, ply, raw, stl};
+use paretomesh::import::{ImportError, ImportOptions, Projection, Surface, TriangleMesh};
 use rand::{RngExt, SeedableRng};
 use std::path::PathBuf;
 
@@ -47,17 +46,17 @@ fn raw_grid_loads_with_its_sidecar() {
 fn raw_grid_errors_are_typed() {
     let grid = f32_bytes(&[1.0, 2.0, 3.0, 4.0]);
     // One value short: the file is truncated.
-    let err = import::raw::parse(&grid[..12], SIDECAR_2X2, "t").unwrap_err();
+    let err = raw::parse(&grid[..12], SIDECAR_2X2, "t").unwrap_err();
     assert!(matches!(err, ImportError::Truncated { .. }), "{err}");
     assert!(err.to_string().contains("16 bytes"), "{err}");
     // One value too many: the sidecar's counts do not match the file.
     let five = f32_bytes(&[1.0, 2.0, 3.0, 4.0, 5.0]);
-    let err = import::raw::parse(&five, SIDECAR_2X2, "t").unwrap_err();
+    let err = raw::parse(&five, SIDECAR_2X2, "t").unwrap_err();
     assert!(matches!(err, ImportError::WrongCount { .. }), "{err}");
     // NaN and infinity are not heights.
     for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
         let grid = f32_bytes(&[1.0, 2.0, bad, 4.0]);
-        let err = import::raw::parse(&grid, SIDECAR_2X2, "t").unwrap_err();
+        let err = raw::parse(&grid, SIDECAR_2X2, "t").unwrap_err();
         assert!(
             matches!(
                 err,
@@ -67,20 +66,19 @@ fn raw_grid_errors_are_typed() {
         );
     }
     // A 1×4 strip is under 2×2.
-    let err = import::raw::parse(&grid, br#"{"width": 1, "height": 4}"#, "t").unwrap_err();
+    let err = raw::parse(&grid, br#"{"width": 1, "height": 4}"#, "t").unwrap_err();
     assert!(matches!(
         err,
         ImportError::Grid(HeightfieldError::TooSmall { .. })
     ));
     // A sidecar claiming 2^40 points is refused before any allocation.
-    let err =
-        import::raw::parse(&grid, br#"{"width": 1048576, "height": 1048576}"#, "t").unwrap_err();
+    let err = raw::parse(&grid, br#"{"width": 1048576, "height": 1048576}"#, "t").unwrap_err();
     assert!(matches!(
         err,
         ImportError::Grid(HeightfieldError::TooLarge { .. })
     ));
     // A sidecar that is not JSON, and a missing sidecar.
-    let err = import::raw::parse(&grid, b"{width", "t").unwrap_err();
+    let err = raw::parse(&grid, b"{width", "t").unwrap_err();
     assert!(matches!(err, ImportError::Malformed { .. }));
     let err = import::from_bytes("a.f32", &grid, None, &defaults()).unwrap_err();
     assert!(matches!(err, ImportError::MissingSidecar { .. }));

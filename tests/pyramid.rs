@@ -4,39 +4,13 @@
 
 use paretomesh::front_file::FrontFile;
 use paretomesh::import;
-use paretomesh::pyramid::borders::with_border_points;
-use paretomesh::pyramid::globe::{Frame, MapSystem, ecef};
-use paretomesh::pyramid::quadtree::Level;
-use paretomesh::pyramid::tile_mesh::tile_mesh;
+use paretomesh::pyramid::{Frame, Level, MapSystem, ecef, tile_mesh, with_border_points};
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn data(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn paretomesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("paretomesh-pyramid-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod common;
+use common::cli::{data, paretomesh, scratch, text};
 
 /// A greedy-insertion front of `grid` written to `dir`/front.json.
 fn front(dir: &Path, grid: &Path) -> PathBuf {

@@ -5,14 +5,17 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use paretomesh::evaluator::Evaluator;
-use paretomesh::export::mesh::WorldMesh;
-use paretomesh::export::solid::{SolidError, SolidOptions, signed_volume, solid};
-use paretomesh::export::threemf::{to_3mf, to_3mf_deflated};
+use paretomesh::export::WorldMesh;
+use paretomesh::export::{SolidError, SolidOptions, signed_volume, solid};
+use paretomesh::export::{to_3mf, to_3mf_deflated};
 use paretomesh::heightfield::{Heightfield, Placement};
-use paretomesh::import::raw;
+use paretomesh::import::readers::raw;
 use std::collections::HashMap;
 use std::io::Cursor;
 use std::sync::Arc;
+
+mod common;
+use common::cli::paretomesh;
 
 fn grid(name: &str) -> Arc<Heightfield> {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
@@ -352,13 +355,6 @@ fn bumpy_tube_stl() -> String {
     }
     stl.push_str("endsolid tube\n");
     stl
-}
-
-fn paretomesh(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
 }
 
 /// A binary STL's triangles, with corners welded by their exact position.

@@ -2,40 +2,16 @@
 //! thread-count invariance, and a bad `--tile`.
 
 use paretomesh::kept_codec;
-use std::path::PathBuf;
-use std::process::{Command, Output};
 
-fn data(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn paretomesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the paretomesh binary runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("paretomesh-tiles-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod common;
+use common::cli::{data, paretomesh, scratch, text};
 
 /// `run` on volcano 87×61 in tiles of 33 with `threads`, its front.json as JSON.
 fn tiled_run(dir: &std::path::Path, threads: &str) -> serde_json::Value {
     let out_path = dir.join(format!("front-{threads}.json"));
     let out = paretomesh(&[
         "run",
-        &data("volcano_87x61.f32"),
+        data("volcano_87x61.f32").to_str().unwrap(),
         "--algo",
         "memetic",
         "--evals",
@@ -150,7 +126,7 @@ fn a_tile_too_small_is_refused_before_any_work_and_writes_nothing() {
     let out_path = dir.join("front.json");
     let out = paretomesh(&[
         "run",
-        &data("volcano_87x61.f32"),
+        data("volcano_87x61.f32").to_str().unwrap(),
         "--tile",
         "5",
         "--out",
@@ -171,7 +147,7 @@ fn a_grid_within_the_tile_size_runs_untiled() {
     let out_path = dir.join("front.json");
     let out = paretomesh(&[
         "run",
-        &data("volcano_33x33.f32"),
+        data("volcano_33x33.f32").to_str().unwrap(),
         "--algo",
         "greedy",
         "--out",
@@ -192,17 +168,18 @@ fn a_grid_within_the_tile_size_runs_untiled() {
 #[test]
 fn eval_scores_given_triangles_as_it_scores_their_kept_set() {
     let grid = data("jacksboro_33x33.f32");
+    let grid = grid.to_str().unwrap();
     let dir = scratch("eval");
     let kept_path = dir.join("kept.json");
     std::fs::write(&kept_path, "[100, 200, 300, 500, 700]").unwrap();
-    let by_kept = paretomesh(&["eval", &grid, "--keep", kept_path.to_str().unwrap()]);
+    let by_kept = paretomesh(&["eval", grid, "--keep", kept_path.to_str().unwrap()]);
     assert!(by_kept.status.success(), "{}", text(&by_kept.stderr));
     let by_kept: serde_json::Value = serde_json::from_slice(&by_kept.stdout).unwrap();
     let triangles_path = dir.join("triangles.json");
     std::fs::write(&triangles_path, by_kept["triangles"].to_string()).unwrap();
     let by_triangles = paretomesh(&[
         "eval",
-        &grid,
+        grid,
         "--triangles",
         triangles_path.to_str().unwrap(),
     ]);

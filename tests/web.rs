@@ -23,7 +23,7 @@ fn the_core_evaluates_in_the_browser_like_natively() {
         .as_f64()
         .unwrap();
     let native = {
-        let hf = paretomesh::import::raw::parse(GRID, SIDECAR, "t").unwrap();
+        let hf = paretomesh::import::readers::raw::parse(GRID, SIDECAR, "t").unwrap();
         paretomesh::evaluator::Evaluator::new(std::sync::Arc::new(hf))
             .score(&[])
             .unwrap()
@@ -35,6 +35,16 @@ fn the_core_evaluates_in_the_browser_like_natively() {
 
 #[wasm_bindgen_test]
 fn bad_input_is_an_error_not_a_panic() {
-    let err = paretomesh::web::evaluate_raw(&GRID[..100], SIDECAR, &[]);
-    assert!(err.is_err());
+    // A cut-off grid: the page gets the importer's Truncated error, word for word.
+    let Err(err) = paretomesh::web::evaluate_raw(&GRID[..100], SIDECAR, &[]) else {
+        panic!("a cut-off grid was scored");
+    };
+    let native =
+        paretomesh::import::readers::raw::parse(&GRID[..100], SIDECAR, "upload").unwrap_err();
+    assert!(
+        matches!(native, paretomesh::import::ImportError::Truncated { .. }),
+        "{native:?}"
+    );
+    let message = js_sys::Error::from(wasm_bindgen::JsValue::from(err)).message();
+    assert_eq!(String::from(message), native.to_string());
 }

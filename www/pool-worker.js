@@ -43,7 +43,7 @@ self.onmessage = async ({ data: job }) => {
     }
     if (job.kind === 'tile') {
       const start = performance.now();
-      const front = runTile(job.surface, job.plan, job.tile, job.algorithm, job.params, job.seed, job.members);
+      const front = runTile(job.surface, job.plan, job.tile, job.config, job.seed, job.members);
       self.postMessage({ kind: 'tile', run, index, front, ms: performance.now() - start });
       return;
     }

@@ -59,7 +59,7 @@ impl Target {
     }
 
     /// The file name the input is imported under (the importer dispatches on its extension).
-    fn file_name(self) -> &'static str {
+    pub fn file_name(self) -> &'static str {
         match self {
             Target::Raw => "fuzz.f32",
             Target::Png => "fuzz.png",

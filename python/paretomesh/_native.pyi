@@ -79,7 +79,7 @@ def load_front(
     spacing: Optional[Tuple[float, float]] = ...,
     origin: Optional[Tuple[float, float]] = ...,
 ) -> Front: ...
-def method_params(
+def method_config(
     method: str, evals: Optional[int] = ..., error: Optional[str] = ...
 ) -> str: ...
 def tile_plan(
@@ -87,11 +87,11 @@ def tile_plan(
 ) -> Tuple[int, List[Tuple[int, int, int, int, int]]]: ...
 def run_tile(
     z: npt.NDArray[np.float64], width: int, height: int, tile: int, index: int,
-    method: str, params: str, seed: int,
+    config: str, seed: int,
 ) -> bytes: ...
-def run_whole(z: npt.NDArray[np.float64], method: str, params: str, seed: int) -> bytes: ...
+def run_whole(z: npt.NDArray[np.float64], config: str, seed: int) -> bytes: ...
 def assemble_front(
-    width: int, height: int, tile: int, parts: List[bytes], method: str, params: str,
+    width: int, height: int, tile: int, parts: List[bytes], config: str,
     seed: int, millis: int, source: str, z: Optional[npt.NDArray[np.float64]] = ...,
     grid_path: Optional[str] = ..., spacing: Optional[Tuple[float, float]] = ...,
     origin: Optional[Tuple[float, float]] = ...,

@@ -23,7 +23,7 @@ from . import _heights, _count, _pair, METHODS, Front, _native
 __all__ = ["simplify"]
 
 
-def _tile_from_array(z: np.ndarray, width, height, tile, index, method, params, seed) -> bytes:
+def _tile_from_array(z: np.ndarray, width, height, tile, index, config, seed) -> bytes:
     """One tile's front from its heights (a task)."""
     z = np.ascontiguousarray(z, dtype=np.float64)
     if not np.isfinite(z).all():
@@ -32,24 +32,24 @@ def _tile_from_array(z: np.ndarray, width, height, tile, index, method, params, 
             "first (a nodata cell takes its nearest valid cell's height, which may lie in "
             "another tile); pass a numpy array or a file instead"
         )
-    return _native.run_tile(z, width, height, tile, index, method, params, seed)
+    return _native.run_tile(z, width, height, tile, index, config, seed)
 
 
-def _tile_from_file(path, x0, y0, w, h, width, height, tile, index, method, params, seed) -> bytes:
+def _tile_from_file(path, x0, y0, w, h, width, height, tile, index, config, seed) -> bytes:
     """One tile's front from its window of a grid file (a task, run where the file is)."""
     z = _native.read_window(path, x0, y0, w, h)
-    return _native.run_tile(z, width, height, tile, index, method, params, seed)
+    return _native.run_tile(z, width, height, tile, index, config, seed)
 
 
-def _whole_from_array(z: np.ndarray, method, params, seed) -> bytes:
+def _whole_from_array(z: np.ndarray, config, seed) -> bytes:
     """A one-tile grid's untiled front.json (a task)."""
-    return _native.run_whole(np.ascontiguousarray(z, dtype=np.float64), method, params, seed)
+    return _native.run_whole(np.ascontiguousarray(z, dtype=np.float64), config, seed)
 
 
-def _whole_from_file(path, width, height, method, params, seed) -> bytes:
+def _whole_from_file(path, width, height, config, seed) -> bytes:
     """A one-tile grid file's untiled front.json (a task)."""
     z = _native.read_window(path, 0, 0, width, height)
-    return _native.run_whole(z, method, params, seed)
+    return _native.run_whole(z, config, seed)
 
 
 def simplify(
@@ -100,7 +100,9 @@ def simplify(
         raise ValueError(f"unknown method {method!r}; the methods are {', '.join(METHODS)}")
     seed = _count(seed, "seed", 0)
     tile = _count(tile, "tile", 2)
-    params = _native.method_params(method, _count(evals, "evals", 1), error)
+    # The method and its parameters as the library's typed config (JSON text), which every
+    # task reads back whole.
+    config = _native.method_config(method, _count(evals, "evals", 1), error)
 
     path = None
     darr = None
@@ -129,16 +131,16 @@ def simplify(
     started = time.perf_counter()
     if not tiles:
         if path is not None:
-            tasks = [client.submit(_whole_from_file, path, width, height, method, params, seed,
+            tasks = [client.submit(_whole_from_file, path, width, height, config, seed,
                                    retries=retries, pure=False)]
         else:
             whole = darr if darr is not None else z
-            tasks = [client.submit(_whole_from_array, whole, method, params, seed,
+            tasks = [client.submit(_whole_from_array, whole, config, seed,
                                    retries=retries, pure=False)]
     elif path is not None:
         tasks = [
             client.submit(_tile_from_file, path, x0, y0, w, h, width, height, side, index,
-                          method, params, seed, retries=retries, pure=False)
+                          config, seed, retries=retries, pure=False)
             for index, x0, y0, w, h in tiles
         ]
     elif darr is not None:
@@ -146,7 +148,7 @@ def simplify(
 
         parts = [
             dask.delayed(_tile_from_array, pure=True)(
-                darr[y0:y0 + h, x0:x0 + w], width, height, side, index, method, params, seed
+                darr[y0:y0 + h, x0:x0 + w], width, height, side, index, config, seed
             )
             for index, x0, y0, w, h in tiles
         ]
@@ -154,7 +156,7 @@ def simplify(
     else:
         tasks = [
             client.submit(_tile_from_array, np.ascontiguousarray(z[y0:y0 + h, x0:x0 + w]),
-                          width, height, side, index, method, params, seed,
+                          width, height, side, index, config, seed,
                           retries=retries, pure=False)
             for index, x0, y0, w, h in tiles
         ]
@@ -169,5 +171,5 @@ def simplify(
         grid["z"] = _heights(heights)
         grid["spacing"] = _pair(spacing, "spacing")
         grid["origin"] = _pair(origin, "origin")
-    return _native.assemble_front(width, height, side, list(parts), method, params, seed,
+    return _native.assemble_front(width, height, side, list(parts), config, seed,
                                   millis, source, **grid)

@@ -4,8 +4,8 @@
 use crate::errors::value_error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, ndarray::Array2};
 use paretomesh::evaluator::{Evaluator, canonical_set, check_indices};
-use paretomesh::export::mesh::WorldMesh;
-use paretomesh::front_file::{FrontFile, GridInfo, RunSolution};
+use paretomesh::export::WorldMesh;
+use paretomesh::front_file::{FrontFile, RunHeader, RunSolution};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::metrics::trade_off_pick;
 use paretomesh::tiling::{TiledFront, TiledFrontFile};
@@ -39,12 +39,8 @@ pub struct FrontData {
     pub grid_source: GridSource,
     /// The height field once read from `grid_source`.
     pub hf: OnceLock<Arc<Heightfield>>,
-    pub grid: GridInfo,
-    pub algorithm: String,
-    pub params: serde_json::Value,
-    pub seed: u64,
-    pub evaluations: u64,
-    pub millis: u64,
+    /// The grid, the method, the seed and the run's cost, as every front.json starts.
+    pub header: RunHeader,
     /// By increasing T.
     pub members: Members,
 }
@@ -63,12 +59,7 @@ impl FrontData {
         Self {
             grid_source,
             hf: OnceLock::new(),
-            grid: file.grid,
-            algorithm: file.algorithm,
-            params: file.params,
-            seed: file.seed,
-            evaluations: file.evaluations,
-            millis: file.millis,
+            header: file.header,
             members: Members::Untiled(file.front),
         }
     }
@@ -154,24 +145,14 @@ impl FrontData {
             Members::Untiled(front) => serde_json::to_writer(
                 w,
                 &FrontFile {
-                    grid: self.grid.clone(),
-                    algorithm: self.algorithm.clone(),
-                    params: self.params.clone(),
-                    seed: self.seed,
-                    evaluations: self.evaluations,
-                    millis: self.millis,
+                    header: self.header.clone(),
                     front: front.clone(),
                 },
             ),
             Members::Tiled(tiled) => serde_json::to_writer(
                 w,
                 &TiledFrontFile {
-                    grid: self.grid.clone(),
-                    algorithm: self.algorithm.clone(),
-                    params: self.params.clone(),
-                    seed: self.seed,
-                    evaluations: self.evaluations,
-                    millis: self.millis,
+                    header: self.header.clone(),
                     threads: 0,
                     tiled: tiled.clone(),
                 },
@@ -184,12 +165,7 @@ impl FrontData {
         Self {
             grid_source,
             hf: OnceLock::new(),
-            grid: file.grid,
-            algorithm: file.algorithm,
-            params: file.params,
-            seed: file.seed,
-            evaluations: file.evaluations,
-            millis: file.millis,
+            header: file.header,
             members: Members::Tiled(file.tiled),
         }
     }
@@ -250,47 +226,47 @@ impl PyFront {
             "<paretomesh.Front: {n} members, T {}..{}, {} on a {}×{} grid{tiles}, seed {}>",
             t(0),
             t(n.saturating_sub(1)),
-            d.algorithm,
-            d.grid.width,
-            d.grid.height,
-            d.seed
+            d.header.algorithm.name(),
+            d.header.grid.width,
+            d.header.grid.height,
+            d.header.seed
         )
     }
 
     /// The method's name, as the CLI's ``--algo`` spells it.
     #[getter]
     fn method(&self) -> String {
-        self.data.algorithm.clone()
+        self.data.header.algorithm.name().to_string()
     }
 
     /// The seed of the run.
     #[getter]
     fn seed(&self) -> u64 {
-        self.data.seed
+        self.data.header.seed
     }
 
     /// Evaluations the run spent (over every tile of a tiled run).
     #[getter]
     fn evaluations(&self) -> u64 {
-        self.data.evaluations
+        self.data.header.evaluations
     }
 
     /// Wall time of the run in milliseconds.
     #[getter]
     fn millis(&self) -> u64 {
-        self.data.millis
+        self.data.header.millis
     }
 
     /// The grid's (width, height) = (columns, rows).
     #[getter]
     fn shape(&self) -> (usize, usize) {
-        (self.data.grid.width, self.data.grid.height)
+        (self.data.header.grid.width, self.data.header.grid.height)
     }
 
     /// How the grid was made (the source note front.json keeps).
     #[getter]
     fn source(&self) -> String {
-        self.data.grid.source.clone()
+        self.data.header.grid.source.clone()
     }
 
     /// The tile side of a tiled run, None for an untiled one.
@@ -311,7 +287,7 @@ impl PyFront {
             .iter()
             .map(|n| [n.e_sum, n.t as f64])
             .collect();
-        let pick = trade_off_pick(&points, self.data.seed)
+        let pick = trade_off_pick(&points, self.data.header.seed)
             .map_err(|e| value_error(format!("no trade-off pick: {e}")))?;
         Ok(self.member(pick.index))
     }

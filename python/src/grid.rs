@@ -4,7 +4,7 @@
 use crate::errors::{grid_error, import_error, value_error};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, ndarray::Array2};
 use paretomesh::heightfield::{self, Heightfield, Placement};
-use paretomesh::import::resample::fill_nearest;
+use paretomesh::import::fill_nearest;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::Path;

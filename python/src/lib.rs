@@ -11,14 +11,12 @@ mod window;
 use errors::value_error;
 use front::{FrontData, GridSource, Members, PyFront, PyMember};
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, ndarray::Array2};
-use paretomesh::catalogue::Algorithm;
+use paretomesh::catalogue::{Algorithm, Config};
 use paretomesh::evaluator::{Evaluator, check_indices};
-use paretomesh::front_file::FrontFile;
-use paretomesh::front_file::GridInfo;
+use paretomesh::front_file::{FrontFile, GridInfo, RunHeader};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::tiling::{
-    TileFront, TilePlan, TiledFront, TiledFrontFile, assemble, build_optimizer, run_tiled,
-    tile_params,
+    TileFront, TilePlan, TiledFront, TiledFrontFile, assemble, run_tiled, tile_config,
 };
 use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
@@ -43,16 +41,19 @@ fn grid_info(hf: &Heightfield) -> GridInfo {
     }
 }
 
-/// Runs `method` untiled on `hf` to the end (looking at Python's signals between steps) and
+/// Runs `config` untiled on `hf` to the end (looking at Python's signals between steps) and
 /// returns its record.
-fn run_untiled(
-    hf: Arc<Heightfield>,
-    method: &str,
-    params: serde_json::Value,
-    seed: u64,
-) -> PyResult<FrontFile> {
-    let mut optimizer = build_optimizer(hf.clone(), method, &params, seed)
-        .map_err(|e| value_error(e.to_string()))?;
+fn run_untiled(hf: Arc<Heightfield>, config: &Config, seed: u64) -> PyResult<FrontFile> {
+    let mut optimizer = config
+        .clone()
+        .build(hf.clone(), seed)
+        .map_err(|e| {
+            value_error(format!(
+                "bad parameters for {}: {e}",
+                config.algorithm().name()
+            ))
+        })?
+        .optimizer;
     let started = Instant::now();
     loop {
         let p = optimizer.step(SIGNAL_CHECK_EVALUATIONS);
@@ -66,8 +67,7 @@ fn run_untiled(
     let mut evaluator = Evaluator::new(hf);
     FrontFile::new(
         &mut evaluator,
-        method,
-        params,
+        config,
         seed,
         evaluations,
         millis,
@@ -91,22 +91,17 @@ fn plan(width: usize, height: usize, tile: Option<usize>) -> PyResult<Option<Til
 fn tiled_data(
     grid: GridInfo,
     grid_source: GridSource,
-    method: &str,
-    params: serde_json::Value,
+    config: &Config,
     seed: u64,
     millis: u64,
     front: TiledFront,
 ) -> FrontData {
+    // As the tiles ran it (the memetic search's share per tile).
+    let config = tile_config(&front.plan, config);
     FrontData {
         grid_source,
         hf: OnceLock::new(),
-        grid,
-        algorithm: method.to_string(),
-        // As the tiles ran them (the memetic search's share per tile).
-        params: tile_params(&front.plan, method, &params),
-        seed,
-        evaluations: front.evaluations(),
-        millis,
+        header: RunHeader::new(grid, &config, seed, front.evaluations(), millis),
         members: Members::Tiled(front),
     }
 }
@@ -128,25 +123,23 @@ fn simplify(
     origin: Option<[f64; 2]>,
     error: Option<&str>,
 ) -> PyResult<PyFront> {
-    let params = methods::params(method, evals, error)?;
+    let config = methods::config(method, evals, error)?;
     let hf = Arc::new(grid::from_array(&z, spacing, origin)?);
     drop(z);
     let plan = plan(hf.width(), hf.height(), tile)?;
-    let method = method.to_string();
     let data = py.detach(move || -> PyResult<FrontData> {
         let Some(plan) = plan else {
-            let file = run_untiled(hf.clone(), &method, params, seed)?;
+            let file = run_untiled(hf.clone(), &config, seed)?;
             return Ok(FrontData::of_file(file, GridSource::Held(hf)));
         };
         let started = Instant::now();
-        let front = run_tiled(&hf, &plan, &method, &params, seed, threads.unwrap_or(0))
+        let front = run_tiled(&hf, &plan, &config, seed, threads.unwrap_or(0))
             .map_err(|e| value_error(e.to_string()))?;
         let millis = started.elapsed().as_millis() as u64;
         Ok(tiled_data(
             grid_info(&hf),
             GridSource::Held(hf),
-            &method,
-            params,
+            &config,
             seed,
             millis,
             front,
@@ -157,12 +150,13 @@ fn simplify(
     })
 }
 
-/// The parameters `method` runs with for `evals` in the error measure `error`, as JSON text
-/// (what Dask ships to tiles).
+/// The config (method and parameters) `method` runs with for `evals` in the error measure
+/// `error`, as JSON text: what Dask ships to its tasks.
 #[pyfunction]
 #[pyo3(signature = (method, evals=None, error=None))]
-fn method_params(method: &str, evals: Option<u64>, error: Option<&str>) -> PyResult<String> {
-    Ok(methods::params(method, evals, error)?.to_string())
+fn method_config(method: &str, evals: Option<u64>, error: Option<&str>) -> PyResult<String> {
+    let config = methods::config(method, evals, error)?;
+    Ok(serde_json::to_string(&config).expect("a config is plain data"))
 }
 
 /// A tile's index and window: (index, x0, y0, w, h).
@@ -201,18 +195,15 @@ fn run_tile<'py>(
     height: usize,
     tile: usize,
     index: usize,
-    method: &str,
-    params: &str,
+    config: &str,
     seed: u64,
 ) -> PyResult<Bound<'py, PyBytes>> {
     let tile_hf = grid::from_array(&z, None, None)?;
     drop(z);
-    let params: serde_json::Value =
-        serde_json::from_str(params).map_err(|e| value_error(format!("params: {e}")))?;
+    let config = methods::from_text(config)?;
     let plan = TilePlan::new(width, height, tile).map_err(|e| value_error(e.to_string()))?;
-    let method = method.to_string();
     let bytes = py.detach(move || -> PyResult<Vec<u8>> {
-        let front = paretomesh::tiling::run_tile(&tile_hf, &plan, index, &method, &params, seed)
+        let front = paretomesh::tiling::run_tile(&tile_hf, &plan, index, &config, seed)
             .map_err(|e| value_error(e.to_string()))?;
         Ok(serde_json::to_vec(&front).expect("a tile front is plain data"))
     })?;
@@ -224,17 +215,14 @@ fn run_tile<'py>(
 fn run_whole<'py>(
     py: Python<'py>,
     z: PyReadonlyArray2<'_, f64>,
-    method: &str,
-    params: &str,
+    config: &str,
     seed: u64,
 ) -> PyResult<Bound<'py, PyBytes>> {
     let hf = Arc::new(grid::from_array(&z, None, None)?);
     drop(z);
-    let params: serde_json::Value =
-        serde_json::from_str(params).map_err(|e| value_error(format!("params: {e}")))?;
-    let method = method.to_string();
+    let config = methods::from_text(config)?;
     let bytes = py.detach(move || -> PyResult<Vec<u8>> {
-        let file = run_untiled(hf, &method, params, seed)?;
+        let file = run_untiled(hf, &config, seed)?;
         Ok(serde_json::to_vec(&file).expect("a run file is plain data"))
     })?;
     Ok(PyBytes::new(py, &bytes))
@@ -244,7 +232,7 @@ fn run_whole<'py>(
 /// any order) or one untiled front.json (bytes from ``run_whole``), with the grid as an array
 /// or a file for the meshes.
 #[pyfunction]
-#[pyo3(signature = (width, height, tile, parts, method, params, seed, millis, source, z=None, grid_path=None, spacing=None, origin=None))]
+#[pyo3(signature = (width, height, tile, parts, config, seed, millis, source, z=None, grid_path=None, spacing=None, origin=None))]
 #[allow(clippy::too_many_arguments)]
 fn assemble_front(
     py: Python<'_>,
@@ -252,8 +240,7 @@ fn assemble_front(
     height: usize,
     tile: usize,
     parts: Vec<Vec<u8>>,
-    method: &str,
-    params: &str,
+    config: &str,
     seed: u64,
     millis: u64,
     source: String,
@@ -268,9 +255,7 @@ fn assemble_front(
         (None, None) => GridSource::None,
     };
     drop(z);
-    let params: serde_json::Value =
-        serde_json::from_str(params).map_err(|e| value_error(format!("params: {e}")))?;
-    let method = method.to_string();
+    let config = methods::from_text(config)?;
     let data = py.detach(move || -> PyResult<FrontData> {
         let grid = GridInfo {
             width,
@@ -285,7 +270,7 @@ fn assemble_front(
             };
             let mut file: FrontFile = serde_json::from_slice(part)
                 .map_err(|e| value_error(format!("an untiled front: {e}")))?;
-            file.grid = grid;
+            file.header.grid = grid;
             return Ok(FrontData::of_file(file, grid_source));
         };
         let fronts = parts
@@ -294,15 +279,7 @@ fn assemble_front(
             .collect::<Result<Vec<_>, _>>()
             .map_err(|e| value_error(format!("a tile's front: {e}")))?;
         let front = assemble(&plan, fronts).map_err(|e| value_error(e.to_string()))?;
-        Ok(tiled_data(
-            grid,
-            grid_source,
-            &method,
-            params,
-            seed,
-            millis,
-            front,
-        ))
+        Ok(tiled_data(grid, grid_source, &config, seed, millis, front))
     })?;
     Ok(PyFront {
         data: Arc::new(data),
@@ -397,7 +374,7 @@ fn load_front(
             (None, None) => None,
         };
         if let Some(hf) = hf {
-            let (w, h) = (data.grid.width, data.grid.height);
+            let (w, h) = (data.header.grid.width, data.header.grid.height);
             if (hf.width(), hf.height()) != (w, h) {
                 return Err(value_error(format!(
                     "{} was made on a {w}×{h} grid, the grid given is {}×{}",
@@ -428,7 +405,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simplify, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;
     m.add_function(wrap_pyfunction!(load_front, m)?)?;
-    m.add_function(wrap_pyfunction!(method_params, m)?)?;
+    m.add_function(wrap_pyfunction!(method_config, m)?)?;
     m.add_function(wrap_pyfunction!(tile_plan, m)?)?;
     m.add_function(wrap_pyfunction!(run_tile, m)?)?;
     m.add_function(wrap_pyfunction!(run_whole, m)?)?;

@@ -1,24 +1,18 @@
-//! The parameters `simplify` runs a method with: the catalogue's configuration of `--algo NAME`
-//! with its `--evals` and `--error`, as the JSON the library's algorithm catalogue
-//! ([`paretomesh::tiling::build_optimizer`]) takes and front.json records. The CLI's `run`
-//! configures its method the same way ([`Algorithm::configure`], then [`Config::json`]), so both
-//! give the same parameters by construction.
-//!
-//! [`Config::json`]: paretomesh::catalogue::Config::json
+//! The method `simplify` runs: the catalogue's [`Config`] of `--algo NAME` with its `--evals`
+//! and `--error`.
+//! The CLI's `run` configures its method the same way ([`Algorithm::configure`]), so both give
+//! the same parameters by construction. Dask ships the config to its tasks as JSON text
+//! (its serde form, `{"algorithm": …, "params": …}`), read back with [`from_text`].
 
 use crate::errors::value_error;
-use paretomesh::catalogue::{Algorithm, Param, Params};
+use paretomesh::catalogue::{Algorithm, Config, Param, Params};
 use paretomesh::measure::ErrorMeasure;
 use pyo3::PyResult;
 
-/// The full parameters of `method` stopping after about `evals` evaluations (the method's own
-/// budget when `None`) and minimising the error measure named `error` (`sum` when `None`), as
-/// `paretomesh run --algo METHOD [--evals N] [--error NAME]` sets them.
-pub fn params(
-    method: &str,
-    evals: Option<u64>,
-    error: Option<&str>,
-) -> PyResult<serde_json::Value> {
+/// The config of `method` stopping after about `evals` evaluations (the method's own budget
+/// when `None`) and minimising the error measure named `error` (`sum` when `None`), as
+/// `paretomesh run --algo METHOD [--evals N] [--error NAME]` sets it.
+pub fn config(method: &str, evals: Option<u64>, error: Option<&str>) -> PyResult<Config> {
     let error = error
         .map(ErrorMeasure::parse)
         .transpose()
@@ -42,6 +36,10 @@ pub fn params(
         error,
         ..Params::default()
     };
-    let config = algorithm.configure(&given).map_err(value_error)?;
-    Ok(config.json())
+    algorithm.configure(&given).map_err(value_error)
+}
+
+/// A config shipped as JSON text (see [`config`]).
+pub fn from_text(text: &str) -> PyResult<Config> {
+    serde_json::from_str(text).map_err(|e| value_error(format!("config: {e}")))
 }

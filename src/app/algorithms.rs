@@ -1,20 +1,20 @@
 //! The parameter form of the app (the source paper's defaults) and how it fills the
 //! [`catalogue`](crate::catalogue)'s parameters; the methods themselves are the catalogue's.
 
-use crate::catalogue::{BudgetKind, Param, Params as CatalogueParams};
+use crate::catalogue::{BudgetKind, Config, Param, Params as CatalogueParams};
 use crate::evolution::{CrossoverKind, GaParams};
 use crate::heightfield::Heightfield;
 use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-pub use crate::catalogue::{Algorithm, Running};
+pub(crate) use crate::catalogue::{Algorithm, Running};
 
 /// True when [`build`] reads `field` of the form for `algorithm`: the seed for a stochastic
 /// method; the GA fields for a generational GA that reads them. A method with an evaluation
 /// budget (memetic) keeps its own population and budget, and a method with its own stopping
 /// rule reads nothing.
-pub fn uses(algorithm: Algorithm, field: Field) -> bool {
+pub(crate) fn uses(algorithm: Algorithm, field: Field) -> bool {
     let spec = algorithm.spec();
     match field.param() {
         None => spec.stochastic,
@@ -24,7 +24,7 @@ pub fn uses(algorithm: Algorithm, field: Field) -> bool {
 
 /// A field of the parameter form (a member of [`Params`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Field {
+pub(crate) enum Field {
     /// [`Params::population`].
     Population,
     /// [`Params::generations`].
@@ -41,7 +41,7 @@ pub enum Field {
 
 impl Field {
     /// Every field, in the form's order.
-    pub const ALL: [Field; 6] = [
+    pub(crate) const ALL: [Field; 6] = [
         Field::Population,
         Field::Generations,
         Field::Crossover,
@@ -51,7 +51,7 @@ impl Field {
     ];
 
     /// The catalogue parameter the field sets (`None` for the seed, which is not one).
-    pub fn param(self) -> Option<Param> {
+    pub(crate) fn param(self) -> Option<Param> {
         match self {
             Field::Population => Some(Param::Population),
             Field::Generations => Some(Param::Generations),
@@ -63,7 +63,7 @@ impl Field {
     }
 
     /// The id of the field's input in the page.
-    pub fn id(self) -> &'static str {
+    pub(crate) fn id(self) -> &'static str {
         match self {
             Field::Population => "population",
             Field::Generations => "generations",
@@ -76,7 +76,7 @@ impl Field {
 }
 
 /// The menu value of a crossover kind (its serde name).
-pub fn crossover_key(kind: CrossoverKind) -> &'static str {
+pub(crate) fn crossover_key(kind: CrossoverKind) -> &'static str {
     match kind {
         CrossoverKind::Oax => "oax",
         CrossoverKind::Uniform => "uniform",
@@ -85,7 +85,7 @@ pub fn crossover_key(kind: CrossoverKind) -> &'static str {
 }
 
 /// The crossover kind with menu value `key`.
-pub fn crossover_from_key(key: &str) -> Option<CrossoverKind> {
+pub(crate) fn crossover_from_key(key: &str) -> Option<CrossoverKind> {
     [
         CrossoverKind::Oax,
         CrossoverKind::Uniform,
@@ -183,16 +183,22 @@ fn catalogue_params(algorithm: Algorithm, params: &Params) -> CatalogueParams {
     }
 }
 
-/// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
-pub fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
+/// The method the form sets, as the catalogue runs it (what `paretomesh run` runs for the same
+/// options); the method's defaults when the form's values contradict each other.
+pub(crate) fn config(algorithm: Algorithm, params: &Params) -> Config {
     algorithm
         .configure(&catalogue_params(algorithm, params))
-        .map_or(serde_json::Value::Null, |c| c.json())
+        .unwrap_or_else(|_| algorithm.defaults())
+}
+
+/// The parameters as front.json records them (the same JSON as `paretomesh run --out`).
+pub(crate) fn params_json(algorithm: Algorithm, params: &Params) -> serde_json::Value {
+    config(algorithm, params).json()
 }
 
 /// Builds `algorithm` on `hf`. Fails with a message for the user when the parameters are out
 /// of range.
-pub fn build(
+pub(crate) fn build(
     algorithm: Algorithm,
     params: &Params,
     hf: Arc<Heightfield>,

@@ -18,11 +18,11 @@ pub struct OrbitCamera {
 }
 
 /// Pitch limit: just short of straight down or up, where the up vector degenerates.
-pub const MAX_PITCH: f32 = 1.55;
+pub(crate) const MAX_PITCH: f32 = 1.55;
 /// Closest zoom.
-pub const MIN_DISTANCE: f32 = 0.05;
+pub(crate) const MIN_DISTANCE: f32 = 0.05;
 /// Farthest zoom.
-pub const MAX_DISTANCE: f32 = 20.0;
+pub(crate) const MAX_DISTANCE: f32 = 20.0;
 /// Vertical field of view, radians.
 const FOV_Y: f32 = 0.8;
 
@@ -40,7 +40,7 @@ impl Default for OrbitCamera {
 
 impl OrbitCamera {
     /// The eye position.
-    pub fn eye(&self) -> Vec3 {
+    pub(crate) fn eye(&self) -> Vec3 {
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
         Vec3::from(self.target) + self.distance * Vec3::new(cp * cy, cp * sy, sp)
@@ -48,7 +48,7 @@ impl OrbitCamera {
 
     /// View-projection matrix for a viewport of aspect ratio `aspect` (width / height), with
     /// depth in 0..1 as wgpu expects.
-    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+    pub(crate) fn view_projection(&self, aspect: f32) -> Mat4 {
         let view = Mat4::look_at_rh(self.eye(), Vec3::from(self.target), Vec3::Z);
         let near = (self.distance * 0.01).max(1e-3);
         let proj = Mat4::perspective_rh(FOV_Y, aspect.max(1e-3), near, self.distance + 10.0);
@@ -56,13 +56,13 @@ impl OrbitCamera {
     }
 
     /// Rotates by a drag of (`dx`, `dy`) CSS pixels.
-    pub fn orbit(&mut self, dx: f32, dy: f32) {
+    pub(crate) fn orbit(&mut self, dx: f32, dy: f32) {
         self.yaw -= dx * 0.008;
         self.pitch = (self.pitch + dy * 0.008).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
     /// Zooms by `factor` (> 1 moves away), clamped to the distance limits.
-    pub fn zoom(&mut self, factor: f32) {
+    pub(crate) fn zoom(&mut self, factor: f32) {
         if factor.is_finite() && factor > 0.0 {
             self.distance = (self.distance * factor).clamp(MIN_DISTANCE, MAX_DISTANCE);
         }
@@ -70,7 +70,7 @@ impl OrbitCamera {
 
     /// Moves the target by a drag of (`dx`, `dy`) CSS pixels on a viewport `height` pixels tall,
     /// so the surface follows the pointer.
-    pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
+    pub(crate) fn pan(&mut self, dx: f32, dy: f32, height: f32) {
         let eye = self.eye();
         let forward = (Vec3::from(self.target) - eye).normalize();
         let right = forward.cross(Vec3::Z).normalize();

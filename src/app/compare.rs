@@ -30,7 +30,7 @@ use serde::Serialize;
 
 /// The compared methods: every method of the catalogue, in the order of the experiment's
 /// tables (compare mode runs each full method; ablation variants are the experiment's).
-pub const METHODS: [Method; Algorithm::ALL.len()] = {
+pub(crate) const METHODS: [Method; Algorithm::ALL.len()] = {
     let mut methods = [Method::MEMETIC; Algorithm::ALL.len()];
     let mut k = 0;
     while k < methods.len() {
@@ -41,10 +41,10 @@ pub const METHODS: [Method; Algorithm::ALL.len()] = {
 };
 
 /// Least time between two recomputations of the live table while the run goes on, in ms.
-pub const TABLE_INTERVAL_MS: f64 = 250.0;
+pub(crate) const TABLE_INTERVAL_MS: f64 = 250.0;
 
 /// True when a comparison reads `field` of the form: one of the compared methods uses it.
-pub fn reads(field: Field) -> bool {
+pub(crate) fn reads(field: Field) -> bool {
     METHODS
         .iter()
         .any(|&m| algorithms::uses(m.algorithm, field))
@@ -52,7 +52,7 @@ pub fn reads(field: Field) -> bool {
 
 /// What one [`CompareRun::tick`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CompareTick {
+pub(crate) struct CompareTick {
     /// `Optimizer::step` calls made, over all methods.
     pub steps: u32,
     /// Evaluations spent, over all methods.
@@ -66,7 +66,7 @@ pub struct CompareTick {
 /// The three picks of one method's front (the experiment's Table IV), with their positions in
 /// the front as of the table's computation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Picks {
+pub(crate) struct Picks {
     /// The member with the lowest E.
     pub best_error: Pick,
     /// The member with the fewest triangles.
@@ -77,7 +77,7 @@ pub struct Picks {
 
 /// One method's row of the table.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct MethodRow {
+pub(crate) struct MethodRow {
     /// The method.
     pub method: Method,
     /// Members of its front when the table was computed.
@@ -94,7 +94,7 @@ pub struct MethodRow {
 
 /// The binary indicators of one ordered pair of methods (Table III).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PairRow {
+pub(crate) struct PairRow {
     /// A.
     pub a: Method,
     /// B.
@@ -107,7 +107,7 @@ pub struct PairRow {
 
 /// The live table of compare mode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct CompareTable {
+pub(crate) struct CompareTable {
     /// The common normalisation of the fronts.
     pub normalization: Normalization,
     /// The hypervolume reference point, normalised.
@@ -131,7 +131,7 @@ struct Lane {
 }
 
 /// A compare run: every method on one surface with one set of parameters.
-pub struct CompareRun {
+pub(crate) struct CompareRun {
     surface: Surface,
     params: Params,
     lanes: Vec<Lane>,
@@ -150,7 +150,7 @@ impl CompareRun {
     ///
     /// Every method is compared in (E_sum, T), the measure they all take, whatever `params`'
     /// error measure. Errors: the message of the first method that refuses the parameters.
-    pub fn new(surface: Surface, params: Params) -> Result<CompareRun, String> {
+    pub(crate) fn new(surface: Surface, params: Params) -> Result<CompareRun, String> {
         let params = Params {
             error: ErrorMeasure::Sum,
             ..params
@@ -185,17 +185,17 @@ impl CompareRun {
     }
 
     /// The surface the run is on.
-    pub fn surface(&self) -> &Surface {
+    pub(crate) fn surface(&self) -> &Surface {
         &self.surface
     }
 
     /// The parameters the run was started with.
-    pub fn params(&self) -> &Params {
+    pub(crate) fn params(&self) -> &Params {
         &self.params
     }
 
     /// Starts or resumes the methods that have not finished.
-    pub fn run(&mut self) {
+    pub(crate) fn run(&mut self) {
         for lane in &mut self.lanes {
             if !lane.app.status().done {
                 // The optimizer was built in `new`, so this cannot fail.
@@ -206,7 +206,7 @@ impl CompareRun {
     }
 
     /// Pauses every method; [`CompareRun::run`] resumes.
-    pub fn pause(&mut self) {
+    pub(crate) fn pause(&mut self) {
         for lane in &mut self.lanes {
             lane.app.pause();
         }
@@ -214,12 +214,12 @@ impl CompareRun {
     }
 
     /// True while running.
-    pub fn is_running(&self) -> bool {
+    pub(crate) fn is_running(&self) -> bool {
         self.running
     }
 
     /// True once every method has finished.
-    pub fn is_done(&self) -> bool {
+    pub(crate) fn is_done(&self) -> bool {
         self.lanes.iter().all(|l| l.app.status().done)
     }
 
@@ -231,7 +231,7 @@ impl CompareRun {
     /// budget is spent no further slice starts (the methods left out are served first in the
     /// next frame). So the frame stays within the budget plus what [`App::tick`] allows each
     /// slice (about a tenth of its slice and one unit). Does nothing when paused.
-    pub fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> CompareTick {
+    pub(crate) fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> CompareTick {
         let mut report = CompareTick::default();
         if !self.running {
             return report;
@@ -270,7 +270,7 @@ impl CompareRun {
     /// The paper's trade-off pick ([`pick::Pick::TradeOff`]) of the fronts merged, with the
     /// weights drawn from the run's seed: the best balance any method found. `None` while every
     /// front is empty.
-    pub fn trade_off_solution(&self) -> Option<Solution> {
+    pub(crate) fn trade_off_solution(&self) -> Option<Solution> {
         let merged = Front::merged(
             self.lanes
                 .iter()
@@ -284,23 +284,23 @@ impl CompareRun {
 
     /// The methods, in [`METHODS`] order.
     #[cfg(test)]
-    pub fn methods(&self) -> impl Iterator<Item = Method> + '_ {
+    pub(crate) fn methods(&self) -> impl Iterator<Item = Method> + '_ {
         self.lanes.iter().map(|l| l.method)
     }
 
     /// The current front of method `k` (in [`METHODS`] order).
-    pub fn front(&self, k: usize) -> Option<&Front> {
+    pub(crate) fn front(&self, k: usize) -> Option<&Front> {
         self.lanes.get(k).and_then(|l| l.app.front())
     }
 
     /// The status of method `k` (in [`METHODS`] order).
     #[cfg(test)]
-    pub fn status(&self, k: usize) -> Option<super::state::Status> {
+    pub(crate) fn status(&self, k: usize) -> Option<super::state::Status> {
         self.lanes.get(k).map(|l| l.app.status())
     }
 
     /// Evaluations and optimisation time (ms) summed over the methods.
-    pub fn totals(&self) -> (u64, f64) {
+    pub(crate) fn totals(&self) -> (u64, f64) {
         self.lanes.iter().fold((0, 0.0), |(e, ms), l| {
             let s = l.app.status();
             (e + s.evaluations, ms + s.elapsed_ms)
@@ -308,13 +308,13 @@ impl CompareRun {
     }
 
     /// A counter that changes whenever a front may have changed.
-    pub fn revision(&self) -> u64 {
+    pub(crate) fn revision(&self) -> u64 {
         self.lanes.iter().map(|l| l.app.revision()).sum()
     }
 
     /// The fronts as the experiment's [`Results`]: one dataset, one run per method with a
     /// non-empty front (the kept sets left out: the indicators need only E and T).
-    pub fn results(&self) -> Result<Results, String> {
+    pub(crate) fn results(&self) -> Result<Results, String> {
         let n = self.normalization.clone()?;
         let hf = &self.surface.heightfield;
         let methods: Vec<MethodRuns> = self
@@ -381,7 +381,7 @@ impl CompareRun {
     /// Methods whose front is still empty have empty cells, and so do their pairs.
     ///
     /// Errors: the surface has no normalisation (a plane), or an indicator is undefined.
-    pub fn compute_table(&self) -> Result<CompareTable, String> {
+    pub(crate) fn compute_table(&self) -> Result<CompareTable, String> {
         let results = self.results()?;
         let normalization = self.normalization.clone()?;
         let present = &results.settings.methods;
@@ -447,7 +447,7 @@ impl CompareRun {
     /// [`TABLE_INTERVAL_MS`] have passed since it (at `now_ms`) or the run is no longer running
     /// (so the last table of a finished or paused run is exact). Returns true when it
     /// recomputed.
-    pub fn refresh_table(&mut self, now_ms: f64) -> bool {
+    pub(crate) fn refresh_table(&mut self, now_ms: f64) -> bool {
         let revision = self.revision();
         if self.table_revision == Some(revision) {
             return false;
@@ -462,7 +462,7 @@ impl CompareRun {
     }
 
     /// The last computed table (or why it could not be computed); `None` before the first.
-    pub fn table(&self) -> Option<&Result<CompareTable, String>> {
+    pub(crate) fn table(&self) -> Option<&Result<CompareTable, String>> {
         self.table.as_ref()
     }
 }

@@ -9,20 +9,20 @@ use std::fmt::Write;
 /// Okabe–Ito colours (distinguishable with the common colour-vision deficiencies), method `k`
 /// of [`METHODS`] taking `COLOURS[k % COLOURS.len()]`; each method also has its own marker
 /// shape.
-pub const COLOURS: [&str; 8] = [
+pub(crate) const COLOURS: [&str; 8] = [
     "#0072B2", "#E69F00", "#009E73", "#CC79A7", "#000000", "#D55E00", "#56B4E9", "#F0E442",
 ];
 
 /// Marker shapes, method `k` taking `SHAPES[k % SHAPES.len()]`, as the legend names them.
-pub const SHAPES: [&str; 8] = ["●", "■", "▲", "◆", "★", "▼", "⬟", "✚"];
+pub(crate) const SHAPES: [&str; 8] = ["●", "■", "▲", "◆", "★", "▼", "⬟", "✚"];
 
 /// The colour of method `k` of [`METHODS`].
-pub fn colour(k: usize) -> &'static str {
+pub(crate) fn colour(k: usize) -> &'static str {
     COLOURS[k % COLOURS.len()]
 }
 
 /// The marker shape of method `k` of [`METHODS`].
-pub fn shape(k: usize) -> &'static str {
+pub(crate) fn shape(k: usize) -> &'static str {
     SHAPES[k % SHAPES.len()]
 }
 
@@ -33,12 +33,12 @@ fn short(k: usize) -> &'static str {
 }
 
 /// Position of `m` in [`METHODS`] (the order of colours, shapes and fronts).
-pub fn method_index(m: Method) -> usize {
+pub(crate) fn method_index(m: Method) -> usize {
     METHODS.iter().position(|&x| x == m).unwrap_or(0)
 }
 
 /// The three picks with their names, for marks and read-outs.
-pub fn named_picks(p: &Picks) -> [(&'static str, Pick); 3] {
+pub(crate) fn named_picks(p: &Picks) -> [(&'static str, Pick); 3] {
     [
         ("best error", p.best_error),
         ("fewest triangles", p.fewest_triangles),
@@ -57,7 +57,7 @@ fn fmt_opt(v: Option<f64>, digits: usize) -> (String, String) {
 
 /// The rows of the three tables, as HTML (numbers and fixed labels only: nothing to escape).
 /// Each number cell carries its full-precision value in `data-value`.
-pub fn table_html(table: &CompareTable) -> (String, String, String) {
+pub(crate) fn table_html(table: &CompareTable) -> (String, String, String) {
     let mut methods = String::new();
     let mut picks = String::new();
     let name = |m: Method| {
@@ -121,7 +121,7 @@ pub fn table_html(table: &CompareTable) -> (String, String, String) {
 
 /// The note under the tables: the normalisation, reference point and front, the pick's seed,
 /// and whether the table is final.
-pub fn note_text(table: &CompareTable) -> String {
+pub(crate) fn note_text(table: &CompareTable) -> String {
     let n = table.normalization;
     format!(
         "One normalisation for the five fronts: E ÷ {} (E of the corner-only mesh), T ÷ {} (the full \
@@ -144,7 +144,7 @@ pub fn note_text(table: &CompareTable) -> String {
 }
 
 /// The legend under the compare plot.
-pub fn legend_html() -> String {
+pub(crate) fn legend_html() -> String {
     let mut html = String::new();
     for (k, m) in METHODS.iter().enumerate() {
         let _ = write!(

@@ -12,7 +12,7 @@ use super::share::{ShareLink, SharedSurface, ViewToggles};
 
 /// A curated demo link.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Example {
+pub(crate) struct Example {
     /// Short title for the page and the README.
     pub title: &'static str,
     /// One sentence on what it shows.
@@ -40,7 +40,7 @@ fn camera(yaw: f32, pitch: f32, distance: f32) -> OrbitCamera {
 }
 
 /// The curated examples, in the page's order.
-pub fn examples() -> Vec<Example> {
+pub(crate) fn examples() -> Vec<Example> {
     vec![
         Example {
             title: "Terrain, the paper's run",

@@ -9,15 +9,15 @@ use crate::heightfield::Heightfield;
 use bytemuck::{Pod, Zeroable};
 
 /// Height of the relief in view units (the grid's longer side is 1).
-pub const RELIEF: f32 = 0.3;
+pub(crate) const RELIEF: f32 = 0.3;
 /// At most this many cells per side of the original surface are drawn; larger grids are drawn
 /// with a stride (the statistics always describe the full grid).
-pub const MAX_DRAWN_SIDE: usize = 512;
+pub(crate) const MAX_DRAWN_SIDE: usize = 512;
 
 /// One vertex: position, normal (zero = unlit) and RGBA colour.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Vertex {
+pub(crate) struct Vertex {
     /// Position in view units.
     pub position: [f32; 3],
     /// Normal; the zero vector draws the colour unlit.
@@ -28,7 +28,7 @@ pub struct Vertex {
 
 /// Indexed geometry of one layer.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Geometry {
+pub(crate) struct Geometry {
     /// Vertices.
     pub vertices: Vec<Vertex>,
     /// Indices into `vertices` (triples for triangles, pairs for lines).
@@ -37,7 +37,7 @@ pub struct Geometry {
 
 /// Maps grid points to view coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ViewMapping {
+pub(crate) struct ViewMapping {
     width: usize,
     scale: f32,
     half: [f32; 2],
@@ -47,7 +47,7 @@ pub struct ViewMapping {
 
 impl ViewMapping {
     /// The mapping for `hf`.
-    pub fn new(hf: &Heightfield) -> Self {
+    pub(crate) fn new(hf: &Heightfield) -> Self {
         let (lo, hi) = hf.z_range();
         let side = (hf.width().max(hf.height()) - 1) as f32;
         let span = hi - lo;
@@ -68,7 +68,7 @@ impl ViewMapping {
     }
 
     /// View position of grid point `index` at height `z`.
-    pub fn position(&self, index: u32, z: f64) -> [f32; 3] {
+    pub(crate) fn position(&self, index: u32, z: f64) -> [f32; 3] {
         let (x, y) = (index as usize % self.width, index as usize / self.width);
         [
             (x as f32 - self.half[0]) * self.scale,
@@ -78,7 +78,7 @@ impl ViewMapping {
     }
 
     /// Size of one grid step in view units.
-    pub fn step(&self) -> f32 {
+    pub(crate) fn step(&self) -> f32 {
         self.scale
     }
 }
@@ -101,7 +101,7 @@ fn face_normal(p: [[f32; 3]; 3]) -> [f32; 3] {
 
 /// The triangles (grid-index triples) flat shaded in `colour`: three vertices per triangle so
 /// each face has its own normal.
-pub fn flat_mesh(
+pub(crate) fn flat_mesh(
     hf: &Heightfield,
     map: &ViewMapping,
     triangles: &[[u32; 3]],
@@ -125,7 +125,7 @@ pub fn flat_mesh(
 }
 
 /// Every edge of the triangles once, as unlit lines in `colour`.
-pub fn wireframe(
+pub(crate) fn wireframe(
     hf: &Heightfield,
     map: &ViewMapping,
     triangles: &[[u32; 3]],
@@ -167,7 +167,7 @@ fn drawn_lines(n: usize, stride: usize) -> Vec<usize> {
 
 /// The original surface as a smooth-shaded grid mesh, coloured per point by `colour_of(index)`.
 /// Grids over [`MAX_DRAWN_SIDE`] per side are drawn with a stride.
-pub fn grid_surface(
+pub(crate) fn grid_surface(
     hf: &Heightfield,
     map: &ViewMapping,
     colour_of: &dyn Fn(usize) -> [f32; 4],
@@ -208,7 +208,7 @@ pub fn grid_surface(
 }
 
 /// A small octahedron at every kept point, unlit, `size` view units across.
-pub fn markers(
+pub(crate) fn markers(
     hf: &Heightfield,
     map: &ViewMapping,
     kept: &[u32],
@@ -253,7 +253,7 @@ pub fn markers(
 }
 
 /// The error colour map (dark blue → teal → yellow → red) at `t` in 0..=1, linear RGBA.
-pub fn error_colour(t: f64) -> [f32; 4] {
+pub(crate) fn error_colour(t: f64) -> [f32; 4] {
     const STOPS: [[f32; 3]; 4] = [
         [0.05, 0.10, 0.45],
         [0.10, 0.60, 0.60],
@@ -273,7 +273,7 @@ pub fn error_colour(t: f64) -> [f32; 4] {
 }
 
 /// The CSS gradient of [`error_colour`], for the legend.
-pub fn error_legend_css() -> String {
+pub(crate) fn error_legend_css() -> String {
     let stops: Vec<String> = (0..=4)
         .map(|k| {
             let c = error_colour(k as f64 / 4.0);

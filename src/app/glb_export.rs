@@ -1,4 +1,4 @@
-//! The shown mesh as binary glTF (`.glb`, see [`crate::export::glb`]) for the app's export
+//! The shown mesh as binary glTF (`.glb`, see [`crate::export::write_glb`]) for the app's export
 //! button: positions in the input's own coordinates, smooth normals and, when the error map is
 //! shown, vertex colours that carry it.
 
@@ -6,15 +6,15 @@ use super::geometry::error_colour;
 use super::state::ShownMesh;
 use crate::evaluator::exact::predicates::Lattice;
 use crate::evaluator::raster::Grid;
-use crate::export::glb::{GlbMesh, VertexColors, vertex_normals, write_glb};
-use crate::export::mesh::WorldMesh;
+use crate::export::WorldMesh;
+use crate::export::{GlbMesh, VertexColors, vertex_normals, write_glb};
 use crate::heightfield::Heightfield;
 
 /// The error map at the mesh's vertices: a kept point interpolates itself exactly, so a vertex
 /// carries the mean |z − z̃| of the grid points its triangles own (the error of the area it
 /// spans), coloured with the view's ramp on the view's scale (0 to the largest point error,
 /// as the legend says).
-pub fn vertex_error_colours(hf: &Heightfield, mesh: &ShownMesh) -> Vec<[u8; 4]> {
+pub(crate) fn vertex_error_colours(hf: &Heightfield, mesh: &ShownMesh) -> Vec<[u8; 4]> {
     let grid = Grid {
         width: hf.width() as i64,
         height: hf.height() as i64,
@@ -55,7 +55,11 @@ pub fn vertex_error_colours(hf: &Heightfield, mesh: &ShownMesh) -> Vec<[u8; 4]> 
 
 /// `mesh` on `hf` as a `.glb` file; with `error_map`, its vertex colours carry the error map
 /// (see [`vertex_error_colours`]). Fails with a message when the mesh is inconsistent.
-pub fn mesh_glb(hf: &Heightfield, mesh: &ShownMesh, error_map: bool) -> Result<Vec<u8>, String> {
+pub(crate) fn mesh_glb(
+    hf: &Heightfield,
+    mesh: &ShownMesh,
+    error_map: bool,
+) -> Result<Vec<u8>, String> {
     let world = WorldMesh::new(hf, &mesh.kept, &mesh.triangles)?;
     let indices: Vec<u32> = world.triangles.iter().flatten().copied().collect();
     let normals = vertex_normals(&world.vertices, &indices);

@@ -8,7 +8,7 @@ use crate::heightfield::{Georeference, Heightfield, Placement};
 
 /// Every part of a [`Heightfield`], as plain values.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SurfaceParts {
+pub(crate) struct SurfaceParts {
     /// Grid width W.
     pub width: usize,
     /// Grid height H.
@@ -35,7 +35,7 @@ pub struct SurfaceParts {
 
 impl SurfaceParts {
     /// Takes `hf` apart.
-    pub fn of(hf: &Heightfield) -> Self {
+    pub(crate) fn of(hf: &Heightfield) -> Self {
         let (kind, values): (&str, Vec<f64>) = match hf.placement() {
             Placement::Grid => ("grid", vec![]),
             Placement::Planar { origin, u, v, n } => ("planar", [*origin, *u, *v, *n].concat()),
@@ -62,7 +62,7 @@ impl SurfaceParts {
 
     /// Puts the height field back together, validating it like any input: the parts come from
     /// another thread's JavaScript object, so a message names what does not fit.
-    pub fn into_heightfield(self) -> Result<Heightfield, String> {
+    pub(crate) fn into_heightfield(self) -> Result<Heightfield, String> {
         let values = &self.placement_values;
         let vector = |at: usize| -> Result<[f64; 3], String> {
             values

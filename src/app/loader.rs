@@ -6,7 +6,7 @@ use crate::import::{ImportOptions, raw};
 
 /// A surface built into the app (copied from `tests/data`, see its SOURCES.md).
 #[derive(Clone, Copy, Debug)]
-pub struct Builtin {
+pub(crate) struct Builtin {
     /// Its name, as the surface menu and share links spell it.
     pub name: &'static str,
     /// What it is, for the menu.
@@ -28,7 +28,7 @@ macro_rules! builtin {
 
 /// The built-in surfaces, the one shown on first load first: two terrains, a photo used as a
 /// relief (a face among other things), and the range image of a 3-D scan.
-pub const BUILTINS: [Builtin; 4] = [
+pub(crate) const BUILTINS: [Builtin; 4] = [
     builtin!("jacksboro_65x65", "terrain: Jacksboro fault DEM"),
     builtin!("volcano_87x61", "terrain: Maunga Whau volcano"),
     builtin!("camera_65x65", "relief: the cameraman photo as heights"),
@@ -39,32 +39,32 @@ pub const BUILTINS: [Builtin; 4] = [
 /// ([`MAX_POINTS`](crate::heightfield::MAX_POINTS)): a 3601² DEM tile opens at its native size.
 /// A GeoTIFF over it is fitted under it by area averaging and shown in the import dialog; any
 /// other grid over it is refused.
-pub const MAX_TAB_POINTS: usize = 1 << 24;
+pub(crate) const MAX_TAB_POINTS: usize = 1 << 24;
 
 /// Name of the built-in surface shown on first load.
-pub const BUILTIN_NAME: &str = BUILTINS[0].name;
+pub(crate) const BUILTIN_NAME: &str = BUILTINS[0].name;
 
 impl Builtin {
     /// The built-in called `name`, if there is one.
-    pub fn named(name: &str) -> Option<Builtin> {
+    pub(crate) fn named(name: &str) -> Option<Builtin> {
         BUILTINS.into_iter().find(|b| b.name == name)
     }
 
     /// Its height field.
-    pub fn heightfield(&self) -> Heightfield {
+    pub(crate) fn heightfield(&self) -> Heightfield {
         raw::parse(self.grid, self.sidecar, self.name)
             .expect("the built-in surfaces are valid grids (tested)")
     }
 }
 
 /// The surface shown on first load: the Jacksboro fault DEM, 65×65 (see tests/data/SOURCES.md).
-pub fn builtin() -> Heightfield {
+pub(crate) fn builtin() -> Heightfield {
     BUILTINS[0].heightfield()
 }
 
 /// Import options from the dialog's values: projection "auto" | "planar" | "cylindrical", and a
 /// grid size where 0 × 0 means automatic. Fails on an unknown projection or half a size.
-pub fn options(projection: &str, width: u32, height: u32) -> Result<ImportOptions, String> {
+pub(crate) fn options(projection: &str, width: u32, height: u32) -> Result<ImportOptions, String> {
     let projection = match projection {
         "auto" => Projection::Auto,
         "planar" => Projection::Planar,
@@ -86,7 +86,7 @@ pub fn options(projection: &str, width: u32, height: u32) -> Result<ImportOption
 
 /// The import dialog's surface choice: "single" (a mesh must not fold) or "outer" (the
 /// outermost hit at every grid point, for closed and thick meshes).
-pub fn surface(name: &str) -> Result<Surface, String> {
+pub(crate) fn surface(name: &str) -> Result<Surface, String> {
     match name {
         "single" => Ok(Surface::Single),
         "outer" => Ok(Surface::Outer),
@@ -96,7 +96,7 @@ pub fn surface(name: &str) -> Result<Surface, String> {
 
 /// Why a dropped file did not load.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LoadError {
+pub(crate) struct LoadError {
     /// The message for the user, naming the file.
     pub message: String,
     /// The file is a mesh that folds over itself in every projection: its outer surface can
@@ -106,7 +106,7 @@ pub struct LoadError {
 
 /// Parses a dropped file `name` with `bytes`; `.f32` grids need their `.json` `sidecar`.
 /// Every failure is a message for the user naming the file.
-pub fn parse(
+pub(crate) fn parse(
     name: &str,
     bytes: &[u8],
     sidecar: Option<&[u8]>,
@@ -116,7 +116,7 @@ pub fn parse(
 }
 
 /// [`parse`], saying also whether the failure is a folding mesh (see [`LoadError::folds`]).
-pub fn parse_file(
+pub(crate) fn parse_file(
     name: &str,
     bytes: &[u8],
     sidecar: Option<&[u8]>,
@@ -167,7 +167,7 @@ fn over_tab_cap(name: &str, width: usize, height: usize) -> LoadError {
 /// What the import dialog says about a GeoTIFF's georeferencing: map spacing, the map position
 /// of the first tie point, the nodata value and how many cells it filled; `None` for a grid
 /// read from another format.
-pub fn georeference_summary(hf: &Heightfield) -> Option<String> {
+pub(crate) fn georeference_summary(hf: &Heightfield) -> Option<String> {
     let geo = hf.georeference()?;
     let mut parts = Vec::new();
     match geo.pixel_scale {

@@ -5,13 +5,13 @@
 //! the mesh is built, and the worker's result is the same bits the page would compute.
 
 use crate::front::Solution;
-use crate::tiling::border::TileBorders;
+use crate::tiling::TileBorders;
 use crate::tiling::{TilePart, TilePlan};
 use serde::{Deserialize, Serialize};
 
 /// One mesh to build: the member to draw, with its tiles' parts.
 #[derive(Clone, Debug, PartialEq)]
-pub struct MeshJob {
+pub(crate) struct MeshJob {
     /// Identifies the request (a result of an older one is stale).
     pub id: u64,
     /// The member whose mesh is built (the drawn one: the selection, or the coarser member
@@ -42,7 +42,7 @@ struct JobHeader {
 /// as one flat array (a transferable typed array on the way, so a member of millions of points
 /// costs no parsing).
 #[derive(Clone, Debug, PartialEq)]
-pub struct MeshJobParts {
+pub(crate) struct MeshJobParts {
     /// The plan and each part's tile, level and borders, as JSON.
     pub header: String,
     /// Every part's kept set, one after another.
@@ -53,7 +53,7 @@ pub struct MeshJobParts {
 
 impl MeshJobParts {
     /// Packs `plan` and `parts`.
-    pub fn of(plan: &TilePlan, parts: &[TilePart]) -> Result<Self, String> {
+    pub(crate) fn of(plan: &TilePlan, parts: &[TilePart]) -> Result<Self, String> {
         let header = JobHeader {
             plan: plan.clone(),
             parts: parts
@@ -81,7 +81,7 @@ impl MeshJobParts {
 
     /// Unpacks the plan and the parts, checking that the arrays fit the header: they come from
     /// another thread.
-    pub fn unpack(self) -> Result<(TilePlan, Vec<TilePart>), String> {
+    pub(crate) fn unpack(self) -> Result<(TilePlan, Vec<TilePart>), String> {
         let header: JobHeader = serde_json::from_str(&self.header)
             .map_err(|e| format!("a mesh job with a bad header: {e}"))?;
         let n = header.parts.len();
@@ -110,7 +110,7 @@ impl MeshJobParts {
 /// The page's side of the mesh worker: the latest request, whether it was handed out, and
 /// whether the worker holds the current grid.
 #[derive(Debug, Default)]
-pub struct MeshBuilds {
+pub(crate) struct MeshBuilds {
     next_id: u64,
     /// The request whose result the page waits for.
     wanted: Option<(u64, Solution)>,
@@ -123,7 +123,12 @@ pub struct MeshBuilds {
 impl MeshBuilds {
     /// Asks for the mesh of `member` from its `parts` on `plan`; any earlier request is
     /// superseded (its result, when it comes, is dropped). Returns the request's id.
-    pub fn request(&mut self, member: Solution, plan: TilePlan, parts: Vec<TilePart>) -> u64 {
+    pub(crate) fn request(
+        &mut self,
+        member: Solution,
+        plan: TilePlan,
+        parts: Vec<TilePart>,
+    ) -> u64 {
         self.next_id += 1;
         let id = self.next_id;
         self.wanted = Some((id, member.clone()));
@@ -137,18 +142,18 @@ impl MeshBuilds {
     }
 
     /// The request to hand to the worker, once; `None` when there is none new.
-    pub fn take(&mut self) -> Option<MeshJob> {
+    pub(crate) fn take(&mut self) -> Option<MeshJob> {
         self.pending.take()
     }
 
     /// The member whose mesh is being built, if any.
-    pub fn building(&self) -> Option<&Solution> {
+    pub(crate) fn building(&self) -> Option<&Solution> {
         self.wanted.as_ref().map(|(_, m)| m)
     }
 
     /// A result for request `id` came: the member it was built for when it is the latest
     /// request (which then ends), `None` for a stale one.
-    pub fn finish(&mut self, id: u64) -> Option<Solution> {
+    pub(crate) fn finish(&mut self, id: u64) -> Option<Solution> {
         match &self.wanted {
             Some((wanted, _)) if *wanted == id => self.wanted.take().map(|(_, m)| m),
             _ => None,
@@ -156,19 +161,19 @@ impl MeshBuilds {
     }
 
     /// Drops every request (another surface, another run, nothing selected).
-    pub fn cancel(&mut self) {
+    pub(crate) fn cancel(&mut self) {
         self.wanted = None;
         self.pending = None;
     }
 
     /// Whether the worker must be sent the grid with the next job (it has not got this
     /// surface's yet); marks it sent.
-    pub fn send_grid(&mut self) -> bool {
+    pub(crate) fn send_grid(&mut self) -> bool {
         !std::mem::replace(&mut self.grid_sent, true)
     }
 
     /// The surface changed, or the worker was lost: the next job carries the grid again.
-    pub fn grid_lost(&mut self) {
+    pub(crate) fn grid_lost(&mut self) {
         self.grid_sent = false;
     }
 }
@@ -177,7 +182,7 @@ impl MeshBuilds {
 mod tests {
     use super::*;
     use crate::heightfield::Heightfield;
-    use crate::tiling::{assemble, mesh_of_parts, run_tile};
+    use crate::tiling::{TilingError, assemble, mesh_of_parts, run_tile};
 
     fn member(t: usize) -> Solution {
         Solution::recorded(t as f64, 1.0, t, Vec::new())
@@ -225,9 +230,12 @@ mod tests {
             .collect();
         let hf = Heightfield::new(w, h, z).unwrap();
         let plan = TilePlan::new(w, h, 36).unwrap();
-        let params = serde_json::json!({"records": 16});
+        let greedy = crate::catalogue::Config::Greedy(crate::baselines::GreedyParams {
+            records: 16,
+            ..Default::default()
+        });
         let fronts = (0..plan.len())
-            .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, "greedy", &params, 3).unwrap())
+            .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, &greedy, 3).unwrap())
             .collect();
         let front = assemble(&plan, fronts).unwrap();
         let k = front.members.len() / 2;
@@ -247,10 +255,15 @@ mod tests {
         assert!(bad.unpack().unwrap_err().contains("do not fit"));
         let mut short = packed;
         short.offsets.pop();
-        assert!(short.unpack().is_err());
-        assert!(
-            mesh_of_parts(&plan, &hf, &parts[1..]).is_err(),
-            "a tile missing"
+        assert_eq!(
+            short.unpack().err().as_deref(),
+            Some("a mesh job whose arrays do not fit its header")
         );
+        // A tile missing.
+        assert!(matches!(
+            mesh_of_parts(&plan, &hf, &parts[1..]),
+            Err(TilingError::WrongTiles { expected, ref given })
+                if expected == plan.len() && given[..] == (1..plan.len()).collect::<Vec<_>>()[..]
+        ));
     }
 }

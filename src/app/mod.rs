@@ -17,25 +17,25 @@
 //! - [`glb_export`]: the shown mesh as `.glb`; [`pyramid_export`] the front as a 3D Tiles
 //!   pyramid in a `.zip`.
 
-pub mod algorithms;
-pub mod camera;
-pub mod compare;
-pub mod compare_html;
-pub mod examples;
-pub mod geometry;
-pub mod glb_export;
-pub mod handoff;
-pub mod loader;
-pub mod mesh_builds;
-pub mod oax_panel;
-pub mod plot;
-pub mod pool;
-pub mod preview;
-pub mod pyramid_export;
+pub(crate) mod algorithms;
+pub(crate) mod camera;
+pub(crate) mod compare;
+pub(crate) mod compare_html;
+pub(crate) mod examples;
+pub(crate) mod geometry;
+pub(crate) mod glb_export;
+pub(crate) mod handoff;
+pub(crate) mod loader;
+pub(crate) mod mesh_builds;
+pub(crate) mod oax_panel;
+pub(crate) mod plot;
+pub(crate) mod pool;
+pub(crate) mod preview;
+pub(crate) mod pyramid_export;
 pub mod share;
-pub mod state;
-pub mod teaching;
-pub mod tiled_run;
+pub(crate) mod state;
+pub(crate) mod teaching;
+pub(crate) mod tiled_run;
 
 #[cfg(test)]
 mod tests;

@@ -9,7 +9,7 @@ use crate::front::Solution;
 use std::fmt::Write;
 
 /// Every mesh the panel shows, in thumbnail order: parent A, parent B, the rows, best-levels.
-pub fn meshes(record: &OaxRecord) -> Vec<Solution> {
+pub(crate) fn meshes(record: &OaxRecord) -> Vec<Solution> {
     let parents = record.parents.iter().map(|(g, o)| (g, *o));
     let children = record
         .rows
@@ -39,7 +39,7 @@ fn levels(child: &OaxChild) -> String {
 }
 
 /// The panel's HTML for `record` (thumbnails are `<canvas data-mesh="k">`, drawn afterwards).
-pub fn html(record: &OaxRecord) -> String {
+pub(crate) fn html(record: &OaxRecord) -> String {
     let factors = record.blocks.len();
     let m = record.array.rows();
     let mut h = String::new();

@@ -7,7 +7,7 @@ use crate::evaluator::Score;
 /// One point to plot, in data units: T (triangles) and E (by default Σ|z − z̃|; see
 /// [`EAxis`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlotPoint {
+pub(crate) struct PlotPoint {
     /// Triangles.
     pub t: f64,
     /// The error the E axis shows.
@@ -17,7 +17,7 @@ pub struct PlotPoint {
 /// Which error the plot's E axis shows; the front is the same in all three (a member of least
 /// E_sum for its T), only its drawing changes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum EAxis {
+pub(crate) enum EAxis {
     /// E_sum = Σ|z − z̃| over every grid point, the objective the methods minimise.
     #[default]
     Sum,
@@ -29,7 +29,7 @@ pub enum EAxis {
 
 impl EAxis {
     /// The axis a key names (`sum`, `mean`, `max`), as the page's menu spells it.
-    pub fn from_key(key: &str) -> Option<Self> {
+    pub(crate) fn from_key(key: &str) -> Option<Self> {
         match key {
             "sum" => Some(Self::Sum),
             "mean" => Some(Self::Mean),
@@ -39,7 +39,7 @@ impl EAxis {
     }
 
     /// The value of `score` on this axis, on a grid of `grid_points` points.
-    pub fn value(self, score: &Score, grid_points: usize) -> f64 {
+    pub(crate) fn value(self, score: &Score, grid_points: usize) -> f64 {
         match self {
             Self::Sum => score.e_sum,
             Self::Mean => score.e_sum / grid_points.max(1) as f64,
@@ -48,7 +48,7 @@ impl EAxis {
     }
 
     /// The axis title, with the surface's z unit (`""` when unknown) and the scale.
-    pub fn title(self, z_unit: &str, log: bool) -> String {
+    pub(crate) fn title(self, z_unit: &str, log: bool) -> String {
         let unit = if z_unit.is_empty() { "z units" } else { z_unit };
         let scale = if log { ", log scale" } else { "" };
         match self {
@@ -61,7 +61,7 @@ impl EAxis {
 
 /// The hover read-out of a member: T and its error as a sum, a mean per grid point and a
 /// maximum, the last two in the surface's units.
-pub fn hover_text(score: &Score, grid_points: usize, z_unit: &str) -> String {
+pub(crate) fn hover_text(score: &Score, grid_points: usize, z_unit: &str) -> String {
     let unit = if z_unit.is_empty() {
         String::new()
     } else {
@@ -83,21 +83,21 @@ const MARGIN_RIGHT: f64 = 14.0;
 const MARGIN_TOP: f64 = 12.0;
 const MARGIN_BOTTOM: f64 = 42.0;
 /// Tick labels are drawn in an 11 px font, this far from the plotting area.
-pub const TICK_FONT_PX: f64 = 11.0;
+pub(crate) const TICK_FONT_PX: f64 = 11.0;
 /// The gap between a tick label and the plotting area.
-pub const TICK_GAP: f64 = 4.0;
+pub(crate) const TICK_GAP: f64 = 4.0;
 /// The rotated E-axis title's band: it starts this far from the canvas's left edge and is one
 /// line (the font plus its descent) wide.
-pub const E_TITLE_LEFT: f64 = 2.0;
+pub(crate) const E_TITLE_LEFT: f64 = 2.0;
 /// Width of one line of axis-title text.
-pub const TITLE_LINE: f64 = 15.0;
+pub(crate) const TITLE_LINE: f64 = 15.0;
 /// Clear space between the E-axis title and the widest tick label.
 const TITLE_GAP: f64 = 4.0;
 
 /// An upper bound of `text`'s width in CSS pixels at [`TICK_FONT_PX`] in a sans-serif font
 /// (digits are about 6.1 px, capitals up to 9.5 px): the margin is sized from it, so a label
 /// never reaches the axis title whatever the font renders.
-pub fn label_width(text: &str) -> f64 {
+pub(crate) fn label_width(text: &str) -> f64 {
     text.chars()
         .map(|c| if c.is_ascii_uppercase() { 10.0 } else { 7.0 })
         .sum()
@@ -105,7 +105,7 @@ pub fn label_width(text: &str) -> f64 {
 
 /// How data maps to the canvas: the plotting rectangle and the data ranges it shows.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Layout {
+pub(crate) struct Layout {
     /// Canvas width in CSS pixels.
     pub width: f64,
     /// Canvas height in CSS pixels.
@@ -125,7 +125,7 @@ pub struct Layout {
 impl Layout {
     /// A layout of a `width` × `height` canvas that shows every point with 5 % padding, E on a
     /// linear axis. An empty or degenerate set gets a unit range so the mapping stays finite.
-    pub fn fit<'a>(
+    pub(crate) fn fit<'a>(
         width: f64,
         height: f64,
         points: impl IntoIterator<Item = &'a PlotPoint>,
@@ -135,7 +135,7 @@ impl Layout {
 
     /// Like [`Layout::fit`], with E on a log axis when `log_e`. E = 0 (the full mesh) is drawn at
     /// half the smallest positive E.
-    pub fn fit_scaled<'a>(
+    pub(crate) fn fit_scaled<'a>(
         width: f64,
         height: f64,
         points: impl IntoIterator<Item = &'a PlotPoint>,
@@ -204,7 +204,7 @@ impl Layout {
     }
 
     /// Tick values for the E axis, in E (not axis) units.
-    pub fn e_ticks(&self) -> Vec<f64> {
+    pub(crate) fn e_ticks(&self) -> Vec<f64> {
         if !self.log_e {
             return ticks(self.e_range.0, self.e_range.1, 5);
         }
@@ -224,7 +224,7 @@ impl Layout {
     }
 
     /// The plotting rectangle: (left, top, right, bottom) in CSS pixels.
-    pub fn area(&self) -> (f64, f64, f64, f64) {
+    pub(crate) fn area(&self) -> (f64, f64, f64, f64) {
         (
             self.margin_left,
             MARGIN_TOP,
@@ -234,7 +234,7 @@ impl Layout {
     }
 
     /// Pixel position of a data point (T to the right, E upwards).
-    pub fn to_pixel(self, p: PlotPoint) -> (f64, f64) {
+    pub(crate) fn to_pixel(self, p: PlotPoint) -> (f64, f64) {
         let (l, t, r, b) = self.area();
         let x = l + (p.t - self.t_range.0) / (self.t_range.1 - self.t_range.0) * (r - l);
         let y =
@@ -245,7 +245,7 @@ impl Layout {
 
 /// Index of the point nearest to pixel (`x`, `y`) within `radius` pixels, if any. Ties go to
 /// the lower index, so the answer is deterministic.
-pub fn hit_test(
+pub(crate) fn hit_test(
     layout: &Layout,
     points: &[PlotPoint],
     x: f64,
@@ -264,7 +264,7 @@ pub fn hit_test(
 }
 
 /// "Nice" tick values covering `lo..=hi`: about `count` steps of 1, 2 or 5 × 10^k.
-pub fn ticks(lo: f64, hi: f64, count: usize) -> Vec<f64> {
+pub(crate) fn ticks(lo: f64, hi: f64, count: usize) -> Vec<f64> {
     if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) || count == 0 {
         return vec![lo];
     }
@@ -286,7 +286,7 @@ pub fn ticks(lo: f64, hi: f64, count: usize) -> Vec<f64> {
 }
 
 /// A compact label for a tick value (1.2k, 35, 0.5, 1.05G).
-pub fn format_value(v: f64) -> String {
+pub(crate) fn format_value(v: f64) -> String {
     let a = v.abs();
     let trimmed = |x: f64| {
         format!("{x:.3}")
@@ -311,7 +311,7 @@ pub fn format_value(v: f64) -> String {
 }
 
 /// Colour of non-domination rank `rank` (0 = first front).
-pub fn rank_colour(rank: usize) -> &'static str {
+pub(crate) fn rank_colour(rank: usize) -> &'static str {
     const PALETTE: [&str; 6] = [
         "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#bcbd22", "#7f7f7f",
     ];
@@ -319,7 +319,7 @@ pub fn rank_colour(rank: usize) -> &'static str {
 }
 
 /// Everything the plot shows in one frame.
-pub struct Scene<'a> {
+pub(crate) struct Scene<'a> {
     /// The population with its non-domination ranks (empty for non-population methods).
     pub population: &'a [(PlotPoint, usize)],
     /// The archive front, by increasing T.
@@ -338,7 +338,7 @@ pub struct Scene<'a> {
 
 /// The shape of a [`Mark`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Shape {
+pub(crate) enum Shape {
     /// A dot.
     Circle,
     /// A square.
@@ -353,7 +353,7 @@ pub enum Shape {
 
 /// One styled point of a teaching or comparison scene.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Mark {
+pub(crate) struct Mark {
     /// Where, in data units.
     pub point: PlotPoint,
     /// CSS colour.
@@ -372,7 +372,7 @@ pub struct Mark {
 
 /// Index of the mark nearest to pixel (`x`, `y`) within `radius` pixels, if any (the topmost,
 /// i.e. the last drawn, on ties).
-pub fn hit_test_marks(
+pub(crate) fn hit_test_marks(
     layout: &Layout,
     marks: &[Mark],
     x: f64,

@@ -17,7 +17,7 @@ use crate::tiling::{DEFAULT_TILE, TileFront, TilePlan};
 
 /// How a pool run is set up: the page knows the workers, the app the grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PoolSetup {
+pub(crate) struct PoolSetup {
     /// Workers to start (the page uses `navigator.hardwareConcurrency`), at least one.
     pub workers: usize,
     /// Run grids that fit in one tile in the pool too (the page's `?workers` flag), instead of
@@ -40,7 +40,7 @@ impl Default for PoolSetup {
 
 /// What a worker is handed: which run, which job, what to run.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Job {
+pub(crate) struct Job {
     /// The run it belongs to (a report for another run is stale and ignored).
     pub run: u64,
     /// Its index among the run's jobs.
@@ -51,7 +51,7 @@ pub struct Job {
 
 /// What a job runs.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Work {
+pub(crate) enum Work {
     /// The algorithm on the whole grid, posting its front as it grows.
     Whole {
         /// The algorithm.
@@ -77,7 +77,7 @@ enum Jobs {
 }
 
 /// The state of a pool run on the page.
-pub struct PoolRun {
+pub(crate) struct PoolRun {
     id: u64,
     jobs: Jobs,
     /// Per job: whether its worker said it is finished.
@@ -89,7 +89,7 @@ pub struct PoolRun {
 impl PoolRun {
     /// Run `id` of `algorithm` with `params`: on the whole grid in one job when `plan` is
     /// `None`, else one job per tile of `plan` and pass (see [`TiledRun`]).
-    pub fn new(
+    pub(crate) fn new(
         id: u64,
         algorithm: Algorithm,
         params: Params,
@@ -126,22 +126,22 @@ impl PoolRun {
     }
 
     /// The run's id.
-    pub fn id(&self) -> u64 {
+    pub(crate) fn id(&self) -> u64 {
         self.id
     }
 
     /// Jobs the run is cut into.
-    pub fn job_count(&self) -> usize {
+    pub(crate) fn job_count(&self) -> usize {
         self.finished.len()
     }
 
     /// Jobs whose worker has said they are finished.
-    pub fn jobs_done(&self) -> usize {
+    pub(crate) fn jobs_done(&self) -> usize {
         self.finished.iter().filter(|&&f| f).count()
     }
 
     /// The tiles of a tiled run.
-    pub fn tiled(&self) -> Option<&TiledRun> {
+    pub(crate) fn tiled(&self) -> Option<&TiledRun> {
         match &self.jobs {
             Jobs::Tiled { run, .. } => Some(run),
             Jobs::Whole { .. } => None,
@@ -150,7 +150,7 @@ impl PoolRun {
 
     /// The next job for a free worker, in index order; `None` once every job was handed out or
     /// the run failed.
-    pub fn next_job(&mut self) -> Option<Job> {
+    pub(crate) fn next_job(&mut self) -> Option<Job> {
         if self.failure.is_some() || self.handed_out == self.job_count() {
             return None;
         }
@@ -188,7 +188,7 @@ impl PoolRun {
     /// progress. Reports of another run are ignored (a worker of a run the user left may still
     /// post); a report that does not fit the run is an error for the user. Returns whether the
     /// front changed.
-    pub fn report(
+    pub(crate) fn report(
         &mut self,
         run: u64,
         index: usize,
@@ -215,7 +215,7 @@ impl PoolRun {
 
     /// A worker reports the tile job `index` of run `run` done with the tile's front. Returns
     /// whether the whole-grid front changed; see [`PoolRun::report`] for stale reports.
-    pub fn report_tile(
+    pub(crate) fn report_tile(
         &mut self,
         run: u64,
         index: usize,
@@ -242,7 +242,7 @@ impl PoolRun {
     /// A worker failed on job `index` of run `run` with `message` (`None`: the page could not
     /// hand a job out): the run stops and the message is shown. Reports of another run are
     /// ignored.
-    pub fn fail(&mut self, run: u64, index: Option<usize>, message: &str) {
+    pub(crate) fn fail(&mut self, run: u64, index: Option<usize>, message: &str) {
         if run == self.id && self.failure.is_none() {
             self.failure = Some(match index {
                 Some(i) => format!(
@@ -255,7 +255,7 @@ impl PoolRun {
     }
 
     /// Why the run stopped, when a worker failed.
-    pub fn failure(&self) -> Option<&str> {
+    pub(crate) fn failure(&self) -> Option<&str> {
         self.failure.as_deref()
     }
 }
@@ -313,7 +313,7 @@ impl Running for PoolRun {
 /// A front packed into flat arrays, the form in which a worker posts it to the page (the arrays
 /// travel as transferables, so a front of millions of kept indices costs the page no parsing).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct FrontParts {
+pub(crate) struct FrontParts {
     /// E_sum, E_max and T of each member, in the front's order.
     pub scores: Vec<f64>,
     /// Where each member's kept indices start in `kept`, with the end as a last entry.
@@ -324,7 +324,7 @@ pub struct FrontParts {
 
 impl FrontParts {
     /// Packs `front`.
-    pub fn of(front: &Front) -> Self {
+    pub(crate) fn of(front: &Front) -> Self {
         let mut parts = FrontParts {
             scores: Vec::with_capacity(3 * front.len()),
             offsets: Vec::with_capacity(front.len() + 1),
@@ -342,7 +342,7 @@ impl FrontParts {
     /// Unpacks the front, checking that the arrays fit each other and that it is a front
     /// (sorted by increasing T, each member better in E than the one before): the arrays come
     /// from another thread.
-    pub fn into_front(self) -> Result<Front, String> {
+    pub(crate) fn into_front(self) -> Result<Front, String> {
         let members = self.scores.len() / 3;
         if !self.scores.len().is_multiple_of(3)
             || self.offsets.len() != members + 1
@@ -458,9 +458,9 @@ mod tests {
                 .unwrap()
         );
         assert!(run.front().is_empty());
-        assert!(
-            run.report(2, 3, front(&[(1.0, 2)]), progress(5, true))
-                .is_err()
+        assert_eq!(
+            run.report(2, 3, front(&[(1.0, 2)]), progress(5, true)),
+            Err("a worker reported job 3 of a run with fewer jobs".to_string())
         );
         run.fail(1, Some(0), "old");
         assert!(run.failure().is_none());

@@ -2,7 +2,7 @@
 
 /// Grey levels of a `width` × `height` grid: height mapped to 40..=255, lightened or darkened by
 /// the slope towards the upper left so relief shows. Returns RGBA bytes, row-major.
-pub fn preview_pixels(width: usize, height: usize, z: &[f64]) -> Vec<u8> {
+pub(crate) fn preview_pixels(width: usize, height: usize, z: &[f64]) -> Vec<u8> {
     let (lo, hi) = z
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {

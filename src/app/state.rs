@@ -22,22 +22,22 @@ use std::sync::Arc;
 
 /// The most triangles the 3-D view draws at once; a selected member over it is drawn as the
 /// member of least error within it (see [`App::selected_mesh`]).
-pub const MAX_DRAWN_TRIANGLES: usize = 2_000_000;
+pub(crate) const MAX_DRAWN_TRIANGLES: usize = 2_000_000;
 
 /// The member the 3-D view draws for a tiled run's selection, the run's plan and the member's
 /// tile parts.
-pub type DrawnParts = (Solution, TilePlan, Vec<TilePart>);
+pub(crate) type DrawnParts = (Solution, TilePlan, Vec<TilePart>);
 
 /// Default time budget of one frame's optimisation slice, in milliseconds.
-pub const DEFAULT_BUDGET_MS: f64 = 8.0;
+pub(crate) const DEFAULT_BUDGET_MS: f64 = 8.0;
 
 /// How much of the longest recent step call a tick still expects of its next call, per frame
 /// since it was seen (see [`App::tick`]).
-pub const SLOW_CALL_FADE: f64 = 0.5;
+pub(crate) const SLOW_CALL_FADE: f64 = 0.5;
 
 /// What the user chose: serialisable, so a share link can carry it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RunConfig {
+pub(crate) struct RunConfig {
     /// Which algorithm runs.
     pub algorithm: Algorithm,
     /// Its parameters.
@@ -58,7 +58,7 @@ impl Default for RunConfig {
 
 /// The loaded surface and what is known about it.
 #[derive(Clone, Debug)]
-pub struct Surface {
+pub(crate) struct Surface {
     /// Name shown to the user (file name or built-in name).
     pub name: String,
     /// The height field.
@@ -67,7 +67,7 @@ pub struct Surface {
 
 /// The numbers of the status line.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Status {
+pub(crate) struct Status {
     /// Generations (or sweeps) completed.
     pub generation: u64,
     /// Evaluations done.
@@ -84,7 +84,7 @@ pub struct Status {
 
 /// What one [`App::tick`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TickReport {
+pub(crate) struct TickReport {
     /// [`Optimizer::step`](crate::optimizer::Optimizer::step) calls made.
     pub steps: u32,
     /// Evaluations spent in this tick.
@@ -92,7 +92,7 @@ pub struct TickReport {
 }
 
 /// The app: one surface, one run.
-pub struct App {
+pub(crate) struct App {
     surface: Surface,
     config: RunConfig,
     optimizer: Option<Box<dyn Running>>,
@@ -118,7 +118,7 @@ pub struct App {
 
 /// Where a re-run of a shared run stops and what it selects there.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Reproduction {
+pub(crate) struct Reproduction {
     /// Generations (or sweeps) to complete.
     pub generations: u64,
     /// Front index (by increasing T) to select when they are (`None`: the selection stays).
@@ -127,7 +127,7 @@ pub struct Reproduction {
 
 impl App {
     /// An app on `surface` with `config`, not running, nothing selected.
-    pub fn new(surface: Surface, config: RunConfig) -> Self {
+    pub(crate) fn new(surface: Surface, config: RunConfig) -> Self {
         Self {
             surface,
             config,
@@ -147,7 +147,7 @@ impl App {
 
     /// Sets whether and how runs go to a pool of Web Workers; the current run is discarded
     /// when that changes.
-    pub fn set_pool_setup(&mut self, setup: PoolSetup) {
+    pub(crate) fn set_pool_setup(&mut self, setup: PoolSetup) {
         if setup != self.pool {
             self.pool = setup;
             self.reset();
@@ -155,12 +155,12 @@ impl App {
     }
 
     /// How runs go to a pool of Web Workers.
-    pub fn pool_setup(&self) -> PoolSetup {
+    pub(crate) fn pool_setup(&self) -> PoolSetup {
         self.pool
     }
 
     /// The current run when its work happens in a pool of Web Workers.
-    pub fn pool_run(&mut self) -> Option<&mut PoolRun> {
+    pub(crate) fn pool_run(&mut self) -> Option<&mut PoolRun> {
         self.optimizer
             .as_mut()?
             .as_any_mut()?
@@ -176,7 +176,7 @@ impl App {
     }
 
     /// Applies a worker's tile front to the pool run (see [`PoolRun::report_tile`]).
-    pub fn pool_report_tile(
+    pub(crate) fn pool_report_tile(
         &mut self,
         run: u64,
         index: usize,
@@ -211,7 +211,7 @@ impl App {
     }
 
     /// The tiles of the current run, when it is a tiled pool run.
-    pub fn tiled_run(&self) -> Option<&TiledRun> {
+    pub(crate) fn tiled_run(&self) -> Option<&TiledRun> {
         self.optimizer
             .as_ref()?
             .as_any()?
@@ -224,7 +224,10 @@ impl App {
     /// triangulations); others are triangulated from their kept set. With `max_triangles`, a
     /// member over it is stood in for by the member of least error within it (the mesh the 3-D
     /// view draws: a GPU draws a few million triangles smoothly, not tens of millions).
-    pub fn selected_mesh(&self, max_triangles: Option<usize>) -> Option<Result<ShownMesh, String>> {
+    pub(crate) fn selected_mesh(
+        &self,
+        max_triangles: Option<usize>,
+    ) -> Option<Result<ShownMesh, String>> {
         let member = self.drawn_member(max_triangles)?;
         let hf = self.surface.heightfield.clone();
         if let Some(tiled) = self.tiled_run() {
@@ -241,7 +244,7 @@ impl App {
     /// parts, for a worker to build its mesh ([`crate::tiling::mesh_of_parts`]); `None` when
     /// nothing is selected or the run is not tiled. `max_triangles` as in
     /// [`App::selected_mesh`].
-    pub fn selected_tiled_parts(
+    pub(crate) fn selected_tiled_parts(
         &self,
         max_triangles: Option<usize>,
     ) -> Option<Result<DrawnParts, String>> {
@@ -269,7 +272,7 @@ impl App {
 
     /// Applies a worker's report to the pool run (see [`PoolRun::report`]); when its last job
     /// ends the run stops and the trade-off pick is selected, as after a run on the page.
-    pub fn pool_report(
+    pub(crate) fn pool_report(
         &mut self,
         run: u64,
         index: usize,
@@ -292,7 +295,7 @@ impl App {
 
     /// A worker of pool run `run` failed on job `index` (`None`: a job could not be handed
     /// out): the run stops with `message`.
-    pub fn pool_failed(&mut self, run: u64, index: Option<usize>, message: &str) {
+    pub(crate) fn pool_failed(&mut self, run: u64, index: Option<usize>, message: &str) {
         if let Some(pool) = self.pool_run() {
             pool.fail(run, index, message);
             if pool.failure().is_some() {
@@ -303,18 +306,18 @@ impl App {
     }
 
     /// The surface.
-    pub fn surface(&self) -> &Surface {
+    pub(crate) fn surface(&self) -> &Surface {
         &self.surface
     }
 
     /// The configuration.
-    pub fn config(&self) -> &RunConfig {
+    pub(crate) fn config(&self) -> &RunConfig {
         &self.config
     }
 
     /// Replaces the configuration; the current run is discarded (its results belong to the old
     /// parameters).
-    pub fn set_config(&mut self, config: RunConfig) {
+    pub(crate) fn set_config(&mut self, config: RunConfig) {
         if config.algorithm != self.config.algorithm || config.params != self.config.params {
             self.reset();
         }
@@ -322,13 +325,13 @@ impl App {
     }
 
     /// Replaces the surface and discards the run and the selection.
-    pub fn set_surface(&mut self, surface: Surface) {
+    pub(crate) fn set_surface(&mut self, surface: Surface) {
         self.surface = surface;
         self.reset();
     }
 
     /// Discards the run and the selection; the next run starts from scratch.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.optimizer = None;
         self.running = false;
         self.elapsed_ms = 0.0;
@@ -344,7 +347,7 @@ impl App {
     /// `target.generations`, then pauses and selects `target.selected` (ignored when the front
     /// is shorter). With 0 generations nothing runs. Pausing and resuming keep the target;
     /// [`App::step_once`] and [`App::reset`] drop it.
-    pub fn reproduce(&mut self, target: Reproduction) -> Result<(), String> {
+    pub(crate) fn reproduce(&mut self, target: Reproduction) -> Result<(), String> {
         self.reset();
         if target.generations == 0 {
             return Ok(());
@@ -357,7 +360,7 @@ impl App {
 
     /// Runs on (from where the run stands) to the end of generation `generations`, then
     /// pauses; the selection stays. Does nothing when that generation is already complete.
-    pub fn advance_to(&mut self, generations: u64) -> Result<(), String> {
+    pub(crate) fn advance_to(&mut self, generations: u64) -> Result<(), String> {
         let optimizer = self.ensure_optimizer(false)?;
         let p = optimizer.progress();
         if p.done || p.generation >= generations {
@@ -372,13 +375,13 @@ impl App {
     }
 
     /// Shows `solution` (from anywhere: a crossover child, say) as the selection.
-    pub fn show_solution(&mut self, solution: Solution) {
+    pub(crate) fn show_solution(&mut self, solution: Solution) {
         self.selected = Some(solution);
         self.revision += 1;
     }
 
     /// The re-run in progress, if any.
-    pub fn reproduction(&self) -> Option<Reproduction> {
+    pub(crate) fn reproduction(&self) -> Option<Reproduction> {
         self.reproduction
     }
 
@@ -414,7 +417,7 @@ impl App {
     }
 
     /// Starts or resumes running.
-    pub fn run(&mut self) -> Result<(), String> {
+    pub(crate) fn run(&mut self) -> Result<(), String> {
         if self
             .optimizer
             .as_mut()
@@ -430,18 +433,18 @@ impl App {
     }
 
     /// Pauses; [`App::run`] resumes.
-    pub fn pause(&mut self) {
+    pub(crate) fn pause(&mut self) {
         self.running = false;
     }
 
     /// True while running.
-    pub fn is_running(&self) -> bool {
+    pub(crate) fn is_running(&self) -> bool {
         self.running
     }
 
     /// Does one generation's worth of evaluations (the population size, at least one unit),
     /// paused or not, and reports.
-    pub fn step_once(&mut self) -> Result<Progress, String> {
+    pub(crate) fn step_once(&mut self) -> Result<Progress, String> {
         self.reproduction = None;
         let evaluations = self.config.params.population.max(1) as u64;
         let optimizer = self.ensure_optimizer(false)?;
@@ -465,7 +468,7 @@ impl App {
     /// is one started when the longest call of recent frames would not fit: some units cost far
     /// more than their evaluations say (a fresh build of a large mesh is one evaluation), and
     /// they come back every few frames.
-    pub fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> TickReport {
+    pub(crate) fn tick(&mut self, budget_ms: f64, clock: &mut dyn FnMut() -> f64) -> TickReport {
         let mut report = TickReport::default();
         if !self.running {
             self.pool_clock = None;
@@ -549,7 +552,7 @@ impl App {
     }
 
     /// The status line's numbers.
-    pub fn status(&self) -> Status {
+    pub(crate) fn status(&self) -> Status {
         let Some(optimizer) = self.optimizer.as_ref() else {
             return Status::default();
         };
@@ -569,28 +572,28 @@ impl App {
     }
 
     /// The archive front (empty before the first run).
-    pub fn front(&self) -> Option<&Front> {
+    pub(crate) fn front(&self) -> Option<&Front> {
         self.optimizer.as_ref().map(|o| o.front())
     }
 
     /// The running algorithm, for views that show more than the front (the population and its
     /// ranks).
-    pub fn optimizer(&self) -> Option<&dyn Running> {
+    pub(crate) fn optimizer(&self) -> Option<&dyn Running> {
         self.optimizer.as_deref()
     }
 
     /// A counter that changes whenever what the views show may have changed.
-    pub fn revision(&self) -> u64 {
+    pub(crate) fn revision(&self) -> u64 {
         self.revision
     }
 
     /// The selected solution, if any (it stays selected when it later leaves the front).
-    pub fn selected(&self) -> Option<&Solution> {
+    pub(crate) fn selected(&self) -> Option<&Solution> {
         self.selected.as_ref()
     }
 
     /// Selects the front member at `index` (by increasing T). Out of range clears the selection.
-    pub fn select_front_index(&mut self, index: Option<usize>) {
+    pub(crate) fn select_front_index(&mut self, index: Option<usize>) {
         let chosen = index.and_then(|i| self.front().and_then(|f| f.solutions().get(i).cloned()));
         self.selected = chosen;
         self.revision += 1;
@@ -598,7 +601,7 @@ impl App {
 
     /// Selects `solution`, which need not be on this app's front (compare mode selects members
     /// of the other methods' fronts); `None` clears the selection.
-    pub fn select_solution(&mut self, solution: Option<Solution>) {
+    pub(crate) fn select_solution(&mut self, solution: Option<Solution>) {
         self.selected = solution;
         self.revision += 1;
     }
@@ -613,7 +616,7 @@ impl App {
 
     /// Selects the member of the current front that `rule` picks (the trade-off pick's weights
     /// drawn with the run's seed); returns whether a member was found.
-    pub fn select_by(&mut self, rule: Pick) -> bool {
+    pub(crate) fn select_by(&mut self, rule: Pick) -> bool {
         let Some(front) = self.front() else {
             return false;
         };
@@ -631,7 +634,7 @@ impl App {
 
     /// Selects `solution` (a compare run's trade-off pick, say) unless something is selected
     /// already; returns whether it did.
-    pub fn select_if_unselected(&mut self, solution: Solution) -> bool {
+    pub(crate) fn select_if_unselected(&mut self, solution: Solution) -> bool {
         if self.selected.is_some() {
             return false;
         }
@@ -640,7 +643,7 @@ impl App {
     }
 
     /// Index in the current front of the selected solution (matched by its objectives).
-    pub fn selected_front_index(&self) -> Option<usize> {
+    pub(crate) fn selected_front_index(&self) -> Option<usize> {
         let s = self.selected.as_ref()?;
         self.front()?
             .solutions()
@@ -651,7 +654,7 @@ impl App {
     /// Moves the selection `delta` members along the front (clamped to its ends). With nothing
     /// selected, selects the first member (fewest triangles) for a step right and the last one
     /// for a step left.
-    pub fn move_selection(&mut self, delta: isize) {
+    pub(crate) fn move_selection(&mut self, delta: isize) {
         let Some(len) = self.front().map(|f| f.len()).filter(|&n| n > 0) else {
             return;
         };
@@ -672,7 +675,7 @@ impl App {
 
     /// The kept set to show: the selection's, or every grid point (the full-resolution mesh)
     /// when nothing is selected.
-    pub fn shown_kept(&self) -> Vec<u32> {
+    pub(crate) fn shown_kept(&self) -> Vec<u32> {
         match &self.selected {
             Some(s) => s.kept.clone(),
             None => (0..self.surface.heightfield.len() as u32).collect(),
@@ -682,7 +685,7 @@ impl App {
 
 /// Triangles and per-grid-point error of one kept set, for the 3-D view and the exports.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ShownMesh {
+pub(crate) struct ShownMesh {
     /// Kept grid indices, increasing, corners included.
     pub kept: Vec<u32>,
     /// Triangles as grid-index triples, counter-clockwise.
@@ -694,7 +697,7 @@ pub struct ShownMesh {
 }
 
 /// Triangulates `kept` on `hf` like the evaluator and measures the error at every grid point.
-pub fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, String> {
+pub(crate) fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, String> {
     let mut evaluator = Evaluator::new(hf.clone());
     let evaluation = evaluator.evaluate(kept).map_err(|e| e.to_string())?;
     Ok(shown_triangles(
@@ -707,7 +710,7 @@ pub fn shown_mesh(hf: &Arc<Heightfield>, kept: &[u32]) -> Result<ShownMesh, Stri
 
 /// The mesh of `triangles` over the kept points `kept` (E_sum `e_sum`) with the error at
 /// every grid point.
-pub fn shown_triangles(
+pub(crate) fn shown_triangles(
     hf: &Heightfield,
     kept: Vec<u32>,
     triangles: Vec<[u32; 3]>,

@@ -13,7 +13,7 @@ use crate::evolution::trace::{GenerationTrace, Member, Phase};
 
 /// What the page must do after a teaching click.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Step {
+pub(crate) enum Step {
     /// Show this phase of the last traced generation.
     Show(Phase),
     /// Run to the end of this generation first, then show the phase.
@@ -27,7 +27,7 @@ pub enum Step {
 
 /// Where the teaching view stands: the phase shown, or the generation it waits for.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Stepper {
+pub(crate) struct Stepper {
     /// The phase shown (of the last traced generation), if any.
     pub shown: Option<Phase>,
     /// A generation being computed and the phase to show when it is done.
@@ -38,7 +38,7 @@ impl Stepper {
     /// "Next phase": the phase after the shown one; after survival (or with nothing shown yet)
     /// the next generation runs and its selection is shown. `generation` is the run's completed
     /// generation count, `traced` the generation of the last trace.
-    pub fn next_phase(&mut self, generation: u64, traced: Option<u64>) -> Step {
+    pub(crate) fn next_phase(&mut self, generation: u64, traced: Option<u64>) -> Step {
         let next = match (self.shown, traced) {
             (Some(p), Some(g)) if g == generation => Phase::ALL
                 .iter()
@@ -53,12 +53,12 @@ impl Stepper {
     }
 
     /// "Next generation": runs one whole generation and shows its survival.
-    pub fn next_generation(&mut self, generation: u64) -> Step {
+    pub(crate) fn next_generation(&mut self, generation: u64) -> Step {
         self.run(generation + 1, Phase::Survival)
     }
 
     /// The run reached `generation`: shows the phase that was waiting for it, if any.
-    pub fn arrived(&mut self, generation: u64) -> Option<Phase> {
+    pub(crate) fn arrived(&mut self, generation: u64) -> Option<Phase> {
         let (target, then) = self.waiting?;
         if generation < target {
             return None;
@@ -82,7 +82,7 @@ impl Stepper {
 
 /// What the plot shows for one phase.
 #[derive(Clone, Debug, PartialEq)]
-pub struct TeachingScene {
+pub(crate) struct TeachingScene {
     /// The points, drawn in order (later on top).
     pub marks: Vec<Mark>,
     /// The one-line explanation plus this generation's numbers.
@@ -178,7 +178,7 @@ fn union_name(trace: &GenerationTrace, i: usize) -> String {
 
 /// The marks and caption of `phase` of `trace`; `crossover` and `crossover_probability` are
 /// the run's, for the caption.
-pub fn scene(
+pub(crate) fn scene(
     trace: &GenerationTrace,
     phase: Phase,
     crossover: CrossoverKind,

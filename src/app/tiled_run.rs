@@ -11,44 +11,42 @@
 
 use super::algorithms::{self, Algorithm, Params};
 use crate::baselines::{GreedyParams, GreedyStop};
+use crate::catalogue::Config;
 use crate::front::{Front, Solution};
-use crate::front_file::GridInfo;
-use crate::tiling::file::TiledFrontFile;
-use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_params};
+use crate::front_file::{GridInfo, RunHeader};
+use crate::tiling::TiledFrontFile;
+use crate::tiling::{TileFront, TilePart, TilePlan, TiledFront, TiledMesh, assemble, tile_config};
 
 /// The algorithm of the first, quick pass.
-pub const QUICK: Algorithm = Algorithm::Greedy;
+pub(crate) const QUICK: Algorithm = Algorithm::Greedy;
 
 /// The first pass's greedy insertion on tile `tile`: it stops at a tenth of the tile's full
 /// triangle count, which holds every mesh a whole-grid front is looked at for, in a fraction of
 /// the time of inserting every point.
-fn quick_params(plan: &TilePlan, tile: usize) -> serde_json::Value {
+fn quick_config(plan: &TilePlan, tile: usize) -> Config {
     let t = plan.tile(tile).map_or(2, |t| 2 * (t.w - 1) * (t.h - 1));
-    let params = GreedyParams {
+    Config::Greedy(GreedyParams {
         stop: GreedyStop::Triangles((t / QUICK_SHARE).max(2)),
         ..GreedyParams::default()
-    };
-    serde_json::to_value(params).unwrap_or(serde_json::Value::Null)
+    })
 }
 
 /// The first pass stops at 1 / this of a tile's full triangle count.
 const QUICK_SHARE: usize = 10;
 
 /// Members a first-pass tile front keeps (the second pass keeps
-/// [`MEMBERS_PER_TILE`](crate::tiling::tile_front::MEMBERS_PER_TILE)): each is scored over
+/// [`MEMBERS_PER_TILE`](crate::tiling::MEMBERS_PER_TILE)): each is scored over
 /// the whole tile, which costs the first pass more than its greedy insertion, and the
 /// whole-grid front combines the tiles' members, so it stays fine-grained with few per tile.
-pub const QUICK_MEMBERS: usize = 16;
+pub(crate) const QUICK_MEMBERS: usize = 16;
 
-/// One tile job: which tile, with which algorithm and parameters (as front.json records them).
+/// One tile job: which tile, with which method.
 #[derive(Clone, Debug, PartialEq)]
-pub struct TileJob {
+pub(crate) struct TileJob {
     /// The tile's index in the plan.
     pub tile: usize,
-    /// The algorithm.
-    pub algorithm: Algorithm,
-    /// Its parameters as JSON, as [`crate::tiling::run_tile`] takes them.
-    pub params: serde_json::Value,
+    /// The method and its parameters, as [`crate::tiling::run_tile`] takes them.
+    pub config: Config,
     /// The run's seed (the tile's own seed is derived from it and the tile).
     pub seed: u64,
     /// True for a first-pass job.
@@ -58,7 +56,7 @@ pub struct TileJob {
 }
 
 /// The tiles of a pool run and what their workers reported.
-pub struct TiledRun {
+pub(crate) struct TiledRun {
     plan: TilePlan,
     algorithm: Algorithm,
     params: Params,
@@ -69,7 +67,7 @@ pub struct TiledRun {
 
 impl TiledRun {
     /// A run of `algorithm` with `params` on the tiles of `plan`.
-    pub fn new(plan: TilePlan, algorithm: Algorithm, params: Params) -> Self {
+    pub(crate) fn new(plan: TilePlan, algorithm: Algorithm, params: Params) -> Self {
         let tiles = plan.len();
         Self {
             plan,
@@ -81,7 +79,7 @@ impl TiledRun {
     }
 
     /// The plan.
-    pub fn plan(&self) -> &TilePlan {
+    pub(crate) fn plan(&self) -> &TilePlan {
         &self.plan
     }
 
@@ -91,36 +89,32 @@ impl TiledRun {
     }
 
     /// Jobs: a pass over every tile, two when [`QUICK`] is not the chosen method.
-    pub fn job_count(&self) -> usize {
+    pub(crate) fn job_count(&self) -> usize {
         self.plan.len() * if self.two_passes() { 2 } else { 1 }
     }
 
     /// Job `index`: the first pass's tiles in order, then the second's.
-    pub fn job(&self, index: usize) -> Option<TileJob> {
+    pub(crate) fn job(&self, index: usize) -> Option<TileJob> {
         if index >= self.job_count() {
             return None;
         }
         let tiles = self.plan.len();
         let quick = self.two_passes() && index < tiles;
         let tile = index % tiles;
-        let (algorithm, params) = if quick {
-            (QUICK, quick_params(&self.plan, tile))
+        let config = if quick {
+            quick_config(&self.plan, tile)
         } else {
-            (
-                self.algorithm,
-                algorithms::params_json(self.algorithm, &self.params),
-            )
+            algorithms::config(self.algorithm, &self.params)
         };
         Some(TileJob {
             tile,
-            algorithm,
-            params,
+            config,
             seed: self.params.seed,
             quick,
             members: if quick {
                 QUICK_MEMBERS
             } else {
-                crate::tiling::tile_front::MEMBERS_PER_TILE
+                crate::tiling::MEMBERS_PER_TILE
             },
         })
     }
@@ -128,7 +122,7 @@ impl TiledRun {
     /// The front of job `index` came: it becomes its tile's front unless the tile already has
     /// its final one (a first-pass front may come after the second pass's on a busy pool).
     /// Returns whether the whole-grid front changed.
-    pub fn report(&mut self, index: usize, front: TileFront) -> Result<bool, String> {
+    pub(crate) fn report(&mut self, index: usize, front: TileFront) -> Result<bool, String> {
         let job = self
             .job(index)
             .ok_or_else(|| format!("a worker reported job {index} of a run with fewer jobs"))?;
@@ -157,7 +151,7 @@ impl TiledRun {
     }
 
     /// Tiles whose final front is in.
-    pub fn tiles_final(&self) -> usize {
+    pub(crate) fn tiles_final(&self) -> usize {
         self.fronts
             .iter()
             .filter(|f| f.as_ref().is_some_and(|(_, last)| *last))
@@ -165,12 +159,12 @@ impl TiledRun {
     }
 
     /// Tiles with a front of either pass.
-    pub fn tiles_reported(&self) -> usize {
+    pub(crate) fn tiles_reported(&self) -> usize {
         self.fronts.iter().flatten().count()
     }
 
     /// Evaluations of the tiles' current fronts.
-    pub fn evaluations(&self) -> u64 {
+    pub(crate) fn evaluations(&self) -> u64 {
         self.fronts
             .iter()
             .flatten()
@@ -181,7 +175,7 @@ impl TiledRun {
     /// The whole-grid front as the app's plot and selection read it: each member's E_sum,
     /// E_max and T, without kept lists (a member's mesh is rebuilt on demand by
     /// [`TiledRun::mesh`]). Empty until every tile has a front.
-    pub fn front(&self) -> Front {
+    pub(crate) fn front(&self) -> Front {
         let Some(assembled) = &self.assembled else {
             return Front::default();
         };
@@ -194,14 +188,14 @@ impl TiledRun {
     }
 
     /// The assembled whole-grid front, once every tile has a front.
-    pub fn assembled(&self) -> Option<&TiledFront> {
+    pub(crate) fn assembled(&self) -> Option<&TiledFront> {
         self.assembled.as_ref()
     }
 
     /// front.json of the run, as `paretomesh run --tile` writes it, once every tile's final
     /// front is in (before, some tiles hold the first pass's greedy fronts, which the file's
     /// algorithm would misname); the message says how far the run is.
-    pub fn run_file(
+    pub(crate) fn run_file(
         &self,
         hf: &crate::heightfield::Heightfield,
         millis: u64,
@@ -218,23 +212,25 @@ impl TiledRun {
                     self.plan.len()
                 )
             })?;
+        let grid = GridInfo {
+            width: hf.width(),
+            height: hf.height(),
+            source: hf.source().to_string(),
+            import: None,
+        };
+        // As the tiles ran it (the memetic search's share per tile).
+        let config = tile_config(
+            &self.plan,
+            &algorithms::config(self.algorithm, &self.params),
+        );
         Ok(TiledFrontFile {
-            grid: GridInfo {
-                width: hf.width(),
-                height: hf.height(),
-                source: hf.source().to_string(),
-                import: None,
-            },
-            algorithm: self.algorithm.name().to_string(),
-            // As the tiles ran them (the memetic search's share per tile).
-            params: tile_params(
-                &self.plan,
-                self.algorithm.name(),
-                &algorithms::params_json(self.algorithm, &self.params),
+            header: RunHeader::new(
+                grid,
+                &config,
+                self.params.seed,
+                assembled.evaluations(),
+                millis,
             ),
-            seed: self.params.seed,
-            evaluations: assembled.evaluations(),
-            millis,
             threads: workers,
             tiled: assembled.clone(),
         })
@@ -242,7 +238,7 @@ impl TiledRun {
 
     /// The tile parts of the whole-grid member with objectives (`e_sum`, `t`): what a worker
     /// holding the grid needs to build its mesh ([`crate::tiling::mesh_of_parts`]).
-    pub fn parts(&self, e_sum: f64, t: usize) -> Result<Vec<TilePart>, String> {
+    pub(crate) fn parts(&self, e_sum: f64, t: usize) -> Result<Vec<TilePart>, String> {
         let (assembled, member) = self.member(e_sum, t)?;
         assembled.parts(member).map_err(|e| e.to_string())
     }
@@ -262,7 +258,7 @@ impl TiledRun {
     }
 
     /// The mesh of the whole-grid member with objectives (`e_sum`, `t`) on the grid `hf`.
-    pub fn mesh(
+    pub(crate) fn mesh(
         &self,
         hf: &crate::heightfield::Heightfield,
         e_sum: f64,
@@ -305,8 +301,7 @@ mod tests {
             &tile,
             run.plan(),
             job.tile,
-            job.algorithm.name(),
-            &job.params,
+            &job.config,
             job.seed,
             job.members,
         )
@@ -360,8 +355,7 @@ mod tests {
         let cli = run_tiled(
             &hf,
             &plan,
-            "nsga2",
-            &algorithms::params_json(Algorithm::Nsga2, &p),
+            &algorithms::config(Algorithm::Nsga2, &p),
             p.seed,
             1,
         )
@@ -383,12 +377,15 @@ mod tests {
         let s = &front.solutions()[front.len() / 2];
         let mesh = run.mesh(&hf, s.e_sum, s.t).unwrap();
         assert_eq!(mesh.triangles.len(), s.t);
-        assert!(run.mesh(&hf, s.e_sum + 1.0, s.t).is_err());
+        assert_eq!(
+            run.mesh(&hf, s.e_sum + 1.0, s.t).err().as_deref(),
+            Some("this member is no longer on the tiled front")
+        );
         // Its front.json is the CLI's, and reads back.
         let file = run.run_file(&hf, 5, 2).unwrap();
         assert_eq!(
-            (file.tiled, file.algorithm.as_str(), file.seed),
-            (cli, "nsga2", 9)
+            (file.tiled, file.header.algorithm, file.header.seed),
+            (cli, Algorithm::Nsga2, 9)
         );
     }
 
@@ -405,6 +402,12 @@ mod tests {
                 .unwrap_err()
                 .contains("tile 1 for job 0")
         );
-        assert!(run.report(plan.len(), front).is_err());
+        assert_eq!(
+            run.report(plan.len(), front),
+            Err(format!(
+                "a worker reported job {} of a run with fewer jobs",
+                plan.len()
+            ))
+        );
     }
 }

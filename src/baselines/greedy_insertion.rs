@@ -171,7 +171,7 @@ impl GreedyInsertion {
     /// added when missing) instead of the corners alone: how a member of a front is refined
     /// by exact insertions of its worst points. Refuses parameters out of range and indices
     /// off the grid (as [`ParamsError::OutOfRange`] of `kept`).
-    pub fn from_kept(
+    pub(crate) fn from_kept(
         hf: Arc<Heightfield>,
         params: GreedyParams,
         kept: &[u32],
@@ -323,18 +323,18 @@ impl GreedyInsertion {
 
     /// The score of the current mesh: a fresh [`Evaluator::score`](crate::evaluator::Evaluator::score)
     /// of [`kept`](Self::kept), bit for bit.
-    pub fn score(&self) -> Score {
+    pub(crate) fn score(&self) -> Score {
         self.current_score()
     }
 
     /// The grid point the max-error rule inserts next (the one of largest vertical error, ties
     /// to the smaller index), or `None` when every point within the stopping threshold is kept.
-    pub fn worst_point(&self) -> Option<u32> {
+    pub(crate) fn worst_point(&self) -> Option<u32> {
         self.by_error.top().map(|e| e.point)
     }
 
     /// The current mesh's triangle count.
-    pub fn triangle_count(&self) -> usize {
+    pub(crate) fn triangle_count(&self) -> usize {
         self.mesh.len()
     }
 

@@ -1,11 +1,17 @@
 //! The catalogue of methods: every algorithm ParetoMesh runs, with its names, whether it is
-//! stochastic, its kind of budget, the parameters it reads, and how it is built. The CLI, the
-//! experiment, compare mode and the browser app all take their methods from here.
+//! stochastic, its kind of budget, the parameters it reads, how it is built and how a tile of
+//! a tiled run shares its budget. The CLI, the experiment, compare mode, the browser app,
+//! tiling and the Python bindings all take their methods from here.
 //!
-//! Adding a method: its own module (an [`Optimizer`]), then in this file a variant of
-//! [`Algorithm`], its row in [`Algorithm::spec`], its arm in [`Algorithm::configure`] and
-//! [`Config`], and its [`Running`] impl.
+//! Every method is one entry of the `methods!` list below: its [`Spec`], its params type, how
+//! the caller's [`Params`] configure it, how it is built, and its [`Running`] impl. From that
+//! list (a new method goes at its end) the macro (`methods.rs`) makes [`Algorithm`] (and
+//! [`Algorithm::ALL`]), [`Config`] and every match over them, so adding a method is its own
+//! module (an [`Optimizer`]) plus one entry here. A run's method travels between modules,
+//! threads and processes as a [`Config`], never as a name and JSON.
 
+#[macro_use]
+mod methods;
 mod params;
 
 pub use params::{Ablation, BudgetKind, Component, Param, Params};
@@ -13,31 +19,15 @@ pub use params::{Ablation, BudgetKind, Component, Param, Params};
 use crate::baselines::{
     DecimationParams, EdgeDecimation, GreedyInsertion, GreedyParams, GreedyStop, InsertionRule,
 };
+use crate::evolution::memetic::search_budget;
 use crate::evolution::oax::OaxRecord;
 use crate::evolution::trace::GenerationTrace;
 use crate::evolution::{GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
 use crate::measure::ErrorMeasure;
 use crate::optimizer::Optimizer;
+use methods::laid;
 use std::sync::Arc;
-
-/// A method of the catalogue. Its command-line name (the variant's name in kebab case) is also
-/// the `algorithm` field of front.json and share links.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-#[cfg_attr(not(target_arch = "wasm32"), derive(clap::ValueEnum))]
-pub enum Algorithm {
-    /// NSGA-II with orthogonal-array crossover.
-    Nsga2,
-    /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
-    Weighted,
-    /// Edge decimation from the full grid to 5 %, 10 %, …, 50 % fewer triangles.
-    Decimation,
-    /// Greedy insertion (Garland & Heckbert 1995) from the corners; one run records a front.
-    Greedy,
-    /// Memetic NSGA-II: greedy and decimation seeding, error-guided operators and local search
-    /// (default).
-    Memetic,
-}
 
 /// The fixed facts about one method.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,7 +47,7 @@ pub struct Spec {
     /// The parameters it reads; it refuses the others.
     pub reads: &'static [Param],
     /// Why it does not read a parameter, where that is more than the parameter's
-    /// [`owner`](Param::owner).
+    /// `owner`.
     pub refusals: &'static [(Param, &'static str)],
     /// Its colour in the experiment's fronts figure (the colour-blind-safe Okabe–Ito hues).
     pub colour: &'static str,
@@ -119,120 +109,231 @@ const MEMETIC_ABLATIONS: &[Ablation] = &[
     },
 ];
 
+methods! {
+    /// NSGA-II with orthogonal-array crossover.
+    Nsga2 {
+        spec: Spec {
+            name: "nsga2",
+            label: "NSGA-II",
+            short: "NSGA-II",
+            phrase: "NSGA-II",
+            stochastic: true,
+            budget: BudgetKind::Generations,
+            reads: GA_PARAMS,
+            refusals: &[],
+            colour: "#D55E00",
+            cost: 2,
+            ablations: &[],
+            measures: SUM_ONLY,
+            measure_note: "NSGA-II is the paper's method, on (E_sum, T), and stays bit for bit the paper's: use --algo memetic, greedy or decimation for rms or max",
+        },
+        params: GaParams,
+        configure: |given| Ok(ga_params(given)),
+        build: |p, hf, seed| Ok(Built {
+            generations: p.generations as u64,
+            budget: p.max_evaluations,
+            optimizer: Box::new(Nsga2::new(hf, p, seed).map_err(|e| e.to_string())?),
+        }),
+        running: Nsga2 {
+            fn population_points(&self) -> Vec<(f64, f64, usize)> {
+                self.population()
+                    .iter()
+                    .map(|i| (i.objectives.t as f64, i.objectives.e_sum, i.rank))
+                    .collect()
+            }
+            fn generation_trace(&self) -> Option<&GenerationTrace> {
+                self.last_generation()
+            }
+            fn last_crossover(&self) -> Option<&OaxRecord> {
+                Nsga2::last_crossover(self)
+            }
+        },
+    },
+    /// Weighted-sum GA, one run per weight 0, 0.1, …, 1.
+    Weighted {
+        spec: Spec {
+            name: "weighted",
+            label: "Weighted-sum GA",
+            short: "Weighted",
+            phrase: "weighted-sum GA",
+            stochastic: true,
+            budget: BudgetKind::Generations,
+            reads: GA_PARAMS,
+            refusals: &[],
+            colour: "#0072B2",
+            cost: 3,
+            ablations: &[],
+            measures: SUM_ONLY,
+            measure_note: "the weighted-sum GA is the paper's baseline, a weighted sum of E_sum and T: use --algo memetic, greedy or decimation for rms or max",
+        },
+        params: WeightedSumParams,
+        configure: |given| Ok(WeightedSumParams {
+            ga: ga_params(given),
+            ..WeightedSumParams::default()
+        }),
+        build: |p, hf, seed| Ok(Built {
+            generations: (p.ga.generations * p.weights.len()) as u64,
+            budget: p.ga.max_evaluations,
+            optimizer: Box::new(WeightedSum::new(hf, p, seed).map_err(|e| e.to_string())?),
+        }),
+        runs: WeightedSumParams::default().weights.len(),
+        running: WeightedSum {},
+    },
+    /// Edge decimation from the full grid to 5 %, 10 %, …, 50 % fewer triangles.
+    Decimation {
+        spec: Spec {
+            name: "decimation",
+            label: "Decimation",
+            short: "Decimation",
+            phrase: "edge decimation",
+            stochastic: false,
+            budget: BudgetKind::OwnRule,
+            reads: &[],
+            refusals: &[(
+                Param::MaxEvaluations,
+                "edge decimation runs to its last reduction",
+            )],
+            colour: "#009E73",
+            cost: 0,
+            ablations: &[],
+            measures: ALL_MEASURES,
+            measure_note: "its collapses follow E_sum; its recorded meshes are filtered by the chosen measure",
+        },
+        params: DecimationParams,
+        configure: |given| Ok(DecimationParams {
+            error: given.error,
+            ..DecimationParams::default()
+        }),
+        build: |p, hf, _seed| Ok(Built {
+            generations: p.reductions.len() as u64,
+            budget: None,
+            optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| e.to_string())?),
+        }),
+        running: EdgeDecimation {},
+    },
+    /// Greedy insertion (Garland & Heckbert 1995) from the corners; one run records a front.
+    Greedy {
+        spec: Spec {
+            name: "greedy",
+            label: "Greedy insertion",
+            short: "Greedy",
+            phrase: "greedy insertion",
+            stochastic: false,
+            budget: BudgetKind::OwnRule,
+            reads: &[
+                Param::Rule,
+                Param::MaxErrorFraction,
+                Param::MaxVerticalError,
+                Param::MaxEvaluations,
+            ],
+            refusals: &[],
+            colour: "#CC79A7",
+            cost: 1,
+            ablations: &[],
+            measures: ALL_MEASURES,
+            measure_note: "it inserts the point of largest error, the worst in every measure; its recorded meshes are filtered by the chosen measure",
+        },
+        params: GreedyParams,
+        configure: |given| greedy_params(given),
+        build: |p, hf, _seed| Ok(Built {
+            generations: p.records as u64,
+            budget: match p.stop {
+                GreedyStop::Points(n) => Some(n.saturating_sub(4) as u64),
+                _ => None,
+            },
+            optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| e.to_string())?),
+        }),
+        running: GreedyInsertion {},
+    },
+    /// Memetic NSGA-II: greedy and decimation seeding, error-guided operators and local search
+    /// (default).
+    Memetic {
+        spec: Spec {
+            name: "memetic",
+            label: "Memetic",
+            short: "Memetic",
+            phrase: "memetic NSGA-II",
+            stochastic: true,
+            budget: BudgetKind::Evaluations,
+            reads: &[
+                Param::Population,
+                Param::CrossoverProbability,
+                Param::MaxEvaluations,
+                Param::Without,
+            ],
+            refusals: &[
+                (
+                    Param::Generations,
+                    "memetic runs to its evaluation budget, not for a number of generations: use --evals",
+                ),
+                (Param::MutationProbability, MEMETIC_OPERATORS),
+                (Param::Crossover, MEMETIC_OPERATORS),
+                (Param::Factors, MEMETIC_OPERATORS),
+            ],
+            colour: "#000000",
+            cost: 2,
+            ablations: MEMETIC_ABLATIONS,
+            measures: ALL_MEASURES,
+            measure_note: "its selection, archive, decimation costs and local search compare in the chosen measure",
+        },
+        params: MemeticParams,
+        configure: |given| {
+            let d = MemeticParams::default();
+            let without = given.without;
+            Ok(MemeticParams {
+                population: given.population.unwrap_or(d.population),
+                crossover_probability: given
+                    .crossover_probability
+                    .unwrap_or(d.crossover_probability),
+                max_evaluations: given.max_evaluations,
+                greedy_seeding: without != Some(Component::GreedySeeding),
+                guided_mutation: without != Some(Component::GuidedMutation),
+                neighbour_mating: without != Some(Component::NeighbourMating),
+                local_search: without != Some(Component::LocalSearch),
+                error: given.error,
+                ..d
+            })
+        },
+        build: |p, hf, seed| {
+            let optimizer = Memetic::new(hf, p, seed).map_err(|e| e.to_string())?;
+            Ok(Built {
+                // Generations depend on the budget; progress is shown against it.
+                generations: 0,
+                budget: Some(optimizer.budget()),
+                optimizer: Box::new(optimizer),
+            })
+        },
+        // Unless given a budget (`max_evaluations` or `search_evaluations`), a tile searches
+        // for the whole grid's search budget ([`search_budget`] of its points) shared evenly
+        // among the tiles, on top of its own seeding: the sweeps and the decimation, which give
+        // a tile's front nearly all its quality at the triangle counts the whole-grid front
+        // combines tiles at, grow with the tile, while the search, whose gains are mostly on a
+        // front's sparsest meshes, then costs as much in a tiled run as in an untiled one. A
+        // one-tile plan gets the untiled budget.
+        tile_share: |p, points, tiles| {
+            if p.max_evaluations.is_some() || p.search_evaluations.is_some() {
+                p
+            } else {
+                MemeticParams {
+                    search_evaluations: Some(search_budget(points).div_ceil(tiles.max(1) as u64)),
+                    ..p
+                }
+            }
+        },
+        running: Memetic {
+            fn population_points(&self) -> Vec<(f64, f64, usize)> {
+                self.population()
+                    .iter()
+                    .map(|m| (m.score.t as f64, m.score.e_sum, m.rank))
+                    .collect()
+            }
+        },
+    },
+}
+
 impl Algorithm {
-    /// Every method, in the order tables list them.
-    pub const ALL: [Algorithm; 5] = [
-        Algorithm::Nsga2,
-        Algorithm::Weighted,
-        Algorithm::Decimation,
-        Algorithm::Greedy,
-        Algorithm::Memetic,
-    ];
-
     /// The method run when none is named: the project's best.
-    pub const DEFAULT: Algorithm = Algorithm::Memetic;
-
-    /// The method's fixed facts.
-    pub fn spec(self) -> Spec {
-        match self {
-            Algorithm::Nsga2 => Spec {
-                name: "nsga2",
-                label: "NSGA-II",
-                short: "NSGA-II",
-                phrase: "NSGA-II",
-                stochastic: true,
-                budget: BudgetKind::Generations,
-                reads: GA_PARAMS,
-                refusals: &[],
-                colour: "#D55E00",
-                cost: 2,
-                ablations: &[],
-                measures: SUM_ONLY,
-                measure_note: "NSGA-II is the paper's method, on (E_sum, T), and stays bit for bit the paper's: use --algo memetic, greedy or decimation for rms or max",
-            },
-            Algorithm::Weighted => Spec {
-                name: "weighted",
-                label: "Weighted-sum GA",
-                short: "Weighted",
-                phrase: "weighted-sum GA",
-                stochastic: true,
-                budget: BudgetKind::Generations,
-                reads: GA_PARAMS,
-                refusals: &[],
-                colour: "#0072B2",
-                cost: 3,
-                ablations: &[],
-                measures: SUM_ONLY,
-                measure_note: "the weighted-sum GA is the paper's baseline, a weighted sum of E_sum and T: use --algo memetic, greedy or decimation for rms or max",
-            },
-            Algorithm::Decimation => Spec {
-                name: "decimation",
-                label: "Decimation",
-                short: "Decimation",
-                phrase: "edge decimation",
-                stochastic: false,
-                budget: BudgetKind::OwnRule,
-                reads: &[],
-                refusals: &[(
-                    Param::MaxEvaluations,
-                    "edge decimation runs to its last reduction",
-                )],
-                colour: "#009E73",
-                cost: 0,
-                ablations: &[],
-                measures: ALL_MEASURES,
-                measure_note: "its collapses follow E_sum; its recorded meshes are filtered by the chosen measure",
-            },
-            Algorithm::Greedy => Spec {
-                name: "greedy",
-                label: "Greedy insertion",
-                short: "Greedy",
-                phrase: "greedy insertion",
-                stochastic: false,
-                budget: BudgetKind::OwnRule,
-                reads: &[
-                    Param::Rule,
-                    Param::MaxErrorFraction,
-                    Param::MaxVerticalError,
-                    Param::MaxEvaluations,
-                ],
-                refusals: &[],
-                colour: "#CC79A7",
-                cost: 1,
-                ablations: &[],
-                measures: ALL_MEASURES,
-                measure_note: "it inserts the point of largest error, the worst in every measure; its recorded meshes are filtered by the chosen measure",
-            },
-            Algorithm::Memetic => Spec {
-                name: "memetic",
-                label: "Memetic",
-                short: "Memetic",
-                phrase: "memetic NSGA-II",
-                stochastic: true,
-                budget: BudgetKind::Evaluations,
-                reads: &[
-                    Param::Population,
-                    Param::CrossoverProbability,
-                    Param::MaxEvaluations,
-                    Param::Without,
-                ],
-                refusals: &[
-                    (
-                        Param::Generations,
-                        "memetic runs to its evaluation budget, not for a number of generations: use --evals",
-                    ),
-                    (Param::MutationProbability, MEMETIC_OPERATORS),
-                    (Param::Crossover, MEMETIC_OPERATORS),
-                    (Param::Factors, MEMETIC_OPERATORS),
-                ],
-                colour: "#000000",
-                cost: 2,
-                ablations: MEMETIC_ABLATIONS,
-                measures: ALL_MEASURES,
-                measure_note: "its selection, archive, decimation costs and local search compare in the chosen measure",
-            },
-        }
-    }
+    pub(crate) const DEFAULT: Algorithm = Algorithm::Memetic;
 
     /// The command-line name, also front.json's `algorithm`.
     pub fn name(self) -> &'static str {
@@ -267,12 +368,12 @@ impl Algorithm {
     }
 
     /// Does the method make fronts in `measure`?
-    pub fn supports(self, measure: ErrorMeasure) -> bool {
+    pub(crate) fn supports(self, measure: ErrorMeasure) -> bool {
         self.spec().measures.contains(&measure)
     }
 
     /// Why the method refuses `measure`, naming both, or `None` when it supports it.
-    pub fn measure_refusal(self, measure: ErrorMeasure) -> Option<String> {
+    pub(crate) fn measure_refusal(self, measure: ErrorMeasure) -> Option<String> {
         (!self.supports(measure)).then(|| {
             format!(
                 "--algo {} does not take --error {}: {}",
@@ -317,75 +418,7 @@ impl Algorithm {
                 return Err(format!("{} does not read {param:?}: {why}", self.name()));
             }
         }
-        Ok(match self {
-            Algorithm::Nsga2 => Config::Nsga2(ga_params(params)),
-            Algorithm::Weighted => Config::Weighted(WeightedSumParams {
-                ga: ga_params(params),
-                ..WeightedSumParams::default()
-            }),
-            Algorithm::Decimation => Config::Decimation(DecimationParams {
-                error: params.error,
-                ..DecimationParams::default()
-            }),
-            Algorithm::Greedy => {
-                let stops = [
-                    params.max_error_fraction.is_some(),
-                    params.max_vertical_error.is_some(),
-                    params.max_evaluations.is_some(),
-                ];
-                if stops.iter().filter(|&&given| given).count() > 1 {
-                    return Err(
-                        "greedy insertion stops on one of --max-error-fraction, --max-vertical-error or --evals, not several"
-                            .to_string(),
-                    );
-                }
-                let stop = match (
-                    params.max_error_fraction,
-                    params.max_vertical_error,
-                    params.max_evaluations,
-                ) {
-                    (Some(f), _, _) => GreedyStop::MaxErrorFraction(f),
-                    (_, Some(x), _) => GreedyStop::MaxError(x),
-                    // One evaluation is one insertion, after the four corners.
-                    (_, _, Some(n)) => GreedyStop::Points(
-                        4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)),
-                    ),
-                    _ => GreedyStop::AllPoints,
-                };
-                Config::Greedy(GreedyParams {
-                    rule: params.rule.unwrap_or(InsertionRule::MaxError),
-                    stop,
-                    error: params.error,
-                    ..GreedyParams::default()
-                })
-            }
-            Algorithm::Memetic => {
-                let d = MemeticParams::default();
-                let without = params.without;
-                Config::Memetic(MemeticParams {
-                    population: params.population.unwrap_or(d.population),
-                    crossover_probability: params
-                        .crossover_probability
-                        .unwrap_or(d.crossover_probability),
-                    max_evaluations: params.max_evaluations,
-                    greedy_seeding: without != Some(Component::GreedySeeding),
-                    guided_mutation: without != Some(Component::GuidedMutation),
-                    neighbour_mating: without != Some(Component::NeighbourMating),
-                    local_search: without != Some(Component::LocalSearch),
-                    error: params.error,
-                    ..d
-                })
-            }
-        })
-    }
-
-    /// How many GA runs one run of the method is made of (the weighted-sum GA: one per
-    /// weight), and so how many shares an equal budget is split into.
-    pub fn runs_per_run(self) -> usize {
-        match self {
-            Algorithm::Weighted => WeightedSumParams::default().weights.len(),
-            _ => 1,
-        }
+        self.configure_checked(params)
     }
 
     /// Builds the method on `hf` with `params` over its defaults; `seed` drives a stochastic
@@ -414,6 +447,40 @@ fn ga_params(params: &Params) -> GaParams {
     }
 }
 
+/// Greedy insertion's parameters from `params`: its rule and the one stop it is given.
+fn greedy_params(params: &Params) -> Result<GreedyParams, String> {
+    let stops = [
+        params.max_error_fraction.is_some(),
+        params.max_vertical_error.is_some(),
+        params.max_evaluations.is_some(),
+    ];
+    if stops.iter().filter(|&&given| given).count() > 1 {
+        return Err(
+            "greedy insertion stops on one of --max-error-fraction, --max-vertical-error or --evals, not several"
+                .to_string(),
+        );
+    }
+    let stop = match (
+        params.max_error_fraction,
+        params.max_vertical_error,
+        params.max_evaluations,
+    ) {
+        (Some(f), _, _) => GreedyStop::MaxErrorFraction(f),
+        (_, Some(x), _) => GreedyStop::MaxError(x),
+        // One evaluation is one insertion, after the four corners.
+        (_, _, Some(n)) => {
+            GreedyStop::Points(4usize.saturating_add(usize::try_from(n).unwrap_or(usize::MAX)))
+        }
+        _ => GreedyStop::AllPoints,
+    };
+    Ok(GreedyParams {
+        rule: params.rule.unwrap_or(InsertionRule::MaxError),
+        stop,
+        error: params.error,
+        ..GreedyParams::default()
+    })
+}
+
 impl serde::Serialize for Algorithm {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str(self.name())
@@ -428,122 +495,38 @@ impl<'de> serde::Deserialize<'de> for Algorithm {
     }
 }
 
-/// A method's full parameters, as its own module takes them.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Config {
-    /// [`Algorithm::Nsga2`].
-    Nsga2(GaParams),
-    /// [`Algorithm::Weighted`].
-    Weighted(WeightedSumParams),
-    /// [`Algorithm::Decimation`].
-    Decimation(DecimationParams),
-    /// [`Algorithm::Greedy`].
-    Greedy(GreedyParams),
-    /// [`Algorithm::Memetic`].
-    Memetic(MemeticParams),
+/// [`Config`] as it travels: the method's name and its parameters as front.json records them.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct ConfigWire {
+    algorithm: Algorithm,
+    params: serde_json::Value,
+}
+
+impl serde::Serialize for Config {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        ConfigWire {
+            algorithm: self.algorithm(),
+            params: self.json(),
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Config {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Config, D::Error> {
+        let wire = ConfigWire::deserialize(d)?;
+        Config::from_json(wire.algorithm, &wire.params).map_err(serde::de::Error::custom)
+    }
 }
 
 /// A ready-to-run method with what a progress display needs.
 pub struct Built {
     /// The optimizer.
     pub optimizer: Box<dyn Running>,
-    /// Its parameters as front.json records them.
-    pub params: serde_json::Value,
     /// How many generations it will run, or 0 when that depends on the run.
     pub generations: u64,
     /// The evaluations it stops at, when known.
     pub budget: Option<u64>,
-}
-
-impl Config {
-    /// `algorithm`'s full parameters from JSON as front.json records them (`null` or any
-    /// subset of the fields: the others keep the method's defaults). Errors name the field.
-    pub fn from_json(algorithm: Algorithm, given: &serde_json::Value) -> Result<Config, String> {
-        fn laid<T: serde::Serialize + serde::de::DeserializeOwned>(
-            defaults: T,
-            given: &serde_json::Value,
-        ) -> Result<T, String> {
-            let mut value = serde_json::to_value(defaults).expect("parameters are plain data");
-            match (value.as_object_mut(), given) {
-                (_, serde_json::Value::Null) => {}
-                (Some(out), serde_json::Value::Object(given)) => {
-                    for (k, v) in given {
-                        out.insert(k.clone(), v.clone());
-                    }
-                }
-                _ => value = given.clone(),
-            }
-            serde_json::from_value(value).map_err(|e| e.to_string())
-        }
-        Ok(match algorithm {
-            Algorithm::Nsga2 => Config::Nsga2(laid(GaParams::default(), given)?),
-            Algorithm::Weighted => Config::Weighted(laid(WeightedSumParams::default(), given)?),
-            Algorithm::Decimation => Config::Decimation(laid(DecimationParams::default(), given)?),
-            Algorithm::Greedy => Config::Greedy(laid(GreedyParams::default(), given)?),
-            Algorithm::Memetic => Config::Memetic(laid(MemeticParams::default(), given)?),
-        })
-    }
-
-    /// The parameters as front.json and results.json record them.
-    pub fn json(&self) -> serde_json::Value {
-        match self {
-            Config::Nsga2(p) => serde_json::to_value(p),
-            Config::Weighted(p) => serde_json::to_value(p),
-            Config::Decimation(p) => serde_json::to_value(p),
-            Config::Greedy(p) => serde_json::to_value(p),
-            Config::Memetic(p) => serde_json::to_value(p),
-        }
-        .expect("parameters are plain data")
-    }
-
-    /// Builds the optimizer on `hf`; `seed` drives a stochastic method. Errors: the parameters
-    /// are out of range, with the method's own message.
-    pub fn build(self, hf: Arc<Heightfield>, seed: u64) -> Result<Built, String> {
-        let params = self.json();
-        let message = |e: &dyn std::fmt::Display| e.to_string();
-        Ok(match self {
-            Config::Nsga2(p) => Built {
-                generations: p.generations as u64,
-                budget: p.max_evaluations,
-                optimizer: Box::new(Nsga2::new(hf, p, seed).map_err(|e| message(&e))?),
-                params,
-            },
-            Config::Weighted(p) => Built {
-                generations: (p.ga.generations * p.weights.len()) as u64,
-                budget: p.ga.max_evaluations,
-                optimizer: Box::new(WeightedSum::new(hf, p, seed).map_err(|e| message(&e))?),
-                params,
-            },
-            Config::Decimation(p) => Built {
-                generations: p.reductions.len() as u64,
-                budget: None,
-                optimizer: Box::new(EdgeDecimation::new(hf, p).map_err(|e| message(&e))?),
-                params,
-            },
-            Config::Greedy(p) => {
-                let budget = match p.stop {
-                    GreedyStop::Points(n) => Some(n.saturating_sub(4) as u64),
-                    _ => None,
-                };
-                Built {
-                    generations: p.records as u64,
-                    budget,
-                    optimizer: Box::new(GreedyInsertion::new(hf, p).map_err(|e| message(&e))?),
-                    params,
-                }
-            }
-            Config::Memetic(p) => {
-                let optimizer = Memetic::new(hf, p, seed).map_err(|e| message(&e))?;
-                Built {
-                    // Generations depend on the budget; progress is shown against it.
-                    generations: 0,
-                    budget: Some(optimizer.budget()),
-                    optimizer: Box::new(optimizer),
-                    params,
-                }
-            }
-        })
-    }
 }
 
 /// A running method: an [`Optimizer`] plus what the app's views show beyond its front.
@@ -571,32 +554,6 @@ pub trait Running: Optimizer + Send {
     }
 }
 
-impl Running for Nsga2 {
-    fn population_points(&self) -> Vec<(f64, f64, usize)> {
-        self.population()
-            .iter()
-            .map(|i| (i.objectives.t as f64, i.objectives.e_sum, i.rank))
-            .collect()
-    }
-    fn generation_trace(&self) -> Option<&GenerationTrace> {
-        self.last_generation()
-    }
-    fn last_crossover(&self) -> Option<&OaxRecord> {
-        Nsga2::last_crossover(self)
-    }
-}
-impl Running for Memetic {
-    fn population_points(&self) -> Vec<(f64, f64, usize)> {
-        self.population()
-            .iter()
-            .map(|m| (m.score.t as f64, m.score.e_sum, m.rank))
-            .collect()
-    }
-}
-impl Running for WeightedSum {}
-impl Running for GreedyInsertion {}
-impl Running for EdgeDecimation {}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -611,6 +568,99 @@ mod tests {
             }
         }
         assert_eq!(Algorithm::from_name("nsga3"), None);
+    }
+
+    /// `ALL` is made by the same macro as the enum; clap's derive lists the variants on its
+    /// own, so a variant missing from `ALL` (or out of the enum's order) fails here.
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn all_lists_every_variant_in_the_enums_order() {
+        use clap::ValueEnum;
+        assert_eq!(Algorithm::value_variants(), &Algorithm::ALL[..]);
+        for (i, a) in Algorithm::ALL.into_iter().enumerate() {
+            assert_eq!(a as usize, i, "{a:?}");
+        }
+        // The first methods' names and order are pinned by front.json files, share links and
+        // the menu; a new method goes after them.
+        let names: Vec<&str> = Algorithm::ALL.map(|a| a.name()).to_vec();
+        assert_eq!(
+            names[..5],
+            ["nsga2", "weighted", "decimation", "greedy", "memetic"],
+            "names and order are the command line's, front.json's and the menu's"
+        );
+    }
+
+    #[test]
+    fn a_config_travels_whole_and_reads_back() {
+        for a in Algorithm::ALL {
+            let config = a.configure(&Params::default()).unwrap();
+            assert_eq!(config.algorithm(), a);
+            let json = serde_json::to_value(&config).unwrap();
+            assert_eq!(json["algorithm"], a.name());
+            assert_eq!(json["params"], config.json());
+            assert_eq!(serde_json::from_value::<Config>(json).unwrap(), config);
+            assert_eq!(
+                Config::from_json(a, &serde_json::Value::Null),
+                Ok(a.defaults())
+            );
+        }
+        // Params are read as front.json's: a subset over the defaults; a bad field is named.
+        let json = serde_json::json!({"algorithm": "nsga2", "params": {"population": 6}});
+        let Config::Nsga2(p) = serde_json::from_value(json).unwrap() else {
+            panic!("nsga2 reads as nsga2");
+        };
+        assert_eq!(p.population, 6);
+        let bad = serde_json::json!({"algorithm": "nsga2", "params": {"population": "many"}});
+        let err = serde_json::from_value::<Config>(bad)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("invalid type"), "{err}");
+        let unknown = serde_json::json!({"algorithm": "annealing", "params": null});
+        let err = serde_json::from_value::<Config>(unknown)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("unknown algorithm \"annealing\""), "{err}");
+    }
+
+    #[test]
+    fn memetic_tiles_share_the_whole_grids_search_budget() {
+        use crate::evolution::memetic::search_budget;
+        let share = |c: Config| match c {
+            Config::Memetic(p) => p.search_evaluations,
+            other => panic!("{other:?}"),
+        };
+        let memetic = Algorithm::Memetic.defaults();
+        let points = 2048 * 2048;
+        assert_eq!(
+            share(memetic.clone().tile_share(points, 4)),
+            Some(search_budget(points).div_ceil(4))
+        );
+        // Sharing twice changes nothing; one tile gets the untiled search.
+        let once = memetic.clone().tile_share(points, 4);
+        assert_eq!(once.clone().tile_share(points, 4), once);
+        assert_eq!(
+            share(memetic.tile_share(1000, 1)),
+            Some(search_budget(1000))
+        );
+        // A run given a budget keeps it.
+        let evals = Params {
+            max_evaluations: Some(500),
+            ..Params::default()
+        };
+        let given = Algorithm::Memetic.configure(&evals).unwrap();
+        assert_eq!(given.clone().tile_share(points, 4), given);
+        let searched = Config::Memetic(MemeticParams {
+            search_evaluations: Some(7),
+            ..MemeticParams::default()
+        });
+        assert_eq!(searched.clone().tile_share(points, 4), searched);
+        // Other methods run as given on every tile.
+        for a in Algorithm::ALL
+            .into_iter()
+            .filter(|&a| a != Algorithm::Memetic)
+        {
+            assert_eq!(a.defaults().tile_share(points, 4), a.defaults());
+        }
     }
 
     #[cfg(not(target_arch = "wasm32"))]
@@ -641,7 +691,11 @@ mod tests {
                 .unwrap()
                 .contains("use --evals")
         );
-        assert!(Algorithm::Memetic.configure(&gens).is_err());
+        let err = Algorithm::Memetic.configure(&gens).unwrap_err();
+        assert!(
+            err.starts_with("memetic does not read Generations: ") && err.contains("use --evals"),
+            "{err}"
+        );
         assert_eq!(
             Algorithm::Greedy.refusal(Param::Population).as_deref(),
             Some("it belongs to the evolutionary methods")

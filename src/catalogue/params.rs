@@ -37,7 +37,7 @@ pub enum Param {
 
 impl Param {
     /// Which methods a parameter belongs to, in the words of a refusal ("it belongs to …").
-    pub fn owner(self) -> &'static str {
+    pub(crate) fn owner(self) -> &'static str {
         match self {
             Param::Rule | Param::MaxErrorFraction | Param::MaxVerticalError => "greedy insertion",
             Param::Without => "the memetic method",
@@ -47,7 +47,7 @@ impl Param {
 }
 
 /// A method's parameters as a caller sets them: `None` leaves the method's own default.
-/// A method refuses nothing here by itself; callers check [`Algorithm::reads`]
+/// A method refuses nothing here by itself; callers check `Algorithm::reads`
 /// (crate::catalogue::Algorithm::reads) before they set a field.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Params {

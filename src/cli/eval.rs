@@ -19,7 +19,7 @@ fn read_text(source: &str, what: &str) -> Result<String, String> {
 
 /// `eval --triangles`: the score of a given triangulation (E over every grid point, each
 /// counted once on the triangle that owns it), as JSON.
-pub fn run_triangles(input: &InputArgs, triangles: &str) -> Result<(), String> {
+pub(super) fn run_triangles(input: &InputArgs, triangles: &str) -> Result<(), String> {
     let hf = input.load()?;
     let text = read_text(triangles, "triangles")?;
     let triangles: Vec<[u32; 3]> = serde_json::from_str(&text)
@@ -34,7 +34,7 @@ pub fn run_triangles(input: &InputArgs, triangles: &str) -> Result<(), String> {
     Ok(())
 }
 
-pub fn run(input: &InputArgs, keep: &str) -> Result<(), String> {
+pub(super) fn run(input: &InputArgs, keep: &str) -> Result<(), String> {
     let hf = input.load()?;
     let text = read_text(keep, "kept indices")?;
     let kept: Vec<u32> = serde_json::from_str(&text)

@@ -19,7 +19,7 @@ use std::time::Instant;
 
 /// The options of `paretomesh experiment`.
 #[derive(Args, Debug)]
-pub struct ExperimentArgs {
+pub(super) struct ExperimentArgs {
     /// The first input grid, and the import options applied to every input.
     #[command(flatten)]
     input: InputArgs,
@@ -88,7 +88,7 @@ enum BudgetArg {
 
 /// The options of `paretomesh report`.
 #[derive(Args, Debug)]
-pub struct ReportArgs {
+pub(super) struct ReportArgs {
     /// A results.json written by `paretomesh experiment`.
     results: PathBuf,
     /// Output directory for report.md and the figures (created if missing).
@@ -325,7 +325,7 @@ fn command_line() -> String {
 
 /// Runs `paretomesh experiment`: every method's runs on every data set, in parallel, then the
 /// report, the figures and results.json.
-pub fn run(args: &ExperimentArgs) -> Result<(), String> {
+pub(super) fn run(args: &ExperimentArgs) -> Result<(), String> {
     let start = Instant::now();
     let settings = settings(args)?;
     settings.validate().map_err(|e| e.to_string())?;
@@ -503,7 +503,7 @@ fn write_outputs(
 }
 
 /// `paretomesh report`: recomputes every table and figure from a results.json.
-pub fn report(args: &ReportArgs) -> Result<(), String> {
+pub(super) fn report(args: &ReportArgs) -> Result<(), String> {
     let text = std::fs::read_to_string(&args.results)
         .map_err(|e| format!("cannot read {}: {e}", args.results.display()))?;
     let results =

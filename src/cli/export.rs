@@ -8,11 +8,11 @@ use super::front_reader::{self, AnyFront, find_grid};
 use super::input::ImportOverrides;
 use clap::{ArgGroup, Args, ValueEnum};
 use paretomesh::evaluator::{Evaluator, Score, canonical_set};
-use paretomesh::export::glb::{GlbMesh, vertex_normals, write_glb};
-use paretomesh::export::mesh::WorldMesh;
-use paretomesh::export::solid::{SolidOptions, solid};
-use paretomesh::export::threemf::to_3mf;
-use paretomesh::export::{obj::to_obj, ply::to_ply, stl::to_stl};
+use paretomesh::export::WorldMesh;
+use paretomesh::export::to_3mf;
+use paretomesh::export::{GlbMesh, vertex_normals, write_glb};
+use paretomesh::export::{SolidOptions, solid};
+use paretomesh::export::{to_obj, to_ply, to_stl};
 use paretomesh::front::Solution;
 use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
@@ -25,7 +25,7 @@ use std::sync::Arc;
 
 /// The mesh formats `export` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum MeshFormat {
+pub(super) enum MeshFormat {
     /// ASCII PLY, double-precision vertices.
     Ply,
     /// Wavefront OBJ.
@@ -62,7 +62,7 @@ impl MeshFormat {
             "max_vertical_error",
         ])
 ))]
-pub struct ExportArgs {
+pub(super) struct ExportArgs {
     /// The front.json that `paretomesh run` (or the app) wrote.
     front: PathBuf,
     /// Export the member at this index of the front, in the file's order (0 = first).
@@ -260,7 +260,7 @@ fn encode(format: MeshFormat, mesh: &WorldMesh, note: &str) -> Result<Vec<u8>, S
     })
 }
 
-pub fn run(args: &ExportArgs) -> Result<(), String> {
+pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     let format = match args.format {
         Some(f) => f,
         None => MeshFormat::of_path(&args.out).ok_or_else(|| {
@@ -284,8 +284,8 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
     }
     let file = front_reader::read(&args.front)?;
     let (grid, seed) = match &file {
-        AnyFront::Untiled(f) => (&f.grid, f.seed),
-        AnyFront::Tiled(f) => (&f.grid, f.seed),
+        AnyFront::Untiled(f) => (&f.header.grid, f.header.seed),
+        AnyFront::Tiled(f) => (&f.header.grid, f.header.seed),
     };
     let scores: Vec<Score> = match &file {
         AnyFront::Untiled(f) => f.front.iter().map(|m| m.solution.score).collect(),

@@ -6,7 +6,7 @@ use paretomesh::tiling::TiledFrontFile;
 use std::path::{Path, PathBuf};
 
 /// A front.json of an untiled or a tiled run.
-pub enum AnyFront {
+pub(super) enum AnyFront {
     /// An untiled run: a kept list per member.
     Untiled(Box<FrontFile>),
     /// A tiled run: per-tile kept sets and a choice per tile for each member.
@@ -15,7 +15,7 @@ pub enum AnyFront {
 
 /// Reads and parses the front.json at `path` (untiled, with or without triangles, or tiled);
 /// the error names the file.
-pub fn read(path: &Path) -> Result<AnyFront, String> {
+pub(super) fn read(path: &Path) -> Result<AnyFront, String> {
     /// Only whether the file has a tiled front.
     #[derive(serde::Deserialize)]
     struct Probe {
@@ -47,7 +47,7 @@ const GRID_EXTENSIONS: [&str; 7] = ["f32", "png", "tif", "tiff", "ply", "obj", "
 /// grid only in its note, which names the file as it was given to `run` (e.g. "raw f32 grid
 /// tests/data/a.f32; …", "PLY mesh my scans/b.ply (…"). A name may contain spaces, so every
 /// word start before a grid extension is a candidate; the caller keeps the first that exists.
-pub fn named_files(note: &str) -> Vec<&str> {
+pub(super) fn named_files(note: &str) -> Vec<&str> {
     let lower = note.to_ascii_lowercase();
     let mut names = Vec::new();
     for (dot, _) in lower.match_indices('.') {
@@ -77,7 +77,7 @@ pub fn named_files(note: &str) -> Vec<&str> {
 /// The grid file that front.json at `front_path` names, looked for as named (absolute, or from
 /// the current folder, as `run` was given it), then beside front.json with the same relative
 /// path, then beside front.json by its file name alone.
-pub fn find_grid(front_path: &Path, note: &str) -> Result<PathBuf, String> {
+pub(super) fn find_grid(front_path: &Path, note: &str) -> Result<PathBuf, String> {
     let folder = front_path.parent().unwrap_or(Path::new(""));
     let names = named_files(note);
     for name in &names {

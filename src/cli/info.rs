@@ -4,7 +4,7 @@ use super::input::InputArgs;
 use paretomesh::heightfield::Placement;
 use paretomesh::tiling::{DEFAULT_TILE, TilePlan};
 
-pub fn run(input: &InputArgs) -> Result<(), String> {
+pub(super) fn run(input: &InputArgs) -> Result<(), String> {
     let hf = input.load()?;
     let (lo, hi) = hf.z_range();
     println!("size: {}×{} = {} points", hf.width(), hf.height(), hf.len());

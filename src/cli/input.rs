@@ -31,7 +31,7 @@ pub enum SurfaceArg {
 
 /// An input grid file and its import options.
 #[derive(Args, Debug)]
-pub struct InputArgs {
+pub(super) struct InputArgs {
     /// Input: .f32 (with its .json sidecar), PNG, GeoTIFF (.tif), PLY, OBJ or STL.
     pub grid: PathBuf,
     /// How to import it.
@@ -42,7 +42,7 @@ pub struct InputArgs {
 /// How a grid file is imported; apart from the file so that a command whose grid is optional
 /// (`export`) takes the same options.
 #[derive(Args, Clone, Debug)]
-pub struct ImportArgs {
+pub(super) struct ImportArgs {
     /// How a mesh becomes a height field.
     #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
     pub projection: ProjectionArg,
@@ -90,7 +90,7 @@ impl From<SurfaceArg> for Surface {
 
 impl ImportArgs {
     /// The import options these arguments ask for.
-    pub fn options(&self) -> ImportOptions {
+    pub(super) fn options(&self) -> ImportOptions {
         ImportOptions {
             projection: self.projection.into(),
             grid_size: self.grid_size,
@@ -114,7 +114,7 @@ fn available_memory() -> Option<u64> {
 /// Import options that change those a front.json records (`export`): each one given wins, the
 /// others keep the recorded choice.
 #[derive(Args, Clone, Debug)]
-pub struct ImportOverrides {
+pub(super) struct ImportOverrides {
     /// How a mesh becomes a height field [default: as the front was made].
     #[arg(long, value_enum)]
     pub projection: Option<ProjectionArg>,
@@ -131,7 +131,7 @@ pub struct ImportOverrides {
 
 impl ImportOverrides {
     /// `recorded` with every option given here put in its place.
-    pub fn over(&self, recorded: ImportOptions) -> ImportOptions {
+    pub(super) fn over(&self, recorded: ImportOptions) -> ImportOptions {
         ImportOptions {
             projection: self.projection.map_or(recorded.projection, Into::into),
             grid_size: self.grid_size.or(recorded.grid_size),
@@ -144,7 +144,7 @@ impl ImportOverrides {
 
 impl InputArgs {
     /// Loads the grid; the error is a message for the user.
-    pub fn load(&self) -> Result<Heightfield, String> {
+    pub(super) fn load(&self) -> Result<Heightfield, String> {
         import::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())
     }
 }

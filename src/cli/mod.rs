@@ -14,7 +14,7 @@ use clap::{Parser, Subcommand};
 /// Simplify height fields by evolutionary multi-objective optimisation.
 #[derive(Parser, Debug)]
 #[command(name = "paretomesh", version, about)]
-pub struct Cli {
+pub(crate) struct Cli {
     #[command(subcommand)]
     command: Command,
 }
@@ -61,7 +61,7 @@ enum Command {
 }
 
 /// Runs a parsed command line; the error is a message for the user.
-pub fn run(cli: Cli) -> Result<(), String> {
+pub(crate) fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Info { input } => info::run(&input),
         Command::Eval {

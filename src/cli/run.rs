@@ -1,25 +1,26 @@
 //! `paretomesh run GRID [--algo ALGO] [...] --out front.json [--triangles] [--csv front.csv]
 //! [import options]`:
 //! runs one optimizer to the end, shows progress on stderr, writes front.json (and the front as
-//! CSV, see [`paretomesh::export::csv`]).
+//! CSV, see [`paretomesh::export::front_csv`]).
 //!
 //! The methods and the parameters each reads come from [`paretomesh::catalogue`].
 
 use super::input::InputArgs;
 use clap::{Args, ValueEnum};
 use paretomesh::baselines::InsertionRule;
-use paretomesh::catalogue::{Algorithm, Built, Param, Params};
+use paretomesh::catalogue::{Algorithm, Built, Config, Param, Params};
 use paretomesh::evaluator::Evaluator;
 use paretomesh::evolution::CrossoverKind;
-use paretomesh::export::csv::front_csv;
+use paretomesh::export::front_csv;
 use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
-use paretomesh::front_file::{GridInfo, ImportRecord};
+use paretomesh::front_file::{GridInfo, ImportRecord, RunHeader};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::measure::ErrorMeasure;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFrontFile, check_tile, run_tiled_with_progress, tile_params,
+    DEFAULT_TILE, TilePlan, TiledFrontFile, TilingError, check_tile, run_tiled_with_progress,
+    tile_config,
 };
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -28,7 +29,7 @@ use std::time::Instant;
 
 /// The greedy-insertion rules, as the command line spells them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RuleArg {
+pub(super) enum RuleArg {
     /// Insert the point of largest vertical error (classic).
     MaxError,
     /// Insert the point whose insertion reduces E_sum the most.
@@ -39,7 +40,7 @@ pub enum RuleArg {
 
 /// The crossover operators, as the command line spells them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum CrossoverArg {
+pub(super) enum CrossoverArg {
     /// Orthogonal-array crossover over spatial blocks.
     Oax,
     /// Uniform crossover.
@@ -50,7 +51,7 @@ pub enum CrossoverArg {
 
 /// Options of `paretomesh run`.
 #[derive(Args, Debug)]
-pub struct RunArgs {
+pub(super) struct RunArgs {
     /// The grid file and how to import it.
     #[command(flatten)]
     input: InputArgs,
@@ -196,9 +197,10 @@ fn refuse_foreign_options(args: &RunArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
+/// The method the command line asks for, with every parameter it runs with.
+fn config(args: &RunArgs) -> Result<Config, String> {
     refuse_foreign_options(args)?;
-    args.algo.build(hf, &params(args), args.seed)
+    args.algo.configure(&params(args))
 }
 
 /// The smallest error (in the front's measure) among solutions with at most `t` triangles.
@@ -223,7 +225,7 @@ fn status(p: &Progress, generations: u64, front: &Front, full_triangles: usize) 
     line
 }
 
-pub fn run(args: &RunArgs) -> Result<(), String> {
+pub(super) fn run(args: &RunArgs) -> Result<(), String> {
     check_tile(args.tile.unwrap_or(DEFAULT_TILE)).map_err(|e| format!("--tile: {e}"))?;
     if args.threads == Some(0) {
         return Err("--threads must be at least 1".to_string());
@@ -234,12 +236,12 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     if !plan.is_single() {
         return run_tiled_grid(args, &hf, &plan);
     }
+    let config = config(args)?;
     let Built {
         mut optimizer,
-        params,
         generations,
         budget,
-    } = build(args, hf.clone())?;
+    } = config.clone().build(hf.clone(), args.seed)?;
     let terminal = std::io::stderr().is_terminal();
     let full = hf.full_triangles();
     // Without a known number of generations, report every tenth of the budget instead.
@@ -295,8 +297,7 @@ pub fn run(args: &RunArgs) -> Result<(), String> {
     let mut evaluator = Evaluator::new(hf);
     let mut file = FrontFile::new(
         &mut evaluator,
-        args.algo.name(),
-        params,
+        &config,
         args.seed,
         p.evaluations,
         millis,
@@ -342,11 +343,8 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
             plan.tile_size()
         ));
     }
-    // The parameters as the untiled run would record them, checked on the first tile's grid
-    // before any tile runs, then as every tile runs them.
-    let first = Arc::new(plan.cut(hf, 0).map_err(|e| e.to_string())?);
-    let name = args.algo.name();
-    let params = tile_params(plan, name, &build(args, first)?.params);
+    // As every tile runs it; the tiling checks it on the first tile before any tile runs.
+    let config = tile_config(plan, &config(args)?);
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -369,8 +367,13 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
             started.elapsed().as_secs_f64()
         );
     };
-    let tiled = run_tiled_with_progress(hf, plan, name, &params, args.seed, threads, &report)
-        .map_err(|e| e.to_string())?;
+    let tiled = run_tiled_with_progress(hf, plan, &config, args.seed, threads, &report).map_err(
+        |e| match e {
+            // The method's own message, as an untiled run gives it.
+            TilingError::BadParams { reason, .. } => reason,
+            other => other.to_string(),
+        },
+    )?;
     let millis = started.elapsed().as_millis() as u64;
     let full = hf.full_triangles() as u64;
     let mut line = format!(
@@ -391,18 +394,14 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     }
     eprintln!("{line}");
     let writing = Instant::now();
+    let grid = GridInfo {
+        width: hf.width(),
+        height: hf.height(),
+        source: hf.source().to_string(),
+        import: Some(ImportRecord::of(&args.input.import.options())),
+    };
     let file = TiledFrontFile {
-        grid: GridInfo {
-            width: hf.width(),
-            height: hf.height(),
-            source: hf.source().to_string(),
-            import: Some(ImportRecord::of(&args.input.import.options())),
-        },
-        algorithm: name.to_string(),
-        params,
-        seed: args.seed,
-        evaluations: tiled.evaluations(),
-        millis,
+        header: RunHeader::new(grid, &config, args.seed, tiled.evaluations(), millis),
         threads,
         tiled,
     };

@@ -13,7 +13,7 @@ use std::time::Instant;
 
 /// Options of `paretomesh tiles`.
 #[derive(Args, Debug)]
-pub struct TilesArgs {
+pub(super) struct TilesArgs {
     /// The front.json that `paretomesh run` (or the app) wrote.
     front: PathBuf,
     /// The folder to write tileset.json and the tiles into (made if missing).
@@ -36,7 +36,7 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
 }
 
-pub fn run(args: &TilesArgs) -> Result<(), String> {
+pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
     let start = Instant::now();
     let file = match front_reader::read(&args.front)? {
         AnyFront::Untiled(file) => *file,
@@ -48,13 +48,13 @@ pub fn run(args: &TilesArgs) -> Result<(), String> {
         }
     };
     let scores: Vec<_> = file.front.iter().map(|m| m.solution.score).collect();
-    let (w, h) = (file.grid.width, file.grid.height);
+    let (w, h) = (file.header.grid.width, file.header.grid.height);
     let levels = args.levels.unwrap_or_else(|| default_levels(&scores, w, h));
     // Every check on the front and the levels comes before the grid is read or a file written.
     let picks = plan(&scores, levels, w, h).map_err(|e| e.to_string())?;
     let grid_path = match &args.grid {
         Some(path) => path.clone(),
-        None => find_grid(&args.front, &file.grid.source)?,
+        None => find_grid(&args.front, &file.header.grid.source)?,
     };
     let hf = import::load_with(&grid_path, &args.import.options()).map_err(|e| e.to_string())?;
     if (hf.width(), hf.height()) != (w, h) {

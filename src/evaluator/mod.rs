@@ -62,7 +62,7 @@ pub use compose::{Crossing, PartClasses};
 pub use error::{EvaluateError, check_indices};
 pub use mesh::canonical_form::canonical_set;
 pub use mesh::canonical_triangulation::Triangulation;
-pub use mesh::delaunay_check::is_delaunay;
+pub(crate) use mesh::delaunay_check::is_delaunay;
 pub use mesh::state::{GridLookups, MeshState};
 pub use part_scores::{Changes, PartScores};
 pub use score::{Evaluation, Score};
@@ -289,7 +289,7 @@ impl Evaluator {
 
     /// [`score_parts`](Self::score_parts) for that child with `changes` made to its kept
     /// points (a mutant of it), bit for bit the changed set's fresh score, still without a
-    /// mesh ([`PartScores::score_changed`]).
+    /// mesh (`PartScores::score_changed`).
     pub fn score_parts_changed(
         &mut self,
         a: &MeshState,

@@ -14,7 +14,7 @@ pub struct Chromosome {
 
 impl Chromosome {
     /// The chromosome of `len` genes with exactly the given indices set (each must be `< len`).
-    pub fn from_indices(len: usize, indices: &[u32]) -> Self {
+    pub(crate) fn from_indices(len: usize, indices: &[u32]) -> Self {
         let mut c = Self::empty(len);
         for &i in indices {
             c.set(i as usize, true);
@@ -76,7 +76,7 @@ impl Chromosome {
 
     /// The Hamming distance to `other` (same length) if it is below `bound`, else `None`; stops
     /// counting as soon as the bound is reached.
-    pub fn hamming_below(&self, other: &Chromosome, bound: usize) -> Option<usize> {
+    pub(crate) fn hamming_below(&self, other: &Chromosome, bound: usize) -> Option<usize> {
         let mut d = 0;
         for (a, b) in self.words.chunks(8).zip(other.words.chunks(8)) {
             d += a
@@ -94,7 +94,7 @@ impl Chromosome {
     /// The genes where `self` and `other` (same length) differ, in increasing order: those set
     /// only in `self` into `only_self`, those set only in `other` into `only_other` (both
     /// cleared first).
-    pub fn write_differences(
+    pub(crate) fn write_differences(
         &self,
         other: &Chromosome,
         only_self: &mut Vec<u32>,
@@ -115,7 +115,7 @@ impl Chromosome {
     /// The edit that turns `self`'s kept set into `other`'s: [`write_differences`](Self::write_differences)
     /// without the genes in `fixed` (a grid's corners, which the evaluator keeps whatever the
     /// genes say), those only in `self` into `removed`, those only in `other` into `inserted`.
-    pub fn write_edit(
+    pub(crate) fn write_edit(
         &self,
         other: &Chromosome,
         fixed: &[u32],
@@ -129,7 +129,7 @@ impl Chromosome {
 
     /// The set indices in increasing order, written into `out` (cleared first): the form
     /// [`Evaluator::score`](crate::evaluator::Evaluator::score) takes.
-    pub fn write_indices(&self, out: &mut Vec<u32>) {
+    pub(crate) fn write_indices(&self, out: &mut Vec<u32>) {
         out.clear();
         for (w, &word) in self.words.iter().enumerate() {
             let mut bits = word;
@@ -164,7 +164,7 @@ impl Chromosome {
     }
 
     /// Copies genes `start..end` from `other` (same length), leaving the rest unchanged.
-    pub fn copy_range_from(&mut self, other: &Chromosome, start: usize, end: usize) {
+    pub(crate) fn copy_range_from(&mut self, other: &Chromosome, start: usize, end: usize) {
         debug_assert!(start <= end && end <= self.len && other.len == self.len);
         for (w, mask) in word_masks(start, end) {
             self.words[w] = (self.words[w] & !mask) | (other.words[w] & mask);
@@ -205,7 +205,12 @@ impl Serialize for Chromosome {
 /// Calls `visit(i)` for each `i` in `0..n` independently with probability `p`, drawing only one
 /// random number per hit (geometric gaps), so a mutation with p = 1/L costs O(1) draws instead of
 /// L. `p` is clamped to `[0, 1]`.
-pub fn for_each_bernoulli(n: usize, p: f64, rng: &mut Pcg64Mcg, mut visit: impl FnMut(usize)) {
+pub(crate) fn for_each_bernoulli(
+    n: usize,
+    p: f64,
+    rng: &mut Pcg64Mcg,
+    mut visit: impl FnMut(usize),
+) {
     if n == 0 || p.is_nan() || p <= 0.0 {
         return;
     }

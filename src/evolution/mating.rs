@@ -56,7 +56,7 @@ impl PendingMating {
     /// Starts a mating of `a` and `b`: draws whether to cross them and, for uniform and
     /// two-point crossover, the children themselves; for OAX, its spatial blocks. Spends no
     /// evaluation.
-    pub fn start(
+    pub(super) fn start(
         params: &GaParams,
         scalar: Scalarisation,
         a: (&Chromosome, Score),
@@ -113,7 +113,7 @@ impl PendingMating {
     /// chromosome evaluated (OAX rows included), in order; when the OAX crossover completes,
     /// its record goes into `record`. Returns the two evaluated offspring when this step
     /// completes the mating, else `None`.
-    pub fn advance(
+    pub(super) fn advance(
         &mut self,
         ctx: MatingContext<'_>,
         seen: &mut impl FnMut(&Chromosome, &Score),

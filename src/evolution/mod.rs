@@ -2,14 +2,14 @@
 //! weighted-sum GA.
 //!
 //! - [`chromosome`]: the bitset of kept grid points.
-//! - [`operators`]: initialisation, bit-flip mutation, uniform and two-point crossover.
-//! - [`orthogonal_array`] and [`oax`]: orthogonal-array crossover (Huang & Ho 2003).
+//! - `operators`: initialisation, bit-flip mutation, uniform and two-point crossover.
+//! - `orthogonal_array` and [`oax`]: orthogonal-array crossover (Huang & Ho 2003).
 //! - [`ranking`]: non-dominated sorting and crowding distance.
-//! - [`scalarisation`]: the normalised weighted sum of E and T, the scalar fitness.
-//! - [`scorer`]: scores chromosomes, reusing the meshes of those scored before.
-//! - [`nsga2`]: NSGA-II (Deb et al. 2002).
+//! - `scalarisation`: the normalised weighted sum of E and T, the scalar fitness.
+//! - `scorer`: scores chromosomes, reusing the meshes of those scored before.
+//! - `nsga2`: NSGA-II (Deb et al. 2002).
 //! - [`trace`]: what one NSGA-II generation did, phase by phase (for the teaching view).
-//! - [`weighted_sum`]: the weighted-sum single-objective GA, one run per weight.
+//! - `weighted_sum`: the weighted-sum single-objective GA, one run per weight.
 //! - [`memetic`]: the memetic NSGA-II (greedy seeding, guided operators, local search).
 
 pub mod chromosome;

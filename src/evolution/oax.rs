@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 /// Default number of factors: 7, the most an L8 array holds, so 7 new children per crossover.
 /// More factors (L16: 15) mean finer recombination but twice the evaluations per crossover;
 /// L8 is the size Huang & Ho's examples use.
-pub const DEFAULT_FACTORS: usize = 7;
+pub(crate) const DEFAULT_FACTORS: usize = 7;
 
 /// A rectangle of grid points `x0..x1 × y0..y1` (half-open); it may be empty.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -139,7 +139,7 @@ fn mark_block(mask: &mut Chromosome, block: &Block, width: usize) {
 }
 
 /// How a child of a crossover is made, for a scorer that reuses the parents' meshes
-/// ([`Scorer::score_crossed`](super::scorer::Scorer::score_crossed)): each gene comes from
+/// (`Scorer::score_crossed`): each gene comes from
 /// `parents[0]` where `from_b` is clear and from `parents[1]` where it is set, which is block
 /// by block: from B in the blocks whose level is 1.
 #[derive(Clone, Copy, Debug)]
@@ -233,7 +233,7 @@ pub fn crossover(
 /// known) the factor analysis and the best-levels child. Each [`next_child`](Self::next_child)
 /// spends at most one evaluation. Run to completion it gives exactly [`crossover`]'s record.
 #[derive(Clone, Debug)]
-pub struct OaxInProgress {
+pub(crate) struct OaxInProgress {
     array: OrthogonalArray,
     blocks: Vec<Block>,
     parents: [(Chromosome, Score); 2],
@@ -247,7 +247,7 @@ pub struct OaxInProgress {
 impl OaxInProgress {
     /// A crossover of `parent_a` and `parent_b` (same length, on a grid `width` wide) over
     /// `blocks` (one per factor), with no child made yet; `weight` is reported in the record.
-    pub fn new(
+    pub(crate) fn new(
         parent_a: (&Chromosome, Score),
         parent_b: (&Chromosome, Score),
         width: usize,
@@ -269,13 +269,8 @@ impl OaxInProgress {
         }
     }
 
-    /// The children of the array's rows made so far, in row order.
-    pub fn rows(&self) -> &[OaxChild] {
-        &self.rows
-    }
-
     /// True once every row child and the best-levels child exist.
-    pub fn is_complete(&self) -> bool {
+    pub(crate) fn is_complete(&self) -> bool {
         self.analysed.is_some()
     }
 
@@ -284,7 +279,7 @@ impl OaxInProgress {
     /// takes the known objectives; any other is scored once through `evaluate`, so a call
     /// spends at most one evaluation. `evaluate` and `fitness` must be the same on every call
     /// of one crossover. Does nothing once complete.
-    pub fn next_child(
+    pub(crate) fn next_child(
         &mut self,
         evaluate: &mut impl FnMut(&Chromosome, Parentage<'_>) -> Score,
         fitness: &impl Fn(&Score) -> f64,
@@ -353,7 +348,7 @@ impl OaxInProgress {
     ///
     /// # Panics
     /// When the crossover is not complete ([`is_complete`](Self::is_complete)).
-    pub fn finish(self) -> OaxRecord {
+    pub(crate) fn finish(self) -> OaxRecord {
         let (effects, best_levels) = self
             .analysed
             .expect("finish is called on a complete crossover");
@@ -513,7 +508,7 @@ mod tests {
             };
             pending.next_child(&mut counted, &|o| o.e_sum);
             assert!(evaluations <= 1, "call {call} spent {evaluations}");
-            assert_eq!(pending.rows().len(), call.min(8));
+            assert_eq!(pending.rows.len(), call.min(8));
         }
         assert!(pending.is_complete());
         assert_eq!(pending.finish(), whole);

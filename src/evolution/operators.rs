@@ -25,12 +25,12 @@ pub enum CrossoverKind {
 }
 
 /// The number of free genes L = N − 4 (the corners are fixed), at least 1 so that 1/L is finite.
-pub fn free_genes(hf: &Heightfield) -> usize {
+pub(crate) fn free_genes(hf: &Heightfield) -> usize {
     hf.len().saturating_sub(4).max(1)
 }
 
 /// The corners-only chromosome of `hf`.
-pub fn corners_only(hf: &Heightfield) -> Chromosome {
+pub(crate) fn corners_only(hf: &Heightfield) -> Chromosome {
     Chromosome::from_indices(hf.len(), &hf.corners())
 }
 
@@ -42,7 +42,7 @@ pub fn corners_only(hf: &Heightfield) -> Chromosome {
 /// the interesting trade-offs lie at a few percent of the points. Log spacing gives every order
 /// of magnitude of the point count (and so of the triangle count, T ≈ 2 × points) the same share
 /// of the population, and stratifying keeps that spread even for small populations.
-pub fn initial_density(i: usize, count: usize, free: usize, rng: &mut Pcg64Mcg) -> f64 {
+pub(crate) fn initial_density(i: usize, count: usize, free: usize, rng: &mut Pcg64Mcg) -> f64 {
     let u = (i as f64 + rng.random::<f64>()) / count.max(1) as f64;
     let d_min = 1.0 / free.max(1) as f64;
     // `libm::pow`, not `powf`: the same bits natively and in wasm (see `for_each_bernoulli`).
@@ -50,7 +50,7 @@ pub fn initial_density(i: usize, count: usize, free: usize, rng: &mut Pcg64Mcg) 
 }
 
 /// A random chromosome: the corners plus each free gene with probability `density`.
-pub fn random_chromosome(hf: &Heightfield, density: f64, rng: &mut Pcg64Mcg) -> Chromosome {
+pub(crate) fn random_chromosome(hf: &Heightfield, density: f64, rng: &mut Pcg64Mcg) -> Chromosome {
     let mut c = corners_only(hf);
     for_each_bernoulli(hf.len(), density, rng, |i| c.set(i, true));
     c
@@ -58,7 +58,7 @@ pub fn random_chromosome(hf: &Heightfield, density: f64, rng: &mut Pcg64Mcg) -> 
 
 /// Flips each free gene independently with probability `p` (corners are never flipped).
 /// Returns the number of genes flipped.
-pub fn mutate(c: &mut Chromosome, corners: &[u32; 4], p: f64, rng: &mut Pcg64Mcg) -> usize {
+pub(crate) fn mutate(c: &mut Chromosome, corners: &[u32; 4], p: f64, rng: &mut Pcg64Mcg) -> usize {
     let mut flipped = 0;
     for_each_bernoulli(c.len(), p, rng, |i| {
         if !corners.contains(&(i as u32)) {
@@ -70,7 +70,7 @@ pub fn mutate(c: &mut Chromosome, corners: &[u32; 4], p: f64, rng: &mut Pcg64Mcg
 }
 
 /// Uniform crossover: two complementary children.
-pub fn uniform(a: &Chromosome, b: &Chromosome, rng: &mut Pcg64Mcg) -> [Chromosome; 2] {
+pub(crate) fn uniform(a: &Chromosome, b: &Chromosome, rng: &mut Pcg64Mcg) -> [Chromosome; 2] {
     let masks: Vec<u64> = (0..a.len().div_ceil(64))
         .map(|_| rng.random::<u64>())
         .collect();
@@ -82,7 +82,7 @@ pub fn uniform(a: &Chromosome, b: &Chromosome, rng: &mut Pcg64Mcg) -> [Chromosom
 
 /// Two-point crossover in row-major gene order: cut points `c1 ≤ c2` drawn in `0..=N`; each
 /// child takes `c1..c2` from the other parent.
-pub fn two_point(a: &Chromosome, b: &Chromosome, rng: &mut Pcg64Mcg) -> [Chromosome; 2] {
+pub(crate) fn two_point(a: &Chromosome, b: &Chromosome, rng: &mut Pcg64Mcg) -> [Chromosome; 2] {
     let n = a.len();
     let (x, y) = (rng.random_range(0..=n), rng.random_range(0..=n));
     let (c1, c2) = (x.min(y), x.max(y));

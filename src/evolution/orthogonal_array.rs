@@ -19,7 +19,7 @@ pub struct OrthogonalArray {
 
 impl OrthogonalArray {
     /// The smallest array with room for `factors` factors: M = the smallest power of two > F.
-    pub fn for_factors(factors: usize) -> Self {
+    pub(crate) fn for_factors(factors: usize) -> Self {
         Self {
             rows: (factors + 1).next_power_of_two().max(2),
         }
@@ -42,7 +42,7 @@ impl OrthogonalArray {
     }
 
     /// The levels of `row` for the first `factors` columns (factor f ↔ column f + 1).
-    pub fn row_levels(&self, row: usize, factors: usize) -> Vec<u8> {
+    pub(crate) fn row_levels(&self, row: usize, factors: usize) -> Vec<u8> {
         (0..factors).map(|f| self.level(row, f + 1)).collect()
     }
 }
@@ -53,7 +53,7 @@ impl OrthogonalArray {
 ///
 /// Sums rather than means are compared: each level occurs in exactly M/2 rows, so they rank
 /// the same.
-pub fn factor_analysis(
+pub(crate) fn factor_analysis(
     array: &OrthogonalArray,
     factors: usize,
     fitness: &[f64],

@@ -26,7 +26,7 @@ pub struct GaParams {
     /// Stop once this many evaluations were spent (checked between units of work).
     pub max_evaluations: Option<u64>,
     /// Fraction of the initial population NSGA-II seeds from greedy insertion, in [0, 1]:
-    /// ⌊fraction · population⌋ individuals (see [`super::nsga2`]). 0 (the default, and the paper's
+    /// ⌊fraction · population⌋ individuals (see `super::nsga2`). 0 (the default, and the paper's
     /// setting) seeds nothing. The weighted-sum GA refuses values above 0.
     pub greedy_seed_fraction: f64,
 }
@@ -130,7 +130,7 @@ impl GaParams {
     }
 
     /// The mutation probability on `hf`: the given one, else 1/L.
-    pub fn mutation_on(&self, hf: &Heightfield) -> f64 {
+    pub(crate) fn mutation_on(&self, hf: &Heightfield) -> f64 {
         self.mutation_probability
             .unwrap_or(1.0 / free_genes(hf) as f64)
     }

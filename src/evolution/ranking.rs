@@ -51,7 +51,7 @@ pub fn ranks(points: &[[f64; 2]]) -> Vec<usize> {
 }
 
 /// The rank (0 = non-dominated) of every point and its crowding distance within its front.
-pub fn ranks_and_crowding(points: &[[f64; 2]]) -> Vec<(usize, f64)> {
+pub(crate) fn ranks_and_crowding(points: &[[f64; 2]]) -> Vec<(usize, f64)> {
     let mut out = vec![(0, 0.0); points.len()];
     for (rank, front) in non_dominated_fronts(points).iter().enumerate() {
         for (&i, d) in front.iter().zip(crowding_distances(points, front)) {
@@ -88,7 +88,7 @@ pub fn survivors(points: &[[f64; 2]], fronts: &[Vec<usize>], mu: usize) -> Vec<u
 /// `front`: for each objective, the members are sorted by it (ties by position in `front`), the
 /// two extremes get infinity and every other member adds the gap between its two neighbours,
 /// divided by the objective's range over the front (nothing when the range is 0).
-pub fn crowding_distances(points: &[[f64; 2]], front: &[usize]) -> Vec<f64> {
+pub(crate) fn crowding_distances(points: &[[f64; 2]], front: &[usize]) -> Vec<f64> {
     let n = front.len();
     let mut distance = vec![0.0; n];
     if n <= 2 {

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// flat so that E₀ > 0) and T₀ = 2(W − 1)(H − 1), the triangle count of the full grid. Both
 /// terms then run over about [0, 1] whatever the surface's scale and size.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Scalarisation {
+pub(crate) struct Scalarisation {
     /// Weight of the error, in [0, 1].
     pub w: f64,
     /// E₀.
@@ -21,7 +21,7 @@ pub struct Scalarisation {
 
 impl Scalarisation {
     /// F of `s`.
-    pub fn value(&self, s: &Score) -> f64 {
+    pub(crate) fn value(&self, s: &Score) -> f64 {
         self.w * s.e_sum / self.e0 + (1.0 - self.w) * s.t as f64 / self.t0
     }
 }

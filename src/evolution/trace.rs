@@ -10,7 +10,7 @@ use serde::Serialize;
 
 /// The phases of one NSGA-II generation, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub enum Phase {
+pub(crate) enum Phase {
     /// Binary tournaments pick the parents.
     Selection,
     /// Pairs of parents are recombined.
@@ -29,7 +29,7 @@ pub enum Phase {
 
 impl Phase {
     /// Every phase, in order.
-    pub const ALL: [Phase; 7] = [
+    pub(crate) const ALL: [Phase; 7] = [
         Phase::Selection,
         Phase::Crossover,
         Phase::Mutation,
@@ -40,7 +40,7 @@ impl Phase {
     ];
 
     /// Name for people.
-    pub fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             Phase::Selection => "selection",
             Phase::Crossover => "crossover",
@@ -53,7 +53,7 @@ impl Phase {
     }
 
     /// What the phase does, in one line.
-    pub fn explanation(self) -> &'static str {
+    pub(crate) fn explanation(self) -> &'static str {
         match self {
             Phase::Selection => {
                 "Binary tournaments: of two random individuals the one in the better front wins, \

@@ -138,11 +138,6 @@ impl WeightedSum {
         &self.run_bests
     }
 
-    /// The weight of the run in progress (`None` once done).
-    pub fn current_weight(&self) -> Option<f64> {
-        (!self.done).then(|| self.params.weights[self.run])
-    }
-
     /// The record of the last completed orthogonal-array crossover, if any happened (a
     /// crossover still making its children is not reported until it completes).
     pub fn last_crossover(&self) -> Option<&OaxRecord> {

@@ -54,7 +54,7 @@ pub enum Mark {
 
 impl Mark {
     /// The mark as printed: `+`, `−`, `=` or `n/a`.
-    pub fn symbol(self) -> &'static str {
+    pub(crate) fn symbol(self) -> &'static str {
         match self {
             Mark::Better => "+",
             Mark::Worse => "−",
@@ -441,8 +441,20 @@ pub(crate) mod tests {
                 ..
             })
         ));
+        // No runs at all: the method has no front, reported as its first run's.
         r.datasets[0].methods[1].runs.clear();
-        assert!(Analysis::of(&r).is_err());
+        let err = Analysis::of(&r).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ExperimentError::EmptyFront {
+                    method: Method::GREEDY,
+                    run: 0,
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
     }
 
     #[test]

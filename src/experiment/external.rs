@@ -7,7 +7,7 @@
 //!   triangles indexing `vertices` (0-based); without `triangles` the mesh is the project's
 //!   Delaunay triangulation of its vertices, which must include the four grid corners;
 //! - a PLY or OBJ mesh whose vertices lie on grid points: x = column, y = row in grid units, each
-//!   within [`GRID_TOLERANCE`] of a whole number inside the grid. z is ignored: the error is
+//!   within `GRID_TOLERANCE` of a whole number inside the grid. z is ignored: the error is
 //!   measured against the grid's own heights.
 //!
 //! A mesh is scored on its own triangles ([`Evaluator::score_triangulation`]), so a mesh that
@@ -26,7 +26,7 @@ use serde::Deserialize;
 
 /// How far (in grid units) a PLY or OBJ vertex may lie from its grid point: far below a grid
 /// step, far above the rounding of coordinates written with a few decimals.
-pub const GRID_TOLERANCE: f64 = 1e-3;
+pub(crate) const GRID_TOLERANCE: f64 = 1e-3;
 
 /// One mesh over grid points, before it is scored.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,10 +67,10 @@ pub fn from_json(bytes: &[u8], width: usize, height: usize) -> Result<Vec<MeshIn
         serde_json::Value::Object(ref o) if o.contains_key("front") => {
             let file: FrontFile = serde_json::from_value(value)
                 .map_err(|e| format!("not a front.json as `paretomesh run` writes it: {e}"))?;
-            if (file.grid.width, file.grid.height) != (width, height) {
+            if (file.header.grid.width, file.header.grid.height) != (width, height) {
                 return Err(format!(
                     "the front.json was made on a {}×{} grid, this data set is {width}×{height}",
-                    file.grid.width, file.grid.height
+                    file.header.grid.width, file.header.grid.height
                 ));
             }
             Ok(file
@@ -350,9 +350,13 @@ mod tests {
 
     #[test]
     fn a_front_json_of_another_grid_is_refused_whole() {
-        let json = br#"{"grid":{"width":5,"height":5,"source":""},"algorithm":"x","params":null,"seed":0,"evaluations":0,"millis":0,"front":[]}"#;
+        let json = br#"{"grid":{"width":5,"height":5,"source":""},"algorithm":"greedy","params":null,"seed":0,"evaluations":0,"millis":0,"front":[]}"#;
         let err = from_json(json, 3, 3).unwrap_err();
         assert!(err.contains("5×5 grid, this data set is 3×3"), "{err}");
-        assert!(from_json(b"{\"a\":1}", 3, 3).is_err());
+        let err = from_json(b"{\"a\":1}", 3, 3).unwrap_err();
+        assert!(
+            err.starts_with("expected a front.json (an object with \"front\") or a list"),
+            "{err}"
+        );
     }
 }

@@ -1,16 +1,16 @@
 //! The paper's experiment, reproducible: run every method on every dataset with the paper's
 //! protocol, compare the fronts with the [`metrics`](crate::metrics), and write the report.
 //!
-//! - [`method`]: the methods by name and their fixed facts; [`registry`]: a method + settings +
+//! - `method`: the methods by name and their fixed facts; `registry`: a method + settings +
 //!   seed → a boxed [`Optimizer`](crate::optimizer::Optimizer), with its GA budget.
-//! - [`protocol`]: the runs of an experiment ([`plan`], [`run_job`], [`assemble`],
+//! - `protocol`: the runs of an experiment ([`plan`], [`run_job`], [`assemble`],
 //!   [`run_all`]) — seeds, run counts, the [`Budget`], and why the weighted-sum GA is counted
 //!   the way it is.
 //! - [`external`]: fronts made by other tools, read and re-scored with the project's evaluator;
-//!   [`contender`]: a table column, a method or an outside front.
-//! - [`results`]: results.json, every run's front and every outside front.
-//! - [`analysis`]: every table's numbers, from results.json alone.
-//! - [`report`]: report.md (the paper's Tables II–V); [`svg`]: the fronts figure.
+//!   `contender`: a table column, a method or an outside front.
+//! - `results`: results.json, every run's front and every outside front.
+//! - `analysis`: every table's numbers, from results.json alone.
+//! - `report`: report.md (the paper's Tables II–V); `svg`: the fronts figure.
 //!
 //! The library part is sequential and has no clock or file access (it builds for wasm32); the
 //! CLI (`paretomesh experiment`) runs the planned jobs on every core and writes the files.

@@ -18,14 +18,14 @@ use std::sync::Arc;
 
 /// The generation limit of a GA under [`Budget::Equal`]: never reached (each generation costs
 /// at least one evaluation), and small enough for a 32-bit `usize` in results.json.
-pub const UNLIMITED_GENERATIONS: usize = u32::MAX as usize;
+pub(crate) const UNLIMITED_GENERATIONS: usize = u32::MAX as usize;
 
 /// The evaluations of one run of a method with an evaluation budget under
 /// [`Budget::PerWeight`], where the GAs run for generations rather than evaluations: what an
 /// NSGA-II run of the settings' population and generations spends, counted at
 /// [`DEFAULT_EQUAL_EVALUATIONS`] for the paper's 100 × 50 (17 401 on jacksboro_65x65) and in
 /// proportion to population × generations otherwise.
-pub fn nsga2_equivalent_evaluations(settings: &Settings) -> u64 {
+pub(crate) fn nsga2_equivalent_evaluations(settings: &Settings) -> u64 {
     let paper = (PAPER_POPULATION * PAPER_GENERATIONS) as u128;
     let asked = (settings.population as u128) * (settings.generations as u128);
     ((DEFAULT_EQUAL_EVALUATIONS as u128 * asked + paper / 2) / paper).max(1) as u64
@@ -37,7 +37,7 @@ const PAPER_GENERATIONS: usize = 50;
 
 /// The catalogue parameters `method` runs with under `settings`: its budget, and for an
 /// ablation variant the component it switches off.
-pub fn catalogue_params(method: Method, settings: &Settings) -> Params {
+pub(crate) fn catalogue_params(method: Method, settings: &Settings) -> Params {
     let mut p = Params {
         without: method.without,
         ..Params::default()
@@ -65,19 +65,19 @@ pub fn catalogue_params(method: Method, settings: &Settings) -> Params {
 }
 
 /// Is `method` the memetic method or one of its ablation variants?
-pub fn is_memetic(method: Method) -> bool {
+pub(crate) fn is_memetic(method: Method) -> bool {
     method.algorithm == Algorithm::Memetic
 }
 
 /// How many GA runs one run of `method` is made of (the weighted-sum GA: one per weight), and
 /// so how many shares an equal budget is split into. 1 for every other method.
-pub fn ga_runs_per_run(method: Method) -> usize {
+pub(crate) fn ga_runs_per_run(method: Method) -> usize {
     method.algorithm.runs_per_run()
 }
 
 /// The budget of one run of `method` under `settings`, in words and evaluations, for the
 /// report's Runs table.
-pub fn budget_text(method: Method, settings: &Settings) -> String {
+pub(crate) fn budget_text(method: Method, settings: &Settings) -> String {
     if method.spec().budget == BudgetKind::OwnRule {
         return "own stopping rule".to_string();
     }
@@ -112,7 +112,10 @@ pub fn budget_text(method: Method, settings: &Settings) -> String {
 }
 
 /// The parameters `method` runs with under `settings`, as its params type serialises them.
-pub fn params(method: Method, settings: &Settings) -> Result<serde_json::Value, ExperimentError> {
+pub(crate) fn params(
+    method: Method,
+    settings: &Settings,
+) -> Result<serde_json::Value, ExperimentError> {
     method
         .algorithm
         .configure(&catalogue_params(method, settings))
@@ -125,7 +128,7 @@ pub fn params(method: Method, settings: &Settings) -> Result<serde_json::Value, 
 ///
 /// Errors: [`ExperimentError::Params`] when the method refuses its parameters (e.g. a
 /// population under 2), or a stochastic method gets no seed.
-pub fn build(
+pub(crate) fn build(
     method: Method,
     settings: &Settings,
     hf: Arc<Heightfield>,

@@ -124,7 +124,7 @@ impl Settings {
 
     /// How many runs `method` gets: [`Settings::runs`] for NSGA-II,
     /// [`Settings::weighted_runs`] for the weighted-sum GA, 1 for a deterministic method.
-    pub fn runs_of(&self, method: Method) -> usize {
+    pub(crate) fn runs_of(&self, method: Method) -> usize {
         if !method.is_stochastic() {
             1
         } else if method == Method::WEIGHTED {

@@ -9,6 +9,7 @@
 use super::analysis::{DatasetAnalysis, MethodAnalysis};
 use super::contender::Contender;
 use super::results::DatasetResults;
+use crate::xml::escape;
 use std::fmt::Write;
 
 const WIDTH: f64 = 800.0;
@@ -34,22 +35,6 @@ fn style(c: &Contender, external: usize) -> Style {
             Some("6 3"),
         ),
     }
-}
-
-/// Escapes text for XML content and attribute values.
-fn xml_escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            _ => out.push(c),
-        }
-    }
-    out
 }
 
 /// Tick positions from 0 to at least `max`: 1, 2 or 5 times a power of ten, about 5 steps.
@@ -104,7 +89,7 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
     let _ = writeln!(
         s,
         r#"<title>Merged fronts of every method on {} ({}×{})</title>"#,
-        xml_escape(&dataset.name),
+        escape(&dataset.name),
         dataset.grid.width,
         dataset.grid.height
     );
@@ -116,7 +101,7 @@ pub fn fronts_svg(dataset: &DatasetResults, analysis: &DatasetAnalysis) -> Strin
         s,
         r#"<text class="title" x="{}" y="24" text-anchor="middle" font-size="15">Merged fronts on {} ({}×{})</text>"#,
         LEFT + plot.w / 2.0,
-        xml_escape(&dataset.name),
+        escape(&dataset.name),
         dataset.grid.width,
         dataset.grid.height
     );
@@ -211,7 +196,7 @@ fn axes(s: &mut String, plot: &Plot, xt: &[f64], yt: &[f64], e_units: &str) {
         r#"<text class="axis-label" data-axis="y" x="20" y="{:.2}" text-anchor="middle" transform="rotate(-90 20 {:.2})">E = Σ|z − z̃| ({})</text>"#,
         TOP + plot_h / 2.0,
         TOP + plot_h / 2.0,
-        xml_escape(e_units)
+        escape(e_units)
     );
 }
 
@@ -222,7 +207,7 @@ fn fronts(s: &mut String, plot: &Plot, methods: &[MethodAnalysis], styles: &[Sty
         let _ = writeln!(
             s,
             r#"<g class="front" data-method="{}"{} stroke="{colour}" fill="{colour}">"#,
-            xml_escape(m.method.key()),
+            escape(m.method.key()),
             if dash.is_some() {
                 r#" data-external="true""#
             } else {
@@ -262,12 +247,12 @@ fn legend(s: &mut String, methods: &[MethodAnalysis], styles: &[Style]) {
         let _ = writeln!(
             s,
             r#"<g class="legend-entry" data-method="{}"><line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"{dash_attr}/><circle cx="{}" cy="{ly}" r="3" fill="{colour}"/><text x="{}" y="{}">{} ({} points)</text></g>"#,
-            xml_escape(m.method.key()),
+            escape(m.method.key()),
             lx + 24.0,
             lx + 12.0,
             lx + 32.0,
             ly + 4.0,
-            xml_escape(m.method.label()),
+            escape(m.method.label()),
             m.merged.len()
         );
     }
@@ -293,8 +278,7 @@ mod tests {
     }
 
     #[test]
-    fn text_is_escaped() {
-        assert_eq!(xml_escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    fn tick_labels_are_short() {
         assert_eq!(tick_label(0.6000000000000001), "0.6");
         assert_eq!(tick_label(1500.0), "1500");
     }

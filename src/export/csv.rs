@@ -4,7 +4,7 @@ use crate::front::Solution;
 use std::fmt::Write;
 
 /// The header line of [`front_csv`].
-pub const HEADER: &str = "T,E_sum,E_max,kept";
+pub(super) const HEADER: &str = "T,E_sum,E_max,kept";
 
 /// One row per solution, in the order given (a front lists them by increasing T): triangles,
 /// summed and largest vertical error, and the number of kept grid points.

@@ -40,7 +40,7 @@ impl WorldMesh {
 
 /// The cross product (b − a) × (c − a): the normal of triangle (`a`, `b`, `c`) by the right-hand
 /// rule, with twice its area as length.
-pub fn area_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+pub(super) fn area_normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
     let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     [

@@ -6,6 +6,7 @@
 //! one slicers look for; the XML has three element kinds, written here directly.
 
 use super::mesh::WorldMesh;
+use crate::xml::escape;
 use std::fmt::Write as _;
 
 const CONTENT_TYPES: &str = r#"<?xml version="1.0" encoding="UTF-8"?>
@@ -31,7 +32,7 @@ pub fn to_3mf(mesh: &WorldMesh, name: &str) -> Result<Vec<u8>, String> {
     return to_3mf_deflated(mesh, name);
 }
 
-/// [`to_3mf`] packed by [`super::zip_archive::deflated_zip`], as the browser build writes it.
+/// [`to_3mf`] packed by `super::zip_archive::deflated_zip`, as the browser build writes it.
 pub fn to_3mf_deflated(mesh: &WorldMesh, name: &str) -> Result<Vec<u8>, String> {
     let xml = model(mesh, name);
     super::zip_archive::deflated_zip(&[
@@ -88,20 +89,4 @@ fn with_zip_crate(xml: &str) -> Result<Vec<u8>, String> {
     }
     let out = archive.finish().map_err(|e| fail(&e))?;
     Ok(out.into_inner())
-}
-
-/// `text` with the five characters XML reserves replaced by their entities.
-fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
 }

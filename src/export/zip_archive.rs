@@ -12,7 +12,7 @@ const DEFLATE: u16 = 8;
 
 /// A zip archive holding `parts` (name, contents) in order, each deflated. Archives of 4 GiB or
 /// more (which would need zip64) are refused.
-pub fn deflated_zip(parts: &[(&str, &[u8])]) -> Result<Vec<u8>, String> {
+pub(crate) fn deflated_zip(parts: &[(&str, &[u8])]) -> Result<Vec<u8>, String> {
     let too_big = || "the zip archive would be 4 GiB or more, beyond a plain zip".to_owned();
     let small = |n: usize| u32::try_from(n).map_err(|_| too_big());
     let mut out = Vec::new();

@@ -215,7 +215,7 @@ impl Heightfield {
     }
 
     /// Keeps the georeferencing the grid was read with.
-    pub fn with_georeference(mut self, georeference: Georeference) -> Self {
+    pub(crate) fn with_georeference(mut self, georeference: Georeference) -> Self {
         self.georeference = Some(georeference);
         self
     }
@@ -227,7 +227,7 @@ impl Heightfield {
 
     /// Marks the grid as made by rasterising a mesh (not read as is), so an app can offer the
     /// projection and grid-size choice again.
-    pub fn with_resampled(mut self) -> Self {
+    pub(crate) fn with_resampled(mut self) -> Self {
         self.resampled = true;
         self
     }

@@ -66,7 +66,7 @@ pub enum ImportError {
         tried: Vec<(Projection, Option<f64>)>,
     },
     /// Resampling the mesh would test more grid points than
-    /// [`super::resample::MIN_RASTER_TESTS`] allows: many long triangles lie across each other.
+    /// `super::resample::MIN_RASTER_TESTS` allows: many long triangles lie across each other.
     RasterLimit {
         width: usize,
         height: usize,

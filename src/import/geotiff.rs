@@ -37,7 +37,7 @@ const FORMAT: &str = "GeoTIFF";
 
 /// Most bytes one strip or tile may decode to (256 MiB): the grid is filled one chunk at a
 /// time, so only one chunk's samples are held beside it.
-pub const MAX_CHUNK_BYTES: usize = 256 << 20;
+pub(super) const MAX_CHUNK_BYTES: usize = 256 << 20;
 
 /// GeoKey 1025, GTRasterTypeGeoKey; value 2 is RasterPixelIsPoint.
 const RASTER_TYPE_KEY: u16 = 1025;
@@ -208,7 +208,7 @@ fn map_geometry(geo: &Georeference, height: usize) -> Option<([f64; 2], [f64; 2]
 
 /// Decodes a single-band GeoTIFF held in memory into a height field (see the module doc);
 /// `name` goes into the source note. Never panics: every bad input is an [`ImportError`].
-pub fn parse(
+pub(super) fn parse(
     bytes: &[u8],
     name: &str,
     options: &ImportOptions,
@@ -218,7 +218,7 @@ pub fn parse(
 
 /// [`parse`] from any seekable reader, e.g. a file: the samples are decoded one strip or tile
 /// at a time straight into the grid, so the file is never held whole beside it.
-pub fn read<R: Read + Seek>(
+pub(super) fn read<R: Read + Seek>(
     mut reader: R,
     name: &str,
     options: &ImportOptions,
@@ -279,7 +279,7 @@ pub fn read<R: Read + Seek>(
 /// under a cap ([`ImportOptions::max_points`]) the file exceeds, the largest size under it with
 /// the file's aspect ratio. A file over the library's limits with neither is refused: it is
 /// never resampled unasked.
-pub fn planned_size(
+pub(super) fn planned_size(
     width: usize,
     height: usize,
     options: &ImportOptions,

@@ -49,14 +49,18 @@ fn claimed_size(bytes: &[u8]) -> Option<(usize, usize)> {
 }
 
 /// Mapbox terrain-RGB decoding of one pixel, in metres.
-pub fn terrain_rgb_height(r: u8, g: u8, b: u8) -> f64 {
+pub(super) fn terrain_rgb_height(r: u8, g: u8, b: u8) -> f64 {
     -10000.0 + f64::from((u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b)) * 0.1
 }
 
 /// Decodes a PNG heightmap (see the module doc for how pixels become heights); `name` goes into
 /// the source note. The image size is checked against the grid limits before its pixels are
 /// decoded. Never panics: every bad input is an [`ImportError`].
-pub fn parse(bytes: &[u8], name: &str, terrain_rgb: bool) -> Result<Heightfield, ImportError> {
+pub(super) fn parse(
+    bytes: &[u8],
+    name: &str,
+    terrain_rgb: bool,
+) -> Result<Heightfield, ImportError> {
     if let Some((width, height)) = claimed_size(bytes) {
         crate::heightfield::check_size(width, height)?;
     }

@@ -1,27 +1,56 @@
 //! Reading a file into a height field, the mirror of [`crate::export`]: one module per format,
 //! the options and the error they share, and dispatch on the file's kind.
 //!
-//! Formats: raw `.f32` with its `.json` sidecar ([`raw`]), PNG heightmaps ([`heightmap_png`]),
-//! GeoTIFF DEMs ([`geotiff`]), and meshes — PLY ([`ply`]), OBJ ([`obj`]), STL ([`stl`]) — which
+//! Formats: raw `.f32` with its `.json` sidecar (`raw`), PNG heightmaps (`heightmap_png`),
+//! GeoTIFF DEMs (`geotiff`), and meshes — PLY (`ply`), OBJ (`obj`), STL (`stl`) — which
 //! become a grid either exactly (their vertices already form a regular grid) or by resampling
-//! ([`resample`]). The parsers use only the leaf modules [`error`], [`options`] and
-//! [`triangle_mesh`], never this dispatcher.
+//! (`resample`). The parsers use only the leaf modules `error`, `options` and
+//! `triangle_mesh`, never this dispatcher. The files are private: [`load`], [`load_with`] and
+//! [`from_bytes`] read every format, with the types re-exported here.
 
-pub mod error;
-pub mod geotiff;
-pub mod heightmap_png;
-pub mod mesh;
-pub mod obj;
-pub mod options;
-pub mod ply;
-pub mod raw;
-pub mod resample;
-pub mod stl;
-pub mod triangle_mesh;
+mod error;
+mod geotiff;
+mod heightmap_png;
+mod mesh;
+pub(crate) mod obj;
+mod options;
+pub(crate) mod ply;
+pub(crate) mod raw;
+mod resample;
+mod stl;
+mod triangle_mesh;
 
 pub use error::ImportError;
 pub use options::{ImportOptions, Projection, Surface};
+pub use resample::fill_nearest;
 pub use triangle_mesh::TriangleMesh;
+
+/// Each format's reader by itself, for the crate's tests and fuzz harness (the `test-support`
+/// feature); not part of the API.
+#[cfg(feature = "test-support")]
+#[doc(hidden)]
+pub mod readers {
+    /// Raw `.f32` grids.
+    pub mod raw {
+        pub use crate::import::raw::parse;
+    }
+    /// PLY meshes.
+    pub mod ply {
+        pub use crate::import::ply::parse;
+    }
+    /// OBJ meshes.
+    pub mod obj {
+        pub use crate::import::obj::parse;
+    }
+    /// STL meshes.
+    pub mod stl {
+        pub use crate::import::stl::parse;
+    }
+    /// A mesh to a grid.
+    pub mod mesh {
+        pub use crate::import::mesh::to_heightfield;
+    }
+}
 
 use crate::heightfield::Heightfield;
 use std::path::Path;

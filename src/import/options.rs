@@ -3,7 +3,7 @@
 /// Largest accepted share of doubly covered grid points (10 %) for [`Surface::Single`]: small
 /// overhangs are resolved by "highest wins", a surface folded over on a larger share is not a
 /// height field.
-pub const MAX_OVERLAP: f64 = 0.10;
+pub(super) const MAX_OVERLAP: f64 = 0.10;
 
 /// How a mesh that is not already a regular grid is turned into one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -36,7 +36,7 @@ impl Projection {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Surface {
     /// The mesh must be a single surface in the projection: one that folds over itself on more
-    /// than [`MAX_OVERLAP`] of the grid is refused.
+    /// than `MAX_OVERLAP` of the grid is refused.
     #[default]
     Single,
     /// The outermost hit at every grid point (largest radius in a cylindrical unwrap, highest
@@ -62,7 +62,7 @@ pub struct ImportOptions {
     pub projection: Projection,
     /// Grid size `(width, height)` for resampling a mesh or a GeoTIFF. `None`: for a mesh, about
     /// as many grid points as the mesh has vertices, with the aspect ratio of the projected
-    /// surface, each side capped at [`super::triangle_mesh::DEFAULT_MAX_SIDE`]; a GeoTIFF keeps
+    /// surface, each side capped at `super::triangle_mesh::DEFAULT_MAX_SIDE`; a GeoTIFF keeps
     /// its own size (over [`max_points`](Self::max_points) it is refused, or fitted when a cap
     /// is set). With [`Projection::Auto`], a mesh whose vertices already form a grid is used as
     /// is unless a different size is asked for.

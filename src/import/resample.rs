@@ -36,7 +36,7 @@ use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
 
 /// A mesh resampled onto a grid.
-pub struct Resampled {
+pub(super) struct Resampled {
     /// Columns.
     pub width: usize,
     /// Rows.
@@ -59,7 +59,7 @@ pub struct Resampled {
 }
 
 /// What a projection gives.
-pub enum Outcome {
+pub(super) enum Outcome {
     /// The resampled grid.
     Grid(Resampled),
     /// The surface folds over itself: `overlap` is the share of doubly covered grid points, or
@@ -329,7 +329,7 @@ fn automatic_size(vertices: usize, world_x: f64, world_y: f64) -> (usize, usize)
 /// above) when the mesh is flat — its smallest principal variance under a quarter of the middle
 /// one, like a terrain slab with a base — otherwise cylindrical, which sees a round object from
 /// all sides instead of one.
-pub fn outer_projection(mesh: &TriangleMesh) -> Projection {
+pub(super) fn outer_projection(mesh: &TriangleMesh) -> Projection {
     let (_, cov) = covariance(&mesh.vertices);
     let (mut values, _) = symmetric_eigen(cov);
     values.sort_by(f64::total_cmp);
@@ -347,7 +347,7 @@ pub fn outer_projection(mesh: &TriangleMesh) -> Projection {
 /// normal signed so that its largest component is positive (a slab lying in x, y is seen from
 /// +z) — the candidates' facing rules mean nothing for a closed surface. Fails only on a grid
 /// size over the limits.
-pub fn resample(
+pub(super) fn resample(
     mesh: &TriangleMesh,
     projection: Projection,
     size: Option<(usize, usize)>,
@@ -405,7 +405,7 @@ fn resample_single(
 
 /// Resamples `mesh` (validated, with triangles) by planar projection along the unit normal `n`
 /// — used for a mesh that is already a grid in its own (x, y) plane, to give it another size.
-pub fn resample_along(
+pub(super) fn resample_along(
     mesh: &TriangleMesh,
     n: [f64; 3],
     size: Option<(usize, usize)>,
@@ -486,9 +486,9 @@ const ON_EDGE: f64 = 1e-9;
 /// larger of this and [`MAX_BOX_COVER`] times the grid. A surface's triangles tile the grid a
 /// few times over at most; many long triangles lying across each other (a few MB of them can
 /// ask for billions of tests) are refused instead of taking minutes.
-pub const MIN_RASTER_TESTS: u64 = 1 << 26;
+pub(super) const MIN_RASTER_TESTS: u64 = 1 << 26;
 /// See [`MIN_RASTER_TESTS`].
-pub const MAX_BOX_COVER: u64 = 64;
+pub(super) const MAX_BOX_COVER: u64 = 64;
 
 fn rasterise(
     mesh: &TriangleMesh,
@@ -668,7 +668,7 @@ fn box_weights(from: usize, to: usize) -> Vec<(usize, Vec<f64>)> {
 /// averaging: each target point is the mean of the source over its own cell, the source's
 /// samples weighted by how much of their cell falls inside. The corner points stay on the
 /// corners, so the grid keeps its extent; both grids need at least 2 points per side.
-pub fn area_average(
+pub(super) fn area_average(
     z: &[f64],
     width: usize,
     height: usize,

@@ -3,11 +3,11 @@
 use super::error::ImportError;
 
 /// Most vertices a mesh file may claim (16 M): checked against the header before allocating.
-pub const MAX_VERTICES: usize = 1 << 24;
+pub(super) const MAX_VERTICES: usize = 1 << 24;
 /// Most triangles a mesh file may claim (32 M, twice [`MAX_VERTICES`] as in a closed surface).
-pub const MAX_TRIANGLES: usize = 1 << 25;
+pub(super) const MAX_TRIANGLES: usize = 1 << 25;
 /// Largest side of an automatically chosen resampling grid (257×257 ≈ 66 k points).
-pub const DEFAULT_MAX_SIDE: usize = 257;
+pub(super) const DEFAULT_MAX_SIDE: usize = 257;
 
 /// Vertices in 3-D and triangles as vertex-index triples.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -59,7 +59,7 @@ impl TriangleMesh {
 }
 
 /// Checks claimed vertex and triangle counts against [`MAX_VERTICES`] and [`MAX_TRIANGLES`].
-pub fn check_counts(
+pub(super) fn check_counts(
     format: &'static str,
     vertices: u64,
     triangles: u64,

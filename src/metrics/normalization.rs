@@ -32,12 +32,6 @@ pub struct Normalization {
 }
 
 impl Normalization {
-    /// The identity normalisation (both scales 1).
-    pub const IDENTITY: Normalization = Normalization {
-        e_scale: 1.0,
-        t_scale: 1.0,
-    };
-
     /// Explicit scales: normalised E = E / `e_scale`, normalised T = T / `t_scale`.
     ///
     /// Errors: [`MetricsError::BadScale`] unless both are positive finite numbers.

@@ -9,9 +9,9 @@
 use crate::heightfield::{Georeference, Heightfield, Placement};
 
 /// WGS84 semi-major axis, metres.
-pub const WGS84_A: f64 = 6_378_137.0;
+pub(super) const WGS84_A: f64 = 6_378_137.0;
 /// WGS84 flattening.
-pub const WGS84_F: f64 = 1.0 / 298.257_223_563;
+pub(super) const WGS84_F: f64 = 1.0 / 298.257_223_563;
 /// UTM's scale on the central meridian.
 const UTM_K0: f64 = 0.9996;
 /// UTM's false easting, metres.
@@ -35,7 +35,7 @@ pub enum MapSystem {
 
 impl MapSystem {
     /// The system an EPSG code names, if it is one of those supported.
-    pub fn from_epsg(code: u16) -> Option<Self> {
+    pub(crate) fn from_epsg(code: u16) -> Option<Self> {
         match code {
             4326 => Some(Self::LonLat),
             32601..=32660 => Some(Self::Utm {
@@ -191,7 +191,7 @@ pub enum Frame {
 
 impl Frame {
     /// The east-north-up frame at longitude `lon`, latitude `lat` (radians) and `height`.
-    pub fn east_north_up(system: MapSystem, lon: f64, lat: f64, height: f64) -> Self {
+    pub(crate) fn east_north_up(system: MapSystem, lon: f64, lat: f64, height: f64) -> Self {
         let (sin_lat, cos_lat) = lat.sin_cos();
         let (sin_lon, cos_lon) = lon.sin_cos();
         Self::Globe {
@@ -206,7 +206,7 @@ impl Frame {
     }
 
     /// The frame for `hf`'s grid, and why it is local when it is: a plain height field whose
-    /// GeoTIFF names a supported system (see [`MapSystem::from_epsg`]) is placed on the globe
+    /// GeoTIFF names a supported system (see `MapSystem::from_epsg`) is placed on the globe
     /// with its centre as the origin; every other input stays in its own coordinates.
     pub fn of(hf: &Heightfield) -> (Self, Option<String>) {
         let Some(geo) = hf.georeference() else {

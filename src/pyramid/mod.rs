@@ -2,29 +2,39 @@
 //! member of a front, the coarsest level the fewest triangles, cut into the level's 2^L × 2^L
 //! tiles that share their border edges exactly.
 //!
-//! [`plan`] picks a member per level, [`quadtree::Level`] cuts a level into tiles and shares the
-//! member's kept points out to them (with [`borders`]' points on inner tile borders, so that a
-//! border follows the surface within the member's E_max), [`tileset::tile_content`] triangulates and encodes one tile,
-//! and [`tileset::tileset_json`] ties the tiles together. [`build`] does it all in one thread (the
-//! app's download); the CLI spreads the tiles over every core through [`build_with`], with the
-//! same result.
+//! [`plan`] picks a member per level, `quadtree::Level` cuts a level into tiles and shares the
+//! member's kept points out to them (with `borders`' points on inner tile borders, so that a
+//! border follows the surface within the member's E_max), `tileset::tile_content` triangulates
+//! and encodes one tile, and `tileset::tileset_json` ties the tiles together. [`build`] does it
+//! all in one thread (the app's download); the CLI spreads the tiles over every core through
+//! [`build_with`], with the same result. The files are private; what callers need is
+//! re-exported here.
 
-pub mod borders;
-pub mod globe;
-pub mod quadtree;
-pub mod tile_mesh;
-pub mod tileset;
+mod borders;
+mod globe;
+mod quadtree;
+mod tile_mesh;
+mod tileset;
+
+pub use globe::{Frame, MapSystem};
+pub use quadtree::Tile;
+pub use tileset::{Bounds, TileContent};
+
+/// The parts a pyramid is made of, for the crate's tests (the `test-support` feature); not part
+/// of the API.
+#[cfg(feature = "test-support")]
+#[doc(hidden)]
+pub use {borders::with_border_points, globe::ecef, quadtree::Level, tile_mesh::tile_mesh};
 
 use crate::evaluator::Score;
 use crate::heightfield::Heightfield;
-use globe::Frame;
-use quadtree::{Level, Tile, max_level};
+use quadtree::max_level;
 use serde_json::Value;
 use std::fmt;
-use tileset::{LevelNote, TileContent, content_uri, tile_content, tileset_json};
+use tileset::{LevelNote, content_uri, tile_content, tileset_json};
 
 /// Each level's triangle budget is this many times its parent's.
-pub const GROWTH: usize = 4;
+pub(crate) const GROWTH: usize = 4;
 
 /// Why a pyramid cannot be made.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,14 +83,14 @@ impl fmt::Display for PyramidError {
 impl std::error::Error for PyramidError {}
 
 /// The most levels a `width` × `height` grid takes.
-pub fn most_levels(width: usize, height: usize) -> usize {
+pub(crate) fn most_levels(width: usize, height: usize) -> usize {
     max_level(width, height) as usize + 1
 }
 
 /// The member (index into `members`) each of `levels` levels shows, the root's first.
 ///
 /// The finest level shows the member of least E_sum. Each coarser level's budget is the finest
-/// member's T divided by [`GROWTH`] per level up; it shows the member of least E_sum within its
+/// member's T divided by `GROWTH` per level up; it shows the member of least E_sum within its
 /// budget among those with fewer triangles than the level below, keeping enough members with
 /// fewer triangles still for the levels above it (when none fits the budget, the fewest
 /// triangles it may take). Triangle counts therefore fall strictly towards the root.
@@ -148,10 +158,10 @@ pub fn plan(
 }
 
 /// Levels when none are asked for, fewer when the grid or the front has fewer.
-pub const DEFAULT_LEVELS: usize = 4;
+pub(crate) const DEFAULT_LEVELS: usize = 4;
 
 /// The levels a pyramid of a front of `members` on a `width` × `height` grid gets when none are
-/// asked for: [`DEFAULT_LEVELS`], or fewer when the grid or the front's distinct triangle
+/// asked for: `DEFAULT_LEVELS`, or fewer when the grid or the front's distinct triangle
 /// counts allow fewer.
 pub fn default_levels(members: &[Score], width: usize, height: usize) -> usize {
     let mut ts: Vec<usize> = members.iter().map(|s| s.t).collect();
@@ -190,7 +200,7 @@ impl Pyramid {
 }
 
 /// The frame's description for tileset.json.
-pub fn frame_note(frame: &Frame, why_local: Option<&str>) -> String {
+pub(crate) fn frame_note(frame: &Frame, why_local: Option<&str>) -> String {
     match (frame, why_local) {
         (Frame::Globe { system, .. }, _) => {
             format!("east-north-up metres at the grid's centre on WGS84, from {system}")
@@ -201,7 +211,7 @@ pub fn frame_note(frame: &Frame, why_local: Option<&str>) -> String {
 }
 
 /// One level's tiles and each tile's share of the kept points, to be turned into contents with
-/// [`tile_content`]; a [`build_with`] caller chooses how (in one thread or spread over cores).
+/// `tile_content`; a [`build_with`] caller chooses how (in one thread or spread over cores).
 pub struct LevelWork<'a> {
     /// The grid.
     pub hf: &'a Heightfield,
@@ -233,7 +243,7 @@ pub fn build_with(
     let (frame, why_local) = Frame::of(hf);
     let mut out = Vec::with_capacity(picks.len());
     for (depth, &member) in picks.iter().enumerate() {
-        let level = Level::new(hf.width(), hf.height(), depth as u32);
+        let level = quadtree::Level::new(hf.width(), hf.height(), depth as u32);
         let with_borders =
             borders::with_border_points(hf, &level, kept[member], scores[member].e_max);
         let work = LevelWork {
@@ -285,7 +295,7 @@ pub fn build(
 }
 
 /// Each level's member as tileset.json records it.
-pub fn notes(scores: &[Score], picks: &[usize]) -> Vec<LevelNote> {
+pub(crate) fn notes(scores: &[Score], picks: &[usize]) -> Vec<LevelNote> {
     picks
         .iter()
         .map(|&member| LevelNote {

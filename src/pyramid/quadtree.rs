@@ -4,7 +4,7 @@
 /// Grid-line positions cutting `points` grid points into `tiles` runs that share their end
 /// points: `tiles + 1` increasing positions from 0 to `points − 1`. Position i is
 /// ⌊i·(points − 1) / tiles⌋, so level L + 1's even positions are level L's.
-pub fn cuts(points: usize, tiles: usize) -> Vec<usize> {
+pub(super) fn cuts(points: usize, tiles: usize) -> Vec<usize> {
     (0..=tiles).map(|i| i * (points - 1) / tiles).collect()
 }
 
@@ -128,7 +128,7 @@ impl Level {
 
 /// The deepest level whose tiles keep at least two grid cells per side on a `width` × `height`
 /// grid.
-pub fn max_level(width: usize, height: usize) -> u32 {
+pub(super) fn max_level(width: usize, height: usize) -> u32 {
     let cells = width.min(height).saturating_sub(1);
     let mut level = 0;
     while (cells >> (level + 1)) >= 2 {

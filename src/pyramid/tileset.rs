@@ -4,7 +4,7 @@
 use super::globe::Frame;
 use super::quadtree::Tile;
 use super::tile_mesh::tile_mesh;
-use crate::export::glb::{GlbMesh, vertex_normals, write_glb};
+use crate::export::{GlbMesh, vertex_normals, write_glb};
 use crate::heightfield::Heightfield;
 use serde_json::{Value, json};
 
@@ -41,7 +41,7 @@ impl Bounds {
 
     /// The 3D Tiles `box`: centre and three half-axes. A flat side gets a small thickness,
     /// since a box with a zero half-axis has no volume to test against.
-    pub fn to_box(self) -> [f64; 12] {
+    pub(crate) fn to_box(self) -> [f64; 12] {
         let c: [f64; 3] = std::array::from_fn(|k| (self.min[k] + self.max[k]) / 2.0);
         let half: [f64; 3] = std::array::from_fn(|k| (self.max[k] - self.min[k]) / 2.0);
         let floor = 1e-3 * half.iter().copied().fold(0.0, f64::max);
@@ -69,12 +69,12 @@ pub struct TileContent {
 }
 
 /// The content file of `tile`, relative to tileset.json.
-pub fn content_uri(tile: &Tile) -> String {
+pub(super) fn content_uri(tile: &Tile) -> String {
     format!("{}/{}/{}.glb", tile.level, tile.x, tile.y)
 }
 
 /// Triangulates `tile` over `kept` (see [`tile_mesh`]) and encodes it in `frame`.
-pub fn tile_content(
+pub(super) fn tile_content(
     hf: &Heightfield,
     frame: &Frame,
     tile: &Tile,
@@ -108,7 +108,7 @@ pub fn tile_content(
 
 /// What tileset.json records about one level: the front member it shows.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LevelNote {
+pub(crate) struct LevelNote {
     /// The member's index in front.json.
     pub member: usize,
     /// Its triangles over the whole grid.
@@ -124,7 +124,7 @@ pub struct LevelNote {
 /// its own E_max and its children's errors, so errors never grow down the tree; its box holds
 /// its own and its children's. `frame` gives the root transform; `z_range` the tileset's
 /// error (nothing shown is off by at most the surface's whole height).
-pub fn tileset_json(
+pub(super) fn tileset_json(
     levels: &[Vec<TileContent>],
     notes: &[LevelNote],
     frame: &Frame,

@@ -1,63 +1,46 @@
-//! The one place the tiling builds an optimizer from an algorithm's name, its parameters as
-//! JSON (as front.json records them) and a seed.
+//! A tile's method: the run's [`Config`] with the tile's share of its budget, built on the
+//! tile's grid, and the tile's seed.
 
 use super::{TilePlan, TilingError};
-use crate::catalogue::{Algorithm, Config};
-use crate::evolution::memetic::search_budget;
+use crate::catalogue::{Config, Running};
 use crate::heightfield::Heightfield;
-use crate::optimizer::Optimizer;
 use std::sync::Arc;
 
-/// An optimizer `algorithm` (a catalogue name) on `hf` with `params` (its params type as
-/// JSON; `null` for the defaults) and `seed` (ignored by the deterministic methods).
-pub fn build_optimizer(
-    hf: Arc<Heightfield>,
-    algorithm: &str,
-    params: &serde_json::Value,
-    seed: u64,
-) -> Result<Box<dyn Optimizer>, TilingError> {
-    let bad = |reason: String| TilingError::BadParams {
-        algorithm: algorithm.to_string(),
-        reason,
-    };
-    let method = Algorithm::from_name(algorithm)
-        .ok_or_else(|| TilingError::UnknownAlgorithm(algorithm.to_string()))?;
-    let built = Config::from_json(method, params)
-        .map_err(bad)?
-        .build(hf, seed)
-        .map_err(bad)?;
-    Ok(built.optimizer)
+/// The method every tile of `plan` runs, from the run's `config`: the catalogue's
+/// [`Config::tile_share`] for a grid of the plan's W·H points cut into its tiles (the memetic
+/// search's share of the whole grid's budget; other methods as given). Sharing a shared
+/// config changes nothing, so the recorded config and the tiles' agree.
+pub fn tile_config(plan: &TilePlan, config: &Config) -> Config {
+    let points = (plan.width() * plan.height()) as u64;
+    config.clone().tile_share(points, plan.len())
 }
 
-/// The parameters every tile of `plan` runs `algorithm` with, from the run's `params` (as
-/// [`build_optimizer`] takes them). The memetic method, unless given a budget
-/// (`max_evaluations` or `search_evaluations`), searches for the whole grid's search budget
-/// ([`search_budget`] of W·H points) shared evenly among the tiles, on top of each tile's own
-/// seeding: the sweeps and the decimation, which give a tile's front nearly all its quality at
-/// the triangle counts the whole-grid front combines tiles at, grow with the tile, while the
-/// search, whose gains are mostly on a front's sparsest meshes, then costs as much in a tiled
-/// run as in an untiled one. A one-tile plan gets the untiled budget. Other methods' parameters
-/// are returned as given.
-pub fn tile_params(
+/// The optimizer of tile `index` of `plan`, whose own grid is `hf`: `config` (its tile share,
+/// [`tile_config`]) with the tile's seed. Errors: the grid is not the tile's, or the method
+/// refuses its parameters.
+pub(crate) fn build_tile(
+    hf: Arc<Heightfield>,
     plan: &TilePlan,
-    algorithm: &str,
-    params: &serde_json::Value,
-) -> serde_json::Value {
-    let budgeted = |key: &str| params.get(key).is_some_and(|v| !v.is_null());
-    let memetic = Algorithm::from_name(algorithm) == Some(Algorithm::Memetic);
-    if !memetic || budgeted("max_evaluations") || budgeted("search_evaluations") {
-        return params.clone();
+    index: usize,
+    config: &Config,
+    seed: u64,
+) -> Result<Box<dyn Running>, TilingError> {
+    let tile = plan.tile(index).ok_or(TilingError::NoSuchTile {
+        index,
+        tiles: plan.len(),
+    })?;
+    if (hf.width(), hf.height()) != (tile.w, tile.h) {
+        return Err(TilingError::GridMismatch {
+            plan: (tile.w, tile.h),
+            grid: (hf.width(), hf.height()),
+        });
     }
-    let mut out = match params {
-        serde_json::Value::Object(map) => map.clone(),
-        serde_json::Value::Null => serde_json::Map::new(),
-        // Refused by `build_optimizer` with its own message.
-        _ => return params.clone(),
-    };
-    let points = (plan.width() * plan.height()) as u64;
-    let share = search_budget(points).div_ceil(plan.len().max(1) as u64);
-    out.insert("search_evaluations".to_string(), share.into());
-    serde_json::Value::Object(out)
+    let config = tile_config(plan, config);
+    let algorithm = config.algorithm();
+    let built = config
+        .build(hf, tile_seed(seed, index))
+        .map_err(|reason| TilingError::BadParams { algorithm, reason })?;
+    Ok(built.optimizer)
 }
 
 /// The seed of tile `index` in a run with `seed`: a SplitMix64 mix of both, so neighbouring

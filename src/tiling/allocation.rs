@@ -15,7 +15,7 @@
 
 /// One tile's option: its share of the whole-grid error and its triangles.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TileOption {
+pub(super) struct TileOption {
     /// Error share.
     pub e: f64,
     /// Largest point error.
@@ -26,7 +26,7 @@ pub struct TileOption {
 
 /// One whole-grid allocation: an option per tile and its sums.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Allocation {
+pub(super) struct Allocation {
     /// Σ E over the tiles, added in tile order.
     pub e: f64,
     /// The largest E_max of the chosen options.
@@ -39,7 +39,7 @@ pub struct Allocation {
 
 /// The indices of `options`' non-dominated members by increasing T (decreasing E); the first
 /// of equal (E, T) options wins.
-pub fn non_dominated(options: &[TileOption]) -> Vec<usize> {
+pub(super) fn non_dominated(options: &[TileOption]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..options.len()).collect();
     order.sort_by(|&a, &b| {
         let (x, y) = (&options[a], &options[b]);
@@ -154,7 +154,7 @@ pub fn allocate_max(options: &[Vec<TileOption>]) -> Vec<Allocation> {
 
 /// The non-dominated whole-grid allocations found by the hull walk and its gap filling, by
 /// increasing T. Every tile needs at least one option; an empty list of tiles has none.
-pub fn allocate(options: &[Vec<TileOption>]) -> Vec<Allocation> {
+pub(super) fn allocate(options: &[Vec<TileOption>]) -> Vec<Allocation> {
     if options.is_empty() || options.iter().any(|o| o.is_empty()) {
         return Vec::new();
     }

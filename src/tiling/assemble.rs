@@ -70,7 +70,7 @@ impl TiledFront {
 /// The members are non-dominated in the tiles' error measure: for `sum` the allocation adds E
 /// shares, for `rms` squared-error shares (RMS grows with their sum), and for `max` each
 /// whole-grid member is, at a bound on E_max, the fewest total T with every tile's E_max
-/// within it ([`allocate_max`]). Tiles run in different measures are refused.
+/// within it. Tiles run in different measures are refused.
 pub fn assemble(plan: &TilePlan, mut tiles: Vec<TileFront>) -> Result<TiledFront, TilingError> {
     tiles.sort_by_key(|t| t.index);
     let indices: Vec<usize> = tiles.iter().map(|t| t.index).collect();
@@ -91,12 +91,10 @@ pub fn assemble(plan: &TilePlan, mut tiles: Vec<TileFront>) -> Result<TiledFront
     }
     let measure = tiles.first().map_or(ErrorMeasure::Sum, |t| t.measure);
     if let Some(other) = tiles.iter().find(|t| t.measure != measure) {
-        return Err(TilingError::BadParams {
-            algorithm: "tiles".to_string(),
-            reason: format!(
-                "tile 0 was run in error measure {measure}, tile {} in {}",
-                other.index, other.measure
-            ),
+        return Err(TilingError::MixedMeasures {
+            first: measure,
+            index: other.index,
+            other: other.measure,
         });
     }
     let points = (plan.width() * plan.height()) as f64;

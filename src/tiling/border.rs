@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 /// The four sides of a tile, in the order [`TileBorders`] keeps them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Side {
+pub(crate) enum Side {
     /// Row 0, left to right.
     Top,
     /// The last row, left to right.
@@ -24,10 +24,10 @@ pub enum Side {
 
 impl Side {
     /// Every side, in storage order.
-    pub const ALL: [Side; 4] = [Side::Top, Side::Bottom, Side::Left, Side::Right];
+    pub(crate) const ALL: [Side; 4] = [Side::Top, Side::Bottom, Side::Left, Side::Right];
 
     /// The tile-local index of point `position` along this side of a `w`×`h` tile.
-    pub fn local_index(self, position: usize, w: usize, h: usize) -> u32 {
+    pub(crate) fn local_index(self, position: usize, w: usize, h: usize) -> u32 {
         let (x, y) = match self {
             Side::Top => (position, 0),
             Side::Bottom => (position, h - 1),
@@ -38,7 +38,7 @@ impl Side {
     }
 
     /// Points along this side of a `w`×`h` tile, end points included.
-    pub fn length(self, w: usize, h: usize) -> usize {
+    pub(crate) fn length(self, w: usize, h: usize) -> usize {
         match self {
             Side::Top | Side::Bottom => w,
             Side::Left | Side::Right => h,
@@ -48,7 +48,7 @@ impl Side {
 
 /// Interior points (end points excluded) a line keeps at border level `level`: 0, 1, 2, 4, 8,
 /// … (before the cap of the line's own interior points).
-pub fn interior_points(level: usize) -> usize {
+pub(super) fn interior_points(level: usize) -> usize {
     if level == 0 {
         0
     } else {
@@ -58,14 +58,14 @@ pub fn interior_points(level: usize) -> usize {
 
 /// The number of border levels for tiles of at most `tile` points a side: up to the first level
 /// that keeps every point of the longest line.
-pub fn level_count(tile: usize) -> usize {
+pub(super) fn level_count(tile: usize) -> usize {
     let interior = tile.saturating_sub(2);
     (0..).find(|&k| interior_points(k) >= interior).unwrap_or(0) + 1
 }
 
 /// The interior points of a line with heights `profile` (at least 2), ranked by 1-D greedy
 /// insertion: positions 1 ..= n − 2, most important first.
-pub fn insertion_order(profile: &[f64]) -> Vec<u32> {
+pub(super) fn insertion_order(profile: &[f64]) -> Vec<u32> {
     let n = profile.len();
     let mut order = Vec::with_capacity(n.saturating_sub(2));
     if n <= 2 {
@@ -130,13 +130,13 @@ impl Ord for Entry {
 
 /// Σ |z − z̃| over the points of a line that are not kept, z̃ interpolating linearly between
 /// kept neighbours; `kept` flags the kept positions (both end points must be).
-pub fn line_error(profile: &[f64], kept: &[bool]) -> f64 {
+pub(super) fn line_error(profile: &[f64], kept: &[bool]) -> f64 {
     line_error_with(profile, kept, f64::abs)
 }
 
 /// Σ (z − z̃)² over the line's points, as [`line_error`] interpolates them: what a tile's
 /// squared-error share leaves out for a neighbour that counts the line.
-pub fn line_square_error(profile: &[f64], kept: &[bool]) -> f64 {
+pub(super) fn line_square_error(profile: &[f64], kept: &[bool]) -> f64 {
     line_error_with(profile, kept, |d| d * d)
 }
 
@@ -184,7 +184,7 @@ impl TileBorders {
     }
 
     /// The positions `side` keeps at `level`, most important first.
-    pub fn kept_on(&self, side: Side, level: usize) -> &[u32] {
+    pub(crate) fn kept_on(&self, side: Side, level: usize) -> &[u32] {
         let order = &self.order[side as usize];
         &order[..interior_points(level).min(order.len())]
     }
@@ -206,12 +206,12 @@ impl TileBorders {
     }
 
     /// The error Σ |z − z̃| of `side`'s points at `level` (z̃ on the line's kept polyline).
-    pub fn side_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
+    pub(crate) fn side_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
         self.side_error_with(side, level, z, line_error)
     }
 
     /// [`side_error`](Self::side_error) in squared errors ([`line_square_error`]).
-    pub fn side_square_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
+    pub(crate) fn side_square_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
         self.side_error_with(side, level, z, line_square_error)
     }
 
@@ -236,7 +236,7 @@ impl TileBorders {
     }
 
     /// True when tile-local index `local` lies on the tile's border.
-    pub fn on_border(&self, local: u32) -> bool {
+    pub(crate) fn on_border(&self, local: u32) -> bool {
         let (x, y) = (local as usize % self.w, local as usize / self.w);
         x == 0 || y == 0 || x == self.w - 1 || y == self.h - 1
     }

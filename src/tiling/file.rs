@@ -13,24 +13,16 @@
 //! ```
 
 use super::TiledFront;
-use crate::front_file::GridInfo;
+use crate::front_file::RunHeader;
 use serde::{Deserialize, Serialize};
 
 /// The whole file of a tiled run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TiledFrontFile {
-    /// The whole grid.
-    pub grid: GridInfo,
-    /// The algorithm run on every tile, as the CLI spells it.
-    pub algorithm: String,
-    /// Its parameters (each tile's run).
-    pub params: serde_json::Value,
-    /// The run's seed; tile k runs with [`tile_seed`](super::tile_seed)`(seed, k)`.
-    pub seed: u64,
-    /// Evaluations spent over all tiles.
-    pub evaluations: u64,
-    /// Wall time of the run in milliseconds (0 when unknown).
-    pub millis: u64,
+    /// The whole grid, the method as every tile ran it ([`tile_config`](super::tile_config)),
+    /// the run's seed and its cost over all tiles.
+    #[serde(flatten)]
+    pub header: RunHeader,
     /// Threads the tiles ran on (the front does not depend on it).
     pub threads: usize,
     /// The tiles' fronts and the whole-grid members.

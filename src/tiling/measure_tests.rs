@@ -3,6 +3,7 @@
 
 use super::allocation::{TileOption, allocate_max};
 use super::*;
+use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::exact::paper_e::brute_force;
 use crate::front::dominates;
 use crate::heightfield::Heightfield;
@@ -103,8 +104,9 @@ fn tiled_in(hf: &Heightfield, measure: ErrorMeasure, algorithm: &str) -> TiledFr
         "memetic" => serde_json::json!({"max_evaluations": 700, "error": measure.name()}),
         _ => serde_json::json!({"records": 24, "error": measure.name()}),
     };
+    let config = Config::from_json(Algorithm::from_name(algorithm).unwrap(), &params).unwrap();
     let fronts = (0..plan.len())
-        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, algorithm, &params, 7).unwrap())
+        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, &config, 7).unwrap())
         .collect();
     assemble(&plan, fronts).unwrap()
 }
@@ -148,10 +150,11 @@ fn threads_do_not_change_the_bits_in_any_measure() {
     let plan = TilePlan::new(80, 45, 33).unwrap();
     for measure in ErrorMeasure::ALL {
         let params = serde_json::json!({"max_evaluations": 500, "error": measure.name()});
+        let config = Config::from_json(Algorithm::Memetic, &params).unwrap();
         let runs: Vec<String> = [1, 2, 3]
             .into_iter()
             .map(|threads| {
-                let front = run_tiled(&hf, &plan, "memetic", &params, 5, threads).unwrap();
+                let front = run_tiled(&hf, &plan, &config, 5, threads).unwrap();
                 assert_eq!(front.measure(), measure);
                 serde_json::to_string(&front).unwrap()
             })

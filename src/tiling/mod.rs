@@ -5,56 +5,60 @@
 //! **The mesh of a tiled grid** is the union of its tiles' canonical triangulations (an untiled
 //! grid keeps the canonical Delaunay triangulation of its kept set). It is crack-free by
 //! construction: every border line's vertices are fixed before optimisation from the line's
-//! profile alone ([`border`]), the same from both sides, at one of a few nested border levels;
+//! profile alone (`border`), the same from both sides, at one of a few nested border levels;
 //! each tile keeps its corners and its border vertices, so its triangulation has the border
 //! polyline as hull edges, and z̃ along a shared line is the same 1-D interpolation from both
 //! sides: no cracks and no T-junctions. A line's points are then counted by one of its two
 //! tiles only, so E_sum and T of the whole mesh are the sums of the tiles' shares, and E_max the
 //! largest tile's.
 //!
-//! - [`plan`]: [`TilePlan`], the cut, and [`TilePlan::cut`], a tile's own grid;
-//! - [`border`]: border lines ranked by 1-D greedy insertion, border levels;
-//! - [`algorithm`]: an optimizer from a name, parameters as JSON and a seed; per-tile
-//!   parameters and seeds;
-//! - [`tile_front`]: [`run_tile`], one tile's front, [`TileFront`];
-//! - [`allocation`]: the multiple-choice allocation of one option per tile;
-//! - [`assemble`](mod@assemble): [`assemble`], the whole-grid front, [`TiledFront`];
-//! - [`mesh`]: a whole-grid member's tile parts, kept points and triangles;
-//! - [`file`]: front.json of a tiled run;
+//! - `plan`: [`TilePlan`], the cut, and [`TilePlan::cut`], a tile's own grid;
+//! - `border`: border lines ranked by 1-D greedy insertion, border levels;
+//! - `algorithm`: a tile's method (the run's catalogue [`Config`](crate::catalogue::Config)
+//!   with its tile share of the budget) and seed;
+//! - `tile_front`: [`run_tile`], one tile's front, [`TileFront`];
+//! - `allocation`: the multiple-choice allocation of one option per tile;
+//! - `assemble`: [`assemble()`], the whole-grid front, [`TiledFront`];
+//! - `mesh`: a whole-grid member's tile parts, kept points and triangles;
+//! - `file`: front.json of a tiled run;
 //! - `parallel` (native): [`run_tiled`] on a pool of threads.
 //!
+//! The files are private; what callers need is re-exported here.
+//!
 //! ```
+//! use paretomesh::baselines::GreedyParams;
+//! use paretomesh::catalogue::Config;
 //! use paretomesh::heightfield::Heightfield;
 //! use paretomesh::tiling::{TilePlan, assemble, run_tile};
 //! let (w, h) = (70, 40);
 //! let z = (0..w * h).map(|i| ((i % w) as f64 * 0.3).sin() + (i / w) as f64 * 0.05).collect();
 //! let hf = Heightfield::new(w, h, z).unwrap();
 //! let plan = TilePlan::new(w, h, 36).unwrap();
-//! let params = serde_json::json!({"records": 16});
+//! let greedy = Config::Greedy(GreedyParams { records: 16, ..GreedyParams::default() });
 //! let fronts = (0..plan.len())
-//!     .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, "greedy", &params, 1).unwrap())
+//!     .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, &greedy, 1).unwrap())
 //!     .collect();
 //! let front = assemble(&plan, fronts).unwrap();
 //! let mesh = front.mesh(&hf, 0).unwrap();
 //! assert_eq!(mesh.triangles.len() as u64, front.members[0].t);
 //! ```
 
-pub mod algorithm;
-pub mod allocation;
-pub mod assemble;
-pub mod border;
-pub mod file;
+mod algorithm;
+mod allocation;
+mod assemble;
+mod border;
+mod file;
 #[cfg(test)]
 mod measure_tests;
-pub mod mesh;
+mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
-pub mod parallel;
-pub mod plan;
+mod parallel;
+mod plan;
 #[cfg(test)]
 mod tests;
-pub mod tile_front;
+mod tile_front;
 
-pub use algorithm::{build_optimizer, tile_params, tile_seed};
+pub use algorithm::{tile_config, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
 pub use file::TiledFrontFile;
 pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
@@ -62,6 +66,9 @@ pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
 pub use parallel::{run_tiled, run_tiled_with_progress};
 pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
 pub use tile_front::{TileCandidate, TileFront, run_tile, run_tile_keeping};
+
+pub(crate) use border::TileBorders;
+pub(crate) use tile_front::MEMBERS_PER_TILE;
 
 /// Why a tiling step cannot go on.
 #[derive(Clone, Debug, PartialEq)]
@@ -101,19 +108,26 @@ pub enum TilingError {
         /// Members there are.
         members: usize,
     },
-    /// [`assemble`] did not get exactly one front per tile.
+    /// [`assemble()`] did not get exactly one front per tile.
     WrongTiles {
         /// Tiles in the plan.
         expected: usize,
         /// The tile indices given, sorted.
         given: Vec<usize>,
     },
-    /// An algorithm [`build_optimizer`] does not know.
-    UnknownAlgorithm(String),
+    /// [`assemble()`] got tiles run in different error measures.
+    MixedMeasures {
+        /// Tile 0's measure.
+        first: crate::measure::ErrorMeasure,
+        /// The first tile run in another one.
+        index: usize,
+        /// Its measure.
+        other: crate::measure::ErrorMeasure,
+    },
     /// Parameters the algorithm refuses.
     BadParams {
         /// The algorithm.
-        algorithm: String,
+        algorithm: crate::catalogue::Algorithm,
         /// Why.
         reason: String,
     },
@@ -153,15 +167,16 @@ impl std::fmt::Display for TilingError {
                 f,
                 "assembling needs one front for each of the {expected} tiles, got tiles {given:?}"
             ),
-            Self::UnknownAlgorithm(name) => write!(
+            Self::MixedMeasures {
+                first,
+                index,
+                other,
+            } => write!(
                 f,
-                "unknown algorithm {name:?}: expected one of {}",
-                crate::catalogue::Algorithm::ALL
-                    .map(|a| a.name())
-                    .join(", ")
+                "tile 0 was run in error measure {first}, tile {index} in {other}"
             ),
             Self::BadParams { algorithm, reason } => {
-                write!(f, "bad parameters for {algorithm}: {reason}")
+                write!(f, "bad parameters for {}: {reason}", algorithm.name())
             }
             Self::Grid(e) => write!(f, "cannot cut the tile: {e}"),
             Self::Evaluate(e) => write!(f, "cannot score a tile's mesh: {e}"),

@@ -1,24 +1,26 @@
 //! Every tile of a plan run on a pool of threads (native builds only).
 
+use super::algorithm::build_tile;
 use super::assemble::{TiledFront, assemble};
-use super::tile_front::{TileFront, run_tile};
+use super::tile_front::{MEMBERS_PER_TILE, TileFront, run_built_tile};
 use super::{TilePlan, TilingError};
+use crate::catalogue::Config;
 use crate::heightfield::Heightfield;
 use rayon::prelude::*;
+use std::sync::{Arc, Mutex};
 
-/// Runs every tile of `plan` on `hf` with `algorithm`, `params` and `seed` on `threads` threads
-/// (0 = every core) and assembles the whole-grid front. Each tile is a pure function of its
-/// inputs and the tiles are assembled in index order, so the front has the same bits for any
-/// number of threads.
+/// Runs every tile of `plan` on `hf` with `config` and `seed` on `threads` threads (0 = every
+/// core) and assembles the whole-grid front. Each tile is a pure function of its inputs and the
+/// tiles are assembled in index order, so the front has the same bits for any number of
+/// threads.
 pub fn run_tiled(
     hf: &Heightfield,
     plan: &TilePlan,
-    algorithm: &str,
-    params: &serde_json::Value,
+    config: &Config,
     seed: u64,
     threads: usize,
 ) -> Result<TiledFront, TilingError> {
-    run_tiled_with_progress(hf, plan, algorithm, params, seed, threads, &|_| {})
+    run_tiled_with_progress(hf, plan, config, seed, threads, &|_| {})
 }
 
 /// [`run_tiled`], calling `done(tile index)` as each tile finishes (from the thread that ran
@@ -26,16 +28,17 @@ pub fn run_tiled(
 pub fn run_tiled_with_progress(
     hf: &Heightfield,
     plan: &TilePlan,
-    algorithm: &str,
-    params: &serde_json::Value,
+    config: &Config,
     seed: u64,
     threads: usize,
     done: &(dyn Fn(usize) + Sync),
 ) -> Result<TiledFront, TilingError> {
     plan.check_grid(hf)?;
-    // Fail on a bad algorithm or parameters before any tile's long run.
-    let probe = plan.cut(hf, 0)?;
-    super::algorithm::build_optimizer(std::sync::Arc::new(probe), algorithm, params, seed)?;
+    // Tile 0's optimizer is built first, so that parameters its method refuses fail the run
+    // before any tile's long run; it is then the one tile 0 runs.
+    let first = Arc::new(plan.cut(hf, 0)?);
+    let built = build_tile(first.clone(), plan, 0, config, seed)?;
+    let first = Mutex::new(Some((first, built)));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -44,8 +47,20 @@ pub fn run_tiled_with_progress(
         (0..plan.len())
             .into_par_iter()
             .map(|index| {
-                let tile_hf = plan.cut(hf, index)?;
-                let front = run_tile(&tile_hf, plan, index, algorithm, params, seed)?;
+                let taken = if index == 0 {
+                    first.lock().ok().and_then(|mut f| f.take())
+                } else {
+                    None
+                };
+                let (tile_hf, optimizer) = match taken {
+                    Some(started) => started,
+                    None => {
+                        let tile_hf = Arc::new(plan.cut(hf, index)?);
+                        let optimizer = build_tile(tile_hf.clone(), plan, index, config, seed)?;
+                        (tile_hf, optimizer)
+                    }
+                };
+                let front = run_built_tile(tile_hf, optimizer, plan, index, MEMBERS_PER_TILE)?;
                 done(index);
                 Ok(front)
             })

@@ -87,13 +87,16 @@ impl TilePlan {
     /// or a grid under 2×2.
     ///
     /// ```
-    /// use paretomesh::tiling::TilePlan;
+    /// use paretomesh::tiling::{TilePlan, TilingError};
     /// let plan = TilePlan::new(100, 60, 50).unwrap();
     /// let tiles = plan.tiles();
     /// assert_eq!(tiles.len(), 3 * 2);
     /// // Neighbours share a column: the first tile ends where the second starts.
     /// assert_eq!(tiles[0].x0 + tiles[0].w - 1, tiles[1].x0);
-    /// assert!(TilePlan::new(100, 60, 8).is_err());
+    /// assert!(matches!(
+    ///     TilePlan::new(100, 60, 8),
+    ///     Err(TilingError::TileTooSmall { tile: 8, .. })
+    /// ));
     /// ```
     pub fn new(width: usize, height: usize, tile: usize) -> Result<TilePlan, TilingError> {
         if tile < MIN_TILE {
@@ -177,12 +180,12 @@ impl TilePlan {
     }
 
     /// True when tile `index` shares its left column with another tile.
-    pub fn has_left_neighbour(&self, index: usize) -> bool {
+    pub(crate) fn has_left_neighbour(&self, index: usize) -> bool {
         !index.is_multiple_of(self.columns())
     }
 
     /// True when tile `index` shares its top row with another tile.
-    pub fn has_top_neighbour(&self, index: usize) -> bool {
+    pub(crate) fn has_top_neighbour(&self, index: usize) -> bool {
         index / self.columns() > 0
     }
 

@@ -4,6 +4,7 @@
 use super::allocation::{TileOption, allocate};
 use super::border::{Side, TileBorders, insertion_order, line_error};
 use super::*;
+use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::exact::paper_e::brute_force;
 use crate::heightfield::Heightfield;
 use std::collections::HashMap;
@@ -22,14 +23,22 @@ fn terrain(w: usize, h: usize, seed: u64) -> Heightfield {
     Heightfield::new(w, h, z).unwrap()
 }
 
-fn greedy() -> serde_json::Value {
-    serde_json::json!({"records": 24})
+fn greedy() -> Config {
+    Config::from_json(Algorithm::Greedy, &serde_json::json!({"records": 24})).unwrap()
 }
 
-fn tiled(hf: &Heightfield, tile: usize, algorithm: &str, params: &serde_json::Value) -> TiledFront {
+fn memetic(max_evaluations: u64) -> Config {
+    Config::from_json(
+        Algorithm::Memetic,
+        &serde_json::json!({ "max_evaluations": max_evaluations }),
+    )
+    .unwrap()
+}
+
+fn tiled(hf: &Heightfield, tile: usize, config: &Config) -> TiledFront {
     let plan = TilePlan::new(hf.width(), hf.height(), tile).unwrap();
     let fronts = (0..plan.len())
-        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, algorithm, params, 7).unwrap())
+        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, config, 7).unwrap())
         .collect();
     assemble(&plan, fronts).unwrap()
 }
@@ -146,7 +155,7 @@ fn check_crack_free(hf: &Heightfield, mesh: &TiledMesh) {
 #[test]
 fn assembled_members_are_exact_and_crack_free() {
     let hf = terrain(70, 52, 3);
-    let front = tiled(&hf, 33, "greedy", &greedy());
+    let front = tiled(&hf, 33, &greedy());
     assert!(front.plan.len() >= 4);
     check_members(&hf, &front);
 }
@@ -154,7 +163,7 @@ fn assembled_members_are_exact_and_crack_free() {
 #[test]
 fn tile_members_are_written_packed_and_read_in_either_form() {
     let hf = terrain(70, 52, 3);
-    let front = tiled(&hf, 33, "greedy", &greedy());
+    let front = tiled(&hf, 33, &greedy());
     let written = serde_json::to_value(&front).unwrap();
     let mut diffs = 0;
     for tile in written["tiles"].as_array().unwrap() {
@@ -199,39 +208,32 @@ fn memetic_tiles_share_the_whole_grids_search_budget() {
     let plan = TilePlan::new(2048, 2048, 1025).unwrap();
     assert_eq!(plan.len(), 4);
     let share = search_budget(2048 * 2048).div_ceil(4);
-    let given = serde_json::json!({"population": 30, "max_evaluations": null});
-    let tiled = tile_params(&plan, "memetic", &given);
-    assert_eq!(tiled["search_evaluations"], share);
-    assert_eq!(tiled["population"], 30);
+    let given =
+        Config::from_json(Algorithm::Memetic, &serde_json::json!({"population": 30})).unwrap();
+    let tiled = tile_config(&plan, &given);
+    let Config::Memetic(p) = &tiled else {
+        panic!("memetic stays memetic: {tiled:?}");
+    };
+    assert_eq!((p.search_evaluations, p.population), (Some(share), 30));
     // Idempotent, so recording the tile parameters and running tiles with them agree.
-    assert_eq!(tile_params(&plan, "memetic", &tiled), tiled);
-    assert_eq!(
-        tile_params(&plan, "memetic", &serde_json::Value::Null)["search_evaluations"],
-        share
-    );
+    assert_eq!(tile_config(&plan, &tiled), tiled);
     // A budget given is kept, and other methods' parameters are left alone.
-    for kept in [
-        serde_json::json!({"max_evaluations": 5000}),
-        serde_json::json!({"search_evaluations": 7}),
-    ] {
-        assert_eq!(tile_params(&plan, "memetic", &kept), kept);
-    }
-    assert_eq!(tile_params(&plan, "greedy", &greedy()), greedy());
+    assert_eq!(tile_config(&plan, &memetic(5000)), memetic(5000));
+    assert_eq!(tile_config(&plan, &greedy()), greedy());
     // A tile's memetic budget is its own seeding and the share; one tile is the untiled run.
     let hf = terrain(40, 30, 1);
-    let params: MemeticParams = serde_json::from_value(tiled).unwrap();
-    assert_eq!(params.budget(&hf), seeding_budget(&hf) + share);
+    assert_eq!(p.budget(&hf), seeding_budget(&hf) + share);
     let one = TilePlan::new(40, 30, 40).unwrap();
-    let untiled: MemeticParams =
-        serde_json::from_value(tile_params(&one, "memetic", &serde_json::Value::Null)).unwrap();
+    let Config::Memetic(untiled) = tile_config(&one, &Algorithm::Memetic.defaults()) else {
+        panic!("memetic stays memetic");
+    };
     assert_eq!(untiled.budget(&hf), MemeticParams::default().budget(&hf));
 }
 
 #[test]
 fn memetic_tiles_assemble_exact_members() {
     let hf = terrain(50, 40, 11);
-    let params = serde_json::json!({"max_evaluations": 1500});
-    let front = tiled(&hf, 33, "memetic", &params);
+    let front = tiled(&hf, 33, &memetic(1500));
     check_members(&hf, &front);
 }
 
@@ -269,16 +271,23 @@ fn shared_lines_keep_the_same_vertices_from_both_sides() {
 fn threads_do_not_change_the_bits() {
     let hf = terrain(80, 45, 9);
     let plan = TilePlan::new(80, 45, 33).unwrap();
-    let params = serde_json::json!({"max_evaluations": 800});
+    let config = memetic(800);
     let runs: Vec<String> = [1, 2, 3]
         .into_iter()
         .map(|threads| {
-            let front = run_tiled(&hf, &plan, "memetic", &params, 5, threads).unwrap();
+            let front = run_tiled(&hf, &plan, &config, 5, threads).unwrap();
             serde_json::to_string(&front).unwrap()
         })
         .collect();
     assert_eq!(runs[0], runs[1]);
     assert_eq!(runs[0], runs[2]);
+    // Tile 0 runs the optimizer built to check the parameters: the same front as each tile
+    // run on its own.
+    let fronts = (0..plan.len())
+        .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, &config, 5).unwrap())
+        .collect();
+    let alone = assemble(&plan, fronts).unwrap();
+    assert_eq!(serde_json::to_string(&alone).unwrap(), runs[0]);
     // A tile front survives serialisation (as it does on its way from a worker process).
     let front: TiledFront = serde_json::from_str(&runs[0]).unwrap();
     assert_eq!(serde_json::to_string(&front).unwrap(), runs[0]);
@@ -288,10 +297,9 @@ fn threads_do_not_change_the_bits() {
 fn a_tile_is_a_pure_function_of_its_inputs() {
     let hf = terrain(60, 60, 2);
     let plan = TilePlan::new(60, 60, 33).unwrap();
-    let params = serde_json::json!({"max_evaluations": 600});
     let tile = plan.cut(&hf, 3).unwrap();
-    let a = run_tile(&tile, &plan, 3, "memetic", &params, 1).unwrap();
-    let b = run_tile(&tile, &plan, 3, "memetic", &params, 1).unwrap();
+    let a = run_tile(&tile, &plan, 3, &memetic(600), 1).unwrap();
+    let b = run_tile(&tile, &plan, 3, &memetic(600), 1).unwrap();
     assert_eq!(a, b);
     // Serialised and read back (as from a worker process), it is the same front.
     let shipped: TileFront = serde_json::from_str(&serde_json::to_string(&a).unwrap()).unwrap();
@@ -299,24 +307,24 @@ fn a_tile_is_a_pure_function_of_its_inputs() {
 }
 
 #[test]
-fn bad_algorithms_and_parameters_are_refused() {
+fn bad_parameters_and_grids_are_refused() {
     let hf = terrain(40, 40, 1);
     let plan = TilePlan::new(40, 40, 33).unwrap();
     let tile = plan.cut(&hf, 0).unwrap();
-    let unknown = run_tile(&tile, &plan, 0, "annealing", &serde_json::Value::Null, 1);
-    assert!(matches!(unknown, Err(TilingError::UnknownAlgorithm(_))));
-    let bad = run_tile(
-        &tile,
-        &plan,
-        0,
-        "memetic",
-        &serde_json::json!({"population": 1}),
-        1,
+    let one = Config::from_json(Algorithm::Memetic, &serde_json::json!({"population": 1})).unwrap();
+    let bad = run_tile(&tile, &plan, 0, &one, 1);
+    assert!(
+        matches!(&bad, Err(TilingError::BadParams { algorithm: Algorithm::Memetic, reason }) if reason.contains("population")),
+        "{bad:?}"
     );
-    assert!(matches!(bad, Err(TilingError::BadParams { .. })));
-    let wrong = run_tile(&terrain(20, 20, 1), &plan, 0, "greedy", &greedy(), 1);
+    #[cfg(not(target_arch = "wasm32"))]
+    assert_eq!(
+        run_tiled(&hf, &plan, &one, 1, 1).unwrap_err(),
+        bad.unwrap_err()
+    );
+    let wrong = run_tile(&terrain(20, 20, 1), &plan, 0, &greedy(), 1);
     assert!(matches!(wrong, Err(TilingError::GridMismatch { .. })));
-    let plan_front = tiled(&hf, 33, "greedy", &greedy());
+    let plan_front = tiled(&hf, 33, &greedy());
     assert!(matches!(
         assemble(&plan, plan_front.tiles[..1].to_vec()),
         Err(TilingError::WrongTiles { .. })

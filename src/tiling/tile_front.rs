@@ -1,11 +1,11 @@
 //! One tile's front: its optimizer's members with the fixed border points of each border level
 //! put in, scored exactly.
 
-use super::algorithm::{build_optimizer, tile_params, tile_seed};
+use super::algorithm::build_tile;
 use super::border::{Side, TileBorders, level_count};
 use super::{TilePlan, TilingError};
+use crate::catalogue::{Config, Running};
 use crate::evaluator::{Evaluator, MeshState};
-use crate::front_file::measure_of;
 use crate::heightfield::Heightfield;
 use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Serialize};
@@ -14,11 +14,11 @@ use std::sync::Arc;
 /// At most this many of a tile optimizer's members are kept, spread evenly over log T: the
 /// whole-grid front combines the tiles' members, so it stays fine-grained with far fewer per
 /// tile than the tile's own front holds.
-pub const MEMBERS_PER_TILE: usize = 64;
+pub(crate) const MEMBERS_PER_TILE: usize = 64;
 
 /// Each member is scored at the border levels within this many levels of its own border
 /// density (see [`run_tile`]).
-pub const LEVEL_REACH: usize = 2;
+pub(super) const LEVEL_REACH: usize = 2;
 
 /// A member of a tile's front at one border level, scored exactly.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -45,7 +45,7 @@ pub struct TileCandidate {
 impl TileCandidate {
     /// Its error in `measure` as the whole-grid allocation adds (sum, rms: the shares) or
     /// bounds (max) it.
-    pub fn error_in(&self, measure: ErrorMeasure) -> f64 {
+    pub(crate) fn error_in(&self, measure: ErrorMeasure) -> f64 {
         match measure {
             ErrorMeasure::Sum => self.e_share,
             ErrorMeasure::Rms => self.sq_share.unwrap_or(f64::NAN),
@@ -62,7 +62,7 @@ pub struct TileFront {
     /// Its border lines' rankings, which fix its border points at every level.
     pub borders: TileBorders,
     /// The members' kept points off the border (tile-local indices, increasing). Written as
-    /// [`PackedSet`](crate::kept_codec::PackedSet)s, each whole or as a diff with the member
+    /// `PackedSet`s, each whole or as a diff with the member
     /// before it; plain index arrays (older files) are read too.
     #[serde(with = "packed_members")]
     pub members: Vec<Vec<u32>>,
@@ -150,64 +150,57 @@ fn spread(ts: &[usize], count: usize) -> Vec<usize> {
     out
 }
 
-/// Runs `algorithm` with `params` ([`tile_params`] of them) on tile `index` of `plan`, whose own
-/// grid is `tile_hf` (cut by [`TilePlan::cut`] or read by window), and scores its members with
-/// the tile's fixed border points. A pure function of its inputs: a tile run in any thread or
-/// process gives the same bits. The tile's seed is derived from `seed` and `index`.
+/// Runs `config` ([`tile_config`](super::tile_config) of it) on tile `index` of `plan`, whose
+/// own grid is `tile_hf` (cut by [`TilePlan::cut`] or read by window), and scores its members
+/// with the tile's fixed border points. A pure function of its inputs: a tile run in any
+/// thread or process gives the same bits. The tile's seed is derived from `seed` and `index`.
 ///
-/// Each kept member (at most [`MEMBERS_PER_TILE`]) loses its points on the tile's border and is
-/// scored at the border levels within [`LEVEL_REACH`] of the level nearest its own number of
+/// Each kept member (at most `MEMBERS_PER_TILE`) loses its points on the tile's border and is
+/// scored at the border levels within `LEVEL_REACH` of the level nearest its own number of
 /// points per border line, each level's border points added by editing the previous level's
 /// mesh.
 pub fn run_tile(
     tile_hf: &Heightfield,
     plan: &TilePlan,
     index: usize,
-    algorithm: &str,
-    params: &serde_json::Value,
+    config: &Config,
     seed: u64,
 ) -> Result<TileFront, TilingError> {
-    run_tile_keeping(
-        tile_hf,
-        plan,
-        index,
-        algorithm,
-        params,
-        seed,
-        MEMBERS_PER_TILE,
-    )
+    run_tile_keeping(tile_hf, plan, index, config, seed, MEMBERS_PER_TILE)
 }
 
 /// [`run_tile`] keeping at most `keep` of the optimizer's members (at least 2) instead of
-/// [`MEMBERS_PER_TILE`]: scoring a member visits every point of the tile, so a quick look at a
+/// `MEMBERS_PER_TILE`: scoring a member visits every point of the tile, so a quick look at a
 /// tile's front keeps fewer.
 pub fn run_tile_keeping(
     tile_hf: &Heightfield,
     plan: &TilePlan,
     index: usize,
-    algorithm: &str,
-    params: &serde_json::Value,
+    config: &Config,
     seed: u64,
+    keep: usize,
+) -> Result<TileFront, TilingError> {
+    let hf = Arc::new(tile_hf.clone());
+    let optimizer = build_tile(hf.clone(), plan, index, config, seed)?;
+    run_built_tile(hf, optimizer, plan, index, keep)
+}
+
+/// [`run_tile_keeping`] with the tile's optimizer already built on its grid `hf` (by
+/// [`build_tile`]).
+pub(crate) fn run_built_tile(
+    hf: Arc<Heightfield>,
+    mut optimizer: Box<dyn Running>,
+    plan: &TilePlan,
+    index: usize,
     keep: usize,
 ) -> Result<TileFront, TilingError> {
     let tile = plan.tile(index).ok_or(TilingError::NoSuchTile {
         index,
         tiles: plan.len(),
     })?;
-    if (tile_hf.width(), tile_hf.height()) != (tile.w, tile.h) {
-        return Err(TilingError::GridMismatch {
-            plan: (tile.w, tile.h),
-            grid: (tile_hf.width(), tile_hf.height()),
-        });
-    }
-    let hf = Arc::new(tile_hf.clone());
-    let measure = measure_of(params).map_err(|reason| TilingError::BadParams {
-        algorithm: algorithm.to_string(),
-        reason,
-    })?;
-    let params = tile_params(plan, algorithm, params);
-    let mut optimizer = build_optimizer(hf.clone(), algorithm, &params, tile_seed(seed, index))?;
     let progress = optimizer.run_to_end();
+    // The measure the method ran in, which its Config's `error` chose.
+    let measure = optimizer.front().measure();
     let (w, h) = (tile.w, tile.h);
     let borders = TileBorders::new(w, h, hf.z());
     let levels = level_count(plan.tile_size());
@@ -314,11 +307,11 @@ mod packed_members {
         Packed(PackedSet),
     }
 
-    pub fn serialize<S: Serializer>(members: &[Vec<u32>], s: S) -> Result<S::Ok, S::Error> {
+    pub(super) fn serialize<S: Serializer>(members: &[Vec<u32>], s: S) -> Result<S::Ok, S::Error> {
         pack_list(members).serialize(s)
     }
 
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<u32>>, D::Error> {
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<u32>>, D::Error> {
         let read = Vec::<Read>::deserialize(d)?;
         let mut out: Vec<Vec<u32>> = Vec::with_capacity(read.len());
         for (i, r) in read.into_iter().enumerate() {

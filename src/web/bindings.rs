@@ -283,13 +283,11 @@ pub fn run_tile(
     surface: JsValue,
     plan: &str,
     tile: usize,
-    algorithm: &str,
-    params: &str,
+    config: &str,
     seed: &str,
     members: usize,
 ) -> Result<String, JsError> {
-    pool::run_tile(&surface, plan, tile, algorithm, params, seed, members)
-        .map_err(|e| JsError::new(&e))
+    pool::run_tile(&surface, plan, tile, config, seed, members).map_err(|e| JsError::new(&e))
 }
 
 /// A job running in a Web Worker of the pool (`www/pool-worker.js`); see [`pool::JobRunner`].

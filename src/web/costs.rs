@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 /// One span's record, in milliseconds.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
-pub struct Cost {
+pub(super) struct Cost {
     /// Times it ran.
     pub count: u64,
     /// Milliseconds in all.
@@ -22,7 +22,7 @@ thread_local! {
 }
 
 /// Runs `f`, adding its time to span `name`.
-pub fn timed<T>(name: &'static str, f: impl FnOnce() -> T) -> T {
+pub(super) fn timed<T>(name: &'static str, f: impl FnOnce() -> T) -> T {
     let start = performance_now();
     let out = f();
     let took = performance_now() - start;
@@ -37,7 +37,7 @@ pub fn timed<T>(name: &'static str, f: impl FnOnce() -> T) -> T {
 }
 
 /// Every span so far as JSON (`{name: {count, total, max}}`); `reset` starts afresh.
-pub fn report(reset: bool) -> String {
+pub(super) fn report(reset: bool) -> String {
     COSTS.with(|c| {
         let mut c = c.borrow_mut();
         let text = serde_json::to_string(&*c).unwrap_or_default();

@@ -9,14 +9,14 @@ use wasm_bindgen::prelude::*;
 use web_sys::{Document, Element, HtmlElement, HtmlInputElement, HtmlSelectElement};
 
 /// The document.
-pub fn document() -> Document {
+pub(super) fn document() -> Document {
     web_sys::window()
         .and_then(|w| w.document())
         .expect("the app runs in a page with a document")
 }
 
 /// The element with `id`, cast to `T`. Fails with a message naming the missing element.
-pub fn by_id<T: JsCast>(id: &str) -> Result<T, String> {
+pub(super) fn by_id<T: JsCast>(id: &str) -> Result<T, String> {
     document()
         .get_element_by_id(id)
         .ok_or_else(|| format!("index.html lacks the element #{id}"))?
@@ -25,7 +25,7 @@ pub fn by_id<T: JsCast>(id: &str) -> Result<T, String> {
 }
 
 /// Adds a listener for `event` on `target` for the page's lifetime.
-pub fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
+pub(super) fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
     target: &web_sys::EventTarget,
     event: &str,
     handler: impl FnMut(E) + 'static,
@@ -37,7 +37,7 @@ pub fn listen<E: wasm_bindgen::convert::FromWasmAbi + 'static>(
 }
 
 /// Sets the text of element `id` (when it exists and differs, to spare layout work).
-pub fn set_text(id: &str, text: &str) {
+pub(super) fn set_text(id: &str, text: &str) {
     if let Some(e) = document().get_element_by_id(id)
         && e.text_content().as_deref() != Some(text)
     {
@@ -46,14 +46,14 @@ pub fn set_text(id: &str, text: &str) {
 }
 
 /// Shows or hides element `id`.
-pub fn set_visible(id: &str, visible: bool) {
+pub(super) fn set_visible(id: &str, visible: bool) {
     if let Ok(e) = by_id::<HtmlElement>(id) {
         e.set_hidden(!visible);
     }
 }
 
 /// Shows `text` in the message area next to the drop zone; `error` styles it as an error.
-pub fn show_load_message(text: &str, error: bool) {
+pub(super) fn show_load_message(text: &str, error: bool) {
     set_text("load-message", text);
     if let Ok(e) = by_id::<Element>("load-message") {
         let _ = e.class_list().toggle_with_force("error", error);
@@ -76,7 +76,7 @@ fn parse_field<T: std::str::FromStr>(id: &str, what: &str) -> Result<T, String> 
 
 /// Fills the method menu from the catalogue (its name is the value, its label the text), with
 /// the default method selected, so that a new method reaches the page with no edit here.
-pub fn fill_algorithm_menu() -> Result<(), String> {
+pub(super) fn fill_algorithm_menu() -> Result<(), String> {
     let document = document();
     let select: HtmlSelectElement = by_id("algorithm")?;
     for algorithm in Algorithm::ALL {
@@ -95,7 +95,7 @@ pub fn fill_algorithm_menu() -> Result<(), String> {
 }
 
 /// Reads the parameter form. Fails with a message naming the bad field.
-pub fn read_config() -> Result<RunConfig, String> {
+pub(super) fn read_config() -> Result<RunConfig, String> {
     let algorithm =
         Algorithm::from_name(&select_value("algorithm")?).ok_or("unknown algorithm in the menu")?;
     let crossover =
@@ -129,7 +129,7 @@ pub fn read_config() -> Result<RunConfig, String> {
 }
 
 /// Writes `config` into the form (the inverse of [`read_config`]).
-pub fn write_config(config: &RunConfig) -> Result<(), String> {
+pub(super) fn write_config(config: &RunConfig) -> Result<(), String> {
     let p = &config.params;
     by_id::<HtmlSelectElement>("algorithm")?.set_value(config.algorithm.name());
     by_id::<HtmlSelectElement>("crossover")?.set_value(crossover_key(p.crossover));
@@ -150,7 +150,7 @@ pub fn write_config(config: &RunConfig) -> Result<(), String> {
 /// The 2-D context of canvas `id`, its backing store sized to its CSS size times the device
 /// pixel ratio and its transform set so drawing is in CSS pixels; with that CSS width and
 /// height. `None` when there is no such canvas.
-pub fn canvas_2d(id: &str) -> Option<(web_sys::CanvasRenderingContext2d, f64, f64)> {
+pub(super) fn canvas_2d(id: &str) -> Option<(web_sys::CanvasRenderingContext2d, f64, f64)> {
     let canvas = by_id::<web_sys::HtmlCanvasElement>(id).ok()?;
     let dpr = web_sys::window().map_or(1.0, |w| w.device_pixel_ratio());
     let (cw, ch) = (canvas.client_width() as f64, canvas.client_height() as f64);
@@ -165,12 +165,12 @@ pub fn canvas_2d(id: &str) -> Option<(web_sys::CanvasRenderingContext2d, f64, f6
 }
 
 /// Is checkbox `id` ticked?
-pub fn checked(id: &str) -> bool {
+pub(super) fn checked(id: &str) -> bool {
     by_id::<HtmlInputElement>(id).is_ok_and(|e| e.checked())
 }
 
 /// The status line's text.
-pub fn status_text(s: &Status, running: bool) -> String {
+pub(super) fn status_text(s: &Status, running: bool) -> String {
     let state = if s.done {
         "done"
     } else if running {
@@ -191,7 +191,7 @@ pub fn status_text(s: &Status, running: bool) -> String {
 }
 
 /// Offers `bytes` as a download named `name` of MIME type `mime`.
-pub fn download(name: &str, mime: &str, bytes: &[u8]) -> Result<(), String> {
+pub(super) fn download(name: &str, mime: &str, bytes: &[u8]) -> Result<(), String> {
     let array = js_sys::Uint8Array::from(bytes);
     let parts = js_sys::Array::of1(&array);
     let options = web_sys::BlobPropertyBag::new();

@@ -17,7 +17,7 @@ struct Layer {
 }
 
 /// The renderer on one canvas.
-pub struct Renderer {
+pub(super) struct Renderer {
     view: View,
     /// "WebGPU" or "WebGL2".
     pub backend: &'static str,
@@ -324,7 +324,7 @@ fn upload(device: &wgpu::Device, layers: Vec<(Style, Geometry)>) -> Vec<Layer> {
 /// returns the backend's name with the pixels. A canvas presents nothing in a headless browser
 /// under WebGPU, but a texture read back does, so this is how a test sees what the WebGPU path
 /// draws.
-pub async fn render_offscreen(
+pub(super) async fn render_offscreen(
     backend: &str,
     (width, height): (u32, u32),
     camera: &OrbitCamera,
@@ -456,7 +456,7 @@ async fn webgpu_offscreen(
 
 /// Which backend the 3-D view tries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BackendChoice {
+pub(super) enum BackendChoice {
     /// WebGPU when the browser offers an adapter, else WebGL2.
     Auto,
     /// WebGL2 only (headless screenshots need it: a WebGPU canvas stays blank there).
@@ -471,7 +471,10 @@ impl Renderer {
     /// the console says why and the view falls back to WebGL2 on a copy of the canvas that
     /// replaces it in the page (a canvas that gave a WebGPU context gives no WebGL2 one), so
     /// callers must look the canvas up again after this.
-    pub async fn new(canvas: HtmlCanvasElement, choice: BackendChoice) -> Result<Self, String> {
+    pub(super) async fn new(
+        canvas: HtmlCanvasElement,
+        choice: BackendChoice,
+    ) -> Result<Self, String> {
         let mut canvas = canvas;
         if choice != BackendChoice::WebGl2 && webgpu_available().await {
             let fail_device = choice == BackendChoice::FailingWebGpu;
@@ -501,7 +504,7 @@ impl Renderer {
     }
 
     /// Resizes the drawing buffer to `width` × `height` device pixels when it changed.
-    pub fn resize(&mut self, width: u32, height: u32) {
+    pub(super) fn resize(&mut self, width: u32, height: u32) {
         match &mut self.view {
             View::WebGpu(v) => v.resize(width, height),
             View::WebGl2(v) => v.resize(width, height),
@@ -509,7 +512,7 @@ impl Renderer {
     }
 
     /// Replaces every layer.
-    pub fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
+    pub(super) fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
         match &mut self.view {
             View::WebGpu(v) => v.layers = upload(&v.device, layers),
             View::WebGl2(v) => v.set_layers(layers),
@@ -517,7 +520,7 @@ impl Renderer {
     }
 
     /// Draws the layers from `camera`.
-    pub fn draw(&mut self, camera: &OrbitCamera) {
+    pub(super) fn draw(&mut self, camera: &OrbitCamera) {
         match &mut self.view {
             View::WebGpu(v) => v.draw(camera),
             View::WebGl2(v) => v.draw(camera),

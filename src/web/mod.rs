@@ -14,21 +14,23 @@
 //!   WebGL2 ([`webgl`], on web-sys).
 
 pub mod bindings;
-pub mod compare_view;
-pub mod costs;
-pub mod dom;
-pub mod gpu;
-pub mod mesh_worker;
-pub mod oax_panel;
-pub mod page;
-pub mod plot_view;
-pub mod pool;
-pub mod preview;
-pub mod share_view;
-pub mod style;
-pub mod teaching_view;
-pub mod transfer;
-pub mod ui;
-pub mod webgl;
+mod compare_view;
+mod costs;
+mod dom;
+mod gpu;
+mod mesh_worker;
+mod oax_panel;
+mod page;
+mod plot_view;
+mod pool;
+mod preview;
+mod share_view;
+mod style;
+mod teaching_view;
+mod transfer;
+mod ui;
+mod webgl;
 
 pub use bindings::{WebApp, evaluate_raw};
+// The mesh worker's #[wasm_bindgen] type, public like every type the JS calls.
+pub use mesh_worker::MeshGrid;

@@ -54,7 +54,7 @@ fn draw_thumbnail(canvas: &HtmlCanvasElement, hf: &Arc<Heightfield>, kept: &[u32
 }
 
 /// Fills the `#oax` panel with `record` on `hf`, or says there is none yet.
-pub fn show(record: Option<&OaxRecord>, hf: &Arc<Heightfield>) {
+pub(super) fn show(record: Option<&OaxRecord>, hf: &Arc<Heightfield>) {
     let Ok(panel) = by_id::<web_sys::Element>("oax") else {
         return;
     };

@@ -9,7 +9,7 @@ use crate::app::plot::{
 use web_sys::CanvasRenderingContext2d;
 
 /// Draws `scene` on `ctx` (already scaled to CSS pixels) with `layout`.
-pub fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
+pub(super) fn draw(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
     let (w, h) = (layout.width, layout.height);
     let (l, t, r, b) = layout.area();
     ctx.set_fill_style_str("#ffffff");
@@ -130,7 +130,7 @@ fn data(ctx: &CanvasRenderingContext2d, layout: &Layout, scene: &Scene) {
 }
 
 /// Draws `text` in a boxed read-out next to data point `p`, kept inside the canvas.
-pub fn readout(ctx: &CanvasRenderingContext2d, layout: &Layout, p: PlotPoint, text: &str) {
+pub(super) fn readout(ctx: &CanvasRenderingContext2d, layout: &Layout, p: PlotPoint, text: &str) {
     let (x, y) = layout.to_pixel(p);
     ctx.set_font("12px system-ui, sans-serif");
     let width = ctx.measure_text(text).map(|m| m.width()).unwrap_or(160.0) + 10.0;
@@ -156,7 +156,7 @@ fn line(ctx: &CanvasRenderingContext2d, x0: f64, y0: f64, x1: f64, y1: f64) {
 
 /// Draws `marks` over a plot already drawn by [`draw`] (with the same `layout`), a legend in
 /// the top-right corner, and a ring on the `hovered` mark.
-pub fn draw_marks(
+pub(super) fn draw_marks(
     ctx: &CanvasRenderingContext2d,
     layout: &Layout,
     marks: &[Mark],

@@ -5,6 +5,7 @@
 use super::transfer;
 use crate::app::algorithms::{self, Algorithm, Params, Running};
 use crate::app::pool::{FrontParts, Job, Work};
+use crate::catalogue::Config;
 use crate::front::Front;
 use crate::heightfield::Heightfield;
 use crate::optimizer::Progress;
@@ -21,13 +22,19 @@ fn set(o: &Object, key: &str, value: &JsValue) -> Result<(), JsValue> {
     Reflect::set(o, &key.into(), value).map(|_| ())
 }
 
-/// The message a worker is handed for `job` on the surface `hf`: `{run, index, kind, algorithm,
-/// params, surface}` with `params` as JSON and `surface` (the job's own grid: the whole grid, or
-/// its tile cut from it) in [`transfer`]'s form, whose heights the page transfers. A tile job
-/// (`kind: "tile"`) also has `plan` (the tile plan as JSON), `tile`, `seed` (decimal text: a
-/// seed may exceed what a JavaScript number holds exactly) and `members` (how many of its
-/// optimizer's members the tile's front keeps).
-pub fn job_to_js(job: &Job, hf: &Heightfield, plan: Option<&TilePlan>) -> Result<JsValue, JsValue> {
+/// The message a worker is handed for `job` on the surface `hf`: `{run, index, kind, surface}`
+/// with `surface` (the job's own grid: the whole grid, or its tile cut from it) in
+/// [`transfer`]'s form, whose heights the page transfers. A whole-grid job (`kind: "whole"`)
+/// also has `algorithm` (its menu key) and `params` (the form's, as JSON). A tile job (`kind:
+/// "tile"`) has `config` (the catalogue's [`Config`](crate::catalogue::Config) as JSON), `plan`
+/// (the tile plan as JSON), `tile`, `seed` (decimal text: a seed may exceed what a JavaScript
+/// number holds exactly) and `members` (how many of its optimizer's members the tile's front
+/// keeps).
+pub(super) fn job_to_js(
+    job: &Job,
+    hf: &Heightfield,
+    plan: Option<&TilePlan>,
+) -> Result<JsValue, JsValue> {
     let o = Object::new();
     set(&o, "run", &JsValue::from_f64(job.run as f64))?;
     set(&o, "index", &JsValue::from_f64(job.index as f64))?;
@@ -42,8 +49,7 @@ pub fn job_to_js(job: &Job, hf: &Heightfield, plan: Option<&TilePlan>) -> Result
             let plan = plan.ok_or("a tile job without a plan")?;
             let cut = plan.cut(hf, tile.tile).map_err(|e| e.to_string())?;
             set(&o, "kind", &"tile".into())?;
-            set(&o, "algorithm", &tile.algorithm.name().into())?;
-            set(&o, "params", &json(&tile.params)?.into())?;
+            set(&o, "config", &json(&tile.config)?.into())?;
             set(&o, "plan", &json(plan)?.into())?;
             set(&o, "tile", &JsValue::from_f64(tile.tile as f64))?;
             set(&o, "seed", &tile.seed.to_string().into())?;
@@ -54,31 +60,29 @@ pub fn job_to_js(job: &Job, hf: &Heightfield, plan: Option<&TilePlan>) -> Result
     Ok(o.into())
 }
 
-/// Runs tile `tile` of the plan `plan` (JSON) on its grid `surface` with `algorithm` (menu
-/// key), `params` (JSON) and `seed`, keeping `members` members, and returns the tile's front as
-/// JSON: the worker's side of a tile job, the same function a tiled CLI run calls for each
-/// tile.
-pub fn run_tile(
+/// Runs tile `tile` of the plan `plan` (JSON) on its grid `surface` with `config` (the
+/// catalogue's [`Config`] as JSON) and `seed`, keeping `members` members, and returns the
+/// tile's front as JSON: the worker's side of a tile job, the same function a tiled CLI run
+/// calls for each tile.
+pub(super) fn run_tile(
     surface: &JsValue,
     plan: &str,
     tile: usize,
-    algorithm: &str,
-    params: &str,
+    config: &str,
     seed: &str,
     members: usize,
 ) -> Result<String, String> {
     let seed: u64 = seed.parse().map_err(|_| format!("bad seed {seed}"))?;
     let hf = transfer::surface_from_js(surface)?;
     let plan: TilePlan = serde_json::from_str(plan).map_err(|e| format!("bad tile plan: {e}"))?;
-    let params: serde_json::Value =
-        serde_json::from_str(params).map_err(|e| format!("bad parameters: {e}"))?;
-    let front = tiling::run_tile_keeping(&hf, &plan, tile, algorithm, &params, seed, members)
+    let config: Config = serde_json::from_str(config).map_err(|e| format!("bad method: {e}"))?;
+    let front = tiling::run_tile_keeping(&hf, &plan, tile, &config, seed, members)
         .map_err(|e| e.to_string())?;
     serde_json::to_string(&front).map_err(|e| e.to_string())
 }
 
 /// `front` as `{scores, offsets, kept}` ([`FrontParts`] as typed arrays).
-pub fn front_to_js(front: &Front) -> Result<JsValue, JsValue> {
+pub(super) fn front_to_js(front: &Front) -> Result<JsValue, JsValue> {
     let parts = FrontParts::of(front);
     let o = Object::new();
     set(&o, "scores", &Float64Array::from(&parts.scores[..]).into())?;
@@ -88,7 +92,7 @@ pub fn front_to_js(front: &Front) -> Result<JsValue, JsValue> {
 }
 
 /// The front a worker posted as [`front_to_js`]'s arrays, checked.
-pub fn front_from_arrays(
+pub(super) fn front_from_arrays(
     scores: Vec<f64>,
     offsets: Vec<u32>,
     kept: Vec<u32>,
@@ -103,7 +107,7 @@ pub fn front_from_arrays(
 
 /// One job running in a worker: the chosen algorithm on the job's grid, advanced in slices of
 /// wall time so the worker can post its front as it grows.
-pub struct JobRunner {
+pub(super) struct JobRunner {
     optimizer: Box<dyn Running>,
     /// Evaluations per step call, adapted so a call takes about a tenth of a slice.
     chunk: u64,
@@ -112,7 +116,7 @@ pub struct JobRunner {
 impl JobRunner {
     /// Builds `algorithm` (its menu key) with `params` (JSON) on the grid `surface` (in
     /// [`transfer`]'s form).
-    pub fn new(surface: &JsValue, algorithm: &str, params: &str) -> Result<Self, String> {
+    pub(super) fn new(surface: &JsValue, algorithm: &str, params: &str) -> Result<Self, String> {
         let hf = transfer::surface_from_js(surface)?;
         let algorithm = Algorithm::from_name(algorithm)
             .ok_or_else(|| format!("unknown algorithm {algorithm}"))?;
@@ -126,7 +130,7 @@ impl JobRunner {
 
     /// Steps for about `ms` milliseconds of wall time (at least one call) or until done.
     /// Slicing never changes a run's result, so the front is the one a run on the page reaches.
-    pub fn run_for(&mut self, ms: f64) -> Progress {
+    pub(super) fn run_for(&mut self, ms: f64) -> Progress {
         let start = js_sys::Date::now();
         loop {
             let before = self.optimizer.progress().evaluations;
@@ -146,13 +150,8 @@ impl JobRunner {
     }
 
     /// The job's front so far.
-    pub fn front(&self) -> &Front {
+    pub(super) fn front(&self) -> &Front {
         self.optimizer.front()
-    }
-
-    /// The job's progress.
-    pub fn progress(&self) -> Progress {
-        self.optimizer.progress()
     }
 }
 

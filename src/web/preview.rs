@@ -7,7 +7,7 @@ use wasm_bindgen::{Clamped, JsCast};
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement, ImageData};
 
 /// Draws `hf` on canvas `canvas_id`, one pixel per grid point, scaled to the canvas by CSS.
-pub fn draw(canvas_id: &str, hf: &Heightfield) -> Result<(), String> {
+pub(super) fn draw(canvas_id: &str, hf: &Heightfield) -> Result<(), String> {
     let canvas: HtmlCanvasElement = by_id(canvas_id)?;
     canvas.set_width(hf.width() as u32);
     canvas.set_height(hf.height() as u32);

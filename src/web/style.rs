@@ -3,7 +3,7 @@
 
 /// How a layer is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Style {
+pub(super) enum Style {
     /// Opaque shaded triangles.
     Fill,
     /// Lines (index pairs).
@@ -13,10 +13,10 @@ pub enum Style {
 }
 
 /// The direction of the light the fill is shaded by (both faces lit alike).
-pub const LIGHT: [f32; 3] = [0.3, -0.5, 0.8];
+pub(super) const LIGHT: [f32; 3] = [0.3, -0.5, 0.8];
 
 /// The view's background colour.
-pub const BACKGROUND: wgpu::Color = wgpu::Color {
+pub(super) const BACKGROUND: wgpu::Color = wgpu::Color {
     r: 0.93,
     g: 0.94,
     b: 0.96,

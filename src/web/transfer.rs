@@ -57,7 +57,7 @@ fn georeference_to_js(geo: &Georeference) -> Result<JsValue, JsValue> {
 /// The plain-object form of `hf`: `{width, height, z, origin, spacing, placement, source,
 /// filled, resampled, georeference}`; `placement` is `{kind, values}` with the placement's
 /// vectors flattened, `georeference` null for a grid not read from a GeoTIFF.
-pub fn surface_to_js(hf: &Heightfield) -> Result<JsValue, JsValue> {
+pub(super) fn surface_to_js(hf: &Heightfield) -> Result<JsValue, JsValue> {
     let parts = SurfaceParts::of(hf);
     let o = Object::new();
     set(&o, "width", &JsValue::from_f64(parts.width as f64))?;
@@ -134,7 +134,7 @@ fn georeference_from_js(o: &JsValue) -> Result<Option<Georeference>, String> {
 }
 
 /// Rebuilds a height field from [`surface_to_js`]'s form, validating it like any input.
-pub fn surface_from_js(o: &JsValue) -> Result<Heightfield, String> {
+pub(super) fn surface_from_js(o: &JsValue) -> Result<Heightfield, String> {
     let z: Float64Array = get(o, "z")?
         .dyn_into()
         .map_err(|_| "parsed surface: z is not a Float64Array")?;

@@ -18,14 +18,14 @@ use crate::app::plot::{self, EAxis, Layout, PlotPoint, Scene};
 use crate::app::share::{FileFingerprint, ImportChoice, Origin};
 use crate::app::state::{App, RunConfig, Surface, shown_mesh};
 use crate::evaluator::Evaluator;
-use crate::export::csv::front_csv;
-use crate::export::glb::{GlbMesh, vertex_normals, write_glb};
-use crate::export::mesh::WorldMesh;
-use crate::export::obj::to_obj;
-use crate::export::ply::to_ply;
-use crate::export::solid::{SolidOptions, solid};
-use crate::export::stl::to_stl;
-use crate::export::threemf::to_3mf;
+use crate::export::WorldMesh;
+use crate::export::front_csv;
+use crate::export::to_3mf;
+use crate::export::to_obj;
+use crate::export::to_ply;
+use crate::export::to_stl;
+use crate::export::{GlbMesh, vertex_normals, write_glb};
+use crate::export::{SolidOptions, solid};
 use crate::front::Solution;
 use crate::front_file::FrontFile;
 use crate::heightfield::Heightfield;
@@ -297,8 +297,7 @@ fn export_front_file(ui: &Ui, stem: &str) -> Result<(), String> {
     let status = ui.app.status();
     let file = FrontFile::new(
         &mut Evaluator::new(ui.app.surface().heightfield.clone()),
-        config.algorithm.name(),
-        algorithms::params_json(config.algorithm, &config.params),
+        &algorithms::config(config.algorithm, &config.params),
         config.params.seed,
         status.evaluations,
         status.elapsed_ms.round() as u64,

@@ -55,7 +55,7 @@ struct Layer {
 }
 
 /// A WebGL2 context on one canvas with its program and layers.
-pub struct GlRenderer {
+pub(super) struct GlRenderer {
     gl: Gl,
     program: WebGlProgram,
     view_proj: Option<WebGlUniformLocation>,
@@ -110,7 +110,7 @@ fn link(gl: &Gl) -> Result<WebGlProgram, String> {
 impl GlRenderer {
     /// A WebGL2 context on `canvas`, without multisampling, like the WebGPU canvas. With
     /// `preserve`, the drawing stays readable after the frame (for [`GlRenderer::read_pixels`]).
-    pub fn new(canvas: &HtmlCanvasElement, preserve: bool) -> Result<Self, String> {
+    pub(super) fn new(canvas: &HtmlCanvasElement, preserve: bool) -> Result<Self, String> {
         let options = js_sys::Object::new();
         for (key, value) in [
             ("antialias", false),
@@ -141,12 +141,12 @@ impl GlRenderer {
     }
 
     /// Sets the drawing size in device pixels (the canvas's own size is set by the caller).
-    pub fn resize(&mut self, width: u32, height: u32) {
+    pub(super) fn resize(&mut self, width: u32, height: u32) {
         self.size = (width.max(1), height.max(1));
     }
 
     /// Replaces every layer (empty ones left out), freeing the old buffers.
-    pub fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
+    pub(super) fn set_layers(&mut self, layers: Vec<(Style, Geometry)>) {
         let gl = &self.gl;
         for old in self.layers.drain(..) {
             gl.delete_vertex_array(old.vertex_array.as_ref());
@@ -189,7 +189,7 @@ impl GlRenderer {
 
     /// Draws the layers from `camera`: opaque fill pushed back by a depth bias (so the
     /// wireframe shows), then lines, then translucent fill without depth writes.
-    pub fn draw(&mut self, camera: &OrbitCamera) {
+    pub(super) fn draw(&mut self, camera: &OrbitCamera) {
         let gl = &self.gl;
         let (width, height) = self.size;
         gl.viewport(0, 0, width as i32, height as i32);
@@ -240,7 +240,7 @@ impl GlRenderer {
     }
 
     /// The drawn pixels as RGBA8, row by row from the top (WebGL reads from the bottom).
-    pub fn read_pixels(&self) -> Result<Vec<u8>, String> {
+    pub(super) fn read_pixels(&self) -> Result<Vec<u8>, String> {
         let (width, height) = self.size;
         let row = 4 * width as usize;
         let mut bottom_up = vec![0u8; row * height as usize];

@@ -1,5 +1,9 @@
-//! Code shared by the evaluator's integration tests (`tests/incremental.rs`,
-//! `tests/compose.rs`): fixtures, synthetic grids, random kept sets, and scores as bits.
+//! Code shared by the integration tests: for the evaluator's (`tests/incremental.rs`,
+//! `tests/compose.rs`) fixtures, synthetic grids, random kept sets and scores as bits; for
+//! those that run the binary, [`cli`]. Each test file uses a part of it.
+#![allow(dead_code)]
+
+pub mod cli;
 
 use paretomesh::evaluator::Score;
 use paretomesh::heightfield::Heightfield;

@@ -32,7 +32,9 @@ mod tests;
 mod wire;
 
 pub use error::ShareError;
-pub use surface::{EmbeddedGrid, FileFingerprint, GridGeometry, ImportChoice, embeddable, fnv1a64};
+pub(crate) use surface::{
+    EmbeddedGrid, FileFingerprint, GridGeometry, ImportChoice, embeddable, fnv1a64,
+};
 pub use wire::{decode, encode};
 
 use super::algorithms::{Algorithm, Params};
@@ -42,33 +44,33 @@ use super::loader::MAX_TAB_POINTS;
 use serde::{Deserialize, Serialize};
 
 /// Version tag that starts every link this module writes.
-pub const VERSION: &str = "v1";
+pub(crate) const VERSION: &str = "v1";
 /// Longest link accepted, in bytes (a deflated 65×65 f32 grid fits; browsers take far longer
 /// URLs, but nothing legitimate needs more).
-pub const MAX_LINK_LEN: usize = 32 * 1024;
+pub(crate) const MAX_LINK_LEN: usize = 32 * 1024;
 /// Largest side of an embedded grid.
-pub const MAX_EMBEDDED_SIDE: usize = 65;
+pub(crate) const MAX_EMBEDDED_SIDE: usize = 65;
 /// Longest surface or file name, in bytes.
-pub const MAX_NAME_LEN: usize = 255;
+pub(crate) const MAX_NAME_LEN: usize = 255;
 /// Largest seed: 2⁵³ − 1, the largest integer a JavaScript number (the seed field) holds exactly.
-pub const MAX_SEED: u64 = (1 << 53) - 1;
+pub(crate) const MAX_SEED: u64 = (1 << 53) - 1;
 /// Most generations (or sweeps) a link may ask to re-run. A run stops at its own end anyway;
 /// the cap bounds the classical methods, whose sweeps are bounded by the number of points.
-pub const MAX_GENERATIONS_RUN: u64 = MAX_TAB_POINTS as u64;
+pub(crate) const MAX_GENERATIONS_RUN: u64 = MAX_TAB_POINTS as u64;
 /// Largest selected index: a front has at most 2N members (T < 2N on N points).
-pub const MAX_SELECTED: usize = 2 * MAX_TAB_POINTS;
+pub(crate) const MAX_SELECTED: usize = 2 * MAX_TAB_POINTS;
 /// Largest file size a fingerprint may state: 4 GiB.
-pub const MAX_FILE_SIZE: u64 = 1 << 32;
+pub(crate) const MAX_FILE_SIZE: u64 = 1 << 32;
 /// Largest |yaw| in radians (yaw accumulates while orbiting; any sane view is far below this).
-pub const MAX_YAW: f32 = 1.0e6;
+pub(crate) const MAX_YAW: f32 = 1.0e6;
 /// Largest |coordinate| of the camera target (the surface is normalised to unit size).
-pub const MAX_TARGET: f32 = 1.0e4;
+pub(crate) const MAX_TARGET: f32 = 1.0e4;
 /// Largest magnitude of any number of an embedded grid's geometry (origin, spacing, placement
 /// vectors, georeference). Map coordinates are far below it, and with it every grid point of an
 /// embedded grid maps to a finite 3-D point.
-pub const MAX_GEOMETRY: f64 = 1.0e15;
+pub(crate) const MAX_GEOMETRY: f64 = 1.0e15;
 /// Longest GeoTIFF nodata text, in bytes (GDAL writes a number).
-pub const MAX_NODATA_LEN: usize = 64;
+pub(crate) const MAX_NODATA_LEN: usize = 64;
 
 /// Everything needed to reproduce a view.
 #[derive(Clone, Debug, PartialEq)]
@@ -114,7 +116,7 @@ pub enum SharedSurface {
 
 /// Where the shown surface came from: what a share link can say about it.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Origin {
+pub(crate) enum Origin {
     /// A built-in surface.
     Builtin(&'static str),
     /// A user's file, known by its fingerprint.

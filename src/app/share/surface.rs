@@ -81,16 +81,11 @@ impl FileFingerprint {
             import: None,
         }
     }
-
-    /// True when `bytes` are the file this fingerprint describes (size and hash agree).
-    pub fn matches(&self, bytes: &[u8]) -> bool {
-        self.size == bytes.len() as u64 && self.fnv1a64 == fnv1a64(bytes)
-    }
 }
 
 /// 64-bit FNV-1a (offset basis 0xcbf29ce484222325, prime 0x100000001b3): a fast
 /// non-cryptographic hash, enough to tell a wrong file from the right one.
-pub fn fnv1a64(bytes: &[u8]) -> u64 {
+pub(crate) fn fnv1a64(bytes: &[u8]) -> u64 {
     bytes.iter().fold(0xcbf2_9ce4_8422_2325, |hash, &b| {
         (hash ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
@@ -267,7 +262,7 @@ impl EmbeddedGrid {
 }
 
 /// Heights of `hf` as the f32 an embedded grid carries, and whether that is exact.
-pub fn embeddable(hf: &Heightfield) -> Option<(Vec<f32>, bool)> {
+pub(crate) fn embeddable(hf: &Heightfield) -> Option<(Vec<f32>, bool)> {
     if hf.width() > MAX_EMBEDDED_SIDE || hf.height() > MAX_EMBEDDED_SIDE {
         return None;
     }

@@ -268,8 +268,14 @@ mod camera_and_loading {
             (o.projection, o.grid_size),
             (Projection::Cylindrical, Some((64, 32)))
         );
-        assert!(loader::options("spherical", 0, 0).is_err());
-        assert!(loader::options("planar", 64, 0).is_err());
+        assert_eq!(
+            loader::options("spherical", 0, 0),
+            Err("unknown projection “spherical”".to_string())
+        );
+        assert_eq!(
+            loader::options("planar", 64, 0),
+            Err("give both grid width and height, or neither".to_string())
+        );
         assert_eq!(loader::surface("outer").unwrap(), Surface::Outer);
         assert_eq!(loader::surface("single").unwrap(), Surface::Single);
         assert!(loader::surface("inner").unwrap_err().contains("inner"));
@@ -1147,7 +1153,7 @@ mod parameter_fields {
 mod worker_handoff {
     use crate::app::handoff::SurfaceParts;
     use crate::app::loader;
-    use crate::export::mesh::WorldMesh;
+    use crate::export::WorldMesh;
     use crate::heightfield::Heightfield;
     use crate::import::ImportOptions;
 
@@ -1226,6 +1232,14 @@ mod worker_handoff {
         );
         parts.placement_kind = "grid".into();
         parts.z.pop();
-        assert!(parts.into_heightfield().is_err());
+        let (w, h) = (parts.width, parts.height);
+        assert_eq!(
+            parts.into_heightfield().unwrap_err(),
+            crate::heightfield::HeightfieldError::WrongLength {
+                expected: w * h,
+                found: w * h - 1
+            }
+            .to_string()
+        );
     }
 }

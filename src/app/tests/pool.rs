@@ -122,15 +122,7 @@ fn a_tiled_grid_runs_in_the_pool_to_the_clis_tiled_front() {
             panic!("a tiled run's jobs are tiles");
         };
         let tile_hf = plan.cut(&hf, job.tile).unwrap();
-        let front = run_tile(
-            &tile_hf,
-            &plan,
-            job.tile,
-            job.algorithm.name(),
-            &job.params,
-            job.seed,
-        )
-        .unwrap();
+        let front = run_tile(&tile_hf, &plan, job.tile, &job.config, job.seed).unwrap();
         app.pool_report_tile(jobs[i].run, i, front).unwrap();
         if i == order[plan.len() - 1] {
             assert!(
@@ -144,8 +136,7 @@ fn a_tiled_grid_runs_in_the_pool_to_the_clis_tiled_front() {
     let cli = run_tiled(
         &hf,
         &plan,
-        "nsga2",
-        &algorithms::params_json(Algorithm::Nsga2, &params),
+        &algorithms::config(Algorithm::Nsga2, &params),
         params.seed,
         1,
     )

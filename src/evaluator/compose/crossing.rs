@@ -22,7 +22,7 @@ pub struct Crossing<'a> {
 
 impl Crossing<'_> {
     /// Was the classification made for these parents as they are now?
-    pub fn classes_fit(&self) -> bool {
+    pub(crate) fn classes_fit(&self) -> bool {
         let [a, b] = self.parents;
         self.classes.is_for(a, b)
     }

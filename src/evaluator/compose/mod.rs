@@ -49,7 +49,7 @@ use std::sync::Arc;
 
 /// Scratch buffers of [`Evaluator::compose`](crate::evaluator::Evaluator::compose), kept between calls.
 #[derive(Clone, Debug, Default)]
-pub struct ComposeScratch {
+pub(crate) struct ComposeScratch {
     /// Summed-area table of the B labels, `(W + 1) × (H + 1)`.
     sat: Vec<u32>,
     /// Per grid point: 1 when labelled B.

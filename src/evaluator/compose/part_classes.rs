@@ -56,11 +56,11 @@ pub struct PartClasses {
 
 impl PartClasses {
     /// Most parts a classification holds (bits of a mask).
-    pub const MAX_PARTS: usize = 32;
+    pub(crate) const MAX_PARTS: usize = 32;
 
     /// Classifies the triangles of `a` and `b` (scored on `hf`, disc boxes filled) against the
     /// rectangles `parts` (`[x0, y0, x1, y1]`, half-open; empty ones allowed), which must tile the
-    /// grid. `None` when they do not, when there are more than [`MAX_PARTS`](Self::MAX_PARTS),
+    /// grid. `None` when they do not, when there are more than `MAX_PARTS`,
     /// or when a parent is not ready to compose from.
     pub fn new(
         hf: &Arc<Heightfield>,
@@ -292,7 +292,7 @@ impl PartClasses {
     }
 
     /// Was this classification made for parents `a` and `b`, as they are now?
-    pub fn is_for(&self, a: &MeshState, b: &MeshState) -> bool {
+    pub(crate) fn is_for(&self, a: &MeshState, b: &MeshState) -> bool {
         self.made_from == [a.revision, b.revision] && a.revision != 0
     }
 }

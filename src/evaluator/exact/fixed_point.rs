@@ -19,7 +19,7 @@
 /// of two makes d·2ᵏ exact, and terms below 2⁵¹ round by one floating-point addition (see
 /// [`units`](Self::units)): the same integers natively and in wasm, without a branch.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ErrorUnits {
+pub(crate) struct ErrorUnits {
     /// 2ᵏ for |z − z̃|.
     pub(crate) scale: f64,
     /// The same for (z − z̃)², with R² in place of R.
@@ -35,7 +35,7 @@ pub(crate) const ROUNDER: f64 = 4_503_599_627_370_496.0;
 
 impl ErrorUnits {
     /// The units for `points` grid points with heights spanning `z_range` (max − min, ≥ 0).
-    pub fn new(points: usize, z_range: f64) -> Self {
+    pub(crate) fn new(points: usize, z_range: f64) -> Self {
         // 2^b ≥ 2N.
         let b = (2 * points.max(1)).next_power_of_two().trailing_zeros() as i32;
         let top = 51.min(62 - b);
@@ -60,35 +60,35 @@ impl ErrorUnits {
     }
 
     /// The units of height field `hf`.
-    pub fn of(hf: &crate::heightfield::Heightfield) -> Self {
+    pub(crate) fn of(hf: &crate::heightfield::Heightfield) -> Self {
         let (lo, hi) = hf.z_range();
         Self::new(hf.len(), hi - lo)
     }
 
     /// d·2ᵏ rounded to the nearest integer (ties to even), for an error `d` ≥ 0.
     #[inline]
-    pub fn units(&self, d: f64) -> u64 {
+    pub(crate) fn units(&self, d: f64) -> u64 {
         to_integer(at_most(d * self.scale, self.cap))
     }
 
     /// The units of d².
     #[inline]
-    pub fn units_sq(&self, d: f64) -> u64 {
+    pub(crate) fn units_sq(&self, d: f64) -> u64 {
         to_integer(at_most(d * d * self.scale_sq, self.cap))
     }
 
     /// A sum of [`units`](Self::units) as a number.
-    pub fn value(&self, units: u64) -> f64 {
+    pub(crate) fn value(&self, units: u64) -> f64 {
         units as f64 / self.scale
     }
 
     /// A sum of [`units_sq`](Self::units_sq) as a number.
-    pub fn value_sq(&self, units: u64) -> f64 {
+    pub(crate) fn value_sq(&self, units: u64) -> f64 {
         units as f64 / self.scale_sq
     }
 
     /// (Σ error, Σ error², max error) of `totals` as numbers.
-    pub fn values(&self, totals: &ErrorTotals) -> (f64, f64, f64) {
+    pub(crate) fn values(&self, totals: &ErrorTotals) -> (f64, f64, f64) {
         (
             self.value(totals.sum),
             self.value_sq(totals.sum_sq),
@@ -114,7 +114,7 @@ fn to_integer(x: f64) -> u64 {
 
 /// Error totals over some grid points, in [`ErrorUnits`] (exact, so they add in any order).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ErrorTotals {
+pub(crate) struct ErrorTotals {
     /// Σ units(|z − z̃|).
     pub sum: u64,
     /// Σ units((z − z̃)²).
@@ -126,7 +126,7 @@ pub struct ErrorTotals {
 impl ErrorTotals {
     /// Adds one point's error `d` (≥ 0, not NaN), in `units`.
     #[inline]
-    pub fn add_error(&mut self, units: ErrorUnits, d: f64) {
+    pub(crate) fn add_error(&mut self, units: ErrorUnits, d: f64) {
         self.sum += units.units(d);
         self.sum_sq += units.units_sq(d);
         self.max = if d > self.max { d } else { self.max };
@@ -134,7 +134,7 @@ impl ErrorTotals {
 
     /// Adds `other`'s points to these.
     #[inline]
-    pub fn add(&mut self, other: &Self) {
+    pub(crate) fn add(&mut self, other: &Self) {
         self.sum += other.sum;
         self.sum_sq += other.sum_sq;
         // Errors are never NaN (heights are finite), so a comparison is the maximum.

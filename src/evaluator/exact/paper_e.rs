@@ -9,7 +9,7 @@ use crate::heightfield::Heightfield;
 
 /// (E_sum, E_max, Σ squared error, number of points found in no triangle) of `triangles` on `hf`,
 /// computed by exhaustive search. `kept` points contribute zero.
-pub fn brute_force(
+pub(crate) fn brute_force(
     hf: &Heightfield,
     kept: &[u32],
     triangles: &[[u32; 3]],

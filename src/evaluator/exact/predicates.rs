@@ -14,7 +14,7 @@
 //! sense (only co-circular ties are decided by the perturbation).
 
 /// A grid point as integer (column, row) coordinates.
-pub type GridPoint = [i64; 2];
+pub(crate) type GridPoint = [i64; 2];
 
 /// Converts grid indices to coordinates without a division: `index / width` is computed as
 /// `(index · m) >> 42` with `m = ⌈2⁴² / width⌉`, exact for every index of a grid within
@@ -53,7 +53,7 @@ impl Lattice {
 /// Twice the signed area of triangle (a, b, c): positive when a → b → c turns counter-clockwise
 /// (x to the right, y up), zero when collinear.
 #[inline]
-pub fn orient(a: GridPoint, b: GridPoint, c: GridPoint) -> i64 {
+pub(crate) fn orient(a: GridPoint, b: GridPoint, c: GridPoint) -> i64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
@@ -84,7 +84,7 @@ fn incircle_terms(a: GridPoint, b: GridPoint, c: GridPoint, d: GridPoint) -> (i6
 /// for every labelling of the same quadrilateral: for an edge `(a, b)` shared by triangles
 /// `(a, b, c)` and `(b, a, d)`, `incircle(a, b, c, d)` and `incircle(b, a, d, c)` agree.
 #[inline]
-pub fn in_circle(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
+pub(crate) fn in_circle(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
     // The determinant alone on the common path; the tie path computes the coefficients again
     // out of line. Why: with them in one function, the coefficients and ids were spilled to
     // the stack (for the indexed tie scan) before every test, ties or not.
@@ -98,7 +98,7 @@ pub fn in_circle(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
 /// The in-circle determinant of [`in_circle`] before its tie rule: > 0 when `d` lies strictly
 /// inside the circle through the counter-clockwise triangle `(a, b, c)`, 0 on it.
 #[inline]
-pub fn in_circle_det([a, b, c, d]: [GridPoint; 4]) -> i64 {
+pub(crate) fn in_circle_det([a, b, c, d]: [GridPoint; 4]) -> i64 {
     let (adx, ady) = (a[0] - d[0], a[1] - d[1]);
     let (bdx, bdy) = (b[0] - d[0], b[1] - d[1]);
     let (cdx, cdy) = (c[0] - d[0], c[1] - d[1]);
@@ -134,7 +134,7 @@ fn in_circle_tie(pts: [GridPoint; 4], ids: [u32; 4]) -> bool {
 /// coefficients, to test many points against one circle: about a third of the work of
 /// [`in_circle`] per point.
 #[derive(Clone, Copy, Debug)]
-pub struct Circle {
+pub(crate) struct Circle {
     a: GridPoint,
     cx: i64,
     cy: i64,
@@ -144,7 +144,7 @@ pub struct Circle {
 impl Circle {
     /// The circle through the counter-clockwise triangle `(a, b, c)`.
     #[inline]
-    pub fn new(a: GridPoint, b: GridPoint, c: GridPoint) -> Self {
+    pub(crate) fn new(a: GridPoint, b: GridPoint, c: GridPoint) -> Self {
         let (bx, by) = (b[0] - a[0], b[1] - a[1]);
         let (cx, cy) = (c[0] - a[0], c[1] - a[1]);
         let (lb, lc) = (bx * bx + by * by, cx * cx + cy * cy);
@@ -160,7 +160,7 @@ impl Circle {
     /// (> 0 strictly inside, 0 on the circle). Exact: with |coordinate differences| < 2¹⁴ the
     /// coefficients stay below 2⁴⁴ and the three products below 2⁵⁸.
     #[inline]
-    pub fn det(&self, d: GridPoint) -> i64 {
+    pub(crate) fn det(&self, d: GridPoint) -> i64 {
         let (dx, dy) = (d[0] - self.a[0], d[1] - self.a[1]);
         -dx * self.cx + dy * self.cy - (dx * dx + dy * dy) * self.cl
     }

@@ -4,7 +4,7 @@
 /// `tri` rotated so that its smallest grid index comes first (orientation kept): the
 /// rotation every triangle is rasterised in, so its errors do not depend on how it was made.
 #[inline]
-pub fn canonical(tri: [u32; 3]) -> [u32; 3] {
+pub(crate) fn canonical(tri: [u32; 3]) -> [u32; 3] {
     let [a, b, c] = tri;
     if a < b && a < c {
         tri

@@ -7,7 +7,7 @@ use crate::evaluator::exact::predicates::{Lattice, in_circle_det, orient};
 /// accepts) is Delaunay: every interior edge is locally Delaunay (the far vertex of one
 /// triangle is not strictly inside the other's circumcircle), which for a triangulation makes
 /// it Delaunay everywhere. Co-circular ties count as Delaunay whichever diagonal they take.
-pub fn is_delaunay(tris: &[[u32; 3]], width: usize) -> bool {
+pub(crate) fn is_delaunay(tris: &[[u32; 3]], width: usize) -> bool {
     let lattice = Lattice::new(width);
     let p = |i: u32| lattice.point(i);
     // Each directed edge of a counter-clockwise triangle, with the triangle's third vertex.

@@ -5,7 +5,7 @@ use crate::evaluator::exact::predicates::GridPoint;
 /// The grid box of a triangle's circumcircle disc, clipped to the grid: columns `x0..=x1`, rows
 /// `y0..=y1`. Conservative: it holds every grid point on or inside the circle.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct DiscBox {
+pub(crate) struct DiscBox {
     x0: u16,
     x1: u16,
     y0: u16,
@@ -30,7 +30,7 @@ pub(crate) fn circumcentre(p: [GridPoint; 3]) -> (f64, f64, f64) {
 
 impl DiscBox {
     /// The box of the counter-clockwise triangle `p` on a `width × height` grid.
-    pub fn of(p: [GridPoint; 3], width: usize, height: usize) -> Self {
+    pub(crate) fn of(p: [GridPoint; 3], width: usize, height: usize) -> Self {
         let a = p[0];
         let (ux, uy, r) = circumcentre(p);
         // Far above the rounding error (a few ulps of numbers below 2³⁰), so no point on the

@@ -57,11 +57,11 @@ pub struct MeshState {
 }
 
 /// See [`MeshState::largest`].
-pub const LARGEST_MAXIMA: usize = 16;
+pub(crate) const LARGEST_MAXIMA: usize = 16;
 
 /// A mesh state's arrays indexed by grid point (kept marks, hints, kept bitset), taken out of a
-/// state that is not being edited ([`MeshState::detach_lookups`]) and lent to one that is
-/// ([`MeshState::attach_lookups`]). A state without them costs memory in proportion to its
+/// state that is not being edited (`MeshState::detach_lookups`) and lent to one that is
+/// (`MeshState::attach_lookups`). A state without them costs memory in proportion to its
 /// mesh, not to the grid; a handful of these serve a whole population. Between states the kept
 /// marks and bits are all clear (the hints are unspecified), so lending one costs a pass over
 /// the mesh, not over the grid.
@@ -177,7 +177,7 @@ impl MeshState {
 
     /// The kept points that share a triangle with kept point `v`, each once, counter-clockwise
     /// around it: a walk around its star from the triangle its hint names. The state must
-    /// hold its lookups ([`has_lookups`](Self::has_lookups)).
+    /// hold its lookups (`has_lookups`).
     pub fn neighbours(&self, v: u32) -> Vec<u32> {
         let hf = self.hf.as_ref().expect("a scored state");
         let lattice = Lattice::new(hf.width());
@@ -200,7 +200,7 @@ impl MeshState {
     /// Does this state hold its per-grid-point arrays (a build, an edit or a composition gives
     /// it them; [`detach_lookups`](Self::detach_lookups) takes them away)? Only a state that
     /// holds them can be edited, composed from or tried.
-    pub fn has_lookups(&self) -> bool {
+    pub(crate) fn has_lookups(&self) -> bool {
         self.hf
             .as_ref()
             .is_some_and(|hf| self.kept.len() == hf.len())
@@ -210,7 +210,7 @@ impl MeshState {
     /// memory in proportion to its mesh (also its build scratch and summed-area table go).
     /// [`attach_lookups`](Self::attach_lookups) makes them again. `None` (and no change) when
     /// the state does not hold them or is not scored.
-    pub fn detach_lookups(&mut self) -> Option<GridLookups> {
+    pub(crate) fn detach_lookups(&mut self) -> Option<GridLookups> {
         if !self.has_lookups() || self.score.is_none() {
             return None;
         }
@@ -240,7 +240,7 @@ impl MeshState {
     /// [`GridLookups::default`]), filled from its mesh: its kept marks and bitset, and a hint per
     /// vertex. Costs a pass over the mesh (and over the grid only the first time a set of arrays
     /// is used). Does nothing to a state that holds them or is not scored.
-    pub fn attach_lookups(&mut self, lookups: GridLookups) {
+    pub(crate) fn attach_lookups(&mut self, lookups: GridLookups) {
         let Some(n) = self.hf.as_ref().map(|hf| hf.len()) else {
             return;
         };
@@ -281,7 +281,7 @@ impl MeshState {
 
     /// Fills the disc boxes of this state's triangles if they are stale: all that
     /// [`Evaluator::compose`](crate::evaluator::Evaluator::compose) needs of a parent.
-    pub fn ensure_disc_boxes(&mut self) {
+    pub(crate) fn ensure_disc_boxes(&mut self) {
         let Some(hf) = self.hf.clone() else {
             return;
         };

@@ -48,7 +48,7 @@ pub use shared::{Changes, PartScores};
 
 impl PartScores {
     /// Was this made from the classification of `crossing`, for its parents as they are now?
-    pub fn is_for(&self, crossing: Crossing<'_>) -> bool {
+    pub(crate) fn is_for(&self, crossing: Crossing<'_>) -> bool {
         let id = crossing.classes.id;
         self.made_from == id && id != 0 && crossing.classes_fit()
     }
@@ -405,7 +405,7 @@ impl PartScores {
     /// is inside, join R. `None` also when a removed point is not the child's or an inserted
     /// one is.
     #[allow(clippy::needless_range_loop)] // a side indexes the parents and several tables at once
-    pub fn score_changed(
+    pub(crate) fn score_changed(
         &mut self,
         crossing: Crossing<'_>,
         levels: u32,

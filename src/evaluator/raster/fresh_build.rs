@@ -15,7 +15,7 @@ impl MeshState {
     /// Per triangle, in the order of [`triangles`](Self::triangles), Σ |z − z̃| over the grid
     /// points it owns (its vertices excluded), from the totals the state keeps: no
     /// rasterisation. Empty before the state is scored.
-    pub fn triangle_error_sums(&self) -> Vec<f64> {
+    pub(crate) fn triangle_error_sums(&self) -> Vec<f64> {
         let Some(hf) = &self.hf else {
             return Vec::new();
         };

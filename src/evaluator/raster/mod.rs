@@ -26,7 +26,7 @@ use span_sum::Kernel;
 
 /// Error sums over the points one triangle owns.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct TriangleError {
+pub(crate) struct TriangleError {
     /// Σ |z − z̃|.
     pub sum: f64,
     /// Σ (z − z̃)².
@@ -38,7 +38,7 @@ pub struct TriangleError {
 }
 
 /// The grid a triangle is rasterised on.
-pub struct Grid<'a> {
+pub(crate) struct Grid<'a> {
     /// Columns.
     pub width: i64,
     /// Rows.
@@ -50,7 +50,7 @@ pub struct Grid<'a> {
 impl Grid<'_> {
     /// Does the segment a–b lie on the grid's border? Such an edge belongs to one triangle only.
     #[inline]
-    pub fn on_border(&self, a: GridPoint, b: GridPoint) -> bool {
+    pub(crate) fn on_border(&self, a: GridPoint, b: GridPoint) -> bool {
         (a[0] == b[0] && (a[0] == 0 || a[0] == self.width - 1))
             || (a[1] == b[1] && (a[1] == 0 || a[1] == self.height - 1))
     }
@@ -195,7 +195,7 @@ impl Grid<'_> {
     /// Visits every grid point the counter-clockwise triangle `tri` owns (vertices excluded) with
     /// its index and its interpolated height z̃.
     #[inline]
-    pub fn for_each_point(&self, tri: [GridPoint; 3], mut visit: impl FnMut(usize, f64)) {
+    pub(crate) fn for_each_point(&self, tri: [GridPoint; 3], mut visit: impl FnMut(usize, f64)) {
         self.for_each_span(tri, |first, last, span| {
             for (k, i) in (first..=last).enumerate() {
                 visit(i, span.at(k));
@@ -207,7 +207,7 @@ impl Grid<'_> {
     /// its index and its error |z − z̃|, the same bits [`triangle_error`](Self::triangle_error)
     /// adds up.
     #[inline]
-    pub fn for_each_error(&self, tri: [GridPoint; 3], mut visit: impl FnMut(usize, f64)) {
+    pub(crate) fn for_each_error(&self, tri: [GridPoint; 3], mut visit: impl FnMut(usize, f64)) {
         self.for_each_span(tri, |first, last, span| {
             let z = &self.z[first..=last];
             for (k, &zk) in z.iter().enumerate() {
@@ -221,7 +221,7 @@ impl Grid<'_> {
     /// key: the errors of [`for_each_error`](Self::for_each_error), summed with the fastest
     /// kernel this CPU has (see [`span_sum`]; every kernel gives the same
     /// bits).
-    pub fn sum_triangles<Key>(
+    pub(crate) fn sum_triangles<Key>(
         &self,
         units: ErrorUnits,
         tris: impl IntoIterator<Item = (Key, [GridPoint; 3])>,
@@ -239,7 +239,7 @@ impl Grid<'_> {
     /// The totals of all the triangles `tris` together (each counter-clockwise, proper): the
     /// sum of their [`sum_triangles`](Self::sum_triangles) totals, bit for bit (the sums are
     /// exact integers), in one set of running sums (no per-triangle reduction of the lanes).
-    pub fn sum_all(
+    pub(crate) fn sum_all(
         &self,
         units: ErrorUnits,
         tris: impl IntoIterator<Item = [GridPoint; 3]>,
@@ -331,7 +331,7 @@ impl Grid<'_> {
     }
 
     /// The error sums of the points triangle `tri` owns.
-    pub fn triangle_error(&self, tri: [GridPoint; 3]) -> TriangleError {
+    pub(crate) fn triangle_error(&self, tri: [GridPoint; 3]) -> TriangleError {
         let mut acc = TriangleError::default();
         self.for_each_span(tri, |first, last, span| {
             let z = &self.z[first..=last];
@@ -378,7 +378,7 @@ impl<K: Kernel> RowSink for KernelRows<'_, K> {
 }
 
 /// z̃ along one row span: z̃(k) = start + k·step at the span's k-th column.
-pub struct Interpolant {
+pub(crate) struct Interpolant {
     start: f64,
     step: f64,
 }
@@ -386,7 +386,7 @@ pub struct Interpolant {
 impl Interpolant {
     /// z̃ at column `k` of the span.
     #[inline]
-    pub fn at(&self, k: usize) -> f64 {
+    pub(crate) fn at(&self, k: usize) -> f64 {
         // Exact: a span is shorter than the grid's side, < 2¹⁴.
         self.at_i32(k as i32)
     }

@@ -19,7 +19,7 @@ use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 
 /// A way to sum spans (see the module docs). `Sums` are one triangle's running sums, `Step` a
 /// triangle's per-span constants.
-pub trait Kernel: Copy {
+pub(crate) trait Kernel: Copy {
     /// Running sums.
     type Sums: Copy;
     /// What a triangle's spans share: its step, as the kernel wants it.
@@ -37,7 +37,7 @@ pub trait Kernel: Copy {
 
 /// One point at a time: every target.
 #[derive(Clone, Copy, Debug)]
-pub struct Scalar(pub ErrorUnits);
+pub(crate) struct Scalar(pub ErrorUnits);
 
 impl Kernel for Scalar {
     type Sums = ErrorTotals;

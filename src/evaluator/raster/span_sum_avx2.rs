@@ -8,7 +8,7 @@ use core::arch::x86_64::*;
 /// Four lanes of f64 (AVX2). Only to be used inside a function compiled with the `avx2`
 /// target feature, on a CPU that has it ([`Avx2::detect`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Avx2 {
+pub(crate) struct Avx2 {
     units: ErrorUnits,
     scale: __m256d,
     scale_sq: __m256d,
@@ -19,7 +19,7 @@ pub struct Avx2 {
 
 /// Four-lane running sums.
 #[derive(Clone, Copy, Debug)]
-pub struct Sums {
+pub(crate) struct Sums {
     sum: __m256i,
     sum_sq: __m256i,
     max: __m256d,
@@ -31,7 +31,7 @@ pub struct Sums {
 
 /// k·step for k = 0..8.
 #[derive(Clone, Copy, Debug)]
-pub struct Step {
+pub(crate) struct Step {
     step: f64,
     low: __m256d,
     high: __m256d,
@@ -39,7 +39,7 @@ pub struct Step {
 
 impl Avx2 {
     /// The kernel for `units` when this CPU has AVX2.
-    pub fn detect(units: ErrorUnits) -> Option<Self> {
+    pub(crate) fn detect(units: ErrorUnits) -> Option<Self> {
         if !std::arch::is_x86_feature_detected!("avx2") {
             return None;
         }

@@ -22,7 +22,7 @@ const EMPTY: [u32; 3] = [u32::MAX; 3];
 /// touches a quarter of a cache line, and the table stays in the first-level cache (with the
 /// totals in the slots it would not).
 #[derive(Clone, Debug, Default)]
-pub struct TriangleMemo {
+pub(crate) struct TriangleMemo {
     /// The height field the totals are of.
     field: Option<Arc<Heightfield>>,
     slots: Vec<([u32; 3], u32)>,
@@ -35,12 +35,12 @@ pub struct TriangleMemo {
 impl TriangleMemo {
     /// Most triangles remembered: past it the memo starts again (the repeats are among the
     /// latest crossovers', several hundred each; a small table stays in cache).
-    pub const CAPACITY: usize = 1 << 12;
+    pub(crate) const CAPACITY: usize = 1 << 12;
 
     /// Makes the memo one of `hf`'s totals, forgetting what it holds when that was of another
     /// height field or is past [`CAPACITY`](Self::CAPACITY). With no height field (`None`),
     /// the memo forgets everything and neither knows nor learns any triangle.
-    pub fn prepare(&mut self, hf: Option<&Arc<Heightfield>>) {
+    pub(crate) fn prepare(&mut self, hf: Option<&Arc<Heightfield>>) {
         let same = match (&self.field, hf) {
             (Some(f), Some(h)) => Arc::ptr_eq(f, h),
             _ => false,
@@ -52,7 +52,7 @@ impl TriangleMemo {
     }
 
     /// Forgets every triangle.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         if !self.totals.is_empty() {
             self.slots.fill((EMPTY, 0));
             self.totals.clear();
@@ -76,7 +76,7 @@ impl TriangleMemo {
 
     /// The totals of `tri`, if known.
     #[inline(always)]
-    pub fn get(&self, tri: [u32; 3]) -> Option<ErrorTotals> {
+    pub(crate) fn get(&self, tri: [u32; 3]) -> Option<ErrorTotals> {
         if self.totals.is_empty() || self.field.is_none() {
             return None;
         }
@@ -86,7 +86,7 @@ impl TriangleMemo {
 
     /// Remembers the totals of `tri`.
     #[inline(always)]
-    pub fn insert(&mut self, tri: [u32; 3], totals: ErrorTotals) {
+    pub(crate) fn insert(&mut self, tri: [u32; 3], totals: ErrorTotals) {
         if self.field.is_none() {
             return;
         }
@@ -105,7 +105,7 @@ impl TriangleMemo {
     /// Calls `done(key, totals)` for every `(key, tri)` of `tris` (counter-clockwise, in the
     /// canonical rotation): the totals the memo knows, the others rasterised on `hf` (after
     /// the known ones; every kernel gives the same bits) and remembered. `unknown`: scratch.
-    pub fn sum_triangles<K: Copy>(
+    pub(crate) fn sum_triangles<K: Copy>(
         &mut self,
         hf: &Heightfield,
         tris: impl IntoIterator<Item = (K, [u32; 3])>,

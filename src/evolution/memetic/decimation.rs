@@ -26,24 +26,24 @@ use std::collections::BinaryHeap;
 
 /// The mesh is recorded whenever its T has fallen to this fraction of the last recorded T (or
 /// below), so the front it leaves has no gap wider than 2 % in T.
-pub const RECORD_RATIO: f64 = 0.98;
+pub(crate) const RECORD_RATIO: f64 = 0.98;
 
 /// Kept points of the starting mesh whose first costs a unit scores (corners are skipped).
-pub const INITIAL_TRIALS: usize = 32;
+pub(crate) const INITIAL_TRIALS: usize = 32;
 
 /// The densest mesh decimation starts from: half the full mesh, at most [`START_CAP`]
 /// triangles. Twice a target's density is enough for the removals to choose well (starting
 /// from the full mesh gives the same errors below a quarter of it), and the cap bounds the
 /// cost on large grids, where each start vertex costs about seven evaluations.
-pub fn start_triangles(hf: &Heightfield) -> usize {
+pub(crate) fn start_triangles(hf: &Heightfield) -> usize {
     (hf.full_triangles() / 2).min(START_CAP)
 }
 
 /// See [`start_triangles`]: 2¹⁶ triangles, half a 257×257 grid's full mesh.
-pub const START_CAP: usize = 1 << 16;
+pub(crate) const START_CAP: usize = 1 << 16;
 
 /// A decimation in progress; see the module doc.
-pub struct Decimation {
+pub(crate) struct Decimation {
     member: Member,
     /// The position in the starting mesh's kept list of the next vertex whose first cost is
     /// to be scored (the list does not change until every first cost is).
@@ -64,7 +64,7 @@ pub struct Decimation {
 
 impl Decimation {
     /// Decimation of the kept set `kept` (increasing, corners included; one evaluation).
-    pub fn new(evaluator: &mut Evaluator, kept: Vec<u32>, measure: ErrorMeasure) -> Self {
+    pub(crate) fn new(evaluator: &mut Evaluator, kept: Vec<u32>, measure: ErrorMeasure) -> Self {
         let grid_len = evaluator.heightfield().len();
         let member = Member::fresh(evaluator, kept);
         let mut run = Self {
@@ -86,23 +86,27 @@ impl Decimation {
 
     /// The mesh as decimated so far (the tests hold each removal to brute force).
     #[cfg(test)]
-    pub fn member(&self) -> &Member {
+    pub(crate) fn member(&self) -> &Member {
         &self.member
     }
 
     /// Evaluations so far.
-    pub fn evaluations(&self) -> u64 {
+    pub(crate) fn evaluations(&self) -> u64 {
         self.evaluations
     }
 
     /// Down to the corners?
-    pub fn is_done(&self) -> bool {
+    pub(crate) fn is_done(&self) -> bool {
         self.done
     }
 
     /// One unit (see the module doc). Hands each recorded mesh (its kept set and score) to
     /// `record`, the starting mesh first.
-    pub fn unit(&mut self, evaluator: &mut Evaluator, mut record: impl FnMut(&[u32], &Score)) {
+    pub(crate) fn unit(
+        &mut self,
+        evaluator: &mut Evaluator,
+        mut record: impl FnMut(&[u32], &Score),
+    ) {
         if self.done {
             return;
         }

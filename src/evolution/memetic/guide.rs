@@ -14,7 +14,7 @@ thread_local! {
 }
 
 /// [`Guide::worst_point`] of a triangle that owns no grid point with a nonzero error.
-pub const NO_POINT: u32 = u32::MAX;
+pub(crate) const NO_POINT: u32 = u32::MAX;
 
 /// The error landscape of one mesh; see the module doc. The sums come from the totals the mesh
 /// keeps ([`MeshState::triangle_error_sums`]), so a guide costs a pass over the triangles, and
@@ -106,7 +106,7 @@ impl Guide {
 
     /// The triangle whose share of [`total`](Self::total) holds `u` ∈ [0, 1): a triangle is
     /// chosen with probability proportional to its error sum. `None` when the error is 0.
-    pub fn triangle_at(&self, u: f64) -> Option<usize> {
+    pub(crate) fn triangle_at(&self, u: f64) -> Option<usize> {
         let total = self.total();
         if total <= 0.0 {
             return None;
@@ -118,7 +118,7 @@ impl Guide {
 
     /// Triangle `t`'s owned point of largest error (the first in grid order on ties), or
     /// [`NO_POINT`] when it owns no point with an error.
-    pub fn worst_point(&self, hf: &Heightfield, t: usize) -> u32 {
+    pub(crate) fn worst_point(&self, hf: &Heightfield, t: usize) -> u32 {
         let lattice = Lattice::new(hf.width());
         let grid = Grid {
             width: hf.width() as i64,
@@ -142,7 +142,7 @@ impl Guide {
     /// error-weighted mean position of the points it owns; ties to the first in grid order), or
     /// [`NO_POINT`] when it owns no point with an error. For a sum-type error, a split there
     /// often removes more error than one at the single worst point.
-    pub fn centre_point(&self, hf: &Heightfield, t: usize) -> u32 {
+    pub(crate) fn centre_point(&self, hf: &Heightfield, t: usize) -> u32 {
         let lattice = Lattice::new(hf.width());
         let grid = Grid {
             width: hf.width() as i64,
@@ -175,7 +175,7 @@ impl Guide {
 
     /// Up to `k` triangles of largest error sum with a nonzero sum, largest first (ties to the
     /// smaller slot).
-    pub fn largest_triangles(&self, k: usize) -> Vec<usize> {
+    pub(crate) fn largest_triangles(&self, k: usize) -> Vec<usize> {
         let mut order: Vec<usize> = (0..self.triangles.len())
             .filter(|&t| self.sums[t] > 0.0)
             .collect();
@@ -190,7 +190,7 @@ impl Guide {
 
     /// Up to `k` kept points, cheapest estimated removal first (ties to the smaller index),
     /// among those `allowed` accepts; corners never.
-    pub fn cheapest_removals(&self, k: usize, allowed: impl Fn(u32) -> bool) -> Vec<u32> {
+    pub(crate) fn cheapest_removals(&self, k: usize, allowed: impl Fn(u32) -> bool) -> Vec<u32> {
         let mut order: Vec<usize> = (0..self.vertices.len())
             .filter(|&v| self.removal_cost[v].is_finite() && allowed(self.vertices[v]))
             .collect();

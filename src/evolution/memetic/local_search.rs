@@ -51,32 +51,32 @@ use std::hash::{BuildHasherDefault, Hasher};
 /// at least [`MIN_CANDIDATES`] and at most [`MAX_CANDIDATES`], so that a round on a dense mesh
 /// can make many swaps at once. The remembered trials keep a long list cheap after the first
 /// round, and each applied batch rebuilds the mesh's guide once for many swaps.
-pub const POINTS_PER_CANDIDATE: usize = 4;
+pub(crate) const POINTS_PER_CANDIDATE: usize = 4;
 /// See [`POINTS_PER_CANDIDATE`].
-pub const MIN_CANDIDATES: usize = 16;
+pub(crate) const MIN_CANDIDATES: usize = 16;
 /// See [`POINTS_PER_CANDIDATE`].
-pub const MAX_CANDIDATES: usize = 1024;
+pub(crate) const MAX_CANDIDATES: usize = 1024;
 /// Vertices tried at every free neighbour per round.
-pub const MOVES: usize = 2;
+pub(crate) const MOVES: usize = 2;
 /// A round's largest triangles whose vertices are tried at each free grid neighbour, their
 /// best moves remembered and batched with the swaps.
-pub const MOVE_TRIANGLES: usize = 1;
+pub(crate) const MOVE_TRIANGLES: usize = 1;
 /// Most rounds per visit.
-pub const ROUNDS_PER_VISIT: usize = 20;
+pub(crate) const ROUNDS_PER_VISIT: usize = 20;
 /// New single trials a unit scores at most: a round with more candidates than this goes on
 /// over several units (its trials remembered between them), so that no unit of a large mesh
 /// holds up a browser frame.
-pub const TRIALS_PER_UNIT: usize = 128;
+pub(crate) const TRIALS_PER_UNIT: usize = 128;
 /// Target triangle counts per sweep.
-pub const TARGETS: usize = 32;
+pub(crate) const TARGETS: usize = 32;
 /// Padding inserts at most one point per this many kept points at a time (about 2 % more
 /// triangles), offering each step to the archive, so that the front it passes through has no
 /// wide gaps in T.
-pub const PAD_STEP: usize = 50;
+pub(crate) const PAD_STEP: usize = 50;
 
 /// The local search's state between units; see the module doc.
 #[derive(Debug)]
-pub struct LocalSearch {
+pub(crate) struct LocalSearch {
     /// Visits started so far.
     visits: u64,
     /// The member being improved, its rounds left and its target.
@@ -89,7 +89,7 @@ pub struct LocalSearch {
 impl LocalSearch {
     /// Targets from 8 triangles (or fewer on a tiny grid) to the densest seed
     /// ([`densest_seed`]: a quarter of `hf`'s full mesh up to a 257×257 grid).
-    pub fn new(hf: &Heightfield) -> Self {
+    pub(crate) fn new(hf: &Heightfield) -> Self {
         let high = densest_seed(hf) as f64;
         Self {
             visits: 0,
@@ -106,7 +106,7 @@ impl LocalSearch {
 
     /// The target of visit `k`: sweep `k / TARGETS`, position `k % TARGETS`, shifted by the
     /// sweep's van der Corput term so that sweeps interleave.
-    pub fn target(&self, k: u64) -> usize {
+    pub(crate) fn target(&self, k: u64) -> usize {
         let (sweep, at) = (k / TARGETS as u64, (k % TARGETS as u64) as f64);
         let shift = van_der_corput(sweep);
         let f = (at + shift) / TARGETS as f64;
@@ -116,7 +116,7 @@ impl LocalSearch {
     /// One unit: starts a visit (picking and building its member), or makes one padding step
     /// of the visit in progress (up to its target, or past it after its rounds), or runs one
     /// of its rounds. Counts its evaluations in `evaluations`.
-    pub fn unit(
+    pub(crate) fn unit(
         &mut self,
         evaluator: &mut Evaluator,
         archive: &mut Front,
@@ -536,7 +536,7 @@ fn with_marks<R>(len: usize, f: impl FnOnce(&mut [u32]) -> R) -> R {
 /// Single-edit trials of one visit's member, kept between its rounds while they stay exact
 /// (see `round`), so that a round scores only the candidates near the last edit.
 #[derive(Debug, Default)]
-pub struct Memo {
+pub(crate) struct Memo {
     /// Per kept point, the rise of E_sum when it alone is removed.
     losses: IndexMap<u32, f64>,
     /// Per triangle, its insertion candidates with the drop of E_sum when each alone is
@@ -703,7 +703,7 @@ type IndexMap<K, V> = HashMap<K, V, BuildHasherDefault<IndexHasher>>;
 type IndexSet<K> = HashSet<K, BuildHasherDefault<IndexHasher>>;
 
 /// The `k`-th term of the base-2 van der Corput sequence, in [0, 1): 0, ½, ¼, ¾, ⅛, …
-pub fn van_der_corput(mut k: u64) -> f64 {
+pub(crate) fn van_der_corput(mut k: u64) -> f64 {
     let (mut value, mut scale) = (0.0, 0.5);
     while k > 0 {
         if k & 1 == 1 {

@@ -12,12 +12,12 @@ use crate::measure::ErrorMeasure;
 /// holds its mesh and kept list only, so a member's memory grows with its mesh, not with the
 /// grid.
 #[derive(Debug, Default)]
-pub struct LookupPool {
+pub(crate) struct LookupPool {
     free: Vec<GridLookups>,
 }
 
 /// Arrays a [`LookupPool`] keeps at most: a child, its two parents and one spare.
-pub const POOLED_LOOKUPS: usize = 4;
+pub(crate) const POOLED_LOOKUPS: usize = 4;
 
 impl LookupPool {
     fn take(&mut self) -> GridLookups {
@@ -76,7 +76,7 @@ impl Member {
     }
 
     /// Its guide, made now if it was not.
-    pub fn guide(&mut self, hf: &Heightfield) -> &Guide {
+    pub(crate) fn guide(&mut self, hf: &Heightfield) -> &Guide {
         if self.guide.is_none() {
             self.guide = Some(Guide::of(hf, &self.state, &self.kept));
         }
@@ -85,21 +85,21 @@ impl Member {
 
     /// Fills the lookups [`Evaluator::score_mutant`] reads, if stale (an edit or a copy leaves
     /// them so).
-    pub fn ready_for_trials(&mut self) {
+    pub(crate) fn ready_for_trials(&mut self) {
         self.state.ensure_lookups();
     }
 
     /// Sets the member aside: its mesh's per-grid-point arrays go back to `pool`
     /// ([`MeshState::detach_lookups`]). It must be [unstowed](Self::unstow) before it is edited,
     /// tried or composed from; its guide and score stay.
-    pub fn stow(&mut self, pool: &mut LookupPool) {
+    pub(crate) fn stow(&mut self, pool: &mut LookupPool) {
         if let Some(lookups) = self.state.detach_lookups() {
             pool.give(lookups);
         }
     }
 
     /// Makes a stowed member editable again, with arrays from `pool` (a pass over its mesh).
-    pub fn unstow(&mut self, pool: &mut LookupPool) {
+    pub(crate) fn unstow(&mut self, pool: &mut LookupPool) {
         if !self.state.has_lookups() {
             self.state.attach_lookups(pool.take());
         }
@@ -127,7 +127,7 @@ pub struct Edit {
 
 impl Edit {
     /// Makes the change on an increasing kept list, which stays increasing.
-    pub fn apply_to(&self, kept: &mut Vec<u32>) {
+    pub(crate) fn apply_to(&self, kept: &mut Vec<u32>) {
         for r in &self.remove {
             if let Ok(at) = kept.binary_search(r) {
                 kept.remove(at);
@@ -143,13 +143,13 @@ impl Edit {
 
 /// Offers a scored kept set to the archive, copying the kept list only when it enters
 /// ([`Front::offer_score`]).
-pub fn offer(archive: &mut Front, kept: &[u32], score: &Score) -> bool {
+pub(crate) fn offer(archive: &mut Front, kept: &[u32], score: &Score) -> bool {
     archive.offer_score(*score, || kept.to_vec())
 }
 
 /// Is grid point `i` on the grid's border? Swapping a border point for an interior one (or
 /// back) changes the triangle count by one, so the fixed-T moves keep the two apart.
-pub fn on_border(hf: &Heightfield, i: u32) -> bool {
+pub(crate) fn on_border(hf: &Heightfield, i: u32) -> bool {
     let (x, y) = hf.coords(i);
     x == 0 || y == 0 || x + 1 == hf.width() || y + 1 == hf.height()
 }

@@ -2,27 +2,27 @@
 //! and archive, with operators that know the geometry and a local search that polishes the
 //! front.
 //!
-//! - [`seeding`]: the initial population from two greedy-insertion sweeps (max-error rule and
+//! - `seeding`: the initial population from two greedy-insertion sweeps (max-error rule and
 //!   worst point of the largest-error-sum triangle); the mix is documented there.
-//! - [`decimation`]: exact-cost decimation of a dense greedy mesh, whose recordings join the
+//! - `decimation`: exact-cost decimation of a dense greedy mesh, whose recordings join the
 //!   archive and the seeds.
-//! - [`mutation`]: error-guided insertion, removal and vertex moves, each a local edit scored
+//! - `mutation`: error-guided insertion, removal and vertex moves, each a local edit scored
 //!   incrementally ([`Evaluator::edit`](crate::evaluator::Evaluator::edit),
 //!   [`Evaluator::score_mutant`](crate::evaluator::Evaluator::score_mutant)).
-//! - [`neighbour_mating`]: crossover between parents of similar T.
-//! - [`local_search`]: swap moves at fixed T on archive members, spread over the front.
-//! - [`guide`]: the per-triangle errors and per-vertex removal costs the operators read.
-//! - [`member`]: a scored kept set with its mesh, and the edits made to it. Members that wait
+//! - `neighbour_mating`: crossover between parents of similar T.
+//! - `local_search`: swap moves at fixed T on archive members, spread over the front.
+//! - `guide`: the per-triangle errors and per-vertex removal costs the operators read.
+//! - `member`: a scored kept set with its mesh, and the edits made to it. Members that wait
 //!   for their next use are stowed: their meshes lend their per-grid-point arrays to the few
-//!   being edited ([`member::LookupPool`]), so a member's memory grows with its mesh, not with
+//!   being edited (`member::LookupPool`), so a member's memory grows with its mesh, not with
 //!   the grid.
-//! - [`optimizer`]: the loop.
+//! - `optimizer`: the loop.
 //!
 //! A generation: μ children (each a copy of a tournament winner or, with the crossover
 //! probability, its crossover with a neighbour in T; then one guided mutation drawn among the
 //! three), (μ + λ) survival, then [`MemeticParams::local_search_rounds`] local-search units,
 //! and more until the local search has spent its share of the evaluations
-//! ([`LOCAL_SEARCH_SHARE`](optimizer::LOCAL_SEARCH_SHARE)).
+//! (`LOCAL_SEARCH_SHARE`).
 //! Every evaluated kept set is offered to the archive ([`Optimizer::front`]), which starts as
 //! both greedy fronts and the decimation's recordings.
 //!

@@ -18,11 +18,11 @@ use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 
 /// Kept points drawn for the removal tournament.
-pub const REMOVAL_TOURNAMENT: usize = 4;
+pub(crate) const REMOVAL_TOURNAMENT: usize = 4;
 
 /// The three guided operators.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Operator {
+pub(crate) enum Operator {
     /// [`insert`].
     Insert,
     /// [`remove`].
@@ -33,7 +33,7 @@ pub enum Operator {
 
 impl Operator {
     /// One of the three, equally likely.
-    pub fn draw(rng: &mut Pcg64Mcg) -> Self {
+    pub(crate) fn draw(rng: &mut Pcg64Mcg) -> Self {
         match rng.random_range(0..3u32) {
             0 => Self::Insert,
             1 => Self::Remove,
@@ -44,7 +44,7 @@ impl Operator {
 
 /// Inserts the worst point of a triangle drawn in proportion to its error sum; `None` when the
 /// mesh has no error left.
-pub fn insert(hf: &Heightfield, guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
+pub(crate) fn insert(hf: &Heightfield, guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
     let t = guide.triangle_at(rng.random::<f64>())?;
     let p = guide.worst_point(hf, t);
     (p != NO_POINT).then(|| Edit {
@@ -55,7 +55,7 @@ pub fn insert(hf: &Heightfield, guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edi
 
 /// Removes the cheapest (by estimate) of [`REMOVAL_TOURNAMENT`] kept points drawn at random;
 /// `None` when only the corners are kept.
-pub fn remove(guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
+pub(crate) fn remove(guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
     let n = guide.vertices.len();
     if guide.removal_cost.iter().all(|c| c.is_infinite()) {
         return None;
@@ -82,7 +82,7 @@ pub fn remove(guide: &Guide, rng: &mut Pcg64Mcg) -> Option<Edit> {
 /// Flips one grid point drawn uniformly among the non-corner ones: removes it when kept,
 /// inserts it otherwise. The unguided mutation the error-guided operators are measured
 /// against; `None` when the grid has no point but its corners.
-pub fn random_flip(hf: &Heightfield, member: &Member, rng: &mut Pcg64Mcg) -> Option<Edit> {
+pub(crate) fn random_flip(hf: &Heightfield, member: &Member, rng: &mut Pcg64Mcg) -> Option<Edit> {
     let corners = hf.corners();
     if hf.len() <= corners.len() {
         return None;
@@ -108,7 +108,7 @@ pub fn random_flip(hf: &Heightfield, member: &Member, rng: &mut Pcg64Mcg) -> Opt
 
 /// The free grid points among the 8 neighbours of kept point `v` in its border class (interior
 /// points for an interior `v`, points of the same border side for a border one), in grid order.
-pub fn free_neighbours(hf: &Heightfield, member: &Member, v: u32) -> Vec<u32> {
+pub(crate) fn free_neighbours(hf: &Heightfield, member: &Member, v: u32) -> Vec<u32> {
     let (w, h) = (hf.width() as i64, hf.height() as i64);
     let (x, y) = hf.coords(v);
     let (x, y) = (x as i64, y as i64);
@@ -138,7 +138,7 @@ pub fn free_neighbours(hf: &Heightfield, member: &Member, v: u32) -> Vec<u32> {
 /// Scores `member` with `edit` made, without changing it: by [`Evaluator::score_mutant`] when
 /// the member is [ready for trials](Member::ready_for_trials) and no guard fails, else by editing a copy of its mesh (the same bits either way).
 /// One evaluation.
-pub fn trial(evaluator: &mut Evaluator, member: &Member, edit: &Edit) -> Score {
+pub(crate) fn trial(evaluator: &mut Evaluator, member: &Member, edit: &Edit) -> Score {
     let changes = Changes {
         removed: &edit.remove,
         inserted: &edit.insert,
@@ -157,7 +157,7 @@ pub fn trial(evaluator: &mut Evaluator, member: &Member, edit: &Edit) -> Score {
 /// neighbours ([`free_neighbours`]), scoring each ([`trial`]; `evaluations` counts them).
 /// Returns the move and its score, or `None` when the drawn triangle has no movable vertex.
 /// `member` must be [ready for trials](Member::ready_for_trials) and have its guide.
-pub fn best_move(
+pub(crate) fn best_move(
     evaluator: &mut Evaluator,
     member: &Member,
     measure: ErrorMeasure,

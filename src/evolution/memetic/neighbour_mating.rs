@@ -11,11 +11,11 @@ use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 
 /// A mate is drawn among this many members nearest in T.
-pub const NEIGHBOURS: usize = 4;
+pub(crate) const NEIGHBOURS: usize = 4;
 
 /// Draws the mate of `population[a]`: one of the [`NEIGHBOURS`] other members nearest to it in
 /// T (ties to the smaller index). `None` for a population of one.
-pub fn pick_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<usize> {
+pub(crate) fn pick_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<usize> {
     let t = population[a].score.t;
     let mut others: Vec<usize> = (0..population.len()).filter(|&i| i != a).collect();
     if others.is_empty() {
@@ -28,7 +28,7 @@ pub fn pick_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<
 
 /// Draws the mate of `population[a]` among all other members, equally likely, whatever their
 /// T (the ablation of mating among neighbours). `None` for a population of one.
-pub fn pick_any_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<usize> {
+pub(crate) fn pick_any_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Option<usize> {
     let n = population.len();
     if n < 2 {
         return None;
@@ -40,7 +40,7 @@ pub fn pick_any_mate(population: &[Member], a: usize, rng: &mut Pcg64Mcg) -> Opt
 
 /// A cut: grid points with coordinate ≥ `at` along the axis come from the second parent.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Cut {
+pub(crate) struct Cut {
     /// Cut across x (columns) when true, across y (rows) otherwise.
     pub vertical: bool,
     /// The first column (or row) taken from the second parent, in 1..side.
@@ -49,7 +49,7 @@ pub struct Cut {
 
 impl Cut {
     /// A random cut through the inside of the grid.
-    pub fn draw(hf: &Heightfield, rng: &mut Pcg64Mcg) -> Self {
+    pub(crate) fn draw(hf: &Heightfield, rng: &mut Pcg64Mcg) -> Self {
         let vertical = rng.random::<bool>();
         let side = if vertical { hf.width() } else { hf.height() };
         Self {
@@ -61,7 +61,7 @@ impl Cut {
     /// The grid points beyond the cut as a bitset (bit `i` of word `i / 64`), what
     /// [`Evaluator::compose`] reads: set a run of bits per row (or one run for a cut across
     /// rows), so it costs a bit per grid point, not a test.
-    pub fn labels(&self, hf: &Heightfield) -> Vec<u64> {
+    pub(crate) fn labels(&self, hf: &Heightfield) -> Vec<u64> {
         let (w, n) = (hf.width(), hf.len());
         let mut bits = vec![0u64; n.div_ceil(64)];
         // Bits from..to: single bits up to a word boundary, whole words, single bits after.
@@ -91,7 +91,7 @@ impl Cut {
     }
 
     /// Is grid point `i` beyond the cut (taken from the second parent)?
-    pub fn is_from_second(&self, hf: &Heightfield, i: u32) -> bool {
+    pub(crate) fn is_from_second(&self, hf: &Heightfield, i: u32) -> bool {
         let (x, y) = hf.coords(i);
         (if self.vertical { x } else { y }) >= self.at
     }
@@ -100,7 +100,7 @@ impl Cut {
 /// The child of `a` and `b` across `cut`, scored: its mesh is composed from both parents'
 /// ([`Evaluator::compose`]) when it can be, else built; one evaluation either way, the same
 /// bits. Fills the parents' disc boxes.
-pub fn cross(evaluator: &mut Evaluator, a: &mut Member, b: &mut Member, cut: Cut) -> Member {
+pub(crate) fn cross(evaluator: &mut Evaluator, a: &mut Member, b: &mut Member, cut: Cut) -> Member {
     let hf = evaluator.heightfield().clone();
     let mut kept: Vec<u32> = a
         .kept

@@ -21,7 +21,7 @@ use std::sync::Arc;
 /// local-search phase runs its [`MemeticParams::local_search_rounds`] units and then goes on
 /// until the local search holds this share, so that the split between offspring and local
 /// search does not drift with how many evaluations a round happens to cost.
-pub const LOCAL_SEARCH_SHARE: f64 = 0.98;
+pub(crate) const LOCAL_SEARCH_SHARE: f64 = 0.98;
 
 /// Where a generation stands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -354,7 +354,7 @@ impl Optimizer for Memetic {
     /// costs, or one removal with its neighbours' new costs); then one seed's scoring, one
     /// child (a crossover and a mutation, up to 10 evaluations with a move's trials), or one
     /// local-search step (a visit's start, one padding step, or a round or the part of it that
-    /// its [`TRIALS_PER_UNIT`](super::local_search::TRIALS_PER_UNIT) new trials allow).
+    /// its `TRIALS_PER_UNIT` new trials allow).
     fn unit(&mut self) {
         self.advance();
     }

@@ -18,7 +18,7 @@ pub struct MemeticParams {
     /// parent), before its guided mutation.
     pub crossover_probability: f64,
     /// Local-search units after each generation's offspring, at least (see
-    /// [`LOCAL_SEARCH_SHARE`](super::optimizer::LOCAL_SEARCH_SHARE)).
+    /// `LOCAL_SEARCH_SHARE`).
     pub local_search_rounds: usize,
     /// Stop once this many evaluations were spent (checked between units of work); `None` =
     /// [`seeding_budget`] plus [`search_evaluations`](Self::search_evaluations) of the grid.
@@ -26,23 +26,23 @@ pub struct MemeticParams {
     /// When [`max_evaluations`](Self::max_evaluations) is not set, the evaluations after
     /// seeding (the evolution's and the local search's); `None` = [`search_budget`] of the
     /// grid. A tile of a tiled run gets its share of the whole grid's
-    /// ([`tile_params`](crate::tiling::tile_params)).
+    /// (the catalogue's `Config::tile_share`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub search_evaluations: Option<u64>,
-    /// Seed from the greedy sweeps ([`seeding`](super::seeding)); when off, the initial
+    /// Seed from the greedy sweeps (`seeding`); when off, the initial
     /// population is random kept sets at log-spaced densities (an ablation).
     #[serde(skip_serializing_if = "is_on")]
     pub greedy_seeding: bool,
-    /// Mutate with the error-guided operators ([`mutation`](super::mutation)); when off, a
+    /// Mutate with the error-guided operators (`mutation`); when off, a
     /// child flips one random grid point in or out (an ablation).
     #[serde(skip_serializing_if = "is_on")]
     pub guided_mutation: bool,
     /// Draw a crossover mate among the neighbours in T
-    /// ([`neighbour_mating`](super::neighbour_mating)); when off, any other member (an
+    /// (`neighbour_mating`); when off, any other member (an
     /// ablation).
     #[serde(skip_serializing_if = "is_on")]
     pub neighbour_mating: bool,
-    /// Run the local search after each generation ([`local_search`](super::local_search));
+    /// Run the local search after each generation (`local_search`);
     /// when off, generations are offspring and survival only (an ablation).
     #[serde(skip_serializing_if = "is_on")]
     pub local_search: bool,
@@ -78,17 +78,17 @@ impl Default for MemeticParams {
 
 /// The default evaluation budget on `hf`: the two seeding sweeps (one evaluation per point
 /// they insert: every grid point, then half as many as the densest seed has triangles,
-/// [`densest_seed`]), the decimation ([`DECIMATION_EVALUATIONS`] per triangle of the mesh it
-/// starts from, [`start_triangles`]), then the search ([`search_budget`]).
+/// `densest_seed`), the decimation (`DECIMATION_EVALUATIONS` per triangle of the mesh it
+/// starts from, `start_triangles`), then the search ([`search_budget`]).
 /// docs/performance.md gives what it costs on grids of several sizes.
 pub fn default_budget(hf: &Heightfield) -> u64 {
     seeding_budget(hf) + search_budget(hf.len() as u64)
 }
 
 /// The evolution's and the local search's evaluations on a grid of `points` points:
-/// [`SEARCH_EVALUATIONS`] plus one per grid point, up to [`SEARCH_GRID_CAP`] of them. The
+/// `SEARCH_EVALUATIONS` plus one per grid point, up to `SEARCH_GRID_CAP` of them. The
 /// search grows with the grid because the front has more to improve on a larger one, but more
-/// slowly than the grid beyond [`SEARCH_GRID_CAP`] points: there each evaluation costs more
+/// slowly than the grid beyond `SEARCH_GRID_CAP` points: there each evaluation costs more
 /// (its mesh is larger), so a search that grew with the grid would make the run grow faster
 /// than the sweeps do.
 pub fn search_budget(points: u64) -> u64 {
@@ -105,16 +105,16 @@ pub fn seeding_budget(hf: &Heightfield) -> u64 {
 
 /// See [`default_budget`]: a decimation costs about 3.8 evaluations per triangle of its start
 /// mesh (a first cost per vertex, then a removal and its neighbours' new costs).
-pub const DECIMATION_EVALUATIONS: u64 = 4;
+pub(crate) const DECIMATION_EVALUATIONS: u64 = 4;
 
 /// See [`default_budget`]: the search's floor, which on a small grid (where evaluations are
 /// cheap) is most of it. The sparsest meshes need it most: each of their points carries much
 /// of the error, so a few good moves change E the most.
-pub const SEARCH_EVALUATIONS: u64 = 120_000;
+pub(crate) const SEARCH_EVALUATIONS: u64 = 120_000;
 
 /// See [`default_budget`]: 2¹⁷, twice a 257×257 grid, so grids up to that size search as
 /// long as ever, and larger ones search at most 251 072 evaluations.
-pub const SEARCH_GRID_CAP: u64 = 1 << 17;
+pub(crate) const SEARCH_GRID_CAP: u64 = 1 << 17;
 
 /// Why a set of parameters cannot run.
 #[derive(Clone, Debug, PartialEq)]

@@ -27,13 +27,14 @@ use rand_pcg::Pcg64Mcg;
 use std::sync::Arc;
 
 /// Recordings per seeding run.
-pub const RECORDS: usize = 128;
+pub(crate) const RECORDS: usize = 128;
 
 /// The rules of the two seeding runs, in order.
-pub const RULES: [InsertionRule; 2] = [InsertionRule::MaxError, InsertionRule::WorstTriangle];
+pub(crate) const RULES: [InsertionRule; 2] =
+    [InsertionRule::MaxError, InsertionRule::WorstTriangle];
 
 /// The seeding runs in progress; see the module doc.
-pub struct Seeding {
+pub(crate) struct Seeding {
     hf: Arc<Heightfield>,
     /// The run in progress (index into [`RULES`]) and the runs' fronts once done.
     current: Option<(usize, Box<GreedyInsertion>)>,
@@ -46,7 +47,7 @@ pub struct Seeding {
 
 impl Seeding {
     /// Seeding on `hf`; nothing runs until the first unit.
-    pub fn new(hf: Arc<Heightfield>) -> Self {
+    pub(crate) fn new(hf: Arc<Heightfield>) -> Self {
         Self {
             hf,
             current: None,
@@ -57,12 +58,12 @@ impl Seeding {
     }
 
     /// Both runs finished?
-    pub fn is_done(&self) -> bool {
+    pub(crate) fn is_done(&self) -> bool {
         self.fronts.len() == RULES.len()
     }
 
     /// Insertions so far.
-    pub fn evaluations(&self) -> u64 {
+    pub(crate) fn evaluations(&self) -> u64 {
         self.finished_evaluations
             + self
                 .current
@@ -74,7 +75,7 @@ impl Seeding {
     /// run records to `record` as soon as it is recorded, so a front shows from the first
     /// units on, however large the grid; every mesh of the runs' fronts passes through it, in
     /// the order the runs record them.
-    pub fn unit(&mut self, mut record: impl FnMut(&Solution)) {
+    pub(crate) fn unit(&mut self, mut record: impl FnMut(&Solution)) {
         if self.is_done() {
             return;
         }
@@ -117,7 +118,7 @@ impl Seeding {
     /// The kept set [`decimation`](super::decimation) starts from: the first run's recorded
     /// mesh with the most triangles up to `triangles` (its sparsest one when none is that
     /// sparse). Both runs must be done.
-    pub fn decimation_start(&self, triangles: usize) -> Vec<u32> {
+    pub(crate) fn decimation_start(&self, triangles: usize) -> Vec<u32> {
         let front = &self.fronts[0];
         let start = front.within(triangles).or(front.solutions().first());
         start.expect("a run records its first mesh").kept.clone()
@@ -126,7 +127,7 @@ impl Seeding {
 
 /// The kept sets of `population` seeds (fewer when `front` has fewer members of at most
 /// [`densest_seed`] triangles on `hf`), at evenly spaced positions of those members.
-pub fn seeds(hf: &Heightfield, front: &Front, population: usize) -> Vec<Vec<u32>> {
+pub(crate) fn seeds(hf: &Heightfield, front: &Front, population: usize) -> Vec<Vec<u32>> {
     let all = front.solutions();
     // The front is sorted by increasing T.
     let members = &all[..all.partition_point(|s| s.t <= densest_seed(hf)).max(1)];
@@ -142,13 +143,13 @@ pub fn seeds(hf: &Heightfield, front: &Front, population: usize) -> Vec<Vec<u32>
 /// from greedy insertion alone, while their meshes are the largest and every copy, guide and
 /// trial on them costs in proportion (on a 1025×1025 grid a full mesh has 2 M triangles). The
 /// archive still holds the sweeps' and the decimation's denser meshes.
-pub fn densest_seed(hf: &Heightfield) -> usize {
+pub(crate) fn densest_seed(hf: &Heightfield) -> usize {
     (start_triangles(hf) / 2).max(2)
 }
 
 /// min(`s`, `n`) distinct indices of 0..`n` at evenly spaced positions, round(j·(n−1)/(s−1)),
 /// including both ends when at least two (the middle one for one).
-pub fn spread(n: usize, s: usize) -> Vec<usize> {
+pub(crate) fn spread(n: usize, s: usize) -> Vec<usize> {
     let s = s.min(n);
     match s {
         0 => Vec::new(),
@@ -163,7 +164,11 @@ pub fn spread(n: usize, s: usize) -> Vec<usize> {
 /// member j keeps the corners and random other points, n_j points in all, with n_j spaced
 /// geometrically from 5 to every grid point (so the densities cover the front evenly in log T,
 /// as the greedy seeds do). Each set is increasing.
-pub fn random_seeds(hf: &Heightfield, population: usize, rng: &mut Pcg64Mcg) -> Vec<Vec<u32>> {
+pub(crate) fn random_seeds(
+    hf: &Heightfield,
+    population: usize,
+    rng: &mut Pcg64Mcg,
+) -> Vec<Vec<u32>> {
     let corners = hf.corners();
     let others: Vec<u32> = (0..hf.len() as u32)
         .filter(|i| !corners.contains(i))

@@ -27,7 +27,7 @@ mod profile;
 #[cfg(test)]
 mod tests;
 
-pub use pool::{POOL_PER_MEMBER, POOL_STATES};
+pub(crate) use pool::{POOL_PER_MEMBER, POOL_STATES};
 
 use super::chromosome::Chromosome;
 use super::oax::Parentage;
@@ -41,7 +41,7 @@ use std::sync::Arc;
 
 /// Scores chromosomes on one height field and counts every evaluation, reusing the meshes of
 /// chromosomes scored before (see the module doc).
-pub struct Scorer {
+pub(crate) struct Scorer {
     evaluator: Evaluator,
     indices: Vec<u32>,
     evaluations: u64,
@@ -81,7 +81,7 @@ pub struct Scorer {
 
 impl Scorer {
     /// A scorer for `hf` (the corner-only mesh is scored once for E₀; that is not counted).
-    pub fn new(hf: Arc<Heightfield>) -> Self {
+    pub(crate) fn new(hf: Arc<Heightfield>) -> Self {
         let mut evaluator = Evaluator::new(hf.clone());
         let e0 = evaluator
             .score(&hf.corners())
@@ -116,7 +116,7 @@ impl Scorer {
 
     /// Evaluates `c` (one evaluation). The result is exactly [`Evaluator::score`]'s for `c`'s
     /// kept set, whether it was built from scratch or edited from a pooled mesh.
-    pub fn score(&mut self, c: &Chromosome) -> Score {
+    pub(crate) fn score(&mut self, c: &Chromosome) -> Score {
         self.score_made(c, None)
     }
 
@@ -124,14 +124,14 @@ impl Scorer {
     /// parents' meshes are in the pool and no pooled chromosome is near the child (see
     /// [`COMPOSE_TRIANGLES_PER_GENE`]), its mesh is composed from theirs
     /// ([`Evaluator::compose`]). The same score, bit for bit, either way.
-    pub fn score_crossed(&mut self, c: &Chromosome, made: Parentage<'_>) -> Score {
+    pub(crate) fn score_crossed(&mut self, c: &Chromosome, made: Parentage<'_>) -> Score {
         self.score_made(c, Some(made))
     }
 
     /// Tells the scorer that `c`, scored as a crossed child, goes on unchanged (a mutation that
     /// flipped no gene): it may become a parent, so its mesh is kept like the other offspring's.
     /// Spends no evaluation.
-    pub fn promote(&mut self, c: &Chromosome) {
+    pub(crate) fn promote(&mut self, c: &Chromosome) {
         if let Some(i) = self.pooled(c) {
             self.pool[i].crossed = false;
             self.pool[i].used = self.tick;
@@ -145,7 +145,7 @@ impl Scorer {
     /// Tells the scorer which chromosomes make up the GA's population now: their meshes are
     /// replaced only after every other one, so that the parents of the coming crossovers stay
     /// pooled to compose from. Spends no evaluation.
-    pub fn keep_alive<'a>(&mut self, population: impl IntoIterator<Item = &'a Chromosome>) {
+    pub(crate) fn keep_alive<'a>(&mut self, population: impl IntoIterator<Item = &'a Chromosome>) {
         // The new population joins the old one first, so that composing its deferred members
         // replaces neither (the old one holds their parents); then the old one is let go.
         let members: Vec<&Chromosome> = population.into_iter().collect();
@@ -176,12 +176,12 @@ impl Scorer {
     }
 
     /// Evaluations so far.
-    pub fn evaluations(&self) -> u64 {
+    pub(crate) fn evaluations(&self) -> u64 {
         self.evaluations
     }
 
     /// The normalised weighted sum with weight `w` for this height field.
-    pub fn scalarisation(&self, w: f64) -> Scalarisation {
+    pub(crate) fn scalarisation(&self, w: f64) -> Scalarisation {
         Scalarisation {
             w,
             e0: self.normalisers.0,
@@ -190,7 +190,7 @@ impl Scorer {
     }
 
     /// The height field.
-    pub fn heightfield(&self) -> &Arc<Heightfield> {
+    pub(crate) fn heightfield(&self) -> &Arc<Heightfield> {
         self.evaluator.heightfield()
     }
 }

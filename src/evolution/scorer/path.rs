@@ -15,22 +15,22 @@ use crate::evolution::oax::Parentage;
 /// pooled mesh rather than building a new one. An edit costs per differing gene, a fresh build
 /// per grid point; they cross near 0.7 of the grid (`cargo bench --bench evaluator --
 /// incremental`), and 0.5 keeps a margin.
-pub const EDIT_LIMIT_PER_POINT: f64 = 0.5;
+pub(super) const EDIT_LIMIT_PER_POINT: f64 = 0.5;
 
 /// A crossed child is composed from its parents' meshes ([`Scorer::score_crossed`]) only when
 /// every pooled chromosome is more than [`COMPOSE_MIN_GENES`] + (T_A + T_B) / this many genes
 /// from it (T_A, T_B the parents' triangle counts); nearer, an edit of that one is cheaper.
 /// Composing costs per parent triangle, an edit per differing gene (`cargo bench --bench
 /// evaluator -- compose`).
-pub const COMPOSE_TRIANGLES_PER_GENE: usize = 20;
+pub(super) const COMPOSE_TRIANGLES_PER_GENE: usize = 20;
 
 /// See [`COMPOSE_TRIANGLES_PER_GENE`]: a composition has a fixed cost too, so a child of
 /// parents near each other (the weighted-sum GA's) is edited rather than composed.
-pub const COMPOSE_MIN_GENES: usize = 100;
+pub(super) const COMPOSE_MIN_GENES: usize = 100;
 
 /// A crossed child is scored without a mesh ([`Scorer::score_crossed`]) unless a pooled
 /// chromosome is within this many genes of it, which is then edited instead.
-pub const ROW_EDIT_GENES: usize = 40;
+pub(super) const ROW_EDIT_GENES: usize = 40;
 
 /// A mutant of a crossed child scored without a mesh differs from it in at most this many
 /// genes (beyond, the child's mesh is composed and edited). The GA's mutants differ in one or

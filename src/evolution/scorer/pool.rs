@@ -15,7 +15,7 @@ use crate::heightfield::Heightfield;
 /// How many crossed children the pool keeps before it replaces them ahead of other
 /// chromosomes: a crossover's rows (at most 8 with L8, plus the best-levels child) and some
 /// slack, so that the children a mutant is edited from stay pooled.
-pub const CROSSED_POOLED: usize = 24;
+pub(super) const CROSSED_POOLED: usize = 24;
 
 /// How many of the most recently scored chromosomes the scorer compares with first.
 pub(super) const RECENT: usize = 16;
@@ -27,14 +27,14 @@ pub(super) const RECENT: usize = 16;
 /// population, which holds their parents, is still pooled), and the bases of a crossover's
 /// edits. Fewer meshes make composing the new members replace their parents; more only touch
 /// more memory.
-pub const POOL_STATES: usize = 200;
+pub(crate) const POOL_STATES: usize = 200;
 
 /// Meshes the pool holds per member of the declared population, when that is more than
 /// [`POOL_STATES`]: the old and the new population (see [`POOL_STATES`]).
-pub const POOL_PER_MEMBER: usize = 2;
+pub(crate) const POOL_PER_MEMBER: usize = 2;
 
 /// The most memory the pool's meshes may take, whatever the population.
-pub const POOL_BYTES: usize = 160 << 20;
+pub(super) const POOL_BYTES: usize = 160 << 20;
 
 /// The most meshes of `hf` that [`POOL_BYTES`] holds.
 pub(super) fn capacity_by_bytes(hf: &Heightfield) -> usize {

@@ -18,20 +18,20 @@ use spade::{DelaunayTriangulation, Point2, Triangulation as _};
 /// sign, so spade still returns a triangulation of the real points), and [`Triangulation::legalize_all`]'s
 /// flips with the exact tie rule then reach the one canonical triangulation, as they would from
 /// any triangulation.
-pub const SHEAR: f64 = 1.0 / 1024.0;
+pub(crate) const SHEAR: f64 = 1.0 / 1024.0;
 
 /// "No half-edge": the twin of a border edge.
-pub const NONE: u32 = u32::MAX;
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// The next half-edge of the same triangle.
 #[inline]
-pub fn next(e: u32) -> u32 {
+pub(crate) fn next(e: u32) -> u32 {
     if e % 3 == 2 { e - 2 } else { e + 1 }
 }
 
 /// The previous half-edge of the same triangle.
 #[inline]
-pub fn prev(e: u32) -> u32 {
+pub(crate) fn prev(e: u32) -> u32 {
     if e.is_multiple_of(3) { e + 2 } else { e - 1 }
 }
 
@@ -154,8 +154,8 @@ impl Triangulation {
     ///
     /// When `kept` holds the four corners of its bounding box (the evaluator always keeps the
     /// grid's corners), the points are inserted one by one into the box's two triangles
-    /// ([`insert_all`](Self::insert_all)); otherwise spade builds it
-    /// ([`rebuild_with_spade`](Self::rebuild_with_spade)). Both give the same triangles.
+    /// (`insert_all`); otherwise spade builds it
+    /// (`rebuild_with_spade`). Both give the same triangles.
     pub fn rebuild_delaunay(&mut self, width: usize, kept: &[u32]) {
         if !self.insert_all(width, kept) {
             self.rebuild_with_spade(width, kept);
@@ -166,7 +166,7 @@ impl Triangulation {
     /// [`rebuild_delaunay`](Self::rebuild_delaunay)) with spade's bulk load and exact
     /// legalisation: the general path, and an independent cross-check of
     /// [`insert_all`](Self::insert_all).
-    pub fn rebuild_with_spade(&mut self, width: usize, kept: &[u32]) {
+    pub(crate) fn rebuild_with_spade(&mut self, width: usize, kept: &[u32]) {
         self.lattice = Lattice::new(width);
         // Plain points: a grid index is recovered exactly from its integer coordinates.
         let points: Vec<Point2<f64>> = kept
@@ -213,7 +213,7 @@ impl Triangulation {
     /// Why not spade: every point lands inside the box, so there is no hull to maintain; the
     /// predicates are exact integers; and the points go in an order (`InsertionOrder`) where
     /// each next point is usually a neighbour of the last, so walks are short.
-    pub fn insert_all(&mut self, width: usize, kept: &[u32]) -> bool {
+    pub(crate) fn insert_all(&mut self, width: usize, kept: &[u32]) -> bool {
         let lattice = Lattice::new(width);
         let (mut x0, mut y0, mut x1, mut y1) = (i64::MAX, i64::MAX, i64::MIN, i64::MIN);
         for &i in kept {
@@ -324,7 +324,7 @@ impl Triangulation {
     /// The first half-edge of the fan around the origin of half-edge `e`: rotating clockwise
     /// (from a half-edge to the next of its twin) until the grid border, where a border vertex's
     /// fan is open, or once around back to `e`.
-    pub fn fan_start(&self, e: u32) -> u32 {
+    pub(crate) fn fan_start(&self, e: u32) -> u32 {
         let mut at = e;
         loop {
             let before = self.fan_prev(at);
@@ -340,19 +340,19 @@ impl Triangulation {
 
     /// The half-edge before `e` counter-clockwise around their common origin (the next of
     /// `e`'s twin), or `NONE` past the border.
-    pub fn fan_prev(&self, e: u32) -> u32 {
+    pub(crate) fn fan_prev(&self, e: u32) -> u32 {
         let f = self.twin[e as usize];
         if f == NONE { NONE } else { next(f) }
     }
 
     /// The half-edge after `e` counter-clockwise around their common origin (the twin of `e`'s
     /// previous half-edge), or `NONE` past the border.
-    pub fn fan_next(&self, e: u32) -> u32 {
+    pub(crate) fn fan_next(&self, e: u32) -> u32 {
         self.twin[prev(e) as usize]
     }
 
     /// The half-edges leaving the origin of half-edge `e`, one per triangle of its star,
-    /// counter-clockwise from the fan's first ([`fan_start`](Self::fan_start)).
+    /// counter-clockwise from the fan's first (`fan_start`).
     pub fn fan(&self, e: u32) -> impl Iterator<Item = u32> + '_ {
         let first = self.fan_start(e);
         std::iter::successors(Some(first), move |&at| {
@@ -362,7 +362,7 @@ impl Triangulation {
     }
 
     /// The half-edge of triangle `t` that leaves vertex `v`, if `v` is one of its vertices.
-    pub fn leaving(&self, t: u32, v: u32) -> Option<u32> {
+    pub(crate) fn leaving(&self, t: u32, v: u32) -> Option<u32> {
         (3 * t..3 * t + 3).find(|&e| self.vertices[e as usize] == v)
     }
 
@@ -391,7 +391,7 @@ impl Triangulation {
     }
 
     /// The step cap of a walk on this triangulation: more than any walk can need.
-    pub fn walk_cap(&self) -> usize {
+    pub(crate) fn walk_cap(&self) -> usize {
         2 * self.len() + 8
     }
 
@@ -403,7 +403,7 @@ impl Triangulation {
     /// new point set. Calls `changed` with every triangle slot created or modified (possibly
     /// more than once); unchanged triangles keep their slots, new ones are appended. `stack` is
     /// scratch. Returns a triangle with vertex `p`.
-    pub fn insert_point(
+    pub(crate) fn insert_point(
         &mut self,
         t: u32,
         p: u32,
@@ -497,7 +497,7 @@ impl Triangulation {
     }
 
     /// Flips every edge the tie rule calls illegal until none is left.
-    pub fn legalize_all(&mut self) {
+    pub(crate) fn legalize_all(&mut self) {
         let mut stack = std::mem::take(&mut self.stack);
         stack.clear();
         stack.extend((0..self.twin.len() as u32).filter(|&e| {
@@ -517,7 +517,7 @@ impl Triangulation {
     // Always inlined: as a call, its result goes through memory and its callers' loops (an
     // insertion's flips) pay the call on every edge.
     #[inline(always)]
-    pub fn flip_if_illegal(&mut self, e: u32) -> Option<[u32; 4]> {
+    pub(crate) fn flip_if_illegal(&mut self, e: u32) -> Option<[u32; 4]> {
         let f = self.twin[e as usize];
         if f == NONE {
             return None;

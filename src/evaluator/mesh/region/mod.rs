@@ -49,14 +49,14 @@ use scan::{Band, Edge, GUESS, Least, Scalar, Scan, guess_lines};
 
 /// Marks a [`Region::twins`] entry that is a boundary edge: the low bits are its index in the
 /// boundary list given to [`Region::wrap`].
-pub const BOUNDARY: u32 = 1 << 31;
+pub(crate) const BOUNDARY: u32 = 1 << 31;
 
 /// Scratch and result of [`Region::wrap`], kept between calls.
 ///
 /// Inside, R's points go by a *local* index: R's points first, increasing (so by row, then
 /// column), then any boundary end missing from them (never an apex).
 #[derive(Clone, Debug, Default)]
-pub struct Region {
+pub(crate) struct Region {
     /// R's triangles, counter-clockwise, in the order found.
     pub triangles: Vec<[u32; 3]>,
     /// Per half-edge of `triangles` (3t + k runs from vertex k to vertex k + 1): the half-edge
@@ -87,7 +87,7 @@ impl Region {
     /// Fills [`triangles`](Self::triangles) and [`twins`](Self::twins). `None` when R is not
     /// what the caller says: a search finds no apex, a triangle overlaps another, or the tiling
     /// leaves a gap (guards; the caller then scores the child another way).
-    pub fn wrap(
+    pub(crate) fn wrap(
         &mut self,
         width: usize,
         height: usize,

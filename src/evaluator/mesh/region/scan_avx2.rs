@@ -8,7 +8,7 @@ use std::ops::Range;
 /// The edge's constants and, per lane: the least s, its position, whether it is shared (all
 /// bits set).
 #[derive(Clone, Copy, Debug)]
-pub struct Avx2 {
+pub(super) struct Avx2 {
     ax: __m256d,
     ay: __m256d,
     bx: __m256d,
@@ -21,7 +21,7 @@ pub struct Avx2 {
 }
 
 /// Does this CPU run [`Avx2`]?
-pub fn available() -> bool {
+pub(super) fn available() -> bool {
     std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
 }
 
