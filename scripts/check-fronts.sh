@@ -27,22 +27,30 @@ bin=${CARGO_TARGET_DIR:-target}/$profile/paretomesh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# Each line of `paretomesh algorithms` is a method's name and its budget kind.
+# Each line of `paretomesh algorithms` is a method's name, its budget kind and the error
+# measures it supports (sum first). Every grid runs every method in sum, the default; the .f32
+# grids also run each method in every other measure it supports (`--error rms|max`).
 "$bin" algorithms > "$tmp/algorithms"
 jobs="$tmp/jobs"
 : > "$jobs"
 for grid in tests/data/*.f32 tests/data/*.ply tests/data/*.tif; do
-  while read -r algo budget; do
+  while read -r algo budget measures; do
     case $budget in
       evaluations) options="--evals 1500" ;;
       generations) options="--pop 20 --gens 10" ;;
       *) options="" ;;
     esac
     echo "$grid $algo - $options" >> "$jobs"
+    case $grid in
+      *.f32)
+        for measure in ${measures//,/ }; do
+          [ "$measure" = sum ] || echo "$grid $algo --error=$measure $options --error $measure" >> "$jobs"
+        done ;;
+    esac
   done < "$tmp/algorithms"
 done
 for grid in tests/data/*_65x65.f32 tests/data/volcano_87x61.f32; do
-  while read -r algo budget; do
+  while read -r algo budget _measures; do
     case $budget in
       evaluations) options="--evals 1500" ;;
       generations) options="--pop 20 --gens 10" ;;
@@ -55,8 +63,9 @@ done
 echo "tests/data/jacksboro_65x65_utm16n.tif greedy pyramid" >> "$jobs"
 
 # One job (a line of $jobs: grid, method, label, options): run, blank millis, print
-# "HASH  GRID METHOD" (label `-`) or "HASH  GRID METHOD LABEL". Label `pyramid` hashes the
-# files of `paretomesh tiles` on the run's front.json instead.
+# "HASH  GRID METHOD" (label `-`) or "HASH  GRID METHOD LABEL" (`--error=MEASURE` for a
+# measure other than sum, `tile33` for a tiled run). Label `pyramid` hashes the files of
+# `paretomesh tiles` on the run's front.json instead.
 one() {
   local bin=$1 tmp=$2
   # shellcheck disable=SC2086  # the line's words are the arguments
@@ -67,7 +76,7 @@ one() {
   name=$(basename "$grid")
   out="$tmp/$name.$algo.$label.json"
   # Untiled front.json files list each member's triangles too; a tiled run refuses that.
-  [ "$label" = - ] && set -- --triangles "$@"
+  case $label in -|--error=*) set -- --triangles "$@" ;; esac
   if "$bin" run "$grid" --algo "$algo" --seed 7 "$@" --out "$out" 2>/dev/null; then
     hash=$(sed -E 's/"millis":[0-9]+/"millis":0/' "$out" | sha256sum | cut -d' ' -f1)
     if [ "$label" = pyramid ]; then

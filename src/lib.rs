@@ -10,6 +10,7 @@
 //! - [`evaluator`]: the ruler: Delaunay triangulation of a kept set of grid points and the exact
 //!   error E = Σ|z − z̃| over every grid point, counted once.
 //! - [`front`]: solutions and the non-dominated front of (E, T).
+//! - [`measure`]: the error measure (E_sum, RMS or E_max) a front minimises beside T.
 //! - [`optimizer`]: the steppable interface every algorithm implements.
 //! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA, the memetic
 //!   method.
@@ -23,6 +24,7 @@
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
 //!   the app.
+//! - [`refine`]: a member grown to an exact triangle budget by exact worst-point insertions.
 //! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
 //! - [`pyramid`]: a 3D Tiles pyramid of a front's members, placed on the globe when georeferenced.
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU, on the
@@ -45,10 +47,12 @@ pub mod heightfield;
 pub mod import;
 pub mod kept_codec;
 pub(crate) mod lazy_queue;
+pub mod measure;
 pub mod metrics;
 pub mod optimizer;
 pub mod pick;
 pub mod pyramid;
+pub mod refine;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod terrain;
 pub mod tiling;

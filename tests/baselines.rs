@@ -386,7 +386,10 @@ fn bad_decimation_params_are_refused() {
         (vec![1.0], 1.0),
         (vec![f64::NAN], f64::NAN),
     ] {
-        let params = DecimationParams { reductions };
+        let params = DecimationParams {
+            reductions,
+            ..DecimationParams::default()
+        };
         match EdgeDecimation::new(hf.clone(), params) {
             Err(ParamsError::OutOfRange {
                 name: "reductions",

@@ -63,6 +63,7 @@ def simplify(
     spacing=None,
     origin=None,
     retries: int = 2,
+    error: str = "sum",
 ) -> Front:
     """Find the whole-grid Pareto front with the grid's tiles spread over a Dask cluster.
 
@@ -79,7 +80,7 @@ def simplify(
         The cluster; None uses the current default client.
     tile : int, optional
         Tile side in grid points (default ``paretomesh.DEFAULT_TILE``).
-    seed, method, evals
+    seed, method, evals, error
         As ``paretomesh.simplify``; ``evals`` is each tile's budget.
     spacing, origin
         As ``paretomesh.simplify``, for arrays (a file carries its own).
@@ -101,7 +102,7 @@ def simplify(
     tile = _count(tile, "tile", 2)
     # The method and its parameters as the library's typed config (JSON text), which every
     # task reads back whole.
-    config = _native.method_config(method, _count(evals, "evals", 1))
+    config = _native.method_config(method, _count(evals, "evals", 1), error)
 
     path = None
     darr = None

@@ -109,7 +109,7 @@ fn tiled_data(
 /// The run behind ``paretomesh.simplify`` (see its docstring): untiled when the grid is one
 /// tile, else every tile on `threads` threads (0 = every core).
 #[pyfunction]
-#[pyo3(signature = (z, method, seed, evals=None, threads=None, tile=None, spacing=None, origin=None))]
+#[pyo3(signature = (z, method, seed, evals=None, threads=None, tile=None, spacing=None, origin=None, error=None))]
 #[allow(clippy::too_many_arguments)]
 fn simplify(
     py: Python<'_>,
@@ -121,10 +121,11 @@ fn simplify(
     tile: Option<usize>,
     spacing: Option<[f64; 2]>,
     origin: Option<[f64; 2]>,
+    error: Option<&str>,
 ) -> PyResult<PyFront> {
+    let config = methods::config(method, evals, error)?;
     let hf = Arc::new(grid::from_array(&z, spacing, origin)?);
     drop(z);
-    let config = methods::config(method, evals)?;
     let plan = plan(hf.width(), hf.height(), tile)?;
     let data = py.detach(move || -> PyResult<FrontData> {
         let Some(plan) = plan else {
@@ -149,12 +150,12 @@ fn simplify(
     })
 }
 
-/// The config (method and parameters) `method` runs with for `evals`, as JSON text: what Dask
-/// ships to its tasks.
+/// The config (method and parameters) `method` runs with for `evals` in the error measure
+/// `error`, as JSON text: what Dask ships to its tasks.
 #[pyfunction]
-#[pyo3(signature = (method, evals=None))]
-fn method_config(method: &str, evals: Option<u64>) -> PyResult<String> {
-    let config = methods::config(method, evals)?;
+#[pyo3(signature = (method, evals=None, error=None))]
+fn method_config(method: &str, evals: Option<u64>, error: Option<&str>) -> PyResult<String> {
+    let config = methods::config(method, evals, error)?;
     Ok(serde_json::to_string(&config).expect("a config is plain data"))
 }
 

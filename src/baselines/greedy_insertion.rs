@@ -30,6 +30,7 @@ use crate::evaluator::raster::{Grid, grid_of};
 use crate::evaluator::score::Score;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use crate::optimizer::{Optimizer, Progress};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -95,6 +96,10 @@ pub struct GreedyParams {
     pub shortlist: usize,
     /// Number of triangle counts in the geometric recording sweep (≥ 2).
     pub records: usize,
+    /// The error the recorded front is non-dominated in (its insertions do not change). Written
+    /// only when not `sum`.
+    #[serde(skip_serializing_if = "ErrorMeasure::is_sum")]
+    pub error: ErrorMeasure,
 }
 
 impl Default for GreedyParams {
@@ -105,6 +110,7 @@ impl Default for GreedyParams {
             shortlist: 8,
             stop: GreedyStop::AllPoints,
             records: 64,
+            error: ErrorMeasure::Sum,
         }
     }
 }
@@ -158,6 +164,25 @@ pub struct GreedyInsertion {
 impl GreedyInsertion {
     /// A run on `hf` from the four corners. Refuses parameters out of range.
     pub fn new(hf: Arc<Heightfield>, params: GreedyParams) -> Result<Self, ParamsError> {
+        Self::from_kept(hf, params, &[])
+    }
+
+    /// A run on `hf` that starts from the mesh of `kept` (grid indices, any order, the corners
+    /// added when missing) instead of the corners alone: how a member of a front is refined
+    /// by exact insertions of its worst points. Refuses parameters out of range and indices
+    /// off the grid (as [`ParamsError::OutOfRange`] of `kept`).
+    pub(crate) fn from_kept(
+        hf: Arc<Heightfield>,
+        params: GreedyParams,
+        kept: &[u32],
+    ) -> Result<Self, ParamsError> {
+        if let Some(&bad) = kept.iter().find(|&&i| i as usize >= hf.len()) {
+            return Err(ParamsError::OutOfRange {
+                name: "kept",
+                value: bad as f64,
+                allowed: "grid indices below W·H",
+            });
+        }
         if params.records < 2 {
             return Err(ParamsError::OutOfRange {
                 name: "records",
@@ -209,15 +234,20 @@ impl GreedyInsertion {
             })
             .collect();
         targets.dedup();
+        let mut start: Vec<u32> = hf.corners().to_vec();
+        start.extend_from_slice(kept);
+        start.sort_unstable();
+        start.dedup();
         let mut kept = vec![false; hf.len()];
-        let corners = hf.corners();
-        for &c in &corners {
+        for &c in &start {
             kept[c as usize] = true;
         }
+        let kept_count = start.len();
         let mut mesh = Triangulation::default();
-        mesh.rebuild_delaunay(hf.width(), &corners);
+        mesh.rebuild_delaunay(hf.width(), &start);
         let units = ErrorUnits::of(&hf);
         let float_sum = params.rule != InsertionRule::MaxError;
+        let measure = params.error;
         let mut run = Self {
             finder: PeakFinder::new(units, float_sum),
             units,
@@ -226,14 +256,14 @@ impl GreedyInsertion {
             threshold,
             mesh,
             kept,
-            kept_count: 4,
+            kept_count,
             info: Vec::new(),
             by_error: SlotHeap::default(),
             by_gain: SlotHeap::default(),
             by_sum: SlotHeap::default(),
             targets,
             next_target: 0,
-            front: Front::default(),
+            front: Front::new(measure),
             recorded: Vec::new(),
             last_recorded_points: 0,
             insertions: 0,
@@ -289,6 +319,23 @@ impl GreedyInsertion {
     /// current kept set.
     pub fn incremental_e_sum(&self) -> f64 {
         self.current_score().e_sum
+    }
+
+    /// The score of the current mesh: a fresh [`Evaluator::score`](crate::evaluator::Evaluator::score)
+    /// of [`kept`](Self::kept), bit for bit.
+    pub(crate) fn score(&self) -> Score {
+        self.current_score()
+    }
+
+    /// The grid point the max-error rule inserts next (the one of largest vertical error, ties
+    /// to the smaller index), or `None` when every point within the stopping threshold is kept.
+    pub(crate) fn worst_point(&self) -> Option<u32> {
+        self.by_error.top().map(|e| e.point)
+    }
+
+    /// The current mesh's triangle count.
+    pub(crate) fn triangle_count(&self) -> usize {
+        self.mesh.len()
     }
 
     /// The largest vertical error of the current mesh (0 when every point is kept).

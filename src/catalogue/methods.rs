@@ -7,10 +7,13 @@
 /// Defines the catalogue from its entries, in the order tables, menus and `ALL` list them.
 /// Each entry, after the variant's doc comment:
 ///
-/// - `spec`: its [`Spec`](super::Spec) (the name is the command line's and front.json's);
+/// - `spec`: its [`Spec`](super::Spec) (the name is the command line's and front.json's; its
+///   `measures` are the error measures it makes fronts in, and `measure_note` says how, or why
+///   it takes `sum` only);
 /// - `params`: its params type (serde, `Default`), which [`Config`](super::Config) holds;
 /// - `configure: |given| …`: its params from the caller's [`Params`](super::Params) (already
-///   checked against `spec.reads`), or an error for contradicting ones;
+///   checked against `spec.reads` and `spec.measures`), or an error for contradicting ones; a
+///   method that takes other measures copies `given.error` into its params;
 /// - `build: |p, hf, seed| …`: its [`Built`](super::Built);
 /// - optionally `runs: …`, the GA runs one run is made of (default 1), and
 ///   `tile_share: |p, points, tiles| …`, its params on one tile of `tiles` cutting a grid of

@@ -24,6 +24,7 @@ use crate::evolution::oax::OaxRecord;
 use crate::evolution::trace::GenerationTrace;
 use crate::evolution::{GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use crate::optimizer::Optimizer;
 use methods::laid;
 use std::sync::Arc;
@@ -54,7 +55,15 @@ pub struct Spec {
     pub cost: u8,
     /// Its variants with one component switched off, as the experiment runs them.
     pub ablations: &'static [Ablation],
+    /// The error measures whose (error, T) front it makes, `sum` first.
+    pub measures: &'static [ErrorMeasure],
+    /// How it serves its measures, or why it takes only `sum`.
+    pub measure_note: &'static str,
 }
+
+const ALL_MEASURES: &[ErrorMeasure] = &ErrorMeasure::ALL;
+
+const SUM_ONLY: &[ErrorMeasure] = &[ErrorMeasure::Sum];
 
 const GA_PARAMS: &[Param] = &[
     Param::Population,
@@ -115,6 +124,8 @@ methods! {
             colour: "#D55E00",
             cost: 2,
             ablations: &[],
+            measures: SUM_ONLY,
+            measure_note: "NSGA-II is the paper's method, on (E_sum, T), and stays bit for bit the paper's: use --algo memetic, greedy or decimation for rms or max",
         },
         params: GaParams,
         configure: |given| Ok(ga_params(given)),
@@ -152,6 +163,8 @@ methods! {
             colour: "#0072B2",
             cost: 3,
             ablations: &[],
+            measures: SUM_ONLY,
+            measure_note: "the weighted-sum GA is the paper's baseline, a weighted sum of E_sum and T: use --algo memetic, greedy or decimation for rms or max",
         },
         params: WeightedSumParams,
         configure: |given| Ok(WeightedSumParams {
@@ -183,9 +196,14 @@ methods! {
             colour: "#009E73",
             cost: 0,
             ablations: &[],
+            measures: ALL_MEASURES,
+            measure_note: "its collapses follow E_sum; its recorded meshes are filtered by the chosen measure",
         },
         params: DecimationParams,
-        configure: |_given| Ok(DecimationParams::default()),
+        configure: |given| Ok(DecimationParams {
+            error: given.error,
+            ..DecimationParams::default()
+        }),
         build: |p, hf, _seed| Ok(Built {
             generations: p.reductions.len() as u64,
             budget: None,
@@ -212,6 +230,8 @@ methods! {
             colour: "#CC79A7",
             cost: 1,
             ablations: &[],
+            measures: ALL_MEASURES,
+            measure_note: "it inserts the point of largest error, the worst in every measure; its recorded meshes are filtered by the chosen measure",
         },
         params: GreedyParams,
         configure: |given| greedy_params(given),
@@ -253,6 +273,8 @@ methods! {
             colour: "#000000",
             cost: 2,
             ablations: MEMETIC_ABLATIONS,
+            measures: ALL_MEASURES,
+            measure_note: "its selection, archive, decimation costs and local search compare in the chosen measure",
         },
         params: MemeticParams,
         configure: |given| {
@@ -268,6 +290,7 @@ methods! {
                 guided_mutation: without != Some(Component::GuidedMutation),
                 neighbour_mating: without != Some(Component::NeighbourMating),
                 local_search: without != Some(Component::LocalSearch),
+                error: given.error,
                 ..d
             })
         },
@@ -344,9 +367,30 @@ impl Algorithm {
         ))
     }
 
+    /// Does the method make fronts in `measure`?
+    pub(crate) fn supports(self, measure: ErrorMeasure) -> bool {
+        self.spec().measures.contains(&measure)
+    }
+
+    /// Why the method refuses `measure`, naming both, or `None` when it supports it.
+    pub(crate) fn measure_refusal(self, measure: ErrorMeasure) -> Option<String> {
+        (!self.supports(measure)).then(|| {
+            format!(
+                "--algo {} does not take --error {}: {}",
+                self.name(),
+                measure.name(),
+                self.spec().measure_note
+            )
+        })
+    }
+
     /// The method's parameters with `params` filled in over its defaults. Errors: a parameter
-    /// the method does not read is set, or two set parameters contradict each other.
+    /// the method does not read is set, the method does not support the error measure, or two
+    /// set parameters contradict each other.
     pub fn configure(self, params: &Params) -> Result<Config, String> {
+        if let Some(why) = self.measure_refusal(params.error) {
+            return Err(why);
+        }
         for (param, set) in [
             (Param::Population, params.population.is_some()),
             (Param::Generations, params.generations.is_some()),
@@ -432,6 +476,7 @@ fn greedy_params(params: &Params) -> Result<GreedyParams, String> {
     Ok(GreedyParams {
         rule: params.rule.unwrap_or(InsertionRule::MaxError),
         stop,
+        error: params.error,
         ..GreedyParams::default()
     })
 }
@@ -655,6 +700,37 @@ mod tests {
             Algorithm::Greedy.refusal(Param::Population).as_deref(),
             Some("it belongs to the evolutionary methods")
         );
+    }
+
+    #[test]
+    fn a_measure_the_method_does_not_support_is_refused_naming_both() {
+        for a in Algorithm::ALL {
+            assert!(a.supports(ErrorMeasure::Sum), "{}", a.name());
+            for m in ErrorMeasure::ALL {
+                let p = Params {
+                    error: m,
+                    ..Params::default()
+                };
+                match a.configure(&p) {
+                    Ok(c) => {
+                        assert!(a.supports(m));
+                        // The measure is recorded in the parameters only when not sum.
+                        let recorded = c.json().get("error").cloned();
+                        let expected = (m != ErrorMeasure::Sum).then(|| m.name().into());
+                        assert_eq!(recorded, expected, "{} {m}", a.name());
+                        assert_eq!(Config::from_json(a, &c.json()).unwrap(), c);
+                    }
+                    Err(e) => {
+                        assert!(!a.supports(m));
+                        let both = format!("--algo {} does not take --error {m}", a.name());
+                        assert!(e.starts_with(&both), "{e}");
+                    }
+                }
+            }
+        }
+        assert!(!Algorithm::Nsga2.supports(ErrorMeasure::Max));
+        assert!(!Algorithm::Weighted.supports(ErrorMeasure::Rms));
+        assert!(Algorithm::Memetic.supports(ErrorMeasure::Max));
     }
 
     #[test]

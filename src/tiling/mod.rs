@@ -48,6 +48,8 @@ mod allocation;
 mod assemble;
 mod border;
 mod file;
+#[cfg(test)]
+mod measure_tests;
 mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
 mod parallel;
@@ -113,6 +115,15 @@ pub enum TilingError {
         /// The tile indices given, sorted.
         given: Vec<usize>,
     },
+    /// [`assemble()`] got tiles run in different error measures.
+    MixedMeasures {
+        /// Tile 0's measure.
+        first: crate::measure::ErrorMeasure,
+        /// The first tile run in another one.
+        index: usize,
+        /// Its measure.
+        other: crate::measure::ErrorMeasure,
+    },
     /// Parameters the algorithm refuses.
     BadParams {
         /// The algorithm.
@@ -155,6 +166,14 @@ impl std::fmt::Display for TilingError {
             Self::WrongTiles { expected, given } => write!(
                 f,
                 "assembling needs one front for each of the {expected} tiles, got tiles {given:?}"
+            ),
+            Self::MixedMeasures {
+                first,
+                index,
+                other,
+            } => write!(
+                f,
+                "tile 0 was run in error measure {first}, tile {index} in {other}"
             ),
             Self::BadParams { algorithm, reason } => {
                 write!(f, "bad parameters for {}: {reason}", algorithm.name())
