@@ -211,7 +211,8 @@ fn a_closed_thick_mesh_needs_surface_outer() {
 #[test]
 fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
     // Like hmm's -e: insertion stops at the first mesh whose largest vertical error is at most
-    // X, so that mesh (the front's last) is within X and every earlier member is not.
+    // X, so that mesh (the front's last) is within X, and so is its bounded-error decimation,
+    // with fewer triangles; every other member is not.
     let out = scratch("vertical").join("front.json");
     let grid = data("volcano_33x33.f32");
     let x = 4.0;
@@ -231,10 +232,11 @@ fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
     let e_max: Vec<f64> = front.iter().map(|m| m["E_max"].as_f64().unwrap()).collect();
     let (last, earlier) = e_max.split_last().unwrap();
     assert!(*last <= x, "{e_max:?}");
-    assert!(
-        !earlier.is_empty() && earlier.iter().all(|&e| e > x),
-        "{e_max:?}"
-    );
+    let within: Vec<usize> = (0..earlier.len()).filter(|&k| earlier[k] <= x).collect();
+    assert_eq!(within.len(), 1, "{e_max:?}");
+    let t = |k: usize| front[k]["T"].as_u64().unwrap();
+    assert!(t(within[0]) < t(front.len() - 1));
+    assert_eq!(file["params"]["decimate"], true);
     assert!(front.last().unwrap()["T"].as_u64().unwrap() < 2 * 32 * 32);
 
     // One stop at a time, and only for greedy insertion.

@@ -19,6 +19,8 @@
 //! solutions.
 
 use super::ParamsError;
+use super::bounded_decimation;
+use super::max_error_mesh::exactness_floor;
 use super::slot_heap::{Item, SlotHeap};
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::{self, GridPoint};
@@ -95,6 +97,17 @@ pub struct GreedyParams {
     pub shortlist: usize,
     /// Number of triangle counts in the geometric recording sweep (≥ 2).
     pub records: usize,
+    /// Under an error stop ([`GreedyStop::MaxError`], [`GreedyStop::MaxErrorFraction`]): once
+    /// E_max is within the bound, remove every vertex whose removal keeps it so
+    /// ([`bounded_decimation`](super::bounded_decimation)) and record that mesh too. Ignored
+    /// under other stops.
+    #[serde(skip_serializing_if = "is_false")]
+    pub decimate: bool,
+}
+
+/// Leaves `decimate: false` out of front.json, as it was before the option existed.
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl Default for GreedyParams {
@@ -105,6 +118,7 @@ impl Default for GreedyParams {
             shortlist: 8,
             stop: GreedyStop::AllPoints,
             records: 64,
+            decimate: false,
         }
     }
 }
@@ -149,6 +163,8 @@ pub struct GreedyInsertion {
     recorded: Vec<Solution>,
     last_recorded_points: usize,
     insertions: u64,
+    /// Vertices the bounded decimation removed ([`GreedyParams::decimate`]).
+    removed: usize,
     done: bool,
     stack: Vec<u32>,
     changed: Vec<u32>,
@@ -158,6 +174,23 @@ pub struct GreedyInsertion {
 impl GreedyInsertion {
     /// A run on `hf` from the four corners. Refuses parameters out of range.
     pub fn new(hf: Arc<Heightfield>, params: GreedyParams) -> Result<Self, ParamsError> {
+        Self::from_kept(hf, params, &[])
+    }
+
+    /// A run on `hf` from the kept set `start` (grid indices, any order; the corners are added).
+    /// Refuses parameters out of range and indices off the grid.
+    pub fn from_kept(
+        hf: Arc<Heightfield>,
+        params: GreedyParams,
+        start: &[u32],
+    ) -> Result<Self, ParamsError> {
+        if let Some(&i) = start.iter().find(|&&i| i as usize >= hf.len()) {
+            return Err(ParamsError::OutOfRange {
+                name: "kept index",
+                value: f64::from(i),
+                allowed: "a grid index below width × height",
+            });
+        }
         if params.records < 2 {
             return Err(ParamsError::OutOfRange {
                 name: "records",
@@ -195,6 +228,13 @@ impl GreedyInsertion {
                     allowed: "a finite number ≥ 0",
                 });
             }
+            GreedyStop::MaxError(e) if e > 0.0 && e < exactness_floor(&hf) => {
+                return Err(ParamsError::OutOfRange {
+                    name: "stop max-error",
+                    value: e,
+                    allowed: "0 (an exact mesh) or at least the grid's exactness floor, max |z|·2⁻⁴⁰: smaller errors are the interpolation's rounding",
+                });
+            }
             GreedyStop::MaxError(e) => e,
             GreedyStop::MaxErrorFraction(f) => f * (hi - lo),
             _ => f64::NEG_INFINITY,
@@ -210,12 +250,12 @@ impl GreedyInsertion {
             .collect();
         targets.dedup();
         let mut kept = vec![false; hf.len()];
-        let corners = hf.corners();
-        for &c in &corners {
-            kept[c as usize] = true;
+        for &i in hf.corners().iter().chain(start) {
+            kept[i as usize] = true;
         }
+        let points: Vec<u32> = (0..hf.len() as u32).filter(|&i| kept[i as usize]).collect();
         let mut mesh = Triangulation::default();
-        mesh.rebuild_delaunay(hf.width(), &corners);
+        mesh.rebuild_delaunay(hf.width(), &points);
         let units = ErrorUnits::of(&hf);
         let float_sum = params.rule != InsertionRule::MaxError;
         let mut run = Self {
@@ -225,8 +265,8 @@ impl GreedyInsertion {
             params,
             threshold,
             mesh,
+            kept_count: points.len(),
             kept,
-            kept_count: 4,
             info: Vec::new(),
             by_error: SlotHeap::default(),
             by_gain: SlotHeap::default(),
@@ -237,6 +277,7 @@ impl GreedyInsertion {
             recorded: Vec::new(),
             last_recorded_points: 0,
             insertions: 0,
+            removed: 0,
             done: false,
             stack: Vec::new(),
             changed: Vec::new(),
@@ -246,6 +287,11 @@ impl GreedyInsertion {
         run.rasterise(&all);
         run.record_if_due();
         Ok(run)
+    }
+
+    /// How many vertices the bounded decimation removed (0 until it has run).
+    pub fn removed(&self) -> usize {
+        self.removed
     }
 
     /// The parameters.
@@ -598,7 +644,37 @@ impl GreedyInsertion {
 
     fn finish(&mut self) {
         self.record();
+        if self.params.decimate && self.threshold >= 0.0 {
+            self.decimate();
+            self.record();
+        }
         self.done = true;
+    }
+
+    /// Bounded-error decimation of the final mesh to the stop's threshold.
+    fn decimate(&mut self) {
+        let len = self.mesh.len();
+        let mut totals: Vec<ErrorTotals> = self.info[..len].iter().map(|i| i.totals).collect();
+        let removed = bounded_decimation::decimate(
+            &self.hf,
+            &mut self.mesh,
+            &mut totals,
+            &mut self.kept,
+            self.threshold,
+        );
+        self.kept_count -= removed;
+        self.removed = removed;
+        // The max-error queue is empty at an error stop (it holds only triangles above the
+        // threshold); the others would name slots that moved, and the run is over.
+        self.by_gain = SlotHeap::default();
+        self.by_sum = SlotHeap::default();
+        self.info = totals
+            .into_iter()
+            .map(|totals| TriangleInfo {
+                totals,
+                float_sum: 0.0,
+            })
+            .collect();
     }
 }
 

@@ -312,6 +312,11 @@ impl Algorithm {
                 Config::Greedy(GreedyParams {
                     rule: params.rule.unwrap_or(InsertionRule::MaxError),
                     stop,
+                    // A bound is what the user asked for: the fewest triangles within it.
+                    decimate: matches!(
+                        stop,
+                        GreedyStop::MaxError(_) | GreedyStop::MaxErrorFraction(_)
+                    ),
                     ..GreedyParams::default()
                 })
             }
