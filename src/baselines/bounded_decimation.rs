@@ -99,6 +99,9 @@ pub(crate) fn decimate(
         // gives the same hole and fill again, ready to apply.
         let worst = run.trial(v);
         debug_assert_eq!(worst, Some(-entry.key));
+        if worst.is_none_or(|w| w > run.bound) {
+            continue;
+        }
         run.apply(v);
         removed += 1;
         // Each neighbour's star changed: measure it again (a trial overwrites the boundary).
@@ -162,6 +165,22 @@ impl Decimation<'_> {
             if e == start {
                 break;
             }
+        }
+        // The fill interpolates v's own point between boundary heights, so its error there is
+        // at least z_v's distance from their range: beyond the bound, no fill is needed.
+        let z = self.hf.z();
+        let zv = z[v as usize];
+        let (lo, hi) =
+            self.boundary
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &b| {
+                    let zb = z[b as usize];
+                    (lo.min(zb), hi.max(zb))
+                });
+        let slack = 4.0 * f64::EPSILON * zv.abs().max(lo.abs()).max(hi.abs());
+        let outside = (zv - hi).max(lo - zv);
+        if outside > self.bound + slack {
+            return Some(outside);
         }
         self.fill.clear();
         let lattice = m.lattice();
