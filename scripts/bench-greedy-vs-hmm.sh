@@ -27,24 +27,6 @@ py="$bench/venv/bin/python"
 cargo build --release --bin paretomesh --quiet
 bin=${CARGO_TARGET_DIR:-target}/release/paretomesh
 
-# A fractal terrain by spectral synthesis (random phases, amplitude k^(-beta/2), beta = 2.9),
-# heights 0..1000, as raw f32 with the JSON sidecar `paretomesh` reads.
-cat > "$bench/terrain.py" <<'EOF'
-import json, sys
-import numpy as np
-n, out = int(sys.argv[1]), sys.argv[2]
-rng = np.random.default_rng(n)
-k = np.hypot(np.fft.fftfreq(n)[:, None], np.fft.rfftfreq(n)[None, :])
-k[0, 0] = 1.0
-amplitude = k ** (-2.9 / 2)
-amplitude[0, 0] = 0.0
-z = np.fft.irfft2(amplitude * np.exp(2j * np.pi * rng.random(amplitude.shape)), s=(n, n))
-z = ((z - z.min()) / (z.max() - z.min()) * 1000.0).astype('<f4')
-z.tofile(out + '.f32')
-json.dump({"width": n, "height": n, "zmin": float(z.min()), "zmax": float(z.max()),
-           "source": "fractal terrain, spectral synthesis, beta 2.9, seed %d" % n},
-          open(out + '.json', 'w'))
-EOF
 # hmm on one grid: prints "wall_seconds cpu_seconds triangles".
 cat > "$bench/hmm.py" <<'EOF'
 import json, sys, time
@@ -67,7 +49,8 @@ faster() { awk -v a="$1" -v b="$2" 'BEGIN { split(a, x, " "); split(b, y, " "); 
 printf '%-11s %-6s %10s %10s %11s\n' grid tool "wall s" "cpu s" triangles
 for n in "${sizes[@]}"; do
   grid="$bench/fractal_${n}x${n}"
-  [ -f "$grid.f32" ] || "$py" "$bench/terrain.py" "$n" "$grid"
+  # The spectral fractal of scripts/terrain.py, beta 2.9, heights 0..1000, seeded by the size.
+  [ -f "$grid.f32" ] || "$py" scripts/terrain.py spectral --size "$n" --beta 2.9 --seed "$n" --out "$grid.f32"
   best_ours="" best_hmm="" refused=""
   for _ in $(seq "$repeats"); do
     if [ -z "$refused" ]; then

@@ -2,11 +2,12 @@
 
     python python/benches/dask_speedup.py [SIDE] [EVALS_PER_TILE]
 
-A SIDE² fractal terrain (default 3601) in tiles of paretomesh.DEFAULT_TILE, memetic with
-EVALS_PER_TILE evaluations per tile (default: the method's own budget, as `paretomesh run`
-gives a tile), seed 1.
+A SIDE² spectral fractal terrain (default 3601; `scripts/terrain.py`, seed 1) in tiles of
+paretomesh.DEFAULT_TILE, memetic with EVALS_PER_TILE evaluations per tile (default: the
+method's own budget, as `paretomesh run` gives a tile), seed 1.
 """
 
+import pathlib
 import sys
 import time
 
@@ -14,7 +15,9 @@ from dask.distributed import Client, LocalCluster
 
 import paretomesh
 import paretomesh.dask
-from terrain import terrain
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+from terrain import spectral  # noqa: E402  (the project's generator, scripts/terrain.py)
 
 
 def members(front):
@@ -27,7 +30,7 @@ def members(front):
 def main() -> None:
     side = int(sys.argv[1]) if len(sys.argv) > 1 else 3601
     evals = int(sys.argv[2]) if len(sys.argv) > 2 else None
-    z = terrain(side, side)
+    z = spectral(side, side)
     fronts, times = {}, {}
     for workers in (1, 2):
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,

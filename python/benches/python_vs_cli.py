@@ -2,9 +2,9 @@
 
     python python/benches/python_vs_cli.py PARETOMESH_CLI [SIDE] [EVALS] [REPEATS]
 
-A SIDE² fractal terrain (default 2048) written as a raw f32 grid; `paretomesh run` on it and
-`paretomesh.simplify` on the same heights, untiled, memetic, seed 1, alternately REPEATS times
-(default 3). Prints each wall time, the runs' own millis, and whether the fronts are equal.
+A SIDE² spectral fractal terrain (default 2048; `scripts/terrain.py`, seed 1) written as a raw
+f32 grid; `paretomesh run` on it and `paretomesh.simplify` on the same heights, untiled,
+memetic, seed 1, alternately REPEATS times (default 3). Prints each wall time, the runs' own millis, and whether the fronts are equal.
 """
 
 import json
@@ -15,7 +15,9 @@ import tempfile
 import time
 
 import paretomesh
-from terrain import terrain, write_f32
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+from terrain import spectral, write_f32  # noqa: E402  (the project's generator, scripts/terrain.py)
 
 
 def main() -> None:
@@ -24,7 +26,7 @@ def main() -> None:
     evals = int(sys.argv[3]) if len(sys.argv) > 3 else 20000
     repeats = int(sys.argv[4]) if len(sys.argv) > 4 else 3
     folder = pathlib.Path(tempfile.mkdtemp())
-    z = terrain(side, side)
+    z = spectral(side, side)
     grid = folder / f"terrain_{side}.f32"
     write_f32(z, grid)
     # Untiled on both sides: a CLI that tiles is asked for one tile of the whole grid.

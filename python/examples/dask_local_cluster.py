@@ -2,37 +2,28 @@
 
     python python/examples/dask_local_cluster.py [GRID_FILE]
 
-Without a file, a 700×500 fractal terrain is made with numpy. The tiles run on the two
+Without a file, a 700×500 terrain is made by the project's generator (`scripts/terrain.py`,
+its `valleys` family: valley networks and terraces). The tiles run on the two
 workers; the whole-grid front is the one ``paretomesh.simplify`` gives on one machine with the
 same seed and tile size. On a real cluster, replace the LocalCluster with
 ``Client("tcp://scheduler:8786")``.
 """
 
+import pathlib
 import sys
 import time
 
-import numpy as np
 from dask.distributed import Client, LocalCluster
 
 import paretomesh
 import paretomesh.dask
 
-
-def terrain(width: int, height: int, beta: float = 2.8, seed: int = 1) -> np.ndarray:
-    """A fractal terrain by spectral synthesis: random phases, amplitude k^(−β/2)."""
-    rng = np.random.default_rng(seed)
-    ky = np.fft.fftfreq(height)[:, None]
-    kx = np.fft.rfftfreq(width)[None, :]
-    k = np.hypot(kx, ky)
-    k[0, 0] = 1.0
-    spectrum = k ** (-beta / 2) * np.exp(2j * np.pi * rng.random(k.shape))
-    spectrum[0, 0] = 0.0
-    z = np.fft.irfft2(spectrum, s=(height, width))
-    return 1000.0 * (z - z.min()) / (z.max() - z.min())
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+from terrain import generate  # noqa: E402  (the project's generator, scripts/terrain.py)
 
 
 def main() -> None:
-    grid = sys.argv[1] if len(sys.argv) > 1 else terrain(700, 500)
+    grid = sys.argv[1] if len(sys.argv) > 1 else generate("valleys", 700, 500, seed=1)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True) as cluster, \
             Client(cluster) as client:
         started = time.perf_counter()
