@@ -9,6 +9,7 @@
 //! - [`evaluator`]: the ruler: Delaunay triangulation of a kept set of grid points and the exact
 //!   error E = Σ|z − z̃| over every grid point, counted once.
 //! - [`front`]: solutions and the non-dominated front of (E, T).
+//! - [`measure`]: the error measure (E_sum, RMS or E_max) a front minimises beside T.
 //! - [`optimizer`]: the steppable interface every algorithm implements.
 //! - [`evolution`]: NSGA-II, orthogonal-array crossover, the weighted-sum GA.
 //! - [`baselines`]: greedy insertion and edge decimation.
@@ -36,6 +37,7 @@ pub mod front_file;
 pub mod heightfield;
 pub mod import;
 pub mod kept_codec;
+pub mod measure;
 pub(crate) mod lazy_queue;
 pub mod metrics;
 pub mod optimizer;
