@@ -1,6 +1,7 @@
 //! Solutions and the non-dominated front of (E, T), both minimised.
 
 use crate::evaluator::Score;
+use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Deserializer, Serialize, Serializer, ser::SerializeStruct};
 use std::ops::Deref;
 
@@ -99,6 +100,8 @@ pub fn dominates(a: [f64; 2], b: [f64; 2]) -> bool {
 
 /// A set of mutually non-dominated solutions, sorted by increasing T (so decreasing E).
 ///
+/// E is the front's [`ErrorMeasure`] (E_sum unless made by [`Front::new`] with another):
+/// members are non-dominated in (that error, T), and still carry all three errors.
 /// Solutions with identical objectives are kept once (the first one offered).
 ///
 /// ```
@@ -117,23 +120,42 @@ pub fn dominates(a: [f64; 2], b: [f64; 2]) -> bool {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Front {
     solutions: Vec<Solution>,
+    /// The error the members are non-dominated in; written only when not E_sum, so a sum
+    /// front reads and writes as before measures existed.
+    #[serde(default, skip_serializing_if = "ErrorMeasure::is_sum")]
+    measure: ErrorMeasure,
 }
 
 impl Front {
+    /// An empty front in (`measure`, T).
+    pub fn new(measure: ErrorMeasure) -> Self {
+        Self {
+            solutions: Vec::new(),
+            measure,
+        }
+    }
+
+    /// The error the members are non-dominated in.
+    pub fn measure(&self) -> ErrorMeasure {
+        self.measure
+    }
+
     /// Offers a solution; returns true when it enters the front (dominated members leave).
     pub fn offer(&mut self, s: Solution) -> bool {
-        let o = s.objectives();
-        if self
-            .solutions
-            .iter()
-            .any(|m| m.objectives() == o || dominates(m.objectives(), o))
-        {
+        let measure = self.measure;
+        let o = measure.objectives(&s.score);
+        if self.solutions.iter().any(|m| {
+            let p = measure.objectives(&m.score);
+            p == o || dominates(p, o)
+        }) {
             return false;
         }
-        self.solutions.retain(|m| !dominates(o, m.objectives()));
+        self.solutions
+            .retain(|m| !dominates(o, measure.objectives(&m.score)));
+        let e = |m: &Solution| measure.of(&m.score).to_bits();
         let at = self
             .solutions
-            .partition_point(|m| (m.t, m.e_sum.to_bits()) < (s.t, s.e_sum.to_bits()));
+            .partition_point(|m| (m.t, e(m)) < (s.t, e(&s)));
         self.solutions.insert(at, s);
         true
     }
@@ -144,7 +166,11 @@ impl Front {
     pub fn offer_score(&mut self, score: Score, kept: impl FnOnce() -> Vec<u32>) -> bool {
         // Sorted by increasing T and decreasing E: the member with the largest T ≤ score.t is
         // the only one that can dominate or equal the score.
-        if self.within(score.t).is_some_and(|m| m.e_sum <= score.e_sum) {
+        let measure = self.measure;
+        if self
+            .within(score.t)
+            .is_some_and(|m| measure.of(&m.score) <= measure.of(&score))
+        {
             return false;
         }
         self.offer(Solution {
@@ -176,9 +202,17 @@ impl Front {
         self.solutions.is_empty()
     }
 
-    /// Merges solutions from any number of fronts or runs into one front.
+    /// Merges solutions from any number of fronts or runs into one front of (E_sum, T).
     pub fn merged<'a>(solutions: impl IntoIterator<Item = &'a Solution>) -> Front {
-        let mut f = Front::default();
+        Self::merged_in(ErrorMeasure::Sum, solutions)
+    }
+
+    /// Merges solutions into one front of (`measure`, T).
+    pub fn merged_in<'a>(
+        measure: ErrorMeasure,
+        solutions: impl IntoIterator<Item = &'a Solution>,
+    ) -> Front {
+        let mut f = Front::new(measure);
         for s in solutions {
             f.offer(s.clone());
         }
@@ -193,26 +227,37 @@ mod tests {
 
     #[test]
     fn offer_score_agrees_with_offer() {
-        // Random (E, T) pairs on a coarse lattice, so that ties in E, in T and in both occur:
-        // the shortcut must accept exactly what `Front::offer` accepts.
-        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(8);
-        let (mut fast, mut plain) = (Front::default(), Front::default());
-        let kept = vec![0, 1, 2, 3];
-        for _ in 0..2000 {
-            let score = Score {
-                e_sum: rng.random_range(0..40) as f64,
-                e_max: 0.0,
-                rms: 0.0,
-                t: rng.random_range(2..40),
-            };
-            let entered = fast.offer_score(score, || kept.clone());
-            let expected = plain.offer(Solution {
-                score,
-                kept: kept.clone(),
-            });
-            assert_eq!(entered, expected, "{score:?}");
+        // Random errors and T on a coarse lattice, so that ties in E, in T and in both occur:
+        // the shortcut must accept exactly what `Front::offer` accepts, in every measure, and
+        // the members must be non-dominated in that measure.
+        for measure in ErrorMeasure::ALL {
+            let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(8);
+            let (mut fast, mut plain) = (Front::new(measure), Front::new(measure));
+            let kept = vec![0, 1, 2, 3];
+            for _ in 0..2000 {
+                let score = Score {
+                    e_sum: rng.random_range(0..40) as f64,
+                    e_max: rng.random_range(0..40) as f64,
+                    rms: rng.random_range(0..40) as f64,
+                    t: rng.random_range(2..40),
+                };
+                let entered = fast.offer_score(score, || kept.clone());
+                let expected = plain.offer(Solution {
+                    score,
+                    kept: kept.clone(),
+                });
+                assert_eq!(entered, expected, "{measure} {score:?}");
+            }
+            assert_eq!(fast, plain);
+            let members = fast.solutions();
+            for (i, a) in members.iter().enumerate() {
+                for b in &members[..i] {
+                    let (pa, pb) = (measure.objectives(a), measure.objectives(b));
+                    assert!(!dominates(pa, pb) && !dominates(pb, pa) && pa != pb);
+                }
+            }
+            assert!(members.windows(2).all(|w| w[0].t < w[1].t));
         }
-        assert_eq!(fast, plain);
     }
 
     #[test]

@@ -14,6 +14,11 @@
 //! indices in which it differs from the member before it in the file (whichever is shorter).
 //! Readers also take the plain `"kept":[…]` array that older files hold.
 //!
+//! The error measure a run minimised ([`ErrorMeasure`]) is its `params.error`, absent for
+//! `sum` (the default, so a sum run's file is byte for byte what it was before measures
+//! existed). A run in `rms` or `max` also writes each member's `"RMS"` after `E_max`, so that
+//! its members' three errors are all on file.
+//!
 //! Triangles are listed only on request ([`FrontFile::add_triangles`], `paretomesh run
 //! --triangles`), as `"triangles":[[a,b,c],…]` after `kept`: on large grids they are most of the
 //! file, and the kept set determines them (the canonical Delaunay triangulation, which
@@ -24,6 +29,7 @@ use crate::evolution::chromosome::Chromosome;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::import::{ImportOptions, Projection, Surface};
+use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Serialize};
 
 /// The grid a run was made on.
@@ -139,6 +145,8 @@ mod members {
         e_sum: f64,
         #[serde(rename = "E_max")]
         e_max: f64,
+        #[serde(rename = "RMS", skip_serializing_if = "Option::is_none")]
+        rms: Option<f64>,
         #[serde(rename = "T")]
         t: usize,
         #[serde(skip_serializing_if = "Option::is_none")]
@@ -156,6 +164,8 @@ mod members {
         e_sum: f64,
         #[serde(rename = "E_max")]
         e_max: f64,
+        #[serde(rename = "RMS", default)]
+        rms: Option<f64>,
         #[serde(rename = "T")]
         t: usize,
         #[serde(default)]
@@ -185,6 +195,7 @@ mod members {
                 Written {
                     e_sum: m.solution.e_sum,
                     e_max: m.solution.e_max,
+                    rms: (!m.solution.rms.is_nan()).then_some(m.solution.rms),
                     t: m.solution.t,
                     kept_packed,
                     kept_diff,
@@ -217,8 +228,12 @@ mod members {
                     )));
                 }
             };
+            let mut solution = Solution::recorded(r.e_sum, r.e_max, r.t, kept);
+            if let Some(rms) = r.rms {
+                solution.score.rms = rms;
+            }
             out.push(RunSolution {
-                solution: Solution::recorded(r.e_sum, r.e_max, r.t, kept),
+                solution,
                 triangles: r.triangles,
             });
         }
@@ -249,12 +264,20 @@ impl FrontFile {
         for s in front.solutions() {
             check_indices(&s.kept, hf.len())?;
         }
+        // A sum front's file records E_sum, E_max and T only, as it always has.
+        let sum = front.measure().is_sum();
         let members = front
             .solutions()
             .iter()
-            .map(|s| RunSolution {
-                solution: s.clone(),
-                triangles: None,
+            .map(|s| {
+                let mut solution = s.clone();
+                if sum {
+                    solution.score.rms = f64::NAN;
+                }
+                RunSolution {
+                    solution,
+                    triangles: None,
+                }
             })
             .collect();
         Ok(Self {
@@ -266,6 +289,12 @@ impl FrontFile {
             millis,
             front: members,
         })
+    }
+
+    /// The error measure the run minimised: its parameters' `error`, `sum` when absent. Fails
+    /// on a name no measure has.
+    pub fn measure(&self) -> Result<ErrorMeasure, String> {
+        measure_of(&self.params)
     }
 
     /// Records the import options the grid was read with (see [`GridInfo::import`]).
@@ -307,6 +336,17 @@ impl FrontFile {
             previous = Some(m);
         }
         Ok(())
+    }
+}
+
+/// The error measure a run's recorded parameters name (`error`), `sum` when absent.
+pub fn measure_of(params: &serde_json::Value) -> Result<ErrorMeasure, String> {
+    match params.get("error") {
+        None | Some(serde_json::Value::Null) => Ok(ErrorMeasure::Sum),
+        Some(serde_json::Value::String(name)) => ErrorMeasure::parse(name),
+        Some(other) => Err(format!(
+            "params.error must be a measure's name, not {other}"
+        )),
     }
 }
 

@@ -21,6 +21,7 @@
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
 //! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
 //!   the app.
+//! - [`refine`]: a member grown to an exact triangle budget by exact worst-point insertions.
 //! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
 //! - [`pyramid`]: a 3D Tiles pyramid of a front's members, placed on the globe when georeferenced.
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU, on the
@@ -37,12 +38,13 @@ pub mod front_file;
 pub mod heightfield;
 pub mod import;
 pub mod kept_codec;
-pub mod measure;
 pub(crate) mod lazy_queue;
+pub mod measure;
 pub mod metrics;
 pub mod optimizer;
 pub mod pick;
 pub mod pyramid;
+pub mod refine;
 pub mod tiling;
 
 // The browser app's logic without the DOM: only `web` (wasm32) and the crate's tests use it, so

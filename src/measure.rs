@@ -108,7 +108,10 @@ mod tests {
             assert_eq!(serde_json::from_str::<ErrorMeasure>(&json).unwrap(), m);
         }
         let err = ErrorMeasure::parse("mean").unwrap_err();
-        assert!(err.contains("\"mean\"") && err.contains("sum, rms, max"), "{err}");
+        assert!(
+            err.contains("\"mean\"") && err.contains("sum, rms, max"),
+            "{err}"
+        );
         assert_eq!(ErrorMeasure::default(), ErrorMeasure::Sum);
     }
 

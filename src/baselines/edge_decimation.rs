@@ -32,6 +32,7 @@ use crate::evaluator::raster::Grid;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
 use crate::lazy_queue::Entry;
+use crate::measure::ErrorMeasure;
 use crate::optimizer::{Optimizer, Progress};
 use serde::{Deserialize, Serialize};
 use std::collections::BinaryHeap;
@@ -43,12 +44,17 @@ use std::sync::Arc;
 pub struct DecimationParams {
     /// Fractions of the full triangle count to remove, strictly increasing, each in (0, 1).
     pub reductions: Vec<f64>,
+    /// The error the recorded front is non-dominated in (the collapses do not change). Written
+    /// only when not `sum`.
+    #[serde(skip_serializing_if = "ErrorMeasure::is_sum")]
+    pub error: ErrorMeasure,
 }
 
 impl Default for DecimationParams {
     fn default() -> Self {
         Self {
             reductions: (1..=10).map(|k| k as f64 * 0.05).collect(),
+            error: ErrorMeasure::Sum,
         }
     }
 }
@@ -113,6 +119,7 @@ impl EdgeDecimation {
         for c in hf.corners() {
             is_corner[c as usize] = true;
         }
+        let measure = params.error;
         let mut run = Self {
             evaluator: Evaluator::new(hf.clone()),
             hf,
@@ -128,7 +135,7 @@ impl EdgeDecimation {
             queue: BinaryHeap::new(),
             bounds,
             next_bound: 0,
-            front: Front::default(),
+            front: Front::new(measure),
             recorded: Vec::new(),
             removals: 0,
             done: false,

@@ -32,6 +32,7 @@ use crate::evaluator::raster::{Grid, grid_of};
 use crate::evaluator::score::Score;
 use crate::front::{Front, Solution};
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use crate::optimizer::{Optimizer, Progress};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -103,6 +104,10 @@ pub struct GreedyParams {
     /// under other stops.
     #[serde(skip_serializing_if = "is_false")]
     pub decimate: bool,
+    /// The error the recorded front is non-dominated in (its insertions do not change). Written
+    /// only when not `sum`.
+    #[serde(skip_serializing_if = "ErrorMeasure::is_sum")]
+    pub error: ErrorMeasure,
 }
 
 /// Leaves `decimate: false` out of front.json, as it was before the option existed.
@@ -119,6 +124,7 @@ impl Default for GreedyParams {
             stop: GreedyStop::AllPoints,
             records: 64,
             decimate: false,
+            error: ErrorMeasure::Sum,
         }
     }
 }
@@ -177,18 +183,20 @@ impl GreedyInsertion {
         Self::from_kept(hf, params, &[])
     }
 
-    /// A run on `hf` from the kept set `start` (grid indices, any order; the corners are added).
-    /// Refuses parameters out of range and indices off the grid.
+    /// A run on `hf` that starts from the mesh of `kept` (grid indices, any order, the corners
+    /// added when missing) instead of the corners alone: how a member of a front is refined
+    /// by exact insertions of its worst points. Refuses parameters out of range and indices
+    /// off the grid (as [`ParamsError::OutOfRange`] of `kept`).
     pub fn from_kept(
         hf: Arc<Heightfield>,
         params: GreedyParams,
-        start: &[u32],
+        kept: &[u32],
     ) -> Result<Self, ParamsError> {
-        if let Some(&i) = start.iter().find(|&&i| i as usize >= hf.len()) {
+        if let Some(&bad) = kept.iter().find(|&&i| i as usize >= hf.len()) {
             return Err(ParamsError::OutOfRange {
-                name: "kept index",
-                value: f64::from(i),
-                allowed: "a grid index below width × height",
+                name: "kept",
+                value: bad as f64,
+                allowed: "grid indices below W·H",
             });
         }
         if params.records < 2 {
@@ -249,15 +257,20 @@ impl GreedyInsertion {
             })
             .collect();
         targets.dedup();
+        let mut start: Vec<u32> = hf.corners().to_vec();
+        start.extend_from_slice(kept);
+        start.sort_unstable();
+        start.dedup();
         let mut kept = vec![false; hf.len()];
-        for &i in hf.corners().iter().chain(start) {
-            kept[i as usize] = true;
+        for &c in &start {
+            kept[c as usize] = true;
         }
-        let points: Vec<u32> = (0..hf.len() as u32).filter(|&i| kept[i as usize]).collect();
+        let kept_count = start.len();
         let mut mesh = Triangulation::default();
-        mesh.rebuild_delaunay(hf.width(), &points);
+        mesh.rebuild_delaunay(hf.width(), &start);
         let units = ErrorUnits::of(&hf);
         let float_sum = params.rule != InsertionRule::MaxError;
+        let measure = params.error;
         let mut run = Self {
             finder: PeakFinder::new(units, float_sum),
             units,
@@ -265,15 +278,15 @@ impl GreedyInsertion {
             params,
             threshold,
             mesh,
-            kept_count: points.len(),
             kept,
+            kept_count,
             info: Vec::new(),
             by_error: SlotHeap::default(),
             by_gain: SlotHeap::default(),
             by_sum: SlotHeap::default(),
             targets,
             next_target: 0,
-            front: Front::default(),
+            front: Front::new(measure),
             recorded: Vec::new(),
             last_recorded_points: 0,
             insertions: 0,
@@ -335,6 +348,23 @@ impl GreedyInsertion {
     /// current kept set.
     pub fn incremental_e_sum(&self) -> f64 {
         self.current_score().e_sum
+    }
+
+    /// The score of the current mesh: a fresh [`Evaluator::score`](crate::evaluator::Evaluator::score)
+    /// of [`kept`](Self::kept), bit for bit.
+    pub fn score(&self) -> Score {
+        self.current_score()
+    }
+
+    /// The grid point the max-error rule inserts next (the one of largest vertical error, ties
+    /// to the smaller index), or `None` when every point within the stopping threshold is kept.
+    pub fn worst_point(&self) -> Option<u32> {
+        self.by_error.top().map(|e| e.point)
+    }
+
+    /// The current mesh's triangle count.
+    pub fn triangle_count(&self) -> usize {
+        self.mesh.len()
     }
 
     /// The largest vertical error of the current mesh (0 when every point is kept).

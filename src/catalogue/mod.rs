@@ -17,6 +17,7 @@ use crate::evolution::oax::OaxRecord;
 use crate::evolution::trace::GenerationTrace;
 use crate::evolution::{GaParams, Memetic, MemeticParams, Nsga2, WeightedSum, WeightedSumParams};
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use crate::optimizer::Optimizer;
 use std::sync::Arc;
 
@@ -64,7 +65,15 @@ pub struct Spec {
     pub cost: u8,
     /// Its variants with one component switched off, as the experiment runs them.
     pub ablations: &'static [Ablation],
+    /// The error measures whose (error, T) front it makes, `sum` first.
+    pub measures: &'static [ErrorMeasure],
+    /// How it serves its measures, or why it takes only `sum`.
+    pub measure_note: &'static str,
 }
+
+const ALL_MEASURES: &[ErrorMeasure] = &ErrorMeasure::ALL;
+
+const SUM_ONLY: &[ErrorMeasure] = &[ErrorMeasure::Sum];
 
 const GA_PARAMS: &[Param] = &[
     Param::Population,
@@ -138,6 +147,8 @@ impl Algorithm {
                 colour: "#D55E00",
                 cost: 2,
                 ablations: &[],
+                measures: SUM_ONLY,
+                measure_note: "NSGA-II is the paper's method, on (E_sum, T), and stays bit for bit the paper's: use --algo memetic, greedy or decimation for rms or max",
             },
             Algorithm::Weighted => Spec {
                 name: "weighted",
@@ -151,6 +162,8 @@ impl Algorithm {
                 colour: "#0072B2",
                 cost: 3,
                 ablations: &[],
+                measures: SUM_ONLY,
+                measure_note: "the weighted-sum GA is the paper's baseline, a weighted sum of E_sum and T: use --algo memetic, greedy or decimation for rms or max",
             },
             Algorithm::Decimation => Spec {
                 name: "decimation",
@@ -167,6 +180,8 @@ impl Algorithm {
                 colour: "#009E73",
                 cost: 0,
                 ablations: &[],
+                measures: ALL_MEASURES,
+                measure_note: "its collapses follow E_sum; its recorded meshes are filtered by the chosen measure",
             },
             Algorithm::Greedy => Spec {
                 name: "greedy",
@@ -185,6 +200,8 @@ impl Algorithm {
                 colour: "#CC79A7",
                 cost: 1,
                 ablations: &[],
+                measures: ALL_MEASURES,
+                measure_note: "it inserts the point of largest error, the worst in every measure; its recorded meshes are filtered by the chosen measure",
             },
             Algorithm::Memetic => Spec {
                 name: "memetic",
@@ -211,6 +228,8 @@ impl Algorithm {
                 colour: "#000000",
                 cost: 2,
                 ablations: MEMETIC_ABLATIONS,
+                measures: ALL_MEASURES,
+                measure_note: "its selection, archive, decimation costs and local search compare in the chosen measure",
             },
         }
     }
@@ -247,9 +266,30 @@ impl Algorithm {
         ))
     }
 
+    /// Does the method make fronts in `measure`?
+    pub fn supports(self, measure: ErrorMeasure) -> bool {
+        self.spec().measures.contains(&measure)
+    }
+
+    /// Why the method refuses `measure`, naming both, or `None` when it supports it.
+    pub fn measure_refusal(self, measure: ErrorMeasure) -> Option<String> {
+        (!self.supports(measure)).then(|| {
+            format!(
+                "--algo {} does not take --error {}: {}",
+                self.name(),
+                measure.name(),
+                self.spec().measure_note
+            )
+        })
+    }
+
     /// The method's parameters with `params` filled in over its defaults. Errors: a parameter
-    /// the method does not read is set, or two set parameters contradict each other.
+    /// the method does not read is set, the method does not support the error measure, or two
+    /// set parameters contradict each other.
     pub fn configure(self, params: &Params) -> Result<Config, String> {
+        if let Some(why) = self.measure_refusal(params.error) {
+            return Err(why);
+        }
         for (param, set) in [
             (Param::Population, params.population.is_some()),
             (Param::Generations, params.generations.is_some()),
@@ -283,7 +323,10 @@ impl Algorithm {
                 ga: ga_params(params),
                 ..WeightedSumParams::default()
             }),
-            Algorithm::Decimation => Config::Decimation(DecimationParams::default()),
+            Algorithm::Decimation => Config::Decimation(DecimationParams {
+                error: params.error,
+                ..DecimationParams::default()
+            }),
             Algorithm::Greedy => {
                 let stops = [
                     params.max_error_fraction.is_some(),
@@ -317,6 +360,7 @@ impl Algorithm {
                         stop,
                         GreedyStop::MaxError(_) | GreedyStop::MaxErrorFraction(_)
                     ),
+                    error: params.error,
                     ..GreedyParams::default()
                 })
             }
@@ -333,6 +377,7 @@ impl Algorithm {
                     guided_mutation: without != Some(Component::GuidedMutation),
                     neighbour_mating: without != Some(Component::NeighbourMating),
                     local_search: without != Some(Component::LocalSearch),
+                    error: params.error,
                     ..d
                 })
             }
@@ -606,6 +651,37 @@ mod tests {
             Algorithm::Greedy.refusal(Param::Population).as_deref(),
             Some("it belongs to the evolutionary methods")
         );
+    }
+
+    #[test]
+    fn a_measure_the_method_does_not_support_is_refused_naming_both() {
+        for a in Algorithm::ALL {
+            assert!(a.supports(ErrorMeasure::Sum), "{}", a.name());
+            for m in ErrorMeasure::ALL {
+                let p = Params {
+                    error: m,
+                    ..Params::default()
+                };
+                match a.configure(&p) {
+                    Ok(c) => {
+                        assert!(a.supports(m));
+                        // The measure is recorded in the parameters only when not sum.
+                        let recorded = c.json().get("error").cloned();
+                        let expected = (m != ErrorMeasure::Sum).then(|| m.name().into());
+                        assert_eq!(recorded, expected, "{} {m}", a.name());
+                        assert_eq!(Config::from_json(a, &c.json()).unwrap(), c);
+                    }
+                    Err(e) => {
+                        assert!(!a.supports(m));
+                        let both = format!("--algo {} does not take --error {m}", a.name());
+                        assert!(e.starts_with(&both), "{e}");
+                    }
+                }
+            }
+        }
+        assert!(!Algorithm::Nsga2.supports(ErrorMeasure::Max));
+        assert!(!Algorithm::Weighted.supports(ErrorMeasure::Rms));
+        assert!(Algorithm::Memetic.supports(ErrorMeasure::Max));
     }
 
     #[test]

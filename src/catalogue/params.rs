@@ -4,6 +4,7 @@
 
 use crate::baselines::InsertionRule;
 use crate::evolution::CrossoverKind;
+use crate::measure::ErrorMeasure;
 
 /// A parameter a method may read. Each is a field of [`Params`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -74,6 +75,9 @@ pub struct Params {
     pub max_vertical_error: Option<f64>,
     /// Memetic: a component switched off (an ablation).
     pub without: Option<Component>,
+    /// The error the front minimises beside T (`sum` by default); a method refuses the
+    /// measures its [`Spec::measures`](crate::catalogue::Spec::measures) does not list.
+    pub error: ErrorMeasure,
 }
 
 /// How a method's run is bounded.

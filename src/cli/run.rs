@@ -16,6 +16,7 @@ use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
 use paretomesh::front_file::{GridInfo, ImportRecord};
 use paretomesh::heightfield::Heightfield;
+use paretomesh::measure::ErrorMeasure;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
     DEFAULT_TILE, TilePlan, TiledFrontFile, check_tile, run_tiled_with_progress, tile_params,
@@ -56,6 +57,10 @@ pub struct RunArgs {
     /// The algorithm.
     #[arg(long, value_enum, default_value = "memetic")]
     algo: Algorithm,
+    /// The error the front minimises beside T: sum (Σ|z − z̃|, the paper's), rms or max (the
+    /// vertical error bound). NSGA-II and the weighted-sum GA take sum only.
+    #[arg(long, value_enum, default_value = "sum")]
+    error: ErrorMeasure,
     /// Population size [default: 100 for the GAs, 24 for memetic].
     #[arg(long)]
     pop: Option<usize>,
@@ -139,6 +144,7 @@ fn params(args: &RunArgs) -> Params {
         max_error_fraction: args.max_error_fraction,
         max_vertical_error: args.max_vertical_error,
         without: None,
+        error: args.error,
     }
 }
 
@@ -195,9 +201,9 @@ fn build(args: &RunArgs, hf: Arc<Heightfield>) -> Result<Built, String> {
     args.algo.build(hf, &params(args), args.seed)
 }
 
-/// The smallest E on `front` among solutions with at most `t` triangles.
+/// The smallest error (in the front's measure) among solutions with at most `t` triangles.
 fn best_e_within(front: &Front, t: usize) -> Option<f64> {
-    front.within(t).map(|s| s.e_sum)
+    front.within(t).map(|s| front.measure().of(s))
 }
 
 /// One status line: generation, evaluations, front size, best E at a few triangle counts.

@@ -21,6 +21,7 @@ use super::mutation;
 use crate::evaluator::{Evaluator, Score};
 use crate::heightfield::Heightfield;
 use crate::lazy_queue::Entry;
+use crate::measure::ErrorMeasure;
 use std::collections::BinaryHeap;
 
 /// The mesh is recorded whenever its T has fallen to this fraction of the last recorded T (or
@@ -57,14 +58,17 @@ pub struct Decimation {
     next_record: usize,
     evaluations: u64,
     done: bool,
+    /// The error whose rise per triangle saved is a removal's cost.
+    measure: ErrorMeasure,
 }
 
 impl Decimation {
     /// Decimation of the kept set `kept` (increasing, corners included; one evaluation).
-    pub fn new(evaluator: &mut Evaluator, kept: Vec<u32>) -> Self {
+    pub fn new(evaluator: &mut Evaluator, kept: Vec<u32>, measure: ErrorMeasure) -> Self {
         let grid_len = evaluator.heightfield().len();
         let member = Member::fresh(evaluator, kept);
         let mut run = Self {
+            measure,
             next_record: member.score.t,
             member,
             next_first: 0,
@@ -172,7 +176,8 @@ impl Decimation {
         let after = mutation::trial(evaluator, &self.member, &edit);
         self.evaluations += 1;
         let saved = self.member.score.t.saturating_sub(after.t).max(1);
-        let cost = (after.e_sum - self.member.score.e_sum) / saved as f64;
+        let m = self.measure;
+        let cost = (m.of(&after) - m.of(&self.member.score)) / saved as f64;
         let version = &mut self.version[v as usize];
         *version = version.wrapping_add(1);
         self.queue.push(Entry {

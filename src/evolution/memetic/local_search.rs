@@ -41,6 +41,7 @@ use super::seeding::densest_seed;
 use crate::evaluator::Evaluator;
 use crate::front::Front;
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 use std::collections::{HashMap, HashSet};
@@ -167,7 +168,15 @@ impl LocalSearch {
             }
             return;
         }
-        let end = round(evaluator, member, &mut visit.memo, rng, evaluations);
+        let measure = archive.measure();
+        let end = round(
+            evaluator,
+            member,
+            measure,
+            &mut visit.memo,
+            rng,
+            evaluations,
+        );
         if end == RoundEnd::Unfinished {
             return;
         }
@@ -235,6 +244,7 @@ enum RoundEnd {
 fn round(
     evaluator: &mut Evaluator,
     member: &mut Member,
+    measure: ErrorMeasure,
     memo: &mut Memo,
     rng: &mut Pcg64Mcg,
     evaluations: &mut u64,
@@ -263,7 +273,8 @@ fn round(
     let mut trials = Trials {
         hf: &hf,
         member,
-        e: member.score.e_sum,
+        measure,
+        e: measure.of(&member.score),
         evaluations,
         left: TRIALS_PER_UNIT,
     };
@@ -306,6 +317,8 @@ fn round(
 struct Trials<'a> {
     hf: &'a Heightfield,
     member: &'a Member,
+    /// The error the round lowers.
+    measure: ErrorMeasure,
     e: f64,
     evaluations: &'a mut u64,
     /// New single trials this call may still make (see [`TRIALS_PER_UNIT`]); at 0 the lists
@@ -317,7 +330,8 @@ impl Trials<'_> {
     /// E_sum of the member after `edit` (one evaluation).
     fn e_after(&mut self, evaluator: &mut Evaluator, edit: &Edit) -> f64 {
         *self.evaluations += 1;
-        mutation::trial(evaluator, self.member, edit).e_sum
+        self.measure
+            .of(&mutation::trial(evaluator, self.member, edit))
     }
 
     /// (rise of E_sum, vertex) for removing each of `removals`, remembered in `memo`.

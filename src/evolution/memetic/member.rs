@@ -5,6 +5,7 @@ use super::guide::Guide;
 use crate::evaluator::{Evaluator, GridLookups, MeshState, Score};
 use crate::front::Front;
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 
 /// Per-grid-point arrays lent to the members being edited ([`Member::unstow`]) and taken back
 /// from those set aside ([`Member::stow`]): a population member that waits for its next use
@@ -69,9 +70,9 @@ impl Member {
         }
     }
 
-    /// (E_sum, T), both minimised.
-    pub fn pair(&self) -> [f64; 2] {
-        [self.score.e_sum, self.score.t as f64]
+    /// (the run's error, T), both minimised.
+    pub fn pair(&self, measure: ErrorMeasure) -> [f64; 2] {
+        measure.objectives(&self.score)
     }
 
     /// Its guide, made now if it was not.

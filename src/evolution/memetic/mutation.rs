@@ -13,6 +13,7 @@ use super::guide::{Guide, NO_POINT};
 use super::member::{Edit, Member, on_border};
 use crate::evaluator::{Changes, Evaluator, Score};
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use rand::RngExt;
 use rand_pcg::Pcg64Mcg;
 
@@ -159,6 +160,7 @@ pub fn trial(evaluator: &mut Evaluator, member: &Member, edit: &Edit) -> Score {
 pub fn best_move(
     evaluator: &mut Evaluator,
     member: &Member,
+    measure: ErrorMeasure,
     rng: &mut Pcg64Mcg,
     evaluations: &mut u64,
 ) -> Option<(Edit, Score)> {
@@ -185,7 +187,10 @@ pub fn best_move(
         };
         let score = trial(evaluator, member, &edit);
         *evaluations += 1;
-        if best.as_ref().is_none_or(|(_, b)| score.e_sum < b.e_sum) {
+        if best
+            .as_ref()
+            .is_none_or(|(_, b)| measure.of(&score) < measure.of(b))
+        {
             best = Some((edit, score));
         }
     }

@@ -11,6 +11,7 @@ use crate::evaluator::Evaluator;
 use crate::evolution::ranking::{non_dominated_fronts, ranks_and_crowding, survivors};
 use crate::front::Front;
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use crate::optimizer::{Optimizer, Progress};
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -76,13 +77,13 @@ impl Memetic {
             evaluator: Evaluator::new(hf.clone()),
             seeding: Seeding::new(hf.clone()),
             decimation: None,
-            seed_front: Front::default(),
+            seed_front: Front::new(params.error),
             seeds: Vec::new(),
             randomly_seeded: false,
             population: Vec::with_capacity(params.population),
             offspring: Vec::with_capacity(params.population),
             lookups: LookupPool::default(),
-            archive: Front::default(),
+            archive: Front::new(params.error),
             local: LocalSearch::new(&hf),
             stage: Stage::Offspring,
             generation: 0,
@@ -155,10 +156,11 @@ impl Memetic {
             return;
         } else if !self.decimation.as_ref().is_some_and(Decimation::is_done) {
             let (seeding, evaluator) = (&self.seeding, &mut self.evaluator);
+            let archive_measure = self.params.error;
             let run = self.decimation.get_or_insert_with(|| {
                 let hf = evaluator.heightfield().clone();
                 let start = seeding.decimation_start(decimation::start_triangles(&hf));
-                Decimation::new(evaluator, start)
+                Decimation::new(evaluator, start, archive_measure)
             });
             let archive = &mut self.archive;
             run.unit(evaluator, |kept, score| {
@@ -178,7 +180,7 @@ impl Memetic {
             offer(&mut self.archive, &member.kept, &member.score);
             self.population.push(member);
             if self.seeds.is_empty() {
-                rank_and_crowd(&mut self.population);
+                rank_and_crowd(&mut self.population, self.params.error);
             }
             return;
         }
@@ -290,6 +292,7 @@ impl Memetic {
                 mutation::best_move(
                     &mut self.evaluator,
                     &child,
+                    self.params.error,
                     &mut self.rng,
                     &mut self.evaluations,
                 )
@@ -316,13 +319,13 @@ impl Memetic {
             .collect();
         let points: Vec<[f64; 2]> = union
             .iter()
-            .map(|m| m.as_ref().expect("all present").pair())
+            .map(|m| m.as_ref().expect("all present").pair(self.params.error))
             .collect();
         for k in survivors(&points, &non_dominated_fronts(&points), mu) {
             self.population
                 .push(union[k].take().expect("each index is in one front"));
         }
-        rank_and_crowd(&mut self.population);
+        rank_and_crowd(&mut self.population, self.params.error);
     }
 }
 
@@ -339,8 +342,8 @@ fn two_mut(v: &mut [Member], a: usize, b: usize) -> (&mut Member, &mut Member) {
 }
 
 /// Sets every member's rank and crowding distance within `population`.
-fn rank_and_crowd(population: &mut [Member]) {
-    let points: Vec<[f64; 2]> = population.iter().map(Member::pair).collect();
+fn rank_and_crowd(population: &mut [Member], measure: ErrorMeasure) {
+    let points: Vec<[f64; 2]> = population.iter().map(|m| m.pair(measure)).collect();
     for (m, (rank, crowding)) in population.iter_mut().zip(ranks_and_crowding(&points)) {
         (m.rank, m.crowding) = (rank, crowding);
     }

@@ -4,6 +4,7 @@
 use super::decimation::start_triangles;
 use super::seeding::densest_seed;
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -45,6 +46,11 @@ pub struct MemeticParams {
     /// when off, generations are offspring and survival only (an ablation).
     #[serde(skip_serializing_if = "is_on")]
     pub local_search: bool,
+    /// The error the run minimises beside T: its selection, archive, decimation costs and local
+    /// search compare in it. Written only when not `sum`, so a default run's front.json reads
+    /// as before measures existed.
+    #[serde(skip_serializing_if = "ErrorMeasure::is_sum")]
+    pub error: ErrorMeasure,
 }
 
 /// The component switches are written only when off, so the full method's parameters (and its
@@ -65,6 +71,7 @@ impl Default for MemeticParams {
             guided_mutation: true,
             neighbour_mating: true,
             local_search: true,
+            error: ErrorMeasure::Sum,
         }
     }
 }

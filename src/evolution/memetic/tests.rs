@@ -127,9 +127,13 @@ fn every_operator_keeps_the_corners_and_scores_as_a_fresh_evaluation() {
             child.guide(&hf);
             child.ready_for_trials();
             let mut evaluations = 0;
-            if let Some((edit, score)) =
-                mutation::best_move(&mut ev, &child, &mut rng, &mut evaluations)
-            {
+            if let Some((edit, score)) = mutation::best_move(
+                &mut ev,
+                &child,
+                crate::measure::ErrorMeasure::Sum,
+                &mut rng,
+                &mut evaluations,
+            ) {
                 assert!(evaluations >= 1);
                 let t = child.score.t;
                 child.apply(&mut ev, &edit);
@@ -279,7 +283,7 @@ fn decimation_removes_the_cheapest_vertex_per_triangle_saved_and_records_honest_
     start.dedup();
     let mut ev = Evaluator::new(hf.clone());
     let mut fresh_ev = Evaluator::new(hf.clone());
-    let mut run = Decimation::new(&mut ev, start.clone());
+    let mut run = Decimation::new(&mut ev, start.clone(), crate::measure::ErrorMeasure::Sum);
     let corners = hf.corners();
     assert!(start.len() > 60, "a start with room to choose");
     let mut records: Vec<(Vec<u32>, Score)> = Vec::new();
