@@ -19,6 +19,7 @@ use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import::{self, ImportOptions};
 use paretomesh::pick::{Pick, pick};
+use paretomesh::refine::{budget_floor, refine_to_budget};
 use paretomesh::tiling::TiledFrontFile;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -75,7 +76,9 @@ pub struct ExportArgs {
     /// Export the paper's trade-off pick (eq. 9), its random weights drawn with the run's seed.
     #[arg(long)]
     tradeoff: bool,
-    /// Export the member with the lowest E_sum among those with at most N triangles.
+    /// Export a mesh of at most N triangles and at least 0.99·N (N ≥ 2): the member with the
+    /// lowest E_sum among those with at most N, grown by exact insertions of its worst points
+    /// when it has fewer than 0.99·N (untiled fronts).
     #[arg(long, value_name = "N")]
     max_triangles: Option<usize>,
     /// Export the member with the fewest triangles among those with E_sum at most E, where
@@ -271,6 +274,13 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         })?,
     };
     // Bad options are refused before any file is read or written.
+    if let Some(n) = args.max_triangles
+        && n < 2
+    {
+        return Err(format!(
+            "--max-triangles must be at least 2, the fewest triangles a mesh has (the two of the four corners); got {n}"
+        ));
+    }
     let solid_options = args.solid_options();
     if let Some(options) = &solid_options {
         options.check().map_err(|e| e.to_string())?;
@@ -342,8 +352,8 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
         export_max_error::check_floor(&hf, x)?;
     }
     let hf = Arc::new(hf);
-    let mut reached = None;
-    let triangles = match (&file, on_demand) {
+    let mut made_for = None;
+    let mut triangles = match (&file, on_demand) {
         (AnyFront::Untiled(f), Some(x)) => {
             let picked = picked.ok();
             if let Some(k) = picked {
@@ -352,25 +362,51 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
             }
             let made = export_max_error::reach(hf.clone(), f, picked, x)?;
             let triangles = made.triangles.clone();
-            reached = Some(made);
+            made_for = Some(made);
             triangles
         }
         (AnyFront::Untiled(f), None) => member_mesh(hf.clone(), f, index, &args.front, &grid_path)?,
         (AnyFront::Tiled(f), _) => tiled_member_mesh(&hf, f, index, &args.front, &grid_path)?,
     };
+    let mut member = match &made_for {
+        Some(r) => r.score,
+        None => scores[index],
+    };
+    // How the mesh was reached, when not as the member itself: grown (said after the member)
+    // or a budget a tiled front cannot meet (said at the end).
+    let (mut grown, mut reached) = (String::new(), String::new());
+    if let (Some(n), AnyFront::Untiled(f)) = (args.max_triangles, &file)
+        && member.t < budget_floor(n)
+    {
+        let refined = refine_to_budget(hf.clone(), &f.front[index].solution.kept, n)?;
+        let evaluation = Evaluator::new(hf.clone())
+            .evaluate(&refined.kept)
+            .map_err(|e| e.to_string())?;
+        triangles = canonical_set(&evaluation.triangles);
+        grown = format!(
+            " (T = {}) grown by {} exact insertions of its worst points, as the front has no member between {} and {n} triangles,",
+            member.t,
+            refined.insertions,
+            budget_floor(n)
+        );
+        member = evaluation.score;
+    } else if let (Some(n), AnyFront::Tiled(_)) = (args.max_triangles, &file)
+        && member.t < budget_floor(n)
+    {
+        reached = format!(
+            " (the tiled front has no member between {} and {n} triangles; a tiled member is not grown)",
+            budget_floor(n)
+        );
+    }
     let mesh = match &solid_options {
         Some(options) => solid(&hf, &triangles, options).map_err(|e| e.to_string())?,
         None => WorldMesh::new(&hf, &vertices_of(&triangles), &triangles)?,
-    };
-    let member = match &reached {
-        Some(r) => &r.score,
-        None => &scores[index],
     };
     let front_name = args
         .front
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let what = match &reached {
+    let what = match &made_for {
         Some(r) => format!(
             "a mesh for --max-vertical-error from {front_name}, {}",
             r.how
@@ -392,7 +428,11 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
     std::fs::write(&args.out, bytes)
         .map_err(|e| format!("cannot write {}: {e}", args.out.display()))?;
     eprintln!(
-        "wrote {what} (T = {}, E_sum = {}, E_max = {}{}, {} vertices; the front has {} members) to {} as {}",
+        "wrote {}{grown} (T = {}, E_sum = {}, E_max = {}{}, {} vertices) to {} as {}{reached}",
+        match &made_for {
+            Some(_) => what.clone(),
+            None => format!("member {index} of {}", scores.len()),
+        },
         member.t,
         member.e_sum,
         member.e_max,
@@ -402,7 +442,6 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
             String::new()
         },
         mesh.vertices.len(),
-        scores.len(),
         args.out.display(),
         format
             .to_possible_value()
