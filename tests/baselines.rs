@@ -368,7 +368,10 @@ fn decimation_is_slicing_invariant() {
 fn bad_decimation_params_are_refused() {
     let hf = single_bump(3, 3, 1, 1);
     for reductions in [vec![0.0], vec![0.2, 0.1], vec![1.0], vec![f64::NAN]] {
-        let params = DecimationParams { reductions };
+        let params = DecimationParams {
+            reductions,
+            ..DecimationParams::default()
+        };
         assert!(EdgeDecimation::new(hf.clone(), params).is_err());
     }
 }
