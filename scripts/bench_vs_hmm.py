@@ -17,6 +17,7 @@ at the same max error.
 
 import argparse
 import re
+import resource
 import json
 import os
 import subprocess
@@ -39,11 +40,11 @@ def load_grid(path):
 
 def hmm_mesh(z, **limit):
     """hmm's mesh as grid-index triangles (counter-clockwise in grid coordinates), its own
-    error, and the seconds the Delatin call took."""
+    error, and the wall and CPU seconds the Delatin call took."""
     h, w = z.shape
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     tin = Delatin(z, height=h, width=w, **limit)
-    seconds = time.perf_counter() - start
+    seconds = (time.perf_counter() - start, time.process_time() - cpu)
     v = tin.vertices
     index = ((h - 1 - v[:, 1].astype(np.int64)) * w + v[:, 0].astype(np.int64)).astype(np.int64)
     tris = index[tin.triangles.astype(np.int64)]
@@ -130,14 +131,14 @@ def main():
     print("hmm: pydelatin; its meshes scored by `paretomesh eval --triangles`; ratios are ours / hmm's")
     header = (f"{'hmm run':<13} {'hmm T':>10} {'hmm E_sum':>12} {'hmm E_max':>10} {'hmm RMS':>9} {'hmm s':>7}"
               + (f" | {'T':>6} {'E_sum':>6} {'E_max':>6} {'RMS':>6} | {'T at E_max':>10}" if ours else "")
-              + (f" | {'greedy T':>9} {'run s':>6} {'cmd s':>6}" if a.greedy else ""))
+              + (f" | {'greedy T':>9} {'run s':>6} {'cmd s':>6} {'cmd cpu':>7}" if a.greedy else ""))
     print(header)
     failed = False
     for name, limit in runs:
         tris, error, seconds = hmm_mesh(z, **limit)
         score = evaluate_triangles(a.bin, a.grid, tris, scratch)
         line = (f"{name:<13} {score['T']:>10} {score['E_sum']:>12.6g} {score['E_max']:>10.6g} "
-                f"{score['rms']:>9.4g} {seconds:>7.2f}")
+                f"{score['rms']:>9.4g} {seconds[0]:>7.2f}")
         # hmm interpolates in f32, so its error is the evaluator's to a few f32 roundings of the
         # heights; unmapped rows miss by orders of magnitude more.
         if abs(score["E_max"] - error) > tolerance:
@@ -164,21 +165,25 @@ def main():
                 hmm_t = len(again)
             out = os.path.join(scratch, "greedy.json")
             start = time.perf_counter()
+            cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
             log = subprocess.run([a.bin, "run", a.grid, "--algo", "greedy", "--max-vertical-error",
                                   repr(bound), "--tile", str(max(w, h)), "--out", out],
                                  check=True, capture_output=True, text=True)
             whole = time.perf_counter() - start
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            whole_cpu = (after.ru_utime + after.ru_stime) - (cpu.ru_utime + cpu.ru_stime)
             done = re.search(r"^done: .* in (\d+) ms", log.stdout + log.stderr, re.M)
             took = int(done.group(1)) / 1000 if done else whole
             g = [m for m in members(out) if m[3] <= bound]
-            line += (f" | {ratio(min(m[1] for m in g), hmm_t):>9.3f} {ratio(took, hmm_seconds):>6.3f}"
-                     f" {ratio(whole, hmm_seconds):>6.3f}")
+            line += (f" | {ratio(min(m[1] for m in g), hmm_t):>9.3f} {ratio(took, hmm_seconds[0]):>6.3f}"
+                     f" {ratio(whole, hmm_seconds[0]):>6.3f} {ratio(whole_cpu, hmm_seconds[1]):>6.3f}")
         print(line, flush=True)
     load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else []
     if a.greedy:
         print("greedy: `run --algo greedy --max-vertical-error E` untiled at hmm's E_max, against hmm "
               "at max_error=E: T ratio; wall time of the run (its `done:` line) and of the whole "
-              "command (reading the grid, writing front.json) over hmm's Delatin call")
+              "command (reading the grid, writing front.json) over hmm's Delatin call; the "
+              "command's CPU seconds (user + system) over the call's")
     print("load average: " + " ".join(load))
     if failed:
         sys.exit("hmm's E_max by the evaluator differs from Delatin.error beyond f32 rounding: the row mapping is wrong")

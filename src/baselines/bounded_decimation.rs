@@ -137,8 +137,9 @@ impl Decimation<'_> {
     }
 
     /// Collects `v`'s star, its hole's boundary and fill, and the fill's error totals (in the
-    /// scratch buffers); returns the largest error of the fill, or `None` when the hole has no
-    /// Delaunay fill (which a canonical mesh never gives).
+    /// scratch buffers); returns the largest error of the fill (or a number above the bound
+    /// when it is, the totals then left unmade), or `None` when the hole has no Delaunay fill
+    /// (which a canonical mesh never gives).
     fn trial(&mut self, v: u32) -> Option<f64> {
         let m = &*self.mesh;
         let leaving = m
@@ -187,10 +188,20 @@ impl Decimation<'_> {
         if !hole_fill::fill(&self.boundary, lattice, &mut self.fill) {
             return None;
         }
+        // Most removals are refused: an error above the bound is looked for first, point by
+        // point, before a fill within it is summed.
+        let grid = grid_of(self.hf);
+        let bound = self.bound;
+        if self
+            .fill
+            .iter()
+            .any(|&tri| grid.any_error_above(canonical(tri).map(|i| lattice.point(i)), bound))
+        {
+            return Some(f64::INFINITY);
+        }
         self.fill_totals.clear();
         self.fill_totals
             .resize(self.fill.len(), ErrorTotals::default());
-        let grid = grid_of(self.hf);
         let fill_totals = &mut self.fill_totals;
         grid.sum_triangles(
             self.units,
