@@ -23,18 +23,26 @@ bin=${CARGO_TARGET_DIR:-target}/$profile/paretomesh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# Each line of `paretomesh algorithms` is a method's name and its budget kind.
+# Each line of `paretomesh algorithms` is a method's name, its budget kind and the error
+# measures it supports (sum first). Every grid runs every method in sum, the default; the .f32
+# grids also run each method in every other measure it supports (`--error rms|max`).
 "$bin" algorithms > "$tmp/algorithms"
 jobs="$tmp/jobs"
 : > "$jobs"
 for grid in tests/data/*.f32 tests/data/*.ply tests/data/*.tif; do
-  while read -r algo budget; do
+  while read -r algo budget measures; do
     case $budget in
       evaluations) options="--evals 1500" ;;
       generations) options="--pop 20 --gens 10" ;;
       *) options="" ;;
     esac
     echo "$grid $algo $options" >> "$jobs"
+    case $grid in
+      *.f32)
+        for measure in ${measures//,/ }; do
+          [ "$measure" = sum ] || echo "$grid $algo $options --error $measure" >> "$jobs"
+        done ;;
+    esac
   done < "$tmp/algorithms"
 done
 
@@ -45,16 +53,18 @@ one() {
   set -- $3
   local grid=$1 algo=$2
   shift 2
-  local name out hash
+  local name out hash label=$algo
   name=$(basename "$grid")
-  out="$tmp/$name.$algo.json"
+  # A measure other than sum is named after the method: "greedy --error=max".
+  case "$*" in *--error*) label="$algo --error=${*: -1}" ;; esac
+  out="$tmp/$name.$algo.$$.json"
   if "$bin" run "$grid" --algo "$algo" --seed 7 --triangles "$@" --out "$out" 2>/dev/null; then
     hash=$(sed -E 's/"millis":[0-9]+/"millis":0/' "$out" | sha256sum | cut -d' ' -f1)
     rm -f "$out"
   else
     hash=refused
   fi
-  echo "$hash  $name $algo"
+  echo "$hash  $name $label"
 }
 export -f one
 xargs -P "$(nproc)" -d '\n' -n 1 bash -c 'one "$@"' _ "$bin" "$tmp" < "$jobs" \

@@ -93,6 +93,7 @@ def simplify(
     tile: Optional[int] = None,
     spacing: Optional[Pair] = None,
     origin: Optional[Pair] = None,
+    error: str = "sum",
 ) -> Front:
     """Find the Pareto front of simplified meshes of the height field ``z``.
 
@@ -122,6 +123,10 @@ def simplify(
         Map units between grid columns and rows (default 1).
     origin : (x0, y0), optional
         Map coordinates of grid point (column 0, row 0) (default (0, 0)).
+    error : str
+        The error the front minimises beside T, the CLI's ``--error``: ``"sum"`` (default,
+        the paper's E_sum), ``"rms"`` or ``"max"`` (the vertical error bound). ``nsga2`` and
+        ``weighted`` take ``"sum"`` only.
 
     Returns
     -------
@@ -144,7 +149,7 @@ def simplify(
     tile = _count(tile, "tile", 2)
     return _native.simplify(
         heights, method, seed, evals, threads, tile,
-        _pair(spacing, "spacing"), _pair(origin, "origin"),
+        _pair(spacing, "spacing"), _pair(origin, "origin"), error,
     )
 
 

@@ -63,6 +63,7 @@ def simplify(
     spacing=None,
     origin=None,
     retries: int = 2,
+    error: str = "sum",
 ) -> Front:
     """Find the whole-grid Pareto front with the grid's tiles spread over a Dask cluster.
 
@@ -79,7 +80,7 @@ def simplify(
         The cluster; None uses the current default client.
     tile : int, optional
         Tile side in grid points (default ``paretomesh.DEFAULT_TILE``).
-    seed, method, evals
+    seed, method, evals, error
         As ``paretomesh.simplify``; ``evals`` is each tile's budget.
     spacing, origin
         As ``paretomesh.simplify``, for arrays (a file carries its own).
@@ -99,7 +100,7 @@ def simplify(
         raise ValueError(f"unknown method {method!r}; the methods are {', '.join(METHODS)}")
     seed = _count(seed, "seed", 0)
     tile = _count(tile, "tile", 2)
-    params = _native.method_params(method, _count(evals, "evals", 1))
+    params = _native.method_params(method, _count(evals, "evals", 1), error)
 
     path = None
     darr = None

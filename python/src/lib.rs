@@ -114,7 +114,7 @@ fn tiled_data(
 /// The run behind ``paretomesh.simplify`` (see its docstring): untiled when the grid is one
 /// tile, else every tile on `threads` threads (0 = every core).
 #[pyfunction]
-#[pyo3(signature = (z, method, seed, evals=None, threads=None, tile=None, spacing=None, origin=None))]
+#[pyo3(signature = (z, method, seed, evals=None, threads=None, tile=None, spacing=None, origin=None, error=None))]
 #[allow(clippy::too_many_arguments)]
 fn simplify(
     py: Python<'_>,
@@ -126,10 +126,11 @@ fn simplify(
     tile: Option<usize>,
     spacing: Option<[f64; 2]>,
     origin: Option<[f64; 2]>,
+    error: Option<&str>,
 ) -> PyResult<PyFront> {
+    let params = methods::params(method, evals, error)?;
     let hf = Arc::new(grid::from_array(&z, spacing, origin)?);
     drop(z);
-    let params = methods::params(method, evals)?;
     let plan = plan(hf.width(), hf.height(), tile)?;
     let method = method.to_string();
     let data = py.detach(move || -> PyResult<FrontData> {
@@ -156,11 +157,12 @@ fn simplify(
     })
 }
 
-/// The parameters `method` runs with for `evals`, as JSON text (what Dask ships to tiles).
+/// The parameters `method` runs with for `evals` in the error measure `error`, as JSON text
+/// (what Dask ships to tiles).
 #[pyfunction]
-#[pyo3(signature = (method, evals=None))]
-fn method_params(method: &str, evals: Option<u64>) -> PyResult<String> {
-    Ok(methods::params(method, evals)?.to_string())
+#[pyo3(signature = (method, evals=None, error=None))]
+fn method_params(method: &str, evals: Option<u64>, error: Option<&str>) -> PyResult<String> {
+    Ok(methods::params(method, evals, error)?.to_string())
 }
 
 /// A tile's index and window: (index, x0, y0, w, h).

@@ -1,5 +1,5 @@
 //! The parameters `simplify` runs a method with: the catalogue's configuration of `--algo NAME`
-//! with its `--evals`, as the JSON the library's algorithm catalogue
+//! with its `--evals` and `--error`, as the JSON the library's algorithm catalogue
 //! ([`paretomesh::tiling::build_optimizer`]) takes and front.json records. The CLI's `run`
 //! configures its method the same way ([`Algorithm::configure`], then [`Config::json`]), so both
 //! give the same parameters by construction.
@@ -8,11 +8,22 @@
 
 use crate::errors::value_error;
 use paretomesh::catalogue::{Algorithm, Param, Params};
+use paretomesh::measure::ErrorMeasure;
 use pyo3::PyResult;
 
 /// The full parameters of `method` stopping after about `evals` evaluations (the method's own
-/// budget when `None`), as `paretomesh run --algo METHOD [--evals N]` sets them.
-pub fn params(method: &str, evals: Option<u64>) -> PyResult<serde_json::Value> {
+/// budget when `None`) and minimising the error measure named `error` (`sum` when `None`), as
+/// `paretomesh run --algo METHOD [--evals N] [--error NAME]` sets them.
+pub fn params(
+    method: &str,
+    evals: Option<u64>,
+    error: Option<&str>,
+) -> PyResult<serde_json::Value> {
+    let error = error
+        .map(ErrorMeasure::parse)
+        .transpose()
+        .map_err(value_error)?
+        .unwrap_or_default();
     let algorithm = Algorithm::from_name(method).ok_or_else(|| {
         value_error(format!(
             "unknown method {method:?}; the methods are {}",
@@ -28,6 +39,7 @@ pub fn params(method: &str, evals: Option<u64>) -> PyResult<serde_json::Value> {
     }
     let given = Params {
         max_evaluations: evals,
+        error,
         ..Params::default()
     };
     let config = algorithm.configure(&given).map_err(value_error)?;

@@ -40,6 +40,29 @@ def test_front_equals_the_clis_front_json(tmp_path, data, cli, name, method, see
     assert (written["algorithm"], written["seed"]) == (method, seed)
 
 
+@pytest.mark.parametrize("method, error", [("memetic", "max"), ("greedy", "rms")])
+def test_an_error_measure_gives_the_clis_front(tmp_path, data, cli, method, error):
+    # simplify(error=...) is run --error: the same front.json, its measure and RMS on file.
+    out = tmp_path / "cli.json"
+    evals = ["--evals", "2000"] if method == "memetic" else []
+    subprocess.run(
+        [cli, "run", str(data / "camera_33x33.f32"), "--algo", method, "--seed", "4",
+         "--error", error, *evals, "--out", str(out)],
+        check=True, capture_output=True,
+    )
+    expected = json.loads(out.read_text())
+    assert expected["params"]["error"] == error
+    kwargs = {"evals": 2000} if method == "memetic" else {}
+    front = paretomesh.simplify(raw_grid("camera_33x33"), method=method, seed=4, error=error,
+                                **kwargs)
+    assert members(front) == members(paretomesh.load_front(out))
+    saved = tmp_path / "py.json"
+    front.save(saved)
+    written = json.loads(saved.read_text())
+    assert written["front"] == expected["front"] and written["params"] == expected["params"]
+    assert all("RMS" in m for m in written["front"])
+
+
 def test_a_saved_front_loads_back_and_the_cli_exports_it(tmp_path, data, cli):
     z = raw_grid("bunny_33x33")
     front = paretomesh.simplify(z, seed=2, evals=2000)
@@ -151,6 +174,10 @@ def test_bad_options_and_files_get_the_clis_messages(tmp_path, data):
         paretomesh.simplify(z, method="fast")
     with pytest.raises(ValueError, match="evals does not apply"):
         paretomesh.simplify(z, method="decimation", evals=10)
+    with pytest.raises(ValueError, match="unknown error measure \"mean\""):
+        paretomesh.simplify(z, error="mean")
+    with pytest.raises(ValueError, match="--algo nsga2 does not take --error max"):
+        paretomesh.simplify(z, method="nsga2", error="max")
     with pytest.raises(ValueError, match="spacing must be positive"):
         paretomesh.simplify(z, spacing=(0.0, 1.0))
     with pytest.raises(ValueError, match="too small"):

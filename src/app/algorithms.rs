@@ -4,6 +4,7 @@
 use crate::catalogue::{BudgetKind, Param, Params as CatalogueParams};
 use crate::evolution::{CrossoverKind, GaParams};
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -109,6 +110,11 @@ pub struct Params {
     pub mutation_probability: Option<f64>,
     /// Seed of the run's single random generator.
     pub seed: u64,
+    /// The error the front minimises beside T (the page's error menu); a method that does not
+    /// support it refuses the run. Written only when not `sum`, so links made before it
+    /// existed read as sum and a sum link reads as before.
+    #[serde(default, skip_serializing_if = "ErrorMeasure::is_sum")]
+    pub error: ErrorMeasure,
 }
 
 impl Default for Params {
@@ -121,6 +127,7 @@ impl Default for Params {
             crossover_probability: ga.crossover_probability,
             mutation_probability: ga.mutation_probability,
             seed: 1,
+            error: ErrorMeasure::Sum,
         }
     }
 }
@@ -171,6 +178,7 @@ fn catalogue_params(algorithm: Algorithm, params: &Params) -> CatalogueParams {
         } else {
             None
         },
+        error: params.error,
         ..CatalogueParams::default()
     }
 }

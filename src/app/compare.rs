@@ -23,6 +23,7 @@ use crate::experiment::{
     Results, RunRecord, Scales, Settings,
 };
 use crate::front::{Front, Solution};
+use crate::measure::ErrorMeasure;
 use crate::metrics::{DEFAULT_REFERENCE_POINT, Normalization, Point};
 use crate::pick::{self, pick_in_front};
 use serde::Serialize;
@@ -147,8 +148,13 @@ impl CompareRun {
     /// Every method on `surface` with `params` (the GA parameters and seed; the classical
     /// methods use their defaults, as in the experiment), paused, nothing done yet.
     ///
-    /// Errors: the message of the first method that refuses the parameters.
+    /// Every method is compared in (E_sum, T), the measure they all take, whatever `params`'
+    /// error measure. Errors: the message of the first method that refuses the parameters.
     pub fn new(surface: Surface, params: Params) -> Result<CompareRun, String> {
+        let params = Params {
+            error: ErrorMeasure::Sum,
+            ..params
+        };
         let mut lanes = Vec::with_capacity(METHODS.len());
         for method in METHODS {
             let config = RunConfig {

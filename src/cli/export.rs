@@ -384,7 +384,7 @@ pub fn run(args: &ExportArgs) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
         triangles = canonical_set(&evaluation.triangles);
         grown = format!(
-            " (T = {}) grown by {} exact insertions of its worst points, as the front has no member between {} and {n} triangles,",
+            " (T = {}) grown by {} exact insertions of its worst points, as the front has no member between {} and {n} triangles, giving a mesh",
             member.t,
             refined.insertions,
             budget_floor(n)

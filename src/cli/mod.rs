@@ -55,7 +55,8 @@ enum Command {
     Experiment(experiment::ExperimentArgs),
     /// Recompute report.md and the figures of an experiment from its results.json.
     Report(experiment::ReportArgs),
-    /// List the catalogue's methods, one a line: name and budget kind (for scripts).
+    /// List the catalogue's methods, one a line: name, budget kind and error measures (for
+    /// scripts).
     #[command(hide = true)]
     Algorithms,
 }
@@ -80,7 +81,13 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Report(args) => experiment::report(&args),
         Command::Algorithms => {
             for a in paretomesh::catalogue::Algorithm::ALL {
-                println!("{} {}", a.name(), a.spec().budget.name());
+                let measures: Vec<&str> = a.spec().measures.iter().map(|m| m.name()).collect();
+                println!(
+                    "{} {} {}",
+                    a.name(),
+                    a.spec().budget.name(),
+                    measures.join(",")
+                );
             }
             Ok(())
         }

@@ -381,7 +381,12 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     for per_mille in [1, 10, 50] {
         let t = (full * per_mille / 1000).max(2);
         if let Some(m) = tiled.within(t) {
-            line.push_str(&format!("  E(T≤{t}) {:.4e}", m.e_sum));
+            let e = match tiled.measure() {
+                ErrorMeasure::Sum => m.e_sum,
+                ErrorMeasure::Rms => m.rms.unwrap_or(f64::NAN),
+                ErrorMeasure::Max => m.e_max,
+            };
+            line.push_str(&format!("  E(T≤{t}) {e:.4e}"));
         }
     }
     eprintln!("{line}");

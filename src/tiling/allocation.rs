@@ -7,6 +7,11 @@
 //! hull vertex of the sums, each an optimal allocation for its T. Between two hull vertices the
 //! sums may have better points that no λ finds; the walk fills those gaps with the options that
 //! lie between the stepping tile's two hull options.
+//!
+//! The same walk serves E_sum and RMS: RMS = sqrt(Σ squared errors / N) is increasing in the
+//! sum of the tiles' squared-error shares, so allocating those shares minimises it. E_max does
+//! not add up across tiles but is the largest tile's, so [`allocate_max`] instead takes every
+//! tile's E_max as a bound and gives each tile its fewest-triangle option within it.
 
 /// One tile's option: its share of the whole-grid error and its triangles.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,6 +89,67 @@ fn sums(options: &[Vec<TileOption>], choice: &[usize]) -> Allocation {
         t,
         choice: choice.to_vec(),
     }
+}
+
+/// For every bound that is some option's E_max, the allocation of fewest total T whose every
+/// tile's E_max is at most the bound (of a tile's equal-T options within it, the one of least
+/// E, then the first), non-dominated in (E_max, T), by increasing T: exactly the whole-grid
+/// front in (E_max, T) over these options, since an allocation's E_max is one of its options'
+/// and no allocation within a bound has fewer triangles than each tile's fewest within it.
+/// Every tile needs at least one option; an empty list of tiles has none.
+pub fn allocate_max(options: &[Vec<TileOption>]) -> Vec<Allocation> {
+    if options.is_empty() || options.iter().any(|o| o.is_empty()) {
+        return Vec::new();
+    }
+    // Per tile, its options by increasing E_max with the running best (fewest T, then least
+    // E, then first) among those up to each.
+    let best_upto: Vec<(Vec<f64>, Vec<usize>)> = options
+        .iter()
+        .map(|tile| {
+            let mut order: Vec<usize> = (0..tile.len()).collect();
+            order.sort_by(|&a, &b| tile[a].e_max.total_cmp(&tile[b].e_max).then(a.cmp(&b)));
+            let mut bounds = Vec::with_capacity(order.len());
+            let mut best = Vec::with_capacity(order.len());
+            let mut current: Option<usize> = None;
+            for i in order {
+                let better = current.is_none_or(|c| {
+                    let (x, y) = (&tile[i], &tile[c]);
+                    x.t < y.t || (x.t == y.t && x.e < y.e)
+                });
+                if better {
+                    current = Some(i);
+                }
+                bounds.push(tile[i].e_max);
+                best.push(current.expect("set on the first option"));
+            }
+            (bounds, best)
+        })
+        .collect();
+    let mut limits: Vec<f64> = options.iter().flatten().map(|o| o.e_max).collect();
+    limits.sort_by(f64::total_cmp);
+    limits.dedup();
+    let mut found = Vec::new();
+    'bounds: for &bound in &limits {
+        let mut choice = Vec::with_capacity(options.len());
+        for (bounds, best) in &best_upto {
+            let within = bounds.partition_point(|&e| e <= bound);
+            if within == 0 {
+                continue 'bounds;
+            }
+            choice.push(best[within - 1]);
+        }
+        found.push(sums(options, &choice));
+    }
+    // Non-dominated in (E_max, T): by increasing T, keep an allocation when its E_max is below
+    // every kept one's.
+    found.sort_by(|a, b| a.t.cmp(&b.t).then(a.e_max.total_cmp(&b.e_max)));
+    let mut out: Vec<Allocation> = Vec::new();
+    for a in found {
+        if out.last().is_none_or(|l| a.e_max < l.e_max) {
+            out.push(a);
+        }
+    }
+    out
 }
 
 /// The non-dominated whole-grid allocations found by the hull walk and its gap filling, by

@@ -131,6 +131,17 @@ impl Ord for Entry {
 /// Σ |z − z̃| over the points of a line that are not kept, z̃ interpolating linearly between
 /// kept neighbours; `kept` flags the kept positions (both end points must be).
 pub fn line_error(profile: &[f64], kept: &[bool]) -> f64 {
+    line_error_with(profile, kept, f64::abs)
+}
+
+/// Σ (z − z̃)² over the line's points, as [`line_error`] interpolates them: what a tile's
+/// squared-error share leaves out for a neighbour that counts the line.
+pub fn line_square_error(profile: &[f64], kept: &[bool]) -> f64 {
+    line_error_with(profile, kept, |d| d * d)
+}
+
+/// Σ f(z − z̃) over the line's points.
+fn line_error_with(profile: &[f64], kept: &[bool], f: impl Fn(f64) -> f64) -> f64 {
     let mut sum = 0.0;
     let mut a = 0;
     for b in 1..profile.len() {
@@ -141,7 +152,7 @@ pub fn line_error(profile: &[f64], kept: &[bool]) -> f64 {
         let span = (b - a) as f64;
         for (i, &z) in profile.iter().enumerate().take(b).skip(a + 1) {
             let t = (i - a) as f64 / span;
-            sum += (z - (za + (zb - za) * t)).abs();
+            sum += f(z - (za + (zb - za) * t));
         }
         a = b;
     }
@@ -196,6 +207,21 @@ impl TileBorders {
 
     /// The error Σ |z − z̃| of `side`'s points at `level` (z̃ on the line's kept polyline).
     pub fn side_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
+        self.side_error_with(side, level, z, line_error)
+    }
+
+    /// [`side_error`](Self::side_error) in squared errors ([`line_square_error`]).
+    pub fn side_square_error(&self, side: Side, level: usize, z: &[f64]) -> f64 {
+        self.side_error_with(side, level, z, line_square_error)
+    }
+
+    fn side_error_with(
+        &self,
+        side: Side,
+        level: usize,
+        z: &[f64],
+        error: fn(&[f64], &[bool]) -> f64,
+    ) -> f64 {
         let n = side.length(self.w, self.h);
         let profile: Vec<f64> = (0..n)
             .map(|p| z[side.local_index(p, self.w, self.h) as usize])
@@ -206,7 +232,7 @@ impl TileBorders {
         for &p in self.kept_on(side, level) {
             kept[p as usize] = true;
         }
-        line_error(&profile, &kept)
+        error(&profile, &kept)
     }
 
     /// True when tile-local index `local` lies on the tile's border.

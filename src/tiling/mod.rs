@@ -44,6 +44,8 @@ pub mod allocation;
 pub mod assemble;
 pub mod border;
 pub mod file;
+#[cfg(test)]
+mod measure_tests;
 pub mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod parallel;

@@ -5,7 +5,9 @@ use super::algorithm::{build_optimizer, tile_params, tile_seed};
 use super::border::{Side, TileBorders, level_count};
 use super::{TilePlan, TilingError};
 use crate::evaluator::{Evaluator, MeshState};
+use crate::front_file::measure_of;
 use crate::heightfield::Heightfield;
+use crate::measure::ErrorMeasure;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -34,6 +36,22 @@ pub struct TileCandidate {
     pub e_max: f64,
     /// The tile mesh's triangles.
     pub t: u64,
+    /// Its share of the whole grid's Σ (z − z̃)², as `e_share` is of E_sum; recorded by runs
+    /// in `rms` or `max` only, so a `sum` run's file is as before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sq_share: Option<f64>,
+}
+
+impl TileCandidate {
+    /// Its error in `measure` as the whole-grid allocation adds (sum, rms: the shares) or
+    /// bounds (max) it.
+    pub fn error_in(&self, measure: ErrorMeasure) -> f64 {
+        match measure {
+            ErrorMeasure::Sum => self.e_share,
+            ErrorMeasure::Rms => self.sq_share.unwrap_or(f64::NAN),
+            ErrorMeasure::Max => self.e_max,
+        }
+    }
 }
 
 /// The front of one tile: small, serialisable, and the same bits wherever it is computed.
@@ -52,6 +70,10 @@ pub struct TileFront {
     pub candidates: Vec<TileCandidate>,
     /// Evaluations the tile's optimizer spent.
     pub evaluations: u64,
+    /// The error measure the tile's run minimised (its parameters' `error`); written only
+    /// when not `sum`.
+    #[serde(default, skip_serializing_if = "ErrorMeasure::is_sum")]
+    pub measure: ErrorMeasure,
 }
 
 impl TileFront {
@@ -74,12 +96,27 @@ pub(crate) fn unowned_error(
     z: &[f64],
     level: usize,
 ) -> f64 {
+    unowned_with(plan, index, |side| borders.side_error(side, level, z))
+}
+
+/// [`unowned_error`] in squared errors.
+fn unowned_square_error(
+    plan: &TilePlan,
+    index: usize,
+    borders: &TileBorders,
+    z: &[f64],
+    level: usize,
+) -> f64 {
+    unowned_with(plan, index, |side| {
+        borders.side_square_error(side, level, z)
+    })
+}
+
+fn unowned_with(plan: &TilePlan, index: usize, side_error: impl Fn(Side) -> f64) -> f64 {
     let left = plan
         .has_left_neighbour(index)
-        .then(|| borders.side_error(Side::Left, level, z));
-    let top = plan
-        .has_top_neighbour(index)
-        .then(|| borders.side_error(Side::Top, level, z));
+        .then(|| side_error(Side::Left));
+    let top = plan.has_top_neighbour(index).then(|| side_error(Side::Top));
     left.unwrap_or(0.0) + top.unwrap_or(0.0)
 }
 
@@ -164,6 +201,10 @@ pub fn run_tile_keeping(
         });
     }
     let hf = Arc::new(tile_hf.clone());
+    let measure = measure_of(params).map_err(|reason| TilingError::BadParams {
+        algorithm: algorithm.to_string(),
+        reason,
+    })?;
     let params = tile_params(plan, algorithm, params);
     let mut optimizer = build_optimizer(hf.clone(), algorithm, &params, tile_seed(seed, index))?;
     let progress = optimizer.run_to_end();
@@ -173,6 +214,15 @@ pub fn run_tile_keeping(
     let unowned: Vec<f64> = (0..levels)
         .map(|level| unowned_error(plan, index, &borders, hf.z(), level))
         .collect();
+    // Squared shares only where a measure reads them, so a sum run does no extra work.
+    let unowned_sq: Vec<f64> = if measure.is_sum() {
+        Vec::new()
+    } else {
+        (0..levels)
+            .map(|level| unowned_square_error(plan, index, &borders, hf.z(), level))
+            .collect()
+    };
+    let points = hf.len() as f64;
     let solutions = optimizer.front().solutions();
     let ts: Vec<usize> = solutions.iter().map(|s| s.t).collect();
     let mut evaluator = Evaluator::new(hf.clone());
@@ -220,11 +270,13 @@ pub fn run_tile_keeping(
                 e_share: score.e_sum - unowned[level],
                 e_max: score.e_max,
                 t: score.t as u64,
+                sq_share: (!measure.is_sum())
+                    .then(|| score.rms * score.rms * points - unowned_sq[level]),
             });
         }
         members.push(interior);
     }
-    let candidates = non_dominated_per_level(candidates);
+    let candidates = non_dominated_per_level(candidates, measure);
     // Members no candidate names are dropped, and the candidates renumbered.
     let mut used = vec![u32::MAX; members.len()];
     let mut kept_members = Vec::new();
@@ -244,6 +296,7 @@ pub fn run_tile_keeping(
         members: kept_members,
         candidates: out,
         evaluations: progress.evaluations,
+        measure,
     })
 }
 
@@ -281,19 +334,24 @@ mod packed_members {
     }
 }
 
-/// The candidates no other of the same level dominates in (E share, T), by level then T.
-fn non_dominated_per_level(mut candidates: Vec<TileCandidate>) -> Vec<TileCandidate> {
+/// The candidates no other of the same level dominates in (their error in `measure`, T), by
+/// level then T.
+fn non_dominated_per_level(
+    mut candidates: Vec<TileCandidate>,
+    measure: ErrorMeasure,
+) -> Vec<TileCandidate> {
+    let e = |c: &TileCandidate| c.error_in(measure);
     candidates.sort_by(|a, b| {
         a.level
             .cmp(&b.level)
             .then(a.t.cmp(&b.t))
-            .then(a.e_share.total_cmp(&b.e_share))
+            .then(e(a).total_cmp(&e(b)))
             .then(a.member.cmp(&b.member))
     });
     let mut out: Vec<TileCandidate> = Vec::with_capacity(candidates.len());
     for c in candidates {
         match out.last() {
-            Some(last) if last.level == c.level && c.e_share >= last.e_share => {}
+            Some(last) if last.level == c.level && e(&c) >= e(last) => {}
             _ => out.push(c),
         }
     }

@@ -3,6 +3,7 @@
 
 use crate::app::algorithms::{Algorithm, Params, crossover_from_key, crossover_key};
 use crate::app::state::{RunConfig, Status};
+use crate::measure::ErrorMeasure;
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
 use web_sys::{Document, Element, HtmlElement, HtmlInputElement, HtmlSelectElement};
@@ -111,6 +112,7 @@ pub fn read_config() -> Result<RunConfig, String> {
             Some(parse_field("mutation-probability", "mutation probability")?)
         },
         seed: parse_field("seed", "seed")?,
+        error: ErrorMeasure::parse(&select_value("error")?)?,
     };
     params.validate()?;
     let budget_ms: f64 = parse_field("budget", "time budget")?;
@@ -140,6 +142,7 @@ pub fn write_config(config: &RunConfig) -> Result<(), String> {
             .map_or("1/L".to_string(), |m| m.to_string()),
     );
     by_id::<HtmlInputElement>("seed")?.set_value(&p.seed.to_string());
+    by_id::<HtmlSelectElement>("error")?.set_value(p.error.name());
     by_id::<HtmlInputElement>("budget")?.set_value(&config.budget_ms.to_string());
     Ok(())
 }

@@ -286,6 +286,10 @@ pub(super) fn wire(ui: &Rc<RefCell<Ui>>) -> Result<(), String> {
                 && let Ok(menu) = by_id::<web_sys::HtmlSelectElement>("algorithm")
             {
                 menu.set_value(Algorithm::Nsga2.name());
+                // NSGA-II takes E_sum only.
+                if let Ok(error) = by_id::<web_sys::HtmlSelectElement>("error") {
+                    error.set_value("sum");
+                }
                 ui.apply_form();
             }
         }

@@ -12,6 +12,7 @@ use crate::evolution::CrossoverKind;
 use crate::export::mesh::WorldMesh;
 use crate::heightfield::{Georeference, Heightfield};
 use crate::import::ImportOptions;
+use crate::measure::ErrorMeasure;
 use base64::Engine;
 use base64::engine::general_purpose::URL_SAFE_NO_PAD;
 use rand::{RngExt, SeedableRng};
@@ -45,6 +46,12 @@ fn link(surface: SharedSurface, algorithm: Algorithm) -> ShareLink {
             crossover_probability: 0.7,
             mutation_probability: Some(0.013),
             seed: 987_654_321,
+            // Away from sum wherever the method takes another measure.
+            error: if algorithm.supports(ErrorMeasure::Max) {
+                ErrorMeasure::Max
+            } else {
+                ErrorMeasure::Sum
+            },
         },
         generations_run: 17,
         selected: Some(5),
@@ -124,6 +131,31 @@ fn every_algorithm_round_trips_on_the_built_in_surface() {
     plain.selected = None;
     plain.params.mutation_probability = None;
     assert_eq!(decode(&encode(&plain)).unwrap(), plain);
+}
+
+#[test]
+fn the_error_measure_travels_and_links_without_it_read_as_sum() {
+    for error in ErrorMeasure::ALL {
+        let mut original = link(
+            SharedSurface::Builtin(BUILTIN_NAME.to_string()),
+            Algorithm::Memetic,
+        );
+        original.params.error = error;
+        let settings = settings_of(&original);
+        // A sum link is written as links were before the measure existed.
+        let written = settings["params"].get("error").cloned();
+        let expected = (error != ErrorMeasure::Sum).then(|| json!(error.name()));
+        assert_eq!(written, expected);
+        assert_eq!(decode(&encode(&original)).unwrap(), original);
+    }
+    // A link made before the measure existed (the README's first example) reads as sum.
+    let old = decode("v1.eyJzdXJmYWNlIjp7ImtpbmQiOiJidWlsdGluIiwibmFtZSI6ImphY2tzYm9yb182NXg2NSJ9LCJhbGdvcml0aG0iOiJuc2dhMiIsInBhcmFtcyI6eyJwb3B1bGF0aW9uIjoxMDAsImdlbmVyYXRpb25zIjo1MCwiY3Jvc3NvdmVyIjoib2F4IiwiY3Jvc3NvdmVyX3Byb2JhYmlsaXR5IjowLjgsIm11dGF0aW9uX3Byb2JhYmlsaXR5IjpudWxsLCJzZWVkIjoxfSwiZ2VuZXJhdGlvbnNfcnVuIjo1MCwic2VsZWN0ZWQiOjcwLCJjYW1lcmEiOnsieWF3IjotMi4yLCJwaXRjaCI6MC43NSwiZGlzdGFuY2UiOjEuOCwidGFyZ2V0IjpbMC4wLDAuMCwwLjBdfSwidG9nZ2xlcyI6eyJvcmlnaW5hbCI6ZmFsc2UsImVycm9yIjp0cnVlLCJrZXB0IjpmYWxzZX19").unwrap();
+    assert_eq!(
+        (old.algorithm, old.params.error),
+        (Algorithm::Nsga2, ErrorMeasure::Sum)
+    );
+    assert!(tampered(|s| s["params"]["error"] = json!("mean")).is_err());
+    assert!(tampered(|s| s["params"]["error"] = json!(2)).is_err());
 }
 
 #[test]
