@@ -187,7 +187,8 @@ fn a_closed_thick_mesh_needs_surface_outer() {
 #[test]
 fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
     // Like hmm's -e: insertion stops at the first mesh whose largest vertical error is at most
-    // X, so that mesh (the front's last) is within X and every earlier member is not.
+    // X, so that mesh (the front's last) is within X, and so is its bounded-error decimation,
+    // with fewer triangles; every other member is not.
     let out = scratch("vertical").join("front.json");
     let grid = data("volcano_33x33.f32");
     let x = 4.0;
@@ -205,12 +206,17 @@ fn greedy_stops_at_a_vertical_error_in_the_surfaces_units() {
     let file: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     let front = file["front"].as_array().unwrap();
     let e_max: Vec<f64> = front.iter().map(|m| m["E_max"].as_f64().unwrap()).collect();
-    let (last, earlier) = e_max.split_last().unwrap();
-    assert!(*last <= x, "{e_max:?}");
+    // The front is in E_max: the members within X are the last one or two, the decimated
+    // mesh first (greedy's own stop mesh stays only where its E_max is lower).
+    let within: Vec<usize> = (0..e_max.len()).filter(|&k| e_max[k] <= x).collect();
     assert!(
-        !earlier.is_empty() && earlier.iter().all(|&e| e > x),
+        !within.is_empty() && within.len() <= 2 && *within.last().unwrap() == e_max.len() - 1,
         "{e_max:?}"
     );
+    let t = |k: usize| front[k]["T"].as_u64().unwrap();
+    assert!(within.iter().all(|&k| t(k) >= t(within[0])));
+    assert_eq!(file["params"]["decimate"], true);
+    assert_eq!(file["params"]["error"], "max");
     assert!(front.last().unwrap()["T"].as_u64().unwrap() < 2 * 32 * 32);
 
     // One stop at a time, and only for greedy insertion.

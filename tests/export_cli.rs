@@ -701,9 +701,10 @@ fn errors_in_the_surfaces_units_and_the_knee_pick_their_member() {
     };
     for k in [1, all.len() / 3, all.len() / 2, all.len() - 2] {
         let x = all[k].e_max;
-        let picked = export(front, &["--max-vertical-error", &x.to_string()], &out, &[]);
-        assert_eq!(picked, fewest_within(&|s| s.e_max <= x), "E_max ≤ {x}");
-        assert!(all[picked].e_max <= x);
+        // A mesh at least as small as the fewest-triangle member within x, within x afresh.
+        let (t, e_max) = export_within(front, x, &out);
+        assert!(t <= all[fewest_within(&|s| s.e_max <= x)].t, "E_max ≤ {x}");
+        assert!(e_max <= x, "{e_max} > {x}");
         let mean = all[k].e_sum / n * 1.001;
         let picked = export(front, &["--max-mean-error", &mean.to_string()], &out, &[]);
         assert_eq!(
@@ -719,8 +720,8 @@ fn errors_in_the_surfaces_units_and_the_knee_pick_their_member() {
         "a middle member: {picked}"
     );
 
-    // Without the full grid on the front, a limit under every member's E_max names the
-    // smallest one on offer.
+    // Without the full grid on the front, a limit under every member's E_max is reached on
+    // demand, from the nearest member.
     let mut json = read_json(front);
     let members = json["front"].as_array_mut().unwrap();
     members.truncate(members.len() / 2);
@@ -731,23 +732,59 @@ fn errors_in_the_surfaces_units_and_the_knee_pick_their_member() {
     let dir = scratch("units-short");
     let short = dir.join("short.json");
     std::fs::write(&short, json.to_string()).unwrap();
+    let (_, e_max) = export_within(&short, least / 2.0, &dir.join("m.ply"));
+    assert!(e_max <= least / 2.0);
+
+    // A bound below what the grid allows gets a message that says why, and no file.
     let o = dir.join("m.stl");
-    let e = refused(&[
+    for (x, why) in [
+        ("-1", "is negative"),
+        ("NaN", "is not a number"),
+        ("1e-30", "below this grid's exactness floor"),
+    ] {
+        let e = refused(&[
+            "export",
+            s(&short),
+            "--max-vertical-error",
+            x,
+            "--grid",
+            GRID,
+            "--out",
+            s(&o),
+        ]);
+        assert!(
+            e.contains("--max-vertical-error") && e.contains(why),
+            "{x}: {e}"
+        );
+        assert!(!o.exists());
+    }
+}
+
+/// Runs `export --max-vertical-error x` to a PLY and returns the mesh's T and its E_max scored
+/// afresh from the triangles read back; the message must say how the mesh was reached.
+fn export_within(front: &Path, x: f64, out: &Path) -> (usize, f64) {
+    let result = paretomesh(&[
         "export",
-        s(&short),
+        s(front),
         "--max-vertical-error",
-        &(least / 2.0).to_string(),
+        &x.to_string(),
         "--grid",
         GRID,
         "--out",
-        s(&o),
+        s(out),
     ]);
+    let stderr = text(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
     assert!(
-        e.contains("--max-vertical-error")
-            && e.contains(&format!("smallest E_max on offer is {least}")),
-        "{e}"
+        stderr.contains("meets it as it is") || stderr.contains("made for it from member"),
+        "{stderr}"
     );
-    assert!(!o.exists());
+    let hf = import::load(&data("volcano_33x33.f32")).unwrap();
+    let (_, triangles) = to_grid(&hf, read_ply(&std::fs::read_to_string(out).unwrap()));
+    let score = paretomesh::evaluator::Evaluator::new(std::sync::Arc::new(hf))
+        .score_triangulation(&triangles)
+        .unwrap();
+    (score.t, score.e_max)
 }
 
 /// Directed edges of indexed triangles, each with its count.

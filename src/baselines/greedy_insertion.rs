@@ -19,6 +19,7 @@
 //! solutions.
 
 use super::ParamsError;
+use super::bounded_decimation;
 use super::slot_heap::{Item, SlotHeap};
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::exact::predicates::{self, GridPoint};
@@ -96,10 +97,21 @@ pub struct GreedyParams {
     pub shortlist: usize,
     /// Number of triangle counts in the geometric recording sweep (≥ 2).
     pub records: usize,
+    /// Under an error stop ([`GreedyStop::MaxError`], [`GreedyStop::MaxErrorFraction`]): once
+    /// E_max is within the bound, remove every vertex whose removal keeps it so
+    /// (`bounded_decimation`) and record that mesh too. Ignored
+    /// under other stops.
+    #[serde(skip_serializing_if = "is_false")]
+    pub decimate: bool,
     /// The error the recorded front is non-dominated in (its insertions do not change). Written
     /// only when not `sum`.
     #[serde(skip_serializing_if = "ErrorMeasure::is_sum")]
     pub error: ErrorMeasure,
+}
+
+/// Leaves `decimate: false` out of front.json, as it was before the option existed.
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 impl Default for GreedyParams {
@@ -110,6 +122,7 @@ impl Default for GreedyParams {
             shortlist: 8,
             stop: GreedyStop::AllPoints,
             records: 64,
+            decimate: false,
             error: ErrorMeasure::Sum,
         }
     }
@@ -155,6 +168,8 @@ pub struct GreedyInsertion {
     recorded: Vec<Solution>,
     last_recorded_points: usize,
     insertions: u64,
+    /// Vertices the bounded decimation removed ([`GreedyParams::decimate`]).
+    removed: usize,
     done: bool,
     stack: Vec<u32>,
     changed: Vec<u32>,
@@ -220,6 +235,13 @@ impl GreedyInsertion {
                     allowed: "a finite number ≥ 0",
                 });
             }
+            GreedyStop::MaxError(e) if e > 0.0 && e < exactness_floor(&hf) => {
+                return Err(ParamsError::OutOfRange {
+                    name: "stop max-error",
+                    value: e,
+                    allowed: "0 (an exact mesh) or at least the grid's exactness floor, max |z|·2⁻⁴⁰: smaller errors are the interpolation's rounding",
+                });
+            }
             GreedyStop::MaxError(e) => e,
             GreedyStop::MaxErrorFraction(f) => f * (hi - lo),
             _ => f64::NEG_INFINITY,
@@ -267,6 +289,7 @@ impl GreedyInsertion {
             recorded: Vec::new(),
             last_recorded_points: 0,
             insertions: 0,
+            removed: 0,
             done: false,
             stack: Vec::new(),
             changed: Vec::new(),
@@ -276,6 +299,11 @@ impl GreedyInsertion {
         run.rasterise(&all);
         run.record_if_due();
         Ok(run)
+    }
+
+    /// How many vertices the bounded decimation removed (0 until it has run).
+    pub fn removed(&self) -> usize {
+        self.removed
     }
 
     /// The parameters.
@@ -645,7 +673,37 @@ impl GreedyInsertion {
 
     fn finish(&mut self) {
         self.record();
+        if self.params.decimate && self.threshold >= 0.0 {
+            self.decimate();
+            self.record();
+        }
         self.done = true;
+    }
+
+    /// Bounded-error decimation of the final mesh to the stop's threshold.
+    fn decimate(&mut self) {
+        let len = self.mesh.len();
+        let mut totals: Vec<ErrorTotals> = self.info[..len].iter().map(|i| i.totals).collect();
+        let removed = bounded_decimation::decimate(
+            &self.hf,
+            &mut self.mesh,
+            &mut totals,
+            &mut self.kept,
+            self.threshold,
+        );
+        self.kept_count -= removed;
+        self.removed = removed;
+        // The max-error queue is empty at an error stop (it holds only triangles above the
+        // threshold); the others would name slots that moved, and the run is over.
+        self.by_gain = SlotHeap::default();
+        self.by_sum = SlotHeap::default();
+        self.info = totals
+            .into_iter()
+            .map(|totals| TriangleInfo {
+                totals,
+                float_sum: 0.0,
+            })
+            .collect();
     }
 }
 
@@ -666,6 +724,14 @@ impl Optimizer for GreedyInsertion {
             done: self.done,
         }
     }
+}
+
+/// The smallest positive max error worth asking of `hf`: errors are interpolated in f64, whose
+/// rounding at heights of magnitude M reaches a few units of M·2⁻⁵², so a bound below M·2⁻⁴⁰
+/// would tell rounding apart rather than surfaces. 0 (an exact mesh) is always allowed.
+pub fn exactness_floor(hf: &Heightfield) -> f64 {
+    let (lo, hi) = hf.z_range();
+    lo.abs().max(hi.abs()) * 2f64.powi(-40)
 }
 
 #[cfg(test)]

@@ -6,12 +6,17 @@
 //! of every solution they report from a fresh `Evaluator::score` of its kept set. Both are
 //! deterministic: ties in their priority queues are broken by grid index.
 
+pub(crate) mod bounded_decimation;
 pub(crate) mod edge_decimation;
 pub(crate) mod greedy_insertion;
+pub(crate) mod max_error_mesh;
 pub(crate) mod slot_heap;
 
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
-pub use greedy_insertion::{GreedyInsertion, GreedyParams, GreedyStop, InsertionRule};
+pub use greedy_insertion::{
+    GreedyInsertion, GreedyParams, GreedyStop, InsertionRule, exactness_floor,
+};
+pub use max_error_mesh::{MaxErrorMesh, mesh_within};
 
 use std::fmt;
 

@@ -473,10 +473,21 @@ fn greedy_params(params: &Params) -> Result<GreedyParams, String> {
         }
         _ => GreedyStop::AllPoints,
     };
+    // A bound on E_max is what the user asked for: the fewest triangles within it, in a front
+    // of E_max (in E_sum, the bound's mesh can be dominated by the corners alone, and left
+    // out), unless another measure is named.
+    let bounded = matches!(
+        stop,
+        GreedyStop::MaxError(_) | GreedyStop::MaxErrorFraction(_)
+    );
     Ok(GreedyParams {
         rule: params.rule.unwrap_or(InsertionRule::MaxError),
         stop,
-        error: params.error,
+        decimate: bounded,
+        error: match params.error {
+            ErrorMeasure::Sum if bounded => ErrorMeasure::Max,
+            measure => measure,
+        },
         ..GreedyParams::default()
     })
 }

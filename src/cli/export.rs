@@ -4,6 +4,7 @@
 //! writes one member of a front as a mesh in the input's own coordinates (map coordinates for a
 //! georeferenced GeoTIFF), as its surface or closed into a printable solid.
 
+use super::export_max_error;
 use super::front_reader::{self, AnyFront, find_grid};
 use super::input::ImportOverrides;
 use clap::{ArgGroup, Args, ValueEnum};
@@ -90,8 +91,10 @@ pub(super) struct ExportArgs {
     #[arg(long, value_name = "X")]
     max_mean_error: Option<f64>,
     /// Export the member with the fewest triangles among those whose largest vertical error at
-    /// any grid point (E_max) is at most X, in the surface's z units.
-    #[arg(long, value_name = "X")]
+    /// any grid point (E_max) is at most X, in the surface's z units. On an untiled front, a
+    /// mesh is also made for X from the members nearest it (greedy refinement, bounded-error
+    /// decimation), and the one with the fewest triangles is written.
+    #[arg(long, value_name = "X", allow_negative_numbers = true)]
     max_vertical_error: Option<f64>,
     /// Close the surface into a printable solid: vertical walls down from its border and a flat
     /// bottom.
@@ -282,6 +285,9 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     if let Some(options) = &solid_options {
         options.check().map_err(|e| e.to_string())?;
     }
+    if let Pick::MaxVerticalError(x) = args.rule() {
+        export_max_error::check_sign(x)?;
+    }
     let file = front_reader::read(&args.front)?;
     let (grid, seed) = match &file {
         AnyFront::Untiled(f) => (&f.header.grid, f.header.seed),
@@ -297,7 +303,18 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
             .collect(),
     };
     let grid_points = grid.width * grid.height;
-    let index = pick(&scores, args.rule(), seed, grid_points).map_err(|e| {
+    let picked = pick(&scores, args.rule(), seed, grid_points);
+    // An untiled front reaches a max vertical error on demand (export_max_error.rs), so no
+    // member within it is needed; the others take the pick as it is.
+    let on_demand = match (&file, args.rule()) {
+        (AnyFront::Untiled(_), Pick::MaxVerticalError(x)) => Some(x),
+        _ => None,
+    };
+    let index = picked.clone().or_else(|e| match on_demand {
+        Some(_) => Ok(usize::MAX),
+        None => Err(e),
+    });
+    let index = index.map_err(|e| {
         let flag = match args.rule() {
             Pick::Index(_) => "--member",
             Pick::TradeOff => "--tradeoff",
@@ -331,12 +348,30 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
             args.front.display()
         ));
     }
+    if let Pick::MaxVerticalError(x) = args.rule() {
+        export_max_error::check_floor(&hf, x)?;
+    }
     let hf = Arc::new(hf);
-    let mut triangles = match &file {
-        AnyFront::Untiled(f) => member_mesh(hf.clone(), f, index, &args.front, &grid_path)?,
-        AnyFront::Tiled(f) => tiled_member_mesh(&hf, f, index, &args.front, &grid_path)?,
+    let mut made_for = None;
+    let mut triangles = match (&file, on_demand) {
+        (AnyFront::Untiled(f), Some(x)) => {
+            let picked = picked.ok();
+            if let Some(k) = picked {
+                // The member must be the grid's before anything is made from it.
+                member_mesh(hf.clone(), f, k, &args.front, &grid_path)?;
+            }
+            let made = export_max_error::reach(hf.clone(), f, picked, x)?;
+            let triangles = made.triangles.clone();
+            made_for = Some(made);
+            triangles
+        }
+        (AnyFront::Untiled(f), None) => member_mesh(hf.clone(), f, index, &args.front, &grid_path)?,
+        (AnyFront::Tiled(f), _) => tiled_member_mesh(&hf, f, index, &args.front, &grid_path)?,
     };
-    let mut member = scores[index];
+    let mut member = match &made_for {
+        Some(r) => r.score,
+        None => scores[index],
+    };
     // How the mesh was reached, when not as the member itself: grown (said after the member)
     // or a budget a tiled front cannot meet (said at the end).
     let (mut grown, mut reached) = (String::new(), String::new());
@@ -367,11 +402,19 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
         Some(options) => solid(&hf, &triangles, options).map_err(|e| e.to_string())?,
         None => WorldMesh::new(&hf, &vertices_of(&triangles), &triangles)?,
     };
+    let front_name = args
+        .front
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let what = match &made_for {
+        Some(r) => format!(
+            "a mesh for --max-vertical-error from {front_name}, {}",
+            r.how
+        ),
+        None => format!("member {index} of {front_name}"),
+    };
     let note = format!(
-        "ParetoMesh member {index} of {}{}: {} vertices, {} triangles, E_sum = {}",
-        args.front
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+        "ParetoMesh {what}{}: {} vertices, {} triangles, E_sum = {}",
         if solid_options.is_some() {
             " as a solid"
         } else {
@@ -385,8 +428,11 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     std::fs::write(&args.out, bytes)
         .map_err(|e| format!("cannot write {}: {e}", args.out.display()))?;
     eprintln!(
-        "wrote member {index} of {}{grown} (T = {}, E_sum = {}, E_max = {}{}, {} vertices) to {} as {}{reached}",
-        scores.len(),
+        "wrote {}{grown} (T = {}, E_sum = {}, E_max = {}{}, {} vertices) to {} as {}{reached}",
+        match &made_for {
+            Some(_) => what.clone(),
+            None => format!("member {index} of {}", scores.len()),
+        },
         member.t,
         member.e_sum,
         member.e_max,

@@ -3,6 +3,7 @@
 mod eval;
 mod experiment;
 mod export;
+mod export_max_error;
 mod front_reader;
 mod info;
 mod input;

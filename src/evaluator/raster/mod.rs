@@ -216,6 +216,23 @@ impl Grid<'_> {
         });
     }
 
+    /// Whether a grid point the counter-clockwise triangle `tri` owns has an error |z − z̃|
+    /// above `bound`, with the bits of [`for_each_error`](Self::for_each_error); rows after
+    /// the first such point are skipped.
+    pub(crate) fn any_error_above(&self, tri: [GridPoint; 3], bound: f64) -> bool {
+        let mut above = false;
+        self.for_each_span(tri, |first, last, span| {
+            if !above {
+                let z = &self.z[first..=last];
+                above = z
+                    .iter()
+                    .enumerate()
+                    .any(|(k, &zk)| (zk - span.at(k)).abs() > bound);
+            }
+        });
+        above
+    }
+
     /// The totals, in `units`, of the errors of the points each triangle `tris` yields owns
     /// (counter-clockwise, vertices excluded; each with a key), each given to `done` with its
     /// key: the errors of [`for_each_error`](Self::for_each_error), summed with the fastest
