@@ -15,7 +15,7 @@
 
 use crate::evaluator::exact::fixed_point::{ErrorTotals, ErrorUnits};
 use crate::evaluator::mesh::canonical_form::canonical;
-use crate::evaluator::mesh::canonical_triangulation::{NONE, Triangulation, next, prev};
+use crate::evaluator::mesh::canonical_triangulation::{NONE, Triangulation};
 use crate::evaluator::mesh::hole_fill;
 use crate::evaluator::raster::grid_of;
 use crate::heightfield::Heightfield;
@@ -145,28 +145,7 @@ impl Decimation<'_> {
         let leaving = m
             .leaving(self.hint[v as usize], v)
             .expect("a kept point's hint is a triangle of its star");
-        let mut e = m.fan_start(leaving);
-        let start = e;
-        self.star.clear();
-        self.boundary.clear();
-        self.outer.clear();
-        // Counter-clockwise: triangle (v, aᵢ, aᵢ₊₁) gives the boundary edge aᵢ → aᵢ₊₁; a border
-        // vertex's chain ends at aₖ, closed by a border segment.
-        loop {
-            self.star.push(e / 3);
-            let link = next(e);
-            self.boundary.push(m.vertices[link as usize]);
-            self.outer.push(m.twin[link as usize]);
-            let back = m.fan_next(e);
-            if back == NONE {
-                self.boundary.push(m.vertices[prev(e) as usize]);
-                break;
-            }
-            e = back;
-            if e == start {
-                break;
-            }
-        }
+        m.star_of(leaving, &mut self.star, &mut self.boundary, &mut self.outer);
         // The fill interpolates v's own point between boundary heights, so its error there is
         // at least z_v's distance from their range: beyond the bound, no fill is needed.
         let z = self.hf.z();

@@ -2,7 +2,7 @@
 
 use super::scratch::{EditScratch, INSIDE, REGION_POINTS_PER_REMOVAL};
 use crate::evaluator::exact::predicates::{self, Lattice};
-use crate::evaluator::mesh::canonical_triangulation::{NONE, edge_from, next, prev};
+use crate::evaluator::mesh::canonical_triangulation::{NONE, edge_from, next};
 use crate::evaluator::mesh::hole_fill as hole;
 use crate::evaluator::mesh::state::MeshState;
 use crate::heightfield::Heightfield;
@@ -240,30 +240,12 @@ impl MeshState {
         let leaving = m
             .leaving(t, v)
             .expect("a kept point is a vertex of the triangle that holds it");
-        // Half-edges v → a leave v; from the first triangle of the fan (a border vertex's fan is
-        // open)...
-        let mut e = m.fan_start(leaving);
-        // Then counter-clockwise: triangle (v, aᵢ, aᵢ₊₁) gives the boundary edge aᵢ → aᵢ₊₁.
-        let start = e;
-        scratch.star.clear();
-        scratch.boundary.clear();
-        scratch.outer.clear();
-        loop {
-            scratch.star.push(e / 3);
-            let link = next(e);
-            scratch.boundary.push(m.vertices[link as usize]);
-            scratch.outer.push(m.twin[link as usize]);
-            let back = m.fan_next(e);
-            if back == NONE {
-                // A border vertex: the chain ends at aₖ, closed by a border segment.
-                scratch.boundary.push(m.vertices[prev(e) as usize]);
-                break;
-            }
-            e = back;
-            if e == start {
-                break;
-            }
-        }
+        m.star_of(
+            leaving,
+            &mut scratch.star,
+            &mut scratch.boundary,
+            &mut scratch.outer,
+        );
         scratch.fill.clear();
         let filled = hole::fill(&scratch.boundary, lattice, &mut scratch.fill);
         assert!(filled, "the star of a Delaunay vertex has a Delaunay fill");

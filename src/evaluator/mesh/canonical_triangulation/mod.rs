@@ -361,6 +361,39 @@ impl Triangulation {
         })
     }
 
+    /// The star of the origin v of half-edge `leaving`, as removing v needs it: its triangles,
+    /// the boundary chain a₀ … aₖ counter-clockwise (triangle (v, aᵢ, aᵢ₊₁) gives the boundary
+    /// edge aᵢ → aᵢ₊₁; a border vertex's chain is open, closed by a border segment) and each
+    /// boundary edge's outer twin. The three lists are cleared first.
+    pub(crate) fn star_of(
+        &self,
+        leaving: u32,
+        star: &mut Vec<u32>,
+        boundary: &mut Vec<u32>,
+        outer: &mut Vec<u32>,
+    ) {
+        star.clear();
+        boundary.clear();
+        outer.clear();
+        let start = self.fan_start(leaving);
+        let mut e = start;
+        loop {
+            star.push(e / 3);
+            let link = next(e);
+            boundary.push(self.vertices[link as usize]);
+            outer.push(self.twin[link as usize]);
+            let back = self.fan_next(e);
+            if back == NONE {
+                boundary.push(self.vertices[prev(e) as usize]);
+                return;
+            }
+            e = back;
+            if e == start {
+                return;
+            }
+        }
+    }
+
     /// The half-edge of triangle `t` that leaves vertex `v`, if `v` is one of its vertices.
     pub(crate) fn leaving(&self, t: u32, v: u32) -> Option<u32> {
         (3 * t..3 * t + 3).find(|&e| self.vertices[e as usize] == v)
