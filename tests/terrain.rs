@@ -17,25 +17,14 @@ use paretomesh::tiling::{TilePlan, run_tiled};
 use serde_json::Value;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::Read;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
 
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
+mod common;
+use common::cli::{data, paretomesh, scratch};
 
-fn paretomesh(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_paretomesh"))
-        .args(args)
-        .output()
-        .expect("the CLI runs")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("paretomesh-terrain-{}-{name}", std::process::id()));
+/// A scratch folder emptied first, so that no file of an earlier use of the name is counted.
+fn fresh(name: &str) -> PathBuf {
+    let dir = scratch(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -275,7 +264,7 @@ fn fails(args: &[&str]) -> String {
 
 #[test]
 fn bad_input_gets_a_specific_message_and_no_tileset() {
-    let dir = scratch("bad");
+    let dir = fresh("bad");
     let out = dir.join("tiles");
     let out_s = out.to_str().unwrap();
     let qm = ["--format", "quantized-mesh", "--algo", "greedy"];
@@ -375,7 +364,7 @@ fn bad_input_gets_a_specific_message_and_no_tileset() {
 
 #[test]
 fn a_dem_and_its_tiled_front_give_3d_tiles_and_quantized_mesh_through_the_cli() {
-    let dir = scratch("cli");
+    let dir = fresh("cli");
     let dem = data("jacksboro_65x65_utm16n.tif");
     let front = dir.join("front.json");
     let run = paretomesh(&[
