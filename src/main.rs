@@ -7,6 +7,7 @@ mod cli;
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     use clap::Parser;
+    restore_sigpipe();
     let args = cli::Cli::parse();
     match cli::run(args) {
         Ok(()) => std::process::ExitCode::SUCCESS,
@@ -16,6 +17,21 @@ fn main() -> std::process::ExitCode {
         }
     }
 }
+
+/// Restores the default action of SIGPIPE, which Rust's runtime ignores: a write to a closed
+/// pipe (`paretomesh info F | head -1`) then ends the process quietly, as for other Unix tools,
+/// rather than making `println!` panic on the broken pipe.
+#[cfg(all(unix, not(target_arch = "wasm32")))]
+fn restore_sigpipe() {
+    // SAFETY: called first thing in `main`, before any other thread exists; SIG_DFL is a valid
+    // handler for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(any(unix, target_arch = "wasm32")))]
+fn restore_sigpipe() {}
 
 #[cfg(target_arch = "wasm32")]
 fn main() {}
