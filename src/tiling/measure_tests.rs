@@ -1,7 +1,8 @@
 //! Tiled runs in `rms` and `max`: the max allocation against brute force, members exact in
 //! all three errors and non-dominated in their measure, and the same bits for any thread count.
 
-use super::allocation::{TileOption, allocate_max};
+use super::allocation::allocate_max;
+use super::test_fixtures::{every_choice, random_options, terrain, tiled};
 use super::*;
 use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::exact::paper_e::brute_force;
@@ -9,61 +10,16 @@ use crate::front::dominates;
 use crate::heightfield::Heightfield;
 use crate::measure::ErrorMeasure;
 
-fn next(state: &mut u64) -> u64 {
-    *state = state
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    *state >> 33
-}
-
-/// A rough, deterministic terrain: waves plus hashed noise.
-fn terrain(w: usize, h: usize, seed: u64) -> Heightfield {
-    let z = (0..w * h)
-        .map(|i| {
-            let (x, y) = ((i % w) as f64, (i / w) as f64);
-            let mut n = (i as u64 ^ seed).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-            n ^= n >> 29;
-            (x * 0.21).sin() * 5.0 + (y * 0.13 + x * 0.05).cos() * 3.0 + (n % 1000) as f64 / 1000.0
-        })
-        .collect();
-    Heightfield::new(w, h, z).unwrap()
-}
-
 #[test]
 fn the_max_allocation_is_the_brute_force_front_in_e_max_and_t() {
     let mut rng = 45u64;
     for _ in 0..300 {
-        let tiles = 1 + (next(&mut rng) % 4) as usize;
-        let options: Vec<Vec<TileOption>> = (0..tiles)
-            .map(|_| {
-                let n = 1 + (next(&mut rng) % 6) as usize;
-                (0..n)
-                    .map(|_| TileOption {
-                        e: (next(&mut rng) % 50) as f64,
-                        e_max: (next(&mut rng) % 9) as f64,
-                        t: 2 + next(&mut rng) % 20,
-                    })
-                    .collect()
-            })
-            .collect();
+        let options = random_options(&mut rng);
         // Brute force: every combination's (largest E_max, Σ T), then its Pareto front.
-        let mut all: Vec<(f64, u64)> = Vec::new();
-        let mut choice = vec![0usize; tiles];
-        'combinations: loop {
-            let e_max = (0..tiles)
-                .map(|i| options[i][choice[i]].e_max)
-                .fold(0.0, f64::max);
-            let t = (0..tiles).map(|i| options[i][choice[i]].t).sum();
-            all.push((e_max, t));
-            for k in 0..tiles {
-                choice[k] += 1;
-                if choice[k] < options[k].len() {
-                    continue 'combinations;
-                }
-                choice[k] = 0;
-            }
-            break;
-        }
+        let all: Vec<(f64, u64)> = every_choice(&options)
+            .into_iter()
+            .map(|(_, e_max, t)| (e_max, t))
+            .collect();
         let mut front: Vec<(f64, u64)> = all
             .iter()
             .copied()
@@ -99,16 +55,12 @@ fn the_max_allocation_is_the_brute_force_front_in_e_max_and_t() {
 }
 
 fn tiled_in(hf: &Heightfield, measure: ErrorMeasure, algorithm: &str) -> TiledFront {
-    let plan = TilePlan::new(hf.width(), hf.height(), 33).unwrap();
     let params = match algorithm {
         "memetic" => serde_json::json!({"max_evaluations": 700, "error": measure.name()}),
         _ => serde_json::json!({"records": 24, "error": measure.name()}),
     };
     let config = Config::from_json(Algorithm::from_name(algorithm).unwrap(), &params).unwrap();
-    let fronts = (0..plan.len())
-        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, &config, 7).unwrap())
-        .collect();
-    assemble(&plan, fronts).unwrap()
+    tiled(hf, 33, &config)
 }
 
 #[test]

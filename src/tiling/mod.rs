@@ -55,6 +55,8 @@ mod mesh;
 mod parallel;
 mod plan;
 #[cfg(test)]
+mod test_fixtures;
+#[cfg(test)]
 mod tests;
 mod tile_front;
 

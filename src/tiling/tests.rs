@@ -1,27 +1,14 @@
 //! The tiling's promises: exact whole-grid scores, crack-free meshes, the same bits for any
 //! thread count, and allocations as good as brute force on the hull.
 
-use super::allocation::{TileOption, allocate};
+use super::allocation::allocate;
 use super::border::{Side, TileBorders, insertion_order, line_error};
+use super::test_fixtures::{every_choice, random_options, terrain, tiled};
 use super::*;
 use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::exact::paper_e::brute_force;
 use crate::heightfield::Heightfield;
 use std::collections::HashMap;
-
-/// A rough, deterministic terrain: a few waves plus hashed noise.
-fn terrain(w: usize, h: usize, seed: u64) -> Heightfield {
-    let z = (0..w * h)
-        .map(|i| {
-            let (x, y) = ((i % w) as f64, (i / w) as f64);
-            let mut n = (i as u64 ^ seed).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-            n ^= n >> 29;
-            let noise = (n % 1000) as f64 / 1000.0;
-            (x * 0.21).sin() * 5.0 + (y * 0.13 + x * 0.05).cos() * 3.0 + noise
-        })
-        .collect();
-    Heightfield::new(w, h, z).unwrap()
-}
 
 fn greedy() -> Config {
     Config::from_json(Algorithm::Greedy, &serde_json::json!({"records": 24})).unwrap()
@@ -33,14 +20,6 @@ fn memetic(max_evaluations: u64) -> Config {
         &serde_json::json!({ "max_evaluations": max_evaluations }),
     )
     .unwrap()
-}
-
-fn tiled(hf: &Heightfield, tile: usize, config: &Config) -> TiledFront {
-    let plan = TilePlan::new(hf.width(), hf.height(), tile).unwrap();
-    let fronts = (0..plan.len())
-        .map(|i| run_tile(&plan.cut(hf, i).unwrap(), &plan, i, config, 7).unwrap())
-        .collect();
-    assemble(&plan, fronts).unwrap()
 }
 
 #[test]
@@ -331,59 +310,16 @@ fn bad_parameters_and_grids_are_refused() {
     ));
 }
 
-/// A small deterministic generator for the allocation instances.
-fn lcg(state: &mut u64) -> u64 {
-    *state = state
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    *state >> 33
-}
-
 #[test]
 fn allocation_finds_every_hull_point_of_brute_force_and_only_true_sums() {
     let mut rng = 42u64;
     for _ in 0..200 {
-        let tiles = 1 + (lcg(&mut rng) % 4) as usize;
-        let options: Vec<Vec<TileOption>> = (0..tiles)
-            .map(|_| {
-                let n = 1 + (lcg(&mut rng) % 6) as usize;
-                (0..n)
-                    .map(|_| TileOption {
-                        e: (lcg(&mut rng) % 50) as f64,
-                        e_max: (lcg(&mut rng) % 9) as f64,
-                        t: 2 + lcg(&mut rng) % 20,
-                    })
-                    .collect()
-            })
-            .collect();
+        let options = random_options(&mut rng);
         // Brute force: the least E at every total T.
         let mut best: HashMap<u64, f64> = HashMap::new();
-        let mut choice = vec![0usize; tiles];
-        loop {
-            let e: f64 = choice
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| options[i][c].e)
-                .sum();
-            let t: u64 = choice
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| options[i][c].t)
-                .sum();
+        for (e, _, t) in every_choice(&options) {
             let slot = best.entry(t).or_insert(f64::INFINITY);
             *slot = slot.min(e);
-            let mut k = 0;
-            while k < tiles {
-                choice[k] += 1;
-                if choice[k] < options[k].len() {
-                    break;
-                }
-                choice[k] = 0;
-                k += 1;
-            }
-            if k == tiles {
-                break;
-            }
         }
         let mut frontier: Vec<(u64, f64)> = best.into_iter().collect();
         frontier.sort_by_key(|p| p.0);
