@@ -1,5 +1,5 @@
 //! Grids for the benches, so that they run from a fresh clone: fixtures from `tests/data`, and a
-//! larger terrain generated here.
+//! larger terrain made by `scripts/terrain.py`.
 
 // Each bench includes this module and uses part of it.
 #![allow(dead_code)]
@@ -15,55 +15,63 @@ pub fn fixture(name: &str) -> Heightfield {
     import::load(&path).unwrap_or_else(|e| panic!("fixture {name}: {e}"))
 }
 
-/// The side of the benches' large generated grid: 257, or 65 when the bench runs as a test.
-/// `cargo test --all-targets` (CI) runs every bench once to check that it works, in a debug
-/// build, where greedy insertion and decimation of 257×257 points take most of a minute; the
-/// check needs only that the code runs. `cargo bench` passes `--bench`.
-pub fn large_size() -> usize {
+/// The benches' larger grid, as its name and heights. Under `cargo bench` (which passes
+/// `--bench`) it is `fractal_257`, the fbm terrain of `scripts/terrain.py` (the project's one
+/// terrain generator; the same grid as `bash scripts/make-grids.sh`'s `fractal_257.f32`), made
+/// once and kept beside the bench binaries. `cargo test --all-targets` (CI) runs every bench
+/// once in a debug build to check that it works, where greedy insertion and decimation of
+/// 257×257 points take most of a minute; that check needs only that the code runs, so it takes
+/// the measured 65×65 grid `tests/data/bunny_65x65` and needs no Python.
+pub fn large_grid() -> (String, Heightfield) {
     if std::env::args().any(|a| a == "--bench") {
-        257
+        ("fractal_257".to_string(), generated_fbm(257))
     } else {
-        65
+        ("bunny_65x65".to_string(), fixture("bunny_65x65"))
     }
 }
 
-/// The name of [`synthetic_terrain`]'s grid of `size`×`size` points, as the benches report it.
-pub fn synthetic_name(size: usize) -> String {
-    format!("synthetic_{size}x{size}")
-}
-
-/// A `size`×`size` terrain that stands in for a real DEM: a few broad hills and a ridge (smooth
-/// at the scale of the grid, so a simplified mesh can follow them) plus fine seeded noise (so
-/// that, as in measured data, every point carries some error). Deterministic: the same grid
-/// on every machine.
-pub fn synthetic_terrain(size: usize) -> Heightfield {
-    let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(2024);
-    let hills: Vec<[f64; 4]> = (0..6)
-        .map(|_| {
-            [
-                rng.random::<f64>(),               // centre x, as a fraction of the grid
-                rng.random::<f64>(),               // centre y
-                0.05 + 0.15 * rng.random::<f64>(), // radius
-                20.0 + 80.0 * rng.random::<f64>(), // height
-            ]
-        })
-        .collect();
-    let mut z = Vec::with_capacity(size * size);
-    for y in 0..size {
-        for x in 0..size {
-            let (u, v) = (x as f64 / (size - 1) as f64, y as f64 / (size - 1) as f64);
-            let mut h = 30.0 * (u * 3.0 + v * 1.5).sin() * (1.0 - (v - 0.5).abs());
-            for &[cx, cy, r, a] in &hills {
-                let d2 = (u - cx).powi(2) + (v - cy).powi(2);
-                h += a * (-d2 / (r * r)).exp();
-            }
-            h += 2.0 * (rng.random::<f64>() - 0.5);
-            z.push(h);
-        }
+/// `scripts/terrain.py fbm --seed 1 --size {size}`, generated into `bench-grids/` beside the
+/// bench binaries unless already there, with the project's Python (`.venv-python`, made by
+/// `bash scripts/setup.sh`) or else `python3`; either needs numpy.
+fn generated_fbm(size: usize) -> Heightfield {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let exe = std::env::current_exe().expect("the bench binary's path");
+    // target/<profile>/deps/<bench> -> target/<profile>/bench-grids
+    let dir = exe
+        .ancestors()
+        .nth(2)
+        .expect("a target folder")
+        .join("bench-grids");
+    let grid = dir.join(format!("fractal_{size}.f32"));
+    if !grid.exists() {
+        // Made in a folder of this process and then renamed, so that a bench that runs at the
+        // same time never reads a half-written grid.
+        let scratch = dir.join(format!("making-{}", std::process::id()));
+        std::fs::create_dir_all(&scratch).expect("the bench-grids folder");
+        let venv = root.join(".venv-python/bin/python");
+        let python = if venv.exists() {
+            venv
+        } else {
+            "python3".into()
+        };
+        let made = scratch.join(grid.file_name().unwrap());
+        let status = std::process::Command::new(&python)
+            .arg(root.join("scripts/terrain.py"))
+            .args(["fbm", "--seed", "1", "--size", &size.to_string(), "--out"])
+            .arg(&made)
+            .status()
+            .unwrap_or_else(|e| panic!("running {}: {e}", python.display()));
+        assert!(
+            status.success(),
+            "scripts/terrain.py failed ({status}): it needs numpy, which `bash scripts/setup.sh` \
+             installs in .venv-python"
+        );
+        std::fs::rename(made.with_extension("json"), grid.with_extension("json"))
+            .expect("moving the sidecar");
+        std::fs::rename(&made, &grid).expect("moving the grid");
+        let _ = std::fs::remove_dir(&scratch);
     }
-    Heightfield::new(size, size, z)
-        .expect("a generated grid is valid")
-        .with_source(format!("{} (generated)", synthetic_name(size)))
+    import::load(&grid).unwrap_or_else(|e| panic!("{}: {e}", grid.display()))
 }
 
 /// `fraction` of the `n` grid points, chosen at random with a fixed seed, plus `corners`,
