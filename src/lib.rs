@@ -22,11 +22,13 @@
 //! - [`pick`]: choosing one member of a front (index, trade-off, knee, limits on T or error).
 //! - [`metrics`]: hypervolume, epsilon, coverage, Wilcoxon rank-sum, trade-off picks.
 //! - [`experiment`]: the paper's experiment: protocol, results.json, report tables, figure.
-//! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF) and the front as CSV, for the CLI and
-//!   the app.
+//! - [`export`]: mesh writers (PLY, OBJ, STL, binary glTF, 3MF), printable solids and the front
+//!   as CSV, for the CLI and the app.
 //! - [`refine`]: a member grown to an exact triangle budget by exact worst-point insertions.
 //! - [`tiling`]: large grids in crack-free tiles, run in parallel, one whole-grid front.
 //! - [`pyramid`]: a 3D Tiles pyramid of a front's members, placed on the globe when georeferenced.
+//! - `terrain` (native only): terrain tiles of a DEM for web globes, quantized-mesh-1.0 or 3D
+//!   Tiles terrain (`paretomesh tiles`).
 //! - `web` (wasm32 only): the browser layer: bindings, page, events, views and GPU, on the
 //!   app's logic (state, share links, plot layout, ...), which is the crate's own.
 //!

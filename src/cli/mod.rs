@@ -44,8 +44,8 @@ enum Command {
     },
     /// Run an optimizer and write its front as front.json (and CSV).
     Run(run::RunArgs),
-    /// Write one member of a front.json as a mesh (PLY, OBJ, STL or binary glTF) in the input's
-    /// own coordinates.
+    /// Write one member of a front.json as a mesh (PLY, OBJ, STL, binary glTF or 3MF), or a
+    /// printable solid, in the input's own coordinates.
     Export(export::ExportArgs),
     /// Write a terrain tileset of a front.json or a DEM: a 3D Tiles pyramid (tileset.json and
     /// one binary glTF per tile) or quantized-mesh-1.0 terrain (layer.json and .terrain tiles).
