@@ -32,7 +32,7 @@ from pydelatin import Delatin
 def load_grid(path):
     """The grid of a raw .f32 and its JSON sidecar, rows as the project indexes them."""
     if not path.endswith(".f32"):
-        sys.exit(f"{path}: give a raw .f32 grid with its .json sidecar (make_terrain --out)")
+        sys.exit(f"{path}: give a raw .f32 grid with its .json sidecar (scripts/terrain.py --out)")
     meta = json.load(open(path[:-4] + ".json"))
     w, h = meta["width"], meta["height"]
     return np.fromfile(path, dtype="<f4").reshape(h, w)
