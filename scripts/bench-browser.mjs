@@ -3,31 +3,18 @@
 //
 //   node scripts/bench-browser.mjs [SURFACE_257.ply] [GRID_1025.f32]
 //
-// 1. Drops a 257×257 PLY (a seeded synthetic terrain when none is given), runs greedy insertion
-//    to get its front, then runs the default method and reports: the time from Run to the first
-//    front (the greedy seed), the time until the front's normalised hypervolume exceeds greedy
-//    insertion's, and the frame intervals while it runs (median, 95th percentile).
-// 2. Drops a 1025×1025 .f32 grid with its .json sidecar (synthetic when none is given) and
+// 1. Drops a 257×257 PLY (when none is given, `fractal_257` of `bash scripts/make-grids.sh`:
+//    scripts/terrain.py's fbm, seed 1, made here), runs greedy insertion to get its front, then
+//    runs the default method and reports: the time from Run to the first front (the greedy
+//    seed), the time until the front's normalised hypervolume exceeds greedy insertion's, and
+//    the frame intervals while it runs (median, 95th percentile).
+// 2. Drops a 1025×1025 .f32 grid with its .json sidecar (`fractal_1025` when none is given) and
 //    reports the time from the drop to the surface drawn and to the first front after Run.
 // Needs the built app (bash scripts/build-web.sh).
 import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { withApp, newPage, waitForApp, dropFiles, startFrameLog, frameCount, stopFrameLog } from '../tests/e2e/harness.mjs';
-
-/// A seeded terrain: ridges, valleys and a few sharp features, so that no constant fits it.
-function terrain(w, h) {
-  const z = new Float32Array(w * h);
-  for (let y = 0; y < h; y++) {
-    for (let x = 0; x < w; x++) {
-      const u = x / (w - 1), v = y / (h - 1);
-      let s = 40 * Math.sin(3.1 * u + 1.3) * Math.cos(2.3 * v) + 25 * Math.abs(Math.sin(7 * u + 5 * v));
-      s += 8 * Math.sin(23 * u * v + 2) + 60 * Math.exp(-((u - 0.3) ** 2 + (v - 0.6) ** 2) * 80);
-      s += 4 * Math.sin(61 * u) * Math.sin(47 * v);
-      z[y * w + x] = s;
-    }
-  }
-  return z;
-}
+import { terrainGrid } from '../tests/e2e/terrain-grid.mjs';
 
 function gridPly(w, h, z) {
   const lines = ['ply', 'format ascii 1.0', `element vertex ${w * h}`, 'property float x',
@@ -61,16 +48,11 @@ const pct = (xs, p) => { const s = [...xs].sort((a, b) => a - b); return s[Math.
 const [plyArg, gridArg] = process.argv.slice(2);
 const ply = plyArg
   ? { name: path.basename(plyArg), bytes: readFileSync(plyArg) }
-  : { name: 'terrain_257x257.ply', bytes: gridPly(257, 257, terrain(257, 257)) };
-let big;
-if (gridArg) {
-  big = [{ name: path.basename(gridArg), bytes: readFileSync(gridArg) },
-    { name: path.basename(gridArg).replace(/\.f32$/, '.json'), bytes: readFileSync(gridArg.replace(/\.f32$/, '.json')) }];
-} else {
-  const z = terrain(1025, 1025);
-  big = [{ name: 'terrain_1025x1025.f32', bytes: Buffer.from(z.buffer) },
-    { name: 'terrain_1025x1025.json', bytes: Buffer.from(JSON.stringify({ width: 1025, height: 1025 })) }];
-}
+  : { name: 'fractal_257.ply', bytes: gridPly(257, 257, terrainGrid('fbm', 257, { name: 'fractal_257' }).z) };
+const big = gridArg
+  ? [{ name: path.basename(gridArg), bytes: readFileSync(gridArg) },
+    { name: path.basename(gridArg).replace(/\.f32$/, '.json'), bytes: readFileSync(gridArg.replace(/\.f32$/, '.json')) }]
+  : terrainGrid('fbm', 1025, { name: 'fractal_1025' }).files;
 
 async function runUntil(page, algorithm, done, timeout) {
   await page.selectOption('#algorithm', algorithm);

@@ -4,10 +4,10 @@
 //    ends with its trade-off pick drawn, and clicking another member draws it;
 // 2. a worker that fails (a job it cannot build) stops the run with a clear message, the
 //    page keeps drawing frames, and a valid run afterwards works;
-// 3. a 257×257 grid with `?tile=65` runs as 16 tiles in the pool (two workers): a first
-//    whole-grid front from the greedy pass, then the NSGA-II pass, ending on the front of the
-//    CLI's tiled run with the same seed and tile size; selecting a member draws its mesh,
-//    rebuilt from the tiles, with as many triangles as the member's T.
+// 3. a 257×257 grid (scripts/terrain.py's fbm) with `?tile=65` runs as 16 tiles in the pool
+//    (two workers): a first whole-grid front from the greedy pass, then the NSGA-II pass,
+//    ending on the front of the CLI's tiled run with the same seed and tile size; selecting a
+//    member draws its mesh, rebuilt from the tiles, with as many triangles as the member's T.
 // 4. A 1025×1025 grid with `?tile=257` (greedy insertion, 16 tiles): a member's mesh is built
 //    in the pool's mesh worker, not on the page: animation frames keep coming while it is
 //    built, and selecting another member while the worker still builds the first ends with the
@@ -19,6 +19,7 @@ import { tmpdir } from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
 import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, frameCount, startFrameLog, stopFrameLog } from './harness.mjs';
+import { terrainGrid } from './terrain-grid.mjs';
 
 const cli = path.join(root, 'target/debug/paretomesh');
 assert.ok(existsSync(cli), 'build the CLI first: cargo build --bin paretomesh');
@@ -28,20 +29,6 @@ function cliFront(args) {
   const out = path.join(mkdtempSync(path.join(tmpdir(), 'pm-')), 'front.json');
   execFileSync(cli, ['run', ...args, '--out', out], { stdio: ['ignore', 'ignore', 'inherit'] });
   return JSON.parse(readFileSync(out, 'utf8')).front.map((m) => [m.T, m.E_sum]);
-}
-
-// A seeded w×h terrain as a raw f32 grid and its sidecar.
-function terrain(w, h) {
-  const z = new Float32Array(w * h);
-  for (let y = 0; y < h; y++) {
-    for (let x = 0; x < w; x++) {
-      const u = x / (w - 1), v = y / (h - 1);
-      z[y * w + x] = 40 * Math.sin(3.1 * u + 1.3) * Math.cos(2.3 * v) + 25 * Math.abs(Math.sin(7 * u + 5 * v))
-        + 60 * Math.exp(-((u - 0.3) ** 2 + (v - 0.6) ** 2) * 80) + 4 * Math.sin(61 * u) * Math.sin(47 * v);
-    }
-  }
-  return [{ name: `terrain_${w}.f32`, bytes: Buffer.from(z.buffer) },
-    { name: `terrain_${w}.json`, bytes: Buffer.from(JSON.stringify({ width: w, height: h })) }];
 }
 
 // The CLI's tiled front for `args` on `files` (written to a scratch folder), as [T, E] pairs.
@@ -138,9 +125,9 @@ await withApp(async ({ browser, url }) => {
   await tiled.goto(`${url}?tile=65`);
   await waitForApp(tiled);
   await tiled.evaluate(() => window.paretomesh.setPoolSetup(2, false, 65));
-  const files = terrain(257, 257);
+  const { files } = terrainGrid('fbm', 257);
   await dropFiles(tiled, files);
-  await tiled.waitForFunction(() => window.paretomesh.surfaceName() === 'terrain_257.f32', null, { timeout: 30000 });
+  await tiled.waitForFunction(() => window.paretomesh.surfaceName() === 'fbm_257.f32', null, { timeout: 30000 });
   await runNsga2(tiled, { population: 8, generations: 3, seed: 2 });
   await tiled.waitForFunction(() => /16 tiles \(4×4\) in 2 Web Workers/.test(document.getElementById('status').textContent), null, { timeout: 30000 });
   await tiled.waitForFunction(() => window.paretomesh.frontLength() > 0, null, { timeout: 120000 });
@@ -174,8 +161,8 @@ await withApp(async ({ browser, url }) => {
   await big.goto(`${url}?tile=257`);
   await waitForApp(big);
   await big.evaluate(() => window.paretomesh.setPoolSetup(2, false, 257));
-  await dropFiles(big, terrain(1025, 1025));
-  await big.waitForFunction(() => window.paretomesh.surfaceName() === 'terrain_1025.f32', null, { timeout: 60000 });
+  await dropFiles(big, terrainGrid('fbm', 1025).files);
+  await big.waitForFunction(() => window.paretomesh.surfaceName() === 'fbm_1025.f32', null, { timeout: 60000 });
   await big.selectOption('#algorithm', 'greedy');
   await big.click('#run');
   await big.waitForFunction(() => /^done/.test(document.getElementById('status').textContent), null, { timeout: 600000, polling: 200 });
