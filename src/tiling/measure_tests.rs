@@ -2,7 +2,7 @@
 //! all three errors and non-dominated in their measure, and the same bits for any thread count.
 
 use super::allocation::allocate_max;
-use super::test_fixtures::{every_choice, random_options, terrain, tiled};
+use super::test_fixtures::{every_choice, random_options, sums, terrain, tiled};
 use super::*;
 use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::exact::paper_e::brute_force;
@@ -35,13 +35,7 @@ fn the_max_allocation_is_the_brute_force_front_in_e_max_and_t() {
         assert_eq!(pairs, front, "{options:?}");
         for a in &found {
             // The sums are those of the options chosen, each within the allocation's E_max.
-            let e: f64 = a
-                .choice
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| options[i][c].e)
-                .sum();
-            assert_eq!(a.e, e);
+            assert_eq!(a.e, sums(&options, &a.choice).0);
             assert!(
                 a.choice
                     .iter()

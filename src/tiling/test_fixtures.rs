@@ -55,18 +55,23 @@ pub(super) fn random_options(rng: &mut u64) -> Vec<Vec<TileOption>> {
         .collect()
 }
 
-/// Every way to choose one option a tile, each as its (Σ E, largest E_max, Σ T): the brute
-/// force that the allocations are checked against.
+/// The (Σ E, largest E_max, Σ T) of `choice`, one option index a tile.
+pub(super) fn sums(options: &[Vec<TileOption>], choice: &[usize]) -> (f64, f64, u64) {
+    let chosen = || choice.iter().enumerate().map(|(i, &c)| &options[i][c]);
+    (
+        chosen().map(|o| o.e).sum(),
+        chosen().map(|o| o.e_max).fold(0.0, f64::max),
+        chosen().map(|o| o.t).sum(),
+    )
+}
+
+/// Every way to choose one option a tile, each as its [`sums`]: the brute force that the
+/// allocations are checked against.
 pub(super) fn every_choice(options: &[Vec<TileOption>]) -> Vec<(f64, f64, u64)> {
     let mut all = Vec::new();
     let mut choice = vec![0usize; options.len()];
     'combinations: loop {
-        let chosen = || choice.iter().enumerate().map(|(i, &c)| &options[i][c]);
-        all.push((
-            chosen().map(|o| o.e).sum(),
-            chosen().map(|o| o.e_max).fold(0.0, f64::max),
-            chosen().map(|o| o.t).sum(),
-        ));
+        all.push(sums(options, &choice));
         for k in 0..options.len() {
             choice[k] += 1;
             if choice[k] < options[k].len() {

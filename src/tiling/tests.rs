@@ -3,7 +3,7 @@
 
 use super::allocation::allocate;
 use super::border::{Side, TileBorders, insertion_order, line_error};
-use super::test_fixtures::{every_choice, random_options, terrain, tiled};
+use super::test_fixtures::{every_choice, random_options, sums, terrain, tiled};
 use super::*;
 use crate::catalogue::{Algorithm, Config};
 use crate::evaluator::exact::paper_e::brute_force;
@@ -332,24 +332,7 @@ fn allocation_finds_every_hull_point_of_brute_force_and_only_true_sums() {
         let found = allocate(&options);
         // Every allocation's sums are its choice's, and none is dominated by another.
         for a in &found {
-            let e: f64 = a
-                .choice
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| options[i][c].e)
-                .sum();
-            let t: u64 = a
-                .choice
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| options[i][c].t)
-                .sum();
-            let m = a
-                .choice
-                .iter()
-                .enumerate()
-                .map(|(i, &c)| options[i][c].e_max)
-                .fold(0.0, f64::max);
+            let (e, m, t) = sums(&options, &a.choice);
             assert_eq!((a.e, a.t, a.e_max), (e, t, m));
             assert!(
                 pareto
