@@ -12,22 +12,12 @@
 // Needs the CLI (cargo build --bin paretomesh; `cargo test` builds it too) and www/pkg. The
 // debug build: its numbers are the same bits as the release build's (no fast-math anywhere),
 // and it saves CI a release build of its own.
-import { readFileSync, existsSync, mkdtempSync } from 'node:fs';
-import { execFileSync } from 'node:child_process';
-import { tmpdir } from 'node:os';
+import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import assert from 'node:assert/strict';
 import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, wavyObj, kneeIndex, int16GeoTiff } from './harness.mjs';
+import { cliFront } from './cli.mjs';
 
-const cli = path.join(root, 'target/debug/paretomesh');
-assert.ok(existsSync(cli), 'build the CLI first: cargo build --bin paretomesh');
-
-// The CLI's front for a run, as [T, E] pairs and the raw file.
-function cliFront(args) {
-  const out = path.join(mkdtempSync(path.join(tmpdir(), 'pm-')), 'front.json');
-  execFileSync(cli, ['run', ...args, '--out', out], { stdio: ['ignore', 'ignore', 'inherit'] });
-  return JSON.parse(readFileSync(out, 'utf8')).front.map((m) => [m.T, m.E_sum]);
-}
 
 const pairs = (flat) => flat.reduce((acc, v, i) => (i % 2 ? acc[acc.length - 1].push(v) : acc.push([v]), acc), []);
 

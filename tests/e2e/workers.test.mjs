@@ -13,23 +13,15 @@
 //    built, and selecting another member while the worker still builds the first ends with the
 //    newer member drawn (the older mesh, when it comes, is dropped).
 // Needs the CLI (cargo build --bin paretomesh) and www/pkg (bash scripts/build-web.sh).
-import { readFileSync, writeFileSync, existsSync, mkdtempSync } from 'node:fs';
+import { readFileSync, writeFileSync, mkdtempSync } from 'node:fs';
 import { execFileSync } from 'node:child_process';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import assert from 'node:assert/strict';
-import { root, shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, frameCount, startFrameLog, stopFrameLog } from './harness.mjs';
+import { shots, withApp, newPage, realErrors, waitForApp, dropFiles, pixelVariance, frameCount, startFrameLog, stopFrameLog } from './harness.mjs';
 import { terrainGrid } from './terrain-grid.mjs';
+import { cli, cliFront } from './cli.mjs';
 
-const cli = path.join(root, 'target/debug/paretomesh');
-assert.ok(existsSync(cli), 'build the CLI first: cargo build --bin paretomesh');
-
-// The CLI's front for a run, as [T, E] pairs.
-function cliFront(args) {
-  const out = path.join(mkdtempSync(path.join(tmpdir(), 'pm-')), 'front.json');
-  execFileSync(cli, ['run', ...args, '--out', out], { stdio: ['ignore', 'ignore', 'inherit'] });
-  return JSON.parse(readFileSync(out, 'utf8')).front.map((m) => [m.T, m.E_sum]);
-}
 
 // The CLI's tiled front for `args` on `files` (written to a scratch folder), as [T, E] pairs.
 function cliTiledFront(files, args) {
