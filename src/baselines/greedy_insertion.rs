@@ -170,6 +170,8 @@ pub struct GreedyInsertion {
     insertions: u64,
     /// Vertices the bounded decimation removed ([`GreedyParams::decimate`]).
     removed: usize,
+    /// Whether the decimation leaves the grid's border vertices (a tile's shared ones).
+    keep_border: bool,
     done: bool,
     stack: Vec<u32>,
     changed: Vec<u32>,
@@ -290,6 +292,7 @@ impl GreedyInsertion {
             last_recorded_points: 0,
             insertions: 0,
             removed: 0,
+            keep_border: false,
             done: false,
             stack: Vec::new(),
             changed: Vec::new(),
@@ -299,6 +302,12 @@ impl GreedyInsertion {
         run.rasterise(&all);
         run.record_if_due();
         Ok(run)
+    }
+
+    /// Makes the bounded decimation ([`GreedyParams::decimate`]) leave every vertex on the
+    /// grid's border: on a tile, those are shared with its neighbours.
+    pub(crate) fn keep_border_in_decimation(&mut self) {
+        self.keep_border = true;
     }
 
     /// How many vertices the bounded decimation removed (0 until it has run).
@@ -690,6 +699,7 @@ impl GreedyInsertion {
             &mut totals,
             &mut self.kept,
             self.threshold,
+            self.keep_border,
         );
         self.kept_count -= removed;
         self.removed = removed;

@@ -19,8 +19,8 @@ use paretomesh::heightfield::Heightfield;
 use paretomesh::measure::ErrorMeasure;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFrontFile, TilingError, check_tile, run_tiled_with_progress,
-    tile_config,
+    DEFAULT_TILE, TilePlan, TiledFront, TiledFrontFile, TilingError, check_tile,
+    run_tiled_with_progress, tile_config,
 };
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -348,6 +348,11 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if let Some(x) = super::run_within::bound_of(&config, hf) {
+        let started = Instant::now();
+        let tiled = super::run_within::make(hf, plan, x, threads)?;
+        return write_tiled(args, hf, &config, threads, tiled, started);
+    }
     eprintln!(
         "{}×{} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
         hf.width(),
@@ -390,6 +395,19 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         }
     }
     eprintln!("{line}");
+    write_tiled(args, hf, &config, threads, tiled, started)
+}
+
+/// Writes a tiled run's front (and CSV), begun at `started`.
+fn write_tiled(
+    args: &RunArgs,
+    hf: &Heightfield,
+    config: &Config,
+    threads: usize,
+    tiled: TiledFront,
+    started: Instant,
+) -> Result<(), String> {
+    let millis = started.elapsed().as_millis() as u64;
     let writing = Instant::now();
     let grid = GridInfo {
         width: hf.width(),
@@ -398,7 +416,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         import: Some(ImportRecord::of(&args.input.import.options())),
     };
     let file = TiledFrontFile {
-        header: RunHeader::new(grid, &config, args.seed, tiled.evaluations(), millis),
+        header: RunHeader::new(grid, config, args.seed, tiled.evaluations(), millis),
         threads,
         tiled,
     };

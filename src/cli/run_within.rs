@@ -1,0 +1,54 @@
+//! `run --algo greedy --max-vertical-error X` on a tiled grid: one mesh within X, made over
+//! the tiles in parallel with shared border points ([`tiled_mesh_within`]), written as a
+//! tiled front of that one member.
+
+use paretomesh::baselines::{GreedyStop, InsertionRule};
+use paretomesh::catalogue::Config;
+use paretomesh::heightfield::Heightfield;
+use paretomesh::tiling::{TilePlan, TiledFront, tiled_mesh_within};
+use std::time::Instant;
+
+/// The max error X a tiled run of `config` on `hf` is one mesh within: greedy insertion of
+/// the worst point stopped at a max error with bounded-error decimation (the other greedy
+/// rules and stops give a front as any tiled method does).
+pub(super) fn bound_of(config: &Config, hf: &Heightfield) -> Option<f64> {
+    let Config::Greedy(p) = config else {
+        return None;
+    };
+    if p.rule != InsertionRule::MaxError || !p.decimate {
+        return None;
+    }
+    let (lo, hi) = hf.z_range();
+    match p.stop {
+        GreedyStop::MaxError(x) => Some(x),
+        GreedyStop::MaxErrorFraction(f) => Some(f * (hi - lo)),
+        _ => None,
+    }
+}
+
+/// The mesh within `x` over `plan`'s tiles on `threads` threads, as a one-member tiled front,
+/// with a `done:` line on stderr.
+pub(super) fn make(
+    hf: &Heightfield,
+    plan: &TilePlan,
+    x: f64,
+    threads: usize,
+) -> Result<TiledFront, String> {
+    let started = Instant::now();
+    let made = tiled_mesh_within(hf, plan, None, x, threads).map_err(|e| e.to_string())?;
+    let m = &made.front.members[0];
+    eprintln!(
+        "done: {} evaluations in {} ms, one mesh within E_max ≤ {x}: T = {}, E_max = {}, E_sum = {} ({} points inserted by greedy insertion of the worst point, {} removed by bounded-error decimation, {} tiles with shared border points, {} round{})",
+        made.inserted,
+        started.elapsed().as_millis(),
+        m.t,
+        m.e_max,
+        m.e_sum,
+        made.inserted,
+        made.removed,
+        plan.len(),
+        made.rounds,
+        if made.rounds == 1 { "" } else { "s" }
+    );
+    Ok(made.front)
+}
