@@ -370,6 +370,33 @@ impl GreedyInsertion {
         self.by_error.top().map(|e| e.point)
     }
 
+    /// The largest vertical error of the current mesh and the point that has it (ties to the
+    /// smaller index), or `None` when every point within the stopping threshold is kept.
+    pub(crate) fn worst(&self) -> Option<(f64, u32)> {
+        self.by_error.top().map(|e| (e.key, e.point))
+    }
+
+    /// Inserts grid point `point` (not kept) whatever its error: how a tile takes a point its
+    /// neighbour inserted on their shared border line. Returns false, inserting nothing, when
+    /// `point` is kept already or off the grid.
+    pub(crate) fn insert_at(&mut self, point: u32) -> bool {
+        if self.kept.get(point as usize) != Some(&false) {
+            return false;
+        }
+        let q = self.point(point);
+        let slot = (0..self.mesh.len() as u32).find(|&t| {
+            let [a, b, c] = self.mesh.triangle(t as usize).map(|i| self.point(i));
+            predicates::orient(a, b, q) >= 0
+                && predicates::orient(b, c, q) >= 0
+                && predicates::orient(c, a, q) >= 0
+        });
+        let Some(slot) = slot else {
+            return false;
+        };
+        self.insert(slot, point);
+        true
+    }
+
     /// The current mesh's triangle count.
     pub(crate) fn triangle_count(&self) -> usize {
         self.mesh.len()
@@ -641,13 +668,16 @@ impl GreedyInsertion {
             self.finish();
             return;
         };
+        self.insert(entry.slot, entry.point);
+    }
+
+    /// Inserts grid point `point`, which triangle `slot` holds, and updates the queues.
+    fn insert(&mut self, slot: u32, point: u32) {
         let mut changed = std::mem::take(&mut self.changed);
         changed.clear();
         self.mesh
-            .insert_point(entry.slot, entry.point, &mut self.stack, |s| {
-                changed.push(s)
-            });
-        self.kept[entry.point as usize] = true;
+            .insert_point(slot, point, &mut self.stack, |s| changed.push(s));
+        self.kept[point as usize] = true;
         self.kept_count += 1;
         self.insertions += 1;
         changed.sort_unstable();

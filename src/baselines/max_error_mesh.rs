@@ -35,6 +35,7 @@ pub fn mesh_within(
 
 /// [`mesh_within`] on a tile: the decimation keeps every vertex on the tile's border, which its
 /// neighbours share (insertion may still add border points: the caller checks for them).
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) fn tile_mesh_within(
     hf: Arc<Heightfield>,
     start: &[u32],

@@ -99,6 +99,21 @@ pub fn tiled_mesh_within(
     pool.install(|| run_rounds(hf, plan, starts, x))
 }
 
+/// [`tiled_mesh_within`] from member `member` of the tiled front `front` made on `hf`: each
+/// tile starts from the member's interior points in it, its border lines from their prefixes
+/// for `x` (not the member's border level), so the mesh is the member refined where it is
+/// above `x` and decimated where it is within.
+pub fn tiled_member_within(
+    hf: &Heightfield,
+    front: &TiledFront,
+    member: usize,
+    x: f64,
+    threads: usize,
+) -> Result<TiledWithin, TilingError> {
+    let starts: Vec<Vec<u32>> = front.parts(member)?.into_iter().map(|p| p.kept).collect();
+    tiled_mesh_within(hf, &front.plan, Some(&starts), x, threads)
+}
+
 fn bad(reason: String) -> TilingError {
     TilingError::BadParams {
         algorithm: crate::catalogue::Algorithm::Greedy,
