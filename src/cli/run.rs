@@ -113,7 +113,8 @@ pub(super) struct RunArgs {
     triangles: bool,
     /// Tile size in grid points a side: a larger grid is cut into tiles that share their
     /// borders, each optimised on its own (--evals then counts per tile), and one whole-grid
-    /// front is assembled [default: 1025].
+    /// front is assembled [default: 1025; 257 for --algo greedy with --max-vertical-error or
+    /// --max-error-fraction, which makes one mesh within the bound over the tiles].
     #[arg(long, value_name = "N")]
     tile: Option<usize>,
     /// Threads the tiles run on (the front does not depend on it) [default: every core].
@@ -231,8 +232,10 @@ pub(super) fn run(args: &RunArgs) -> Result<(), String> {
         return Err("--threads must be at least 1".to_string());
     }
     let hf = Arc::new(args.input.load()?);
-    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
-        .map_err(|e| e.to_string())?;
+    let tile = args.tile.unwrap_or_else(|| {
+        config(args).map_or(DEFAULT_TILE, |c| super::run_within::default_tile(&c))
+    });
+    let plan = TilePlan::new(hf.width(), hf.height(), tile).map_err(|e| e.to_string())?;
     if !plan.is_single() {
         return run_tiled_grid(args, &hf, &plan);
     }
