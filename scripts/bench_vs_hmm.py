@@ -115,6 +115,10 @@ def main():
                     help="triangle budgets, %% of the full mesh 2(W-1)(H-1)")
     ap.add_argument("--max-errors", default="", help="max errors for hmm, in z units")
     ap.add_argument("--greedy", action="store_true")
+    ap.add_argument("--greedy-tile", type=int, default=0,
+                    help="tile size of the --greedy run (default: untiled)")
+    ap.add_argument("--threads", type=int, default=0,
+                    help="threads of a tiled --greedy run (default: every core)")
     a = ap.parse_args()
     z = load_grid(a.grid)
     h, w = z.shape
@@ -166,21 +170,31 @@ def main():
             out = os.path.join(scratch, "greedy.json")
             start = time.perf_counter()
             cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
-            log = subprocess.run([a.bin, "run", a.grid, "--algo", "greedy", "--max-vertical-error",
-                                  repr(bound), "--tile", str(max(w, h)), "--out", out],
-                                 check=True, capture_output=True, text=True)
+            command = [a.bin, "run", a.grid, "--algo", "greedy", "--max-vertical-error",
+                       repr(bound), "--tile", str(a.greedy_tile or max(w, h)), "--out", out]
+            if a.threads:
+                command += ["--threads", str(a.threads)]
+            log = subprocess.run(command, check=True, capture_output=True, text=True)
             whole = time.perf_counter() - start
             after = resource.getrusage(resource.RUSAGE_CHILDREN)
             whole_cpu = (after.ru_utime + after.ru_stime) - (cpu.ru_utime + cpu.ru_stime)
             done = re.search(r"^done: .* in (\d+) ms", log.stdout + log.stderr, re.M)
             took = int(done.group(1)) / 1000 if done else whole
             g = [m for m in members(out) if m[3] <= bound]
+            k, t, _, _ = min(g, key=lambda m: m[1])
+            faces, index = rescore_member(a.bin, out, k, z, scratch)
+            again = evaluate_triangles(a.bin, a.grid, index[faces], scratch)
+            if again["T"] != t or again["E_max"] > bound:
+                sys.exit(f"greedy at {bound!r}: member {k} scores T {again['T']}, E_max "
+                         f"{again['E_max']!r} afresh; front.json records T {t}")
             line += (f" | {ratio(min(m[1] for m in g), hmm_t):>9.3f} {ratio(took, hmm_seconds[0]):>6.3f}"
                      f" {ratio(whole, hmm_seconds[0]):>6.3f} {ratio(whole_cpu, hmm_seconds[1]):>6.3f}")
         print(line, flush=True)
     load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else []
     if a.greedy:
-        print("greedy: `run --algo greedy --max-vertical-error E` untiled at hmm's E_max, against hmm "
+        where = (f"over tiles of {a.greedy_tile} points a side on {a.threads or 'all'} threads"
+                 if a.greedy_tile else "untiled")
+        print(f"greedy: `run --algo greedy --max-vertical-error E` {where} at hmm's E_max, against hmm "
               "at max_error=E: T ratio; wall time of the run (its `done:` line) and of the whole "
               "command (reading the grid, writing front.json) over hmm's Delatin call; the "
               "command's CPU seconds (user + system) over the call's")

@@ -32,6 +32,8 @@ struct Decimation<'a> {
     totals: &'a mut Vec<ErrorTotals>,
     kept: &'a mut [bool],
     corners: [u32; 4],
+    /// Whether vertices on the grid's border stay (a tile's, shared with its neighbours).
+    keep_border: bool,
     /// Per grid point: a live slot that has it as a vertex (kept points only).
     hint: Vec<u32>,
     /// Per grid point: the version of its latest queued cost.
@@ -50,13 +52,15 @@ struct Decimation<'a> {
 /// Removes kept vertices of `mesh` (the canonical triangulation of the points `kept` marks,
 /// with `totals` its slots' error totals on `hf`) while E_max stays ≤ `bound`, cheapest hole
 /// first (ties to the smaller grid index), and compacts the slots. The mesh's E_max must be ≤
-/// `bound` already. Returns how many vertices went.
+/// `bound` already. With `keep_border`, no vertex on the grid's border is removed: on a tile,
+/// those are shared with its neighbours. Returns how many vertices went.
 pub(crate) fn decimate(
     hf: &Heightfield,
     mesh: &mut Triangulation,
     totals: &mut Vec<ErrorTotals>,
     kept: &mut [bool],
     bound: f64,
+    keep_border: bool,
 ) -> usize {
     debug_assert!(totals[..mesh.len()].iter().all(|t| t.max <= bound));
     let mut hint = vec![NONE; hf.len()];
@@ -73,6 +77,7 @@ pub(crate) fn decimate(
         totals,
         kept,
         corners: hf.corners(),
+        keep_border,
         hint,
         version: vec![0; hf.len()],
         queue: BinaryHeap::new(),
@@ -85,7 +90,7 @@ pub(crate) fn decimate(
         diagonals: Vec::new(),
     };
     for v in 0..hf.len() as u32 {
-        if run.kept[v as usize] && !run.corners.contains(&v) {
+        if run.kept[v as usize] && !run.fixed(v) {
             run.queue_cost(v);
         }
     }
@@ -107,7 +112,7 @@ pub(crate) fn decimate(
         // Each neighbour's star changed: measure it again (a trial overwrites the boundary).
         let neighbours = std::mem::take(&mut run.boundary);
         for &u in &neighbours {
-            if !run.corners.contains(&u) {
+            if !run.fixed(u) {
                 run.queue_cost(u);
             }
         }
@@ -118,6 +123,16 @@ pub(crate) fn decimate(
 }
 
 impl Decimation<'_> {
+    /// Whether vertex `v` must stay: a corner, or on the border when that is kept.
+    fn fixed(&self, v: u32) -> bool {
+        if self.corners.contains(&v) {
+            return true;
+        }
+        let (w, h) = (self.hf.width() as u32, self.hf.height() as u32);
+        let (x, y) = (v % w, v / w);
+        self.keep_border && (x == 0 || y == 0 || x + 1 == w || y + 1 == h)
+    }
+
     /// Measures removing `v` and queues it when the removal keeps E_max ≤ the bound,
     /// superseding any earlier entry.
     fn queue_cost(&mut self, v: u32) {

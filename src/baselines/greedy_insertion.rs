@@ -170,6 +170,8 @@ pub struct GreedyInsertion {
     insertions: u64,
     /// Vertices the bounded decimation removed ([`GreedyParams::decimate`]).
     removed: usize,
+    /// Whether the decimation leaves the grid's border vertices (a tile's shared ones).
+    keep_border: bool,
     done: bool,
     stack: Vec<u32>,
     changed: Vec<u32>,
@@ -290,6 +292,7 @@ impl GreedyInsertion {
             last_recorded_points: 0,
             insertions: 0,
             removed: 0,
+            keep_border: false,
             done: false,
             stack: Vec::new(),
             changed: Vec::new(),
@@ -299,6 +302,12 @@ impl GreedyInsertion {
         run.rasterise(&all);
         run.record_if_due();
         Ok(run)
+    }
+
+    /// Makes the bounded decimation ([`GreedyParams::decimate`]) leave every vertex on the
+    /// grid's border: on a tile, those are shared with its neighbours.
+    pub(crate) fn keep_border_in_decimation(&mut self) {
+        self.keep_border = true;
     }
 
     /// How many vertices the bounded decimation removed (0 until it has run).
@@ -359,6 +368,33 @@ impl GreedyInsertion {
     /// to the smaller index), or `None` when every point within the stopping threshold is kept.
     pub(crate) fn worst_point(&self) -> Option<u32> {
         self.by_error.top().map(|e| e.point)
+    }
+
+    /// The largest vertical error of the current mesh and the point that has it (ties to the
+    /// smaller index), or `None` when every point within the stopping threshold is kept.
+    pub(crate) fn worst(&self) -> Option<(f64, u32)> {
+        self.by_error.top().map(|e| (e.key, e.point))
+    }
+
+    /// Inserts grid point `point` (not kept) whatever its error: how a tile takes a point its
+    /// neighbour inserted on their shared border line. Returns false, inserting nothing, when
+    /// `point` is kept already or off the grid.
+    pub(crate) fn insert_at(&mut self, point: u32) -> bool {
+        if self.kept.get(point as usize) != Some(&false) {
+            return false;
+        }
+        let q = self.point(point);
+        let slot = (0..self.mesh.len() as u32).find(|&t| {
+            let [a, b, c] = self.mesh.triangle(t as usize).map(|i| self.point(i));
+            predicates::orient(a, b, q) >= 0
+                && predicates::orient(b, c, q) >= 0
+                && predicates::orient(c, a, q) >= 0
+        });
+        let Some(slot) = slot else {
+            return false;
+        };
+        self.insert(slot, point);
+        true
     }
 
     /// The current mesh's triangle count.
@@ -632,13 +668,16 @@ impl GreedyInsertion {
             self.finish();
             return;
         };
+        self.insert(entry.slot, entry.point);
+    }
+
+    /// Inserts grid point `point`, which triangle `slot` holds, and updates the queues.
+    fn insert(&mut self, slot: u32, point: u32) {
         let mut changed = std::mem::take(&mut self.changed);
         changed.clear();
         self.mesh
-            .insert_point(entry.slot, entry.point, &mut self.stack, |s| {
-                changed.push(s)
-            });
-        self.kept[entry.point as usize] = true;
+            .insert_point(slot, point, &mut self.stack, |s| changed.push(s));
+        self.kept[point as usize] = true;
         self.kept_count += 1;
         self.insertions += 1;
         changed.sort_unstable();
@@ -690,6 +729,7 @@ impl GreedyInsertion {
             &mut totals,
             &mut self.kept,
             self.threshold,
+            self.keep_border,
         );
         self.kept_count -= removed;
         self.removed = removed;

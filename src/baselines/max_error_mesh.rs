@@ -30,6 +30,26 @@ pub fn mesh_within(
     start: &[u32],
     bound: f64,
 ) -> Result<MaxErrorMesh, ParamsError> {
+    made_within(hf, start, bound, false)
+}
+
+/// [`mesh_within`] on a tile: the decimation keeps every vertex on the tile's border, which its
+/// neighbours share (insertion may still add border points: the caller checks for them).
+#[cfg(not(target_arch = "wasm32"))]
+pub(crate) fn tile_mesh_within(
+    hf: Arc<Heightfield>,
+    start: &[u32],
+    bound: f64,
+) -> Result<MaxErrorMesh, ParamsError> {
+    made_within(hf, start, bound, true)
+}
+
+fn made_within(
+    hf: Arc<Heightfield>,
+    start: &[u32],
+    bound: f64,
+    keep_border: bool,
+) -> Result<MaxErrorMesh, ParamsError> {
     let params = GreedyParams {
         rule: InsertionRule::MaxError,
         stop: GreedyStop::MaxError(bound),
@@ -39,6 +59,9 @@ pub fn mesh_within(
         ..GreedyParams::default()
     };
     let mut run = GreedyInsertion::from_kept(hf, params, start)?;
+    if keep_border {
+        run.keep_border_in_decimation();
+    }
     run.run_to_end();
     let score = run
         .recorded()

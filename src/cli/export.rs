@@ -20,7 +20,7 @@ use paretomesh::heightfield::Heightfield;
 use paretomesh::import::{self, ImportOptions};
 use paretomesh::pick::{Pick, pick};
 use paretomesh::refine::{budget_floor, refine_to_budget};
-use paretomesh::tiling::TiledFrontFile;
+use paretomesh::tiling::{TiledFrontFile, grow_tiled_member};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -78,7 +78,8 @@ pub(super) struct ExportArgs {
     tradeoff: bool,
     /// Export a mesh of at most N triangles and at least 0.99·N (N ≥ 2): the member with the
     /// lowest E_sum among those with at most N, grown by exact insertions of its worst points
-    /// when it has fewer than 0.99·N (untiled fronts).
+    /// when it has fewer than 0.99·N (on a tiled front, the whole mesh's worst point goes into
+    /// the tile that holds it, and into both tiles on a shared border line).
     #[arg(long, value_name = "N")]
     max_triangles: Option<usize>,
     /// Export the member with the fewest triangles among those with E_sum at most E, where
@@ -91,9 +92,9 @@ pub(super) struct ExportArgs {
     #[arg(long, value_name = "X")]
     max_mean_error: Option<f64>,
     /// Export the member with the fewest triangles among those whose largest vertical error at
-    /// any grid point (E_max) is at most X, in the surface's z units. On an untiled front, a
-    /// mesh is also made for X from the members nearest it (greedy refinement, bounded-error
-    /// decimation), and the one with the fewest triangles is written.
+    /// any grid point (E_max) is at most X, in the surface's z units. A mesh is also made for X
+    /// from the members nearest it (greedy refinement, bounded-error decimation; per tile with
+    /// shared border points on a tiled front), and the one with the fewest triangles is written.
     #[arg(long, value_name = "X", allow_negative_numbers = true)]
     max_vertical_error: Option<f64>,
     /// Close the surface into a printable solid: vertical walls down from its border and a flat
@@ -304,10 +305,10 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     };
     let grid_points = grid.width * grid.height;
     let picked = pick(&scores, args.rule(), seed, grid_points);
-    // An untiled front reaches a max vertical error on demand (export_max_error.rs), so no
-    // member within it is needed; the others take the pick as it is.
-    let on_demand = match (&file, args.rule()) {
-        (AnyFront::Untiled(_), Pick::MaxVerticalError(x)) => Some(x),
+    // A max vertical error is reached on demand (export_max_error.rs), so no member within
+    // it is needed; the other rules take the pick as it is.
+    let on_demand = match args.rule() {
+        Pick::MaxVerticalError(x) => Some(x),
         _ => None,
     };
     let index = picked.clone().or_else(|e| match on_demand {
@@ -365,6 +366,16 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
             made_for = Some(made);
             triangles
         }
+        (AnyFront::Tiled(f), Some(x)) => {
+            let picked = picked.ok();
+            if let Some(k) = picked {
+                tiled_member_mesh(&hf, f, k, &args.front, &grid_path)?;
+            }
+            let made = export_max_error::reach_tiled(hf.clone(), &f.tiled, picked, x)?;
+            let triangles = made.triangles.clone();
+            made_for = Some(made);
+            triangles
+        }
         (AnyFront::Untiled(f), None) => member_mesh(hf.clone(), f, index, &args.front, &grid_path)?,
         (AnyFront::Tiled(f), _) => tiled_member_mesh(&hf, f, index, &args.front, &grid_path)?,
     };
@@ -372,9 +383,8 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
         Some(r) => r.score,
         None => scores[index],
     };
-    // How the mesh was reached, when not as the member itself: grown (said after the member)
-    // or a budget a tiled front cannot meet (said at the end).
-    let (mut grown, mut reached) = (String::new(), String::new());
+    // How the mesh was reached when the member was grown to the budget (said after it).
+    let mut grown_note = String::new();
     if let (Some(n), AnyFront::Untiled(f)) = (args.max_triangles, &file)
         && member.t < budget_floor(n)
     {
@@ -383,20 +393,30 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
             .evaluate(&refined.kept)
             .map_err(|e| e.to_string())?;
         triangles = canonical_set(&evaluation.triangles);
-        grown = format!(
+        grown_note = format!(
             " (T = {}) grown by {} exact insertions of its worst points, as the front has no member between {} and {n} triangles, giving a mesh",
             member.t,
             refined.insertions,
             budget_floor(n)
         );
         member = evaluation.score;
-    } else if let (Some(n), AnyFront::Tiled(_)) = (args.max_triangles, &file)
+    } else if let (Some(n), AnyFront::Tiled(f)) = (args.max_triangles, &file)
         && member.t < budget_floor(n)
     {
-        reached = format!(
-            " (the tiled front has no member between {} and {n} triangles; a tiled member is not grown)",
+        let grown = grow_tiled_member(&hf, &f.tiled, index, n)
+            .map_err(|e| format!("member {index}: {e}"))?;
+        let score = Evaluator::new(hf.clone())
+            .score_triangulation(&grown.triangles)
+            .map_err(|e| format!("internal error: the grown mesh is not a whole triangulation ({e}); nothing written"))?;
+        triangles = grown.triangles;
+        grown_note = format!(
+            " (T = {}) grown by {} exact insertions of the worst point of the whole mesh ({} on border lines two tiles share, inserted in both), as the front has no member between {} and {n} triangles, giving a mesh",
+            member.t,
+            grown.insertions,
+            grown.on_shared_lines,
             budget_floor(n)
         );
+        member = score;
     }
     let mesh = match &solid_options {
         Some(options) => solid(&hf, &triangles, options).map_err(|e| e.to_string())?,
@@ -428,7 +448,7 @@ pub(super) fn run(args: &ExportArgs) -> Result<(), String> {
     std::fs::write(&args.out, bytes)
         .map_err(|e| format!("cannot write {}: {e}", args.out.display()))?;
     eprintln!(
-        "wrote {}{grown} (T = {}, E_sum = {}, E_max = {}{}, {} vertices) to {} as {}{reached}",
+        "wrote {}{grown_note} (T = {}, E_sum = {}, E_max = {}{}, {} vertices) to {} as {}",
         match &made_for {
             Some(_) => what.clone(),
             None => format!("member {index} of {}", scores.len()),

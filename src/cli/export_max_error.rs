@@ -1,12 +1,15 @@
-//! `export --max-vertical-error X` on an untiled front: the fewest triangles found with E_max ≤
-//! X, from the front's members and, on demand, from meshes made for X from the members nearest
-//! it (greedy refinement of the member just above X, bounded-error decimation of the member
-//! just within it). Every mesh is scored afresh before it is written, and none with E_max > X is.
+//! `export --max-vertical-error X`: the fewest triangles found with E_max ≤ X, from the front's
+//! members and, on demand, from meshes made for X from the members nearest it (greedy
+//! refinement of the member just above X, bounded-error decimation of the member just within
+//! it). On a tiled front, those meshes are made per tile with shared border points
+//! ([`tiled_member_within`]). Every mesh is scored afresh before it is written, and none with
+//! E_max > X is.
 
 use paretomesh::baselines::{exactness_floor, mesh_within};
 use paretomesh::evaluator::{Evaluator, Score, canonical_set};
 use paretomesh::front_file::FrontFile;
 use paretomesh::heightfield::Heightfield;
+use paretomesh::tiling::{TiledFront, tiled_member_within};
 use std::sync::Arc;
 
 /// Refuses a bound no mesh can have, before any file is read: NaN or negative.
@@ -108,6 +111,64 @@ pub fn reach(
     Ok(Reached {
         triangles: canonical_set(&evaluation.triangles),
         score: evaluation.score,
+        how,
+    })
+}
+
+/// [`reach`] on a tiled front: the fewest-triangle mesh within `x` among the picked member
+/// (if any), the meshes made for `x` per tile from it and from the member just above `x` with
+/// fewer triangles, scored afresh as a whole-grid triangulation (which also refuses a crack).
+pub fn reach_tiled(
+    hf: Arc<Heightfield>,
+    front: &TiledFront,
+    picked: Option<usize>,
+    x: f64,
+) -> Result<Reached, String> {
+    let members = &front.members;
+    let limit = picked.map_or(u64::MAX, |k| members[k].t);
+    let above = (0..members.len())
+        .filter(|&k| members[k].e_max > x && members[k].t < limit)
+        .max_by_key(|&k| (members[k].t, std::cmp::Reverse(k)));
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut best: Option<(u64, Option<TiledFront>, String)> =
+        picked.map(|k| (members[k].t, None, format!("member {k} meets it as it is")));
+    for (start, what) in [
+        (picked, "the fewest-triangle member within the bound"),
+        (above, "the nearest member above the bound"),
+    ] {
+        let Some(k) = start else { continue };
+        let made = tiled_member_within(&hf, front, k, x, threads).map_err(|e| e.to_string())?;
+        let t = made.front.members[0].t;
+        if best.as_ref().is_none_or(|b| t < b.0) {
+            let how = format!(
+                "made for it from member {k} (T = {}, E_max = {}): {what}, per tile with shared border points ({} tiles), {} points inserted by greedy insertion of the worst point, {} removed by bounded-error decimation",
+                members[k].t,
+                members[k].e_max,
+                front.plan.len(),
+                made.inserted,
+                made.removed
+            );
+            best = Some((t, Some(made.front), how));
+        }
+    }
+    let (_, made, how) = best.ok_or("the front has no members")?;
+    let mesh = match &made {
+        Some(f) => f.mesh(&hf, 0),
+        None => front.mesh(&hf, picked.expect("a member as it is was picked")),
+    }
+    .map_err(|e| e.to_string())?;
+    let score = Evaluator::new(hf)
+        .score_triangulation(&mesh.triangles)
+        .map_err(|e| format!("internal error: the mesh made for --max-vertical-error {x} is not a whole triangulation ({e}); nothing written"))?;
+    if score.e_max > x {
+        return Err(format!(
+            "internal error: the mesh made for --max-vertical-error {x} scores E_max {} afresh; nothing written",
+            score.e_max
+        ));
+    }
+    Ok(Reached {
+        triangles: mesh.triangles,
+        score,
         how,
     })
 }

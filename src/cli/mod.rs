@@ -9,6 +9,7 @@ mod info;
 mod input;
 mod progress;
 mod run;
+mod run_within;
 mod tiles;
 
 use clap::{Parser, Subcommand};

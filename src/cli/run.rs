@@ -19,8 +19,8 @@ use paretomesh::heightfield::Heightfield;
 use paretomesh::measure::ErrorMeasure;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFrontFile, TilingError, check_tile, run_tiled_with_progress,
-    tile_config,
+    DEFAULT_TILE, TilePlan, TiledFront, TiledFrontFile, TilingError, check_tile,
+    run_tiled_with_progress, tile_config,
 };
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -113,7 +113,8 @@ pub(super) struct RunArgs {
     triangles: bool,
     /// Tile size in grid points a side: a larger grid is cut into tiles that share their
     /// borders, each optimised on its own (--evals then counts per tile), and one whole-grid
-    /// front is assembled [default: 1025].
+    /// front is assembled [default: 1025; 257 for --algo greedy with --max-vertical-error or
+    /// --max-error-fraction, which makes one mesh within the bound over the tiles].
     #[arg(long, value_name = "N")]
     tile: Option<usize>,
     /// Threads the tiles run on (the front does not depend on it) [default: every core].
@@ -231,8 +232,10 @@ pub(super) fn run(args: &RunArgs) -> Result<(), String> {
         return Err("--threads must be at least 1".to_string());
     }
     let hf = Arc::new(args.input.load()?);
-    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
-        .map_err(|e| e.to_string())?;
+    let tile = args.tile.unwrap_or_else(|| {
+        config(args).map_or(DEFAULT_TILE, |c| super::run_within::default_tile(&c))
+    });
+    let plan = TilePlan::new(hf.width(), hf.height(), tile).map_err(|e| e.to_string())?;
     if !plan.is_single() {
         return run_tiled_grid(args, &hf, &plan);
     }
@@ -348,6 +351,11 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if let Some(x) = super::run_within::bound_of(&config, hf) {
+        let started = Instant::now();
+        let tiled = super::run_within::make(hf, plan, x, threads)?;
+        return write_tiled(args, hf, &config, threads, tiled, started);
+    }
     eprintln!(
         "{}×{} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
         hf.width(),
@@ -390,6 +398,19 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         }
     }
     eprintln!("{line}");
+    write_tiled(args, hf, &config, threads, tiled, started)
+}
+
+/// Writes a tiled run's front (and CSV), begun at `started`.
+fn write_tiled(
+    args: &RunArgs,
+    hf: &Heightfield,
+    config: &Config,
+    threads: usize,
+    tiled: TiledFront,
+    started: Instant,
+) -> Result<(), String> {
+    let millis = started.elapsed().as_millis() as u64;
     let writing = Instant::now();
     let grid = GridInfo {
         width: hf.width(),
@@ -398,7 +419,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         import: Some(ImportRecord::of(&args.input.import.options())),
     };
     let file = TiledFrontFile {
-        header: RunHeader::new(grid, &config, args.seed, tiled.evaluations(), millis),
+        header: RunHeader::new(grid, config, args.seed, tiled.evaluations(), millis),
         threads,
         tiled,
     };

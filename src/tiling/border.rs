@@ -66,6 +66,13 @@ pub(super) fn level_count(tile: usize) -> usize {
 /// The interior points of a line with heights `profile` (at least 2), ranked by 1-D greedy
 /// insertion: positions 1 ..= n − 2, most important first.
 pub(super) fn insertion_order(profile: &[f64]) -> Vec<u32> {
+    ranked(profile).into_iter().map(|(at, _)| at).collect()
+}
+
+/// [`insertion_order`] with, beside each position, the line's largest error |z − z̃| just
+/// before it is inserted: so the line keeping the first k positions has the largest error
+/// of entry k (0 when k is the whole ranking).
+pub(super) fn ranked(profile: &[f64]) -> Vec<(u32, f64)> {
     let n = profile.len();
     let mut order = Vec::with_capacity(n.saturating_sub(2));
     if n <= 2 {
@@ -92,8 +99,8 @@ pub(super) fn insertion_order(profile: &[f64]) -> Vec<u32> {
         }
     };
     push(&mut heap, 0, n - 1);
-    while let Some(Entry { at, a, b, .. }) = heap.pop() {
-        order.push(at as u32);
+    while let Some(Entry { error, at, a, b }) = heap.pop() {
+        order.push((at as u32, error));
         push(&mut heap, a, at);
         push(&mut heap, at, b);
     }

@@ -21,7 +21,9 @@
 //! - `assemble`: [`assemble()`], the whole-grid front, [`TiledFront`];
 //! - `mesh`: a whole-grid member's tile parts, kept points and triangles;
 //! - `file`: front.json of a tiled run;
-//! - `parallel` (native): [`run_tiled`] on a pool of threads.
+//! - `grow`: [`grow_tiled_member`], a member grown to a triangle budget by exact steps;
+//! - `parallel` (native): [`run_tiled`] on a pool of threads;
+//! - `within` (native): [`tiled_mesh_within`], one mesh within a max error, tiles in parallel.
 //!
 //! The files are private; what callers need is re-exported here.
 //!
@@ -48,6 +50,7 @@ mod allocation;
 mod assemble;
 mod border;
 mod file;
+mod grow;
 #[cfg(test)]
 mod measure_tests;
 mod mesh;
@@ -59,15 +62,20 @@ mod test_fixtures;
 #[cfg(test)]
 mod tests;
 mod tile_front;
+#[cfg(not(target_arch = "wasm32"))]
+mod within;
 
 pub use algorithm::{tile_config, tile_seed};
 pub use assemble::{TiledFront, TiledMember, assemble};
 pub use file::TiledFrontFile;
+pub use grow::{TiledGrown, grow_tiled_member};
 pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
 #[cfg(not(target_arch = "wasm32"))]
 pub use parallel::{run_tiled, run_tiled_with_progress};
 pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
 pub use tile_front::{TileCandidate, TileFront, run_tile, run_tile_keeping};
+#[cfg(not(target_arch = "wasm32"))]
+pub use within::{TiledWithin, tiled_member_within, tiled_mesh_within};
 
 pub(crate) use border::TileBorders;
 pub(crate) use tile_front::MEMBERS_PER_TILE;

@@ -100,7 +100,7 @@ pub(crate) fn unowned_error(
 }
 
 /// [`unowned_error`] in squared errors.
-fn unowned_square_error(
+pub(super) fn unowned_square_error(
     plan: &TilePlan,
     index: usize,
     borders: &TileBorders,
