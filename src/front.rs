@@ -40,7 +40,7 @@ impl Solution {
     }
 
     /// The objective vector (E, T).
-    pub fn objectives(&self) -> [f64; 2] {
+    pub(crate) fn objectives(&self) -> [f64; 2] {
         self.score.objectives()
     }
 }
@@ -100,7 +100,7 @@ pub fn dominates(a: [f64; 2], b: [f64; 2]) -> bool {
 
 /// A set of mutually non-dominated solutions, sorted by increasing T (so decreasing E).
 ///
-/// E is the front's [`ErrorMeasure`] (E_sum unless made by [`Front::new`] with another):
+/// E is the front's [`ErrorMeasure`] (E_sum unless made by `Front::new` with another):
 /// members are non-dominated in (that error, T), and still carry all three errors.
 /// Solutions with identical objectives are kept once (the first one offered).
 ///
@@ -128,7 +128,7 @@ pub struct Front {
 
 impl Front {
     /// An empty front in (`measure`, T).
-    pub fn new(measure: ErrorMeasure) -> Self {
+    pub(crate) fn new(measure: ErrorMeasure) -> Self {
         Self {
             solutions: Vec::new(),
             measure,
@@ -208,7 +208,7 @@ impl Front {
     }
 
     /// Merges solutions into one front of (`measure`, T).
-    pub fn merged_in<'a>(
+    pub(crate) fn merged_in<'a>(
         measure: ErrorMeasure,
         solutions: impl IntoIterator<Item = &'a Solution>,
     ) -> Front {

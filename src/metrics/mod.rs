@@ -51,12 +51,9 @@ pub use hypervolume::{hypervolume, hypervolume_ratio};
 pub use nondominated::{merge, non_dominated};
 pub use normalization::{DEFAULT_REFERENCE_POINT, Normalization};
 pub use tradeoff::{
-    TRADE_OFF_WEIGHTS, TradeOffPick, best_error_pick, fewest_triangles_pick, trade_off_pick,
-    trade_off_pick_with,
+    TradeOffPick, best_error_pick, fewest_triangles_pick, trade_off_pick, trade_off_pick_with,
 };
-pub use wilcoxon::{
-    EXACT_SAMPLE_LIMIT, RankSumMethod, RankSumTest, exact_u_cdf, rank_sum_test, rank_sum_test_with,
-};
+pub use wilcoxon::{RankSumMethod, RankSumTest, exact_u_cdf, rank_sum_test, rank_sum_test_with};
 
 use crate::evaluator::EvaluateError;
 use crate::front::Solution;
