@@ -54,7 +54,7 @@ pub(crate) mod part_scores;
 pub(crate) mod raster;
 pub(crate) mod score;
 #[cfg(test)]
-mod test_grids;
+pub(crate) mod test_grids;
 #[cfg(test)]
 mod tests;
 

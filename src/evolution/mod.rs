@@ -26,6 +26,10 @@ pub(crate) mod scorer;
 pub mod trace;
 pub(crate) mod weighted_sum;
 
+// On real terrain: determinism, slicing invariance, non-dominated fronts, honest objectives.
+#[cfg(test)]
+mod tests;
+
 pub use memetic::{Memetic, MemeticParams};
 pub use nsga2::{Individual, Nsga2};
 pub use operators::CrossoverKind;

@@ -44,6 +44,10 @@ mod normalization;
 mod tradeoff;
 mod wilcoxon;
 
+// Against hand-computed values, textbook tables, brute force and published examples.
+#[cfg(test)]
+mod tests;
+
 pub use coverage::{coverage, strict_coverage};
 pub use dominance::dominance_probability;
 pub use epsilon::{additive_epsilon, multiplicative_epsilon};
