@@ -40,7 +40,7 @@ impl Solution {
     }
 
     /// The objective vector (E, T).
-    pub(crate) fn objectives(&self) -> [f64; 2] {
+    pub fn objectives(&self) -> [f64; 2] {
         self.score.objectives()
     }
 }
@@ -203,7 +203,7 @@ impl Front {
     }
 
     /// Merges solutions from any number of fronts or runs into one front of (E_sum, T).
-    pub fn merged<'a>(solutions: impl IntoIterator<Item = &'a Solution>) -> Front {
+    pub(crate) fn merged<'a>(solutions: impl IntoIterator<Item = &'a Solution>) -> Front {
         Self::merged_in(ErrorMeasure::Sum, solutions)
     }
 

@@ -4,7 +4,6 @@
 use paretomesh::evaluator::{Evaluator, canonical_set};
 use paretomesh::front_file::FrontFile;
 use paretomesh::import;
-use paretomesh::optimizer::Optimizer;
 use std::sync::Arc;
 
 mod common;

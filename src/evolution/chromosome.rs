@@ -142,7 +142,7 @@ impl Chromosome {
     }
 
     /// The set indices in increasing order.
-    pub fn indices(&self) -> Vec<u32> {
+    pub(crate) fn indices(&self) -> Vec<u32> {
         let mut out = Vec::with_capacity(self.count_ones());
         self.write_indices(&mut out);
         out
