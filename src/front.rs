@@ -100,7 +100,7 @@ pub fn dominates(a: [f64; 2], b: [f64; 2]) -> bool {
 
 /// A set of mutually non-dominated solutions, sorted by increasing T (so decreasing E).
 ///
-/// E is the front's [`ErrorMeasure`] (E_sum unless made by [`Front::new`] with another):
+/// E is the front's [`ErrorMeasure`] (E_sum unless made by `Front::new` with another):
 /// members are non-dominated in (that error, T), and still carry all three errors.
 /// Solutions with identical objectives are kept once (the first one offered).
 ///
@@ -128,7 +128,7 @@ pub struct Front {
 
 impl Front {
     /// An empty front in (`measure`, T).
-    pub fn new(measure: ErrorMeasure) -> Self {
+    pub(crate) fn new(measure: ErrorMeasure) -> Self {
         Self {
             solutions: Vec::new(),
             measure,
@@ -203,12 +203,12 @@ impl Front {
     }
 
     /// Merges solutions from any number of fronts or runs into one front of (E_sum, T).
-    pub fn merged<'a>(solutions: impl IntoIterator<Item = &'a Solution>) -> Front {
+    pub(crate) fn merged<'a>(solutions: impl IntoIterator<Item = &'a Solution>) -> Front {
         Self::merged_in(ErrorMeasure::Sum, solutions)
     }
 
     /// Merges solutions into one front of (`measure`, T).
-    pub fn merged_in<'a>(
+    pub(crate) fn merged_in<'a>(
         measure: ErrorMeasure,
         solutions: impl IntoIterator<Item = &'a Solution>,
     ) -> Front {

@@ -125,7 +125,7 @@ pub struct RunHeader {
     /// tile ran them).
     pub params: serde_json::Value,
     /// The seed of the run's random generator (tile k of a tiled run runs with
-    /// [`tile_seed`](crate::tiling::tile_seed)`(seed, k)`).
+    /// `tile_seed``(seed, k)`).
     pub seed: u64,
     /// Evaluations spent (over all tiles).
     pub evaluations: u64,

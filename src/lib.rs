@@ -33,7 +33,7 @@
 //!   app's logic (state, share links, plot layout, ...), which is the crate's own.
 //!
 //! Modules with several files keep them private (or `pub(crate)`) and re-export their API at
-//! the top; `evolution` also keeps `chromosome`, `oax`, `trace`, `ranking` and `memetic`
+//! the top; `evolution` also keeps `chromosome`, `oax`, `trace` and `memetic`
 //! public, and `experiment` its `external`. `tests/public-api.txt` lists the whole public API;
 //! `scripts/public-api.sh` checks it.
 

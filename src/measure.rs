@@ -49,7 +49,7 @@ impl ErrorMeasure {
     }
 
     /// Is this the default measure (`sum`), which front.json leaves unrecorded?
-    pub fn is_sum(&self) -> bool {
+    pub(crate) fn is_sum(&self) -> bool {
         *self == ErrorMeasure::Sum
     }
 

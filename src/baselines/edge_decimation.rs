@@ -178,7 +178,7 @@ impl EdgeDecimation {
     }
 
     /// The currently kept grid indices, increasing.
-    pub fn kept(&self) -> Vec<u32> {
+    pub(crate) fn kept(&self) -> Vec<u32> {
         (0..self.kept.len() as u32)
             .filter(|&i| self.kept[i as usize])
             .collect()

@@ -321,7 +321,7 @@ impl GreedyInsertion {
     }
 
     /// Every recorded solution in recording order (increasing T), dominated ones included.
-    pub fn recorded(&self) -> &[Solution] {
+    pub(crate) fn recorded(&self) -> &[Solution] {
         &self.recorded
     }
 
@@ -331,7 +331,7 @@ impl GreedyInsertion {
     }
 
     /// The currently kept grid indices, increasing.
-    pub fn kept(&self) -> Vec<u32> {
+    pub(crate) fn kept(&self) -> Vec<u32> {
         let mut kept = Vec::with_capacity(self.kept_count);
         // Whole words of unkept points are skipped at once: at 1 % of the z range a large
         // grid keeps about one point in ten, and a recording lists them all.
@@ -403,7 +403,7 @@ impl GreedyInsertion {
     }
 
     /// The largest vertical error of the current mesh (0 when every point is kept).
-    pub fn current_max_error(&mut self) -> f64 {
+    pub(crate) fn current_max_error(&mut self) -> f64 {
         match self.by_error.top() {
             Some(e) => e.key,
             // Every error is within the threshold (or zero): the largest is a triangle's.

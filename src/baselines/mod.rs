@@ -12,6 +12,10 @@ pub(crate) mod greedy_insertion;
 pub(crate) mod max_error_mesh;
 pub(crate) mod slot_heap;
 
+// On real terrain: canonical meshes, honest records, stop contracts.
+#[cfg(test)]
+mod tests;
+
 pub use edge_decimation::{DecimationParams, EdgeDecimation};
 pub use greedy_insertion::{
     GreedyInsertion, GreedyParams, GreedyStop, InsertionRule, exactness_floor,

@@ -65,14 +65,14 @@ macro_rules! methods {
 
             /// How many GA runs one run of the method is made of (the weighted-sum GA: one per
             /// weight), and so how many shares an equal budget is split into.
-            pub fn runs_per_run(self) -> usize {
+            pub(crate) fn runs_per_run(self) -> usize {
                 match self {
                     $(Algorithm::$variant => methods!(@or [$($runs)?] 1),)+
                 }
             }
 
             /// The method with its own defaults (its params type's `Default`).
-            pub fn defaults(self) -> Config {
+            pub(crate) fn defaults(self) -> Config {
                 match self {
                     $(Algorithm::$variant => Config::$variant(<$params>::default()),)+
                 }
@@ -114,7 +114,7 @@ macro_rules! methods {
             }
 
             /// The parameters as front.json and results.json record them.
-            pub fn json(&self) -> serde_json::Value {
+            pub(crate) fn json(&self) -> serde_json::Value {
                 match self {
                     $(Config::$variant(p) => serde_json::to_value(p),)+
                 }
@@ -134,7 +134,7 @@ macro_rules! methods {
 
             /// The parameters each tile runs with when a grid of `points` points is cut into
             /// `tiles` tiles that each run this method (see [`crate::tiling`]).
-            pub fn tile_share(self, points: u64, tiles: usize) -> Config {
+            pub(crate) fn tile_share(self, points: u64, tiles: usize) -> Config {
                 let _ = (points, tiles);
                 match self {
                     $(Config::$variant(p) => Config::$variant(

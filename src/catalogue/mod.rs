@@ -423,7 +423,12 @@ impl Algorithm {
 
     /// Builds the method on `hf` with `params` over its defaults; `seed` drives a stochastic
     /// method and is ignored by the others.
-    pub fn build(self, hf: Arc<Heightfield>, params: &Params, seed: u64) -> Result<Built, String> {
+    pub(crate) fn build(
+        self,
+        hf: Arc<Heightfield>,
+        params: &Params,
+        seed: u64,
+    ) -> Result<Built, String> {
         self.configure(params)?.build(hf, seed)
     }
 }

@@ -13,7 +13,7 @@ use paretomesh::tiling::{TiledFront, tiled_member_within};
 use std::sync::Arc;
 
 /// Refuses a bound no mesh can have, before any file is read: NaN or negative.
-pub fn check_sign(x: f64) -> Result<(), String> {
+pub(super) fn check_sign(x: f64) -> Result<(), String> {
     if x.is_nan() {
         return Err(
             "--max-vertical-error is not a number: give a vertical error of at least 0".to_string(),
@@ -29,7 +29,7 @@ pub fn check_sign(x: f64) -> Result<(), String> {
 
 /// Refuses a bound above 0 but below the grid's exactness floor, where an error is the
 /// interpolation's rounding rather than the surface's.
-pub fn check_floor(hf: &Heightfield, x: f64) -> Result<(), String> {
+pub(super) fn check_floor(hf: &Heightfield, x: f64) -> Result<(), String> {
     let floor = exactness_floor(hf);
     if x > 0.0 && x < floor {
         return Err(format!(
@@ -47,7 +47,7 @@ fn max_abs(hf: &Heightfield) -> f64 {
 
 /// The mesh `export` writes for `--max-vertical-error x`: its triangles, its score and how it
 /// was reached.
-pub struct Reached {
+pub(super) struct Reached {
     pub triangles: Vec<[u32; 3]>,
     pub score: Score,
     pub how: String,
@@ -56,7 +56,7 @@ pub struct Reached {
 /// The fewest-triangle mesh within `x` among: the front's fewest-triangle member within `x`
 /// (`picked`, if any), that member decimated to `x`, and the member just above `x` in E_max
 /// with fewer triangles refined to `x` by greedy insertion and then decimated.
-pub fn reach(
+pub(super) fn reach(
     hf: Arc<Heightfield>,
     file: &FrontFile,
     picked: Option<usize>,

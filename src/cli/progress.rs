@@ -5,7 +5,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 /// A progress line printer, shared between threads.
-pub struct Progress {
+pub(super) struct Progress {
     label: &'static str,
     started: Instant,
     last: Mutex<Option<Instant>>,
@@ -13,7 +13,7 @@ pub struct Progress {
 
 impl Progress {
     /// Starts the clock for `label` ("tiles run", "tiles written", ...).
-    pub fn new(label: &'static str) -> Self {
+    pub(super) fn new(label: &'static str) -> Self {
         Self {
             label,
             started: Instant::now(),
@@ -22,7 +22,7 @@ impl Progress {
     }
 
     /// Reports `done` of `total`.
-    pub fn report(&self, done: usize, total: usize) {
+    pub(super) fn report(&self, done: usize, total: usize) {
         let now = Instant::now();
         let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
         if done < total && last.is_some_and(|t| now.duration_since(t).as_secs_f64() < 1.0) {

@@ -54,7 +54,7 @@ pub(crate) mod part_scores;
 pub(crate) mod raster;
 pub(crate) mod score;
 #[cfg(test)]
-mod test_grids;
+pub(crate) mod test_grids;
 #[cfg(test)]
 mod tests;
 
@@ -64,7 +64,8 @@ pub use mesh::canonical_form::canonical_set;
 pub use mesh::canonical_triangulation::Triangulation;
 pub(crate) use mesh::delaunay_check::is_delaunay;
 pub use mesh::state::{GridLookups, MeshState};
-pub use part_scores::{Changes, PartScores};
+pub(crate) use part_scores::Changes;
+pub use part_scores::PartScores;
 pub use score::{Evaluation, Score};
 
 use crate::heightfield::Heightfield;
@@ -102,7 +103,7 @@ impl Evaluator {
     }
 
     /// The height field this evaluator scores on.
-    pub fn heightfield(&self) -> &Arc<Heightfield> {
+    pub(crate) fn heightfield(&self) -> &Arc<Heightfield> {
         &self.hf
     }
 

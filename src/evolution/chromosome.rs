@@ -31,7 +31,7 @@ impl Chromosome {
     }
 
     /// Number of genes (grid points).
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.len
     }
 
@@ -61,12 +61,13 @@ impl Chromosome {
     }
 
     /// Number of set genes (kept points, corners included).
-    pub fn count_ones(&self) -> usize {
+    pub(crate) fn count_ones(&self) -> usize {
         self.words.iter().map(|w| w.count_ones() as usize).sum()
     }
 
     /// Number of genes that differ from `other` (same length).
-    pub fn hamming(&self, other: &Chromosome) -> usize {
+    #[cfg(test)]
+    pub(crate) fn hamming(&self, other: &Chromosome) -> usize {
         self.words
             .iter()
             .zip(&other.words)
@@ -141,7 +142,7 @@ impl Chromosome {
     }
 
     /// The set indices in increasing order.
-    pub fn indices(&self) -> Vec<u32> {
+    pub(crate) fn indices(&self) -> Vec<u32> {
         let mut out = Vec::with_capacity(self.count_ones());
         self.write_indices(&mut out);
         out

@@ -172,7 +172,7 @@ impl Nsga2 {
 
     /// Evaluations spent by greedy seeding so far (0 when seeding is off); included in
     /// [`Progress::evaluations`].
-    pub fn greedy_evaluations(&self) -> u64 {
+    pub(crate) fn greedy_evaluations(&self) -> u64 {
         self.greedy_evaluations + self.greedy.as_ref().map_or(0, |g| g.progress().evaluations)
     }
 

@@ -194,12 +194,12 @@ pub struct OaxRecord {
 
 impl OaxRecord {
     /// Child `i` in the numbering of [`chosen`](Self::chosen).
-    pub fn child(&self, i: usize) -> &OaxChild {
+    pub(crate) fn child(&self, i: usize) -> &OaxChild {
         self.rows.get(i).unwrap_or(&self.best_levels)
     }
 
     /// Number of evaluations this crossover spent.
-    pub fn evaluations(&self) -> usize {
+    pub(crate) fn evaluations(&self) -> usize {
         self.rows
             .iter()
             .chain(std::iter::once(&self.best_levels))

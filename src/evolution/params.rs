@@ -125,7 +125,7 @@ impl GaParams {
     }
 
     /// The number of initial individuals seeded from greedy insertion: ⌊fraction · population⌋.
-    pub fn greedy_seeds(&self) -> usize {
+    pub(crate) fn greedy_seeds(&self) -> usize {
         (self.greedy_seed_fraction * self.population as f64).floor() as usize
     }
 

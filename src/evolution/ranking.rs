@@ -6,7 +6,7 @@ use crate::front::dominates;
 /// The non-dominated fronts of `points`: `fronts[0]` holds the indices of the points no other
 /// point dominates, `fronts[1]` those dominated only by points of `fronts[0]`, and so on. Each
 /// front lists its indices in increasing order. Equal points share a front.
-pub fn non_dominated_fronts(points: &[[f64; 2]]) -> Vec<Vec<usize>> {
+pub(crate) fn non_dominated_fronts(points: &[[f64; 2]]) -> Vec<Vec<usize>> {
     let n = points.len();
     let mut dominated_by_count = vec![0usize; n];
     let mut dominates_list: Vec<Vec<usize>> = vec![Vec::new(); n];
@@ -40,7 +40,8 @@ pub fn non_dominated_fronts(points: &[[f64; 2]]) -> Vec<Vec<usize>> {
 }
 
 /// The rank (0 = non-dominated) of every point.
-pub fn ranks(points: &[[f64; 2]]) -> Vec<usize> {
+#[cfg(test)]
+pub(crate) fn ranks(points: &[[f64; 2]]) -> Vec<usize> {
     let mut rank = vec![0; points.len()];
     for (r, front) in non_dominated_fronts(points).iter().enumerate() {
         for &i in front {

@@ -139,7 +139,7 @@ pub struct GenerationTrace {
 
 impl GenerationTrace {
     /// How many times each parent was picked by a tournament, by population index.
-    pub fn selection_counts(&self) -> Vec<usize> {
+    pub(crate) fn selection_counts(&self) -> Vec<usize> {
         let mut counts = vec![0; self.parents.len()];
         for m in &self.matings {
             for &p in &m.parents {
@@ -152,7 +152,7 @@ impl GenerationTrace {
     }
 
     /// True for the union members that survived.
-    pub fn survived(&self) -> Vec<bool> {
+    pub(crate) fn survived(&self) -> Vec<bool> {
         let mut kept = vec![false; self.union.len()];
         for &i in &self.survivors {
             if let Some(k) = kept.get_mut(i) {

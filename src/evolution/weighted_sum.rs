@@ -65,7 +65,6 @@ struct Member {
 /// The weighted-sum GA; see the module doc.
 pub struct WeightedSum {
     params: WeightedSumParams,
-    seed: u64,
     mutation: f64,
     rng: Pcg64Mcg,
     scorer: Scorer,
@@ -88,7 +87,7 @@ pub struct WeightedSum {
 
 impl WeightedSum {
     /// A run on `hf` with `params` and `seed`; nothing is evaluated until the first step.
-    pub fn new(
+    pub(crate) fn new(
         hf: Arc<Heightfield>,
         params: WeightedSumParams,
         seed: u64,
@@ -119,28 +118,19 @@ impl WeightedSum {
             last_crossover: None,
             pending: None,
             params,
-            seed,
         })
     }
 
-    /// The parameters.
-    pub fn params(&self) -> &WeightedSumParams {
-        &self.params
-    }
-
-    /// The seed.
-    pub fn seed(&self) -> u64 {
-        self.seed
-    }
-
     /// The best solution of each finished run, with its weight, in run order.
-    pub fn run_bests(&self) -> &[(f64, Solution)] {
+    #[cfg(test)]
+    pub(crate) fn run_bests(&self) -> &[(f64, Solution)] {
         &self.run_bests
     }
 
     /// The record of the last completed orthogonal-array crossover, if any happened (a
     /// crossover still making its children is not reported until it completes).
-    pub fn last_crossover(&self) -> Option<&OaxRecord> {
+    #[cfg(test)]
+    pub(crate) fn last_crossover(&self) -> Option<&OaxRecord> {
         self.last_crossover.as_ref()
     }
 

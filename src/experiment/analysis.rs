@@ -37,7 +37,7 @@ use serde::Serialize;
 use std::cmp::Ordering;
 
 /// The significance level of Table V's marks.
-pub const SIGNIFICANCE_LEVEL: f64 = 0.05;
+pub(crate) const SIGNIFICANCE_LEVEL: f64 = 0.05;
 
 /// Table V's verdict for an ordered pair of methods (A, B).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

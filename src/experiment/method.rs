@@ -55,19 +55,17 @@ impl Method {
     /// The weighted-sum GA.
     pub const WEIGHTED: Method = Method::of(Algorithm::Weighted);
     /// Edge decimation.
-    pub const DECIMATION: Method = Method::of(Algorithm::Decimation);
+    #[cfg(test)]
+    pub(crate) const DECIMATION: Method = Method::of(Algorithm::Decimation);
     /// Greedy insertion.
     pub const GREEDY: Method = Method::of(Algorithm::Greedy);
     /// The memetic method.
     pub const MEMETIC: Method = Method::of(Algorithm::Memetic);
     /// The memetic method without greedy seeding.
     pub const MEMETIC_NO_SEED: Method = Method::ablation(Component::GreedySeeding);
-    /// The memetic method with random bit-flip mutation.
-    pub const MEMETIC_RANDOM_MUTATION: Method = Method::ablation(Component::GuidedMutation);
-    /// The memetic method mating with any member.
-    pub const MEMETIC_NO_NEIGHBOUR_MATING: Method = Method::ablation(Component::NeighbourMating);
     /// The memetic method without its local search.
-    pub const MEMETIC_NO_LOCAL_SEARCH: Method = Method::ablation(Component::LocalSearch);
+    #[cfg(test)]
+    pub(crate) const MEMETIC_NO_LOCAL_SEARCH: Method = Method::ablation(Component::LocalSearch);
 
     /// The catalogue method `algorithm` itself.
     pub(crate) const fn of(algorithm: Algorithm) -> Method {

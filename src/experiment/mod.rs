@@ -29,17 +29,16 @@ pub(crate) mod settings;
 pub(crate) mod stats;
 pub(crate) mod svg;
 
-pub use analysis::{
-    Analysis, DatasetAnalysis, Mark, MethodAnalysis, PairAnalysis, Pick, SIGNIFICANCE_LEVEL,
-};
+pub use analysis::{Analysis, DatasetAnalysis, Mark, MethodAnalysis, PairAnalysis, Pick};
 pub use contender::Contender;
 pub use external::{MeshInput, rescore};
 pub use method::Method;
-pub use protocol::{Dataset, Job, assemble, check_methods, plan, run_all, run_job, run_seed};
-pub use report::{format_significant, format_summary, report_markdown};
+pub use protocol::{Dataset, Job, assemble, check_methods, plan, run_all, run_job};
+pub use report::{format_significant, report_markdown};
+pub(crate) use results::RESULTS_FORMAT;
 pub use results::{
-    DatasetResults, ExternalFront, GridSummary, MethodRuns, RESULTS_FORMAT, RejectedMesh, Results,
-    RunRecord, RunTiming, Scales, Timings,
+    DatasetResults, ExternalFront, GridSummary, MethodRuns, RejectedMesh, Results, RunRecord,
+    RunTiming, Scales, Timings,
 };
 pub use settings::{Budget, DEFAULT_EQUAL_EVALUATIONS, Settings};
 pub use stats::Summary;

@@ -36,7 +36,7 @@ use crate::metrics::Normalization;
 use std::sync::Arc;
 
 /// The seed of run `run` of a stochastic method: `base + run` (wrapping).
-pub fn run_seed(base: u64, run: usize) -> u64 {
+pub(crate) fn run_seed(base: u64, run: usize) -> u64 {
     base.wrapping_add(run as u64)
 }
 

@@ -16,7 +16,7 @@ use crate::evolution::memetic::MemeticParams;
 use std::fmt::Write;
 
 /// `mean ± std` with 4 decimals, `± n/a` for a single value.
-pub fn format_summary(s: &Summary) -> String {
+pub(crate) fn format_summary(s: &Summary) -> String {
     match s.std {
         Some(std) => format!("{:.4} ± {:.4}", s.mean, std),
         None => format!("{:.4} ± n/a", s.mean),

@@ -10,12 +10,12 @@ use crate::front::Solution;
 use serde::{Deserialize, Serialize};
 
 /// The identifier of this file format, written as `format`.
-pub const RESULTS_FORMAT: &str = "paretomesh-experiment/1";
+pub(crate) const RESULTS_FORMAT: &str = "paretomesh-experiment/1";
 
 /// The whole experiment.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Results {
-    /// Always [`RESULTS_FORMAT`].
+    /// Always `RESULTS_FORMAT`.
     pub format: String,
     /// What was run.
     pub settings: Settings,

@@ -18,7 +18,7 @@ pub use glb::{GlbError, GlbMesh, VertexColors, vertex_normals, write_glb};
 pub use mesh::WorldMesh;
 pub use obj::to_obj;
 pub use ply::to_ply;
-pub use solid::{DEFAULT_BASE_FRACTION, SolidError, SolidOptions, signed_volume, solid};
+pub use solid::{SolidError, SolidOptions, signed_volume, solid};
 pub use stl::to_stl;
 pub use threemf::{to_3mf, to_3mf_deflated};
 

@@ -12,13 +12,13 @@ use std::fmt;
 
 /// The base height when none is given: this fraction of the scaled z range (of the grid's
 /// extent in x and y for a flat surface), enough for a print to hold together.
-pub const DEFAULT_BASE_FRACTION: f64 = 0.05;
+pub(crate) const DEFAULT_BASE_FRACTION: f64 = 0.05;
 
 /// How the solid is built.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolidOptions {
     /// How far the flat bottom lies below the lowest grid point, in output z units (after
-    /// `z_scale`); `None` for [`DEFAULT_BASE_FRACTION`] of the scaled z range. A cylindrical
+    /// `z_scale`); `None` for `DEFAULT_BASE_FRACTION` of the scaled z range. A cylindrical
     /// unwrap has no base and refuses one.
     pub base_height: Option<f64>,
     /// Heights are multiplied by this (1 keeps the input's z units); the radius in a

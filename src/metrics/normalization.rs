@@ -71,7 +71,7 @@ impl Normalization {
     }
 
     /// One normalised point: (E / e_scale, T / t_scale). NaN stays NaN (the indicators reject it).
-    pub fn apply(&self, point: Point) -> Point {
+    pub(crate) fn apply(&self, point: Point) -> Point {
         [point[0] / self.e_scale, point[1] / self.t_scale]
     }
 

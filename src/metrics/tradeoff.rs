@@ -8,7 +8,7 @@ use serde::Serialize;
 use std::cmp::Ordering;
 
 /// The number of random weights of the paper's trade-off pick.
-pub const TRADE_OFF_WEIGHTS: usize = 1000;
+pub(crate) const TRADE_OFF_WEIGHTS: usize = 1000;
 
 /// The result of [`trade_off_pick`]: which point won, and the numbers it won with.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -23,7 +23,7 @@ pub struct TradeOffPick {
     pub mean_weight: f64,
 }
 
-/// The paper's best trade-off (eq. 7–9) with [`TRADE_OFF_WEIGHTS`] weights drawn from
+/// The paper's best trade-off (eq. 7–9) with `TRADE_OFF_WEIGHTS` weights drawn from
 /// `Pcg64Mcg::seed_from_u64(seed)`. See [`trade_off_pick_with`] for the contract.
 pub fn trade_off_pick(front: &[Point], seed: u64) -> Result<TradeOffPick, MetricsError> {
     let mut rng = Pcg64Mcg::seed_from_u64(seed);

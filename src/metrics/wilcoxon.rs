@@ -7,7 +7,7 @@ use std::cmp::Ordering;
 /// [`RankSumMethod::Auto`] uses the exact distribution when both samples have fewer than this
 /// many values and there are no ties — R's `wilcox.test` rule. Below it the exact table is cheap
 /// (at most 49·49·1201 additions) and the normal approximation is at its weakest.
-pub const EXACT_SAMPLE_LIMIT: usize = 50;
+pub(crate) const EXACT_SAMPLE_LIMIT: usize = 50;
 
 /// Largest n1·n2 for which [`RankSumMethod::Exact`] is accepted: the table costs at most
 /// n1·n2·(n1·n2/2 + 1) additions and min(n1, n2)·(n1·n2/2 + 1) numbers of memory.
@@ -16,7 +16,7 @@ pub(super) const EXACT_TABLE_LIMIT: usize = 10_000;
 /// How the p-value of [`rank_sum_test_with`] is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub enum RankSumMethod {
-    /// Exact if there are no ties and both samples have fewer than [`EXACT_SAMPLE_LIMIT`]
+    /// Exact if there are no ties and both samples have fewer than `EXACT_SAMPLE_LIMIT`
     /// values, normal approximation otherwise.
     Auto,
     /// The exact null distribution of U (no ties allowed).

@@ -19,9 +19,12 @@ mod tiled_levels;
 mod tileset;
 
 pub use globe::{Frame, MapSystem};
-pub use quadtree::Tile;
-pub use tiled_levels::{level_within, tiled_levels};
-pub use tileset::{Bounds, TileContent};
+pub(crate) use quadtree::Tile;
+// Terrain tiles (native only) pick their levels by it.
+#[cfg(not(target_arch = "wasm32"))]
+pub(crate) use tiled_levels::level_within;
+pub use tiled_levels::tiled_levels;
+pub(crate) use tileset::TileContent;
 
 /// The parts a pyramid is made of, for the crate's tests (the `test-support` feature); not part
 /// of the API.

@@ -63,7 +63,8 @@ impl Level {
 
     /// A level cut along the given grid lines (each list increasing from 0 to the grid's last
     /// point): a block of several quadtree roots, as a terrain scheme's tiles over a DEM.
-    pub fn from_cuts(
+    #[cfg(not(target_arch = "wasm32"))]
+    pub(crate) fn from_cuts(
         level: u32,
         width: usize,
         column_cuts: Vec<usize>,
@@ -83,7 +84,7 @@ impl Level {
     }
 
     /// Tiles along y.
-    pub fn rows(&self) -> usize {
+    pub(crate) fn rows(&self) -> usize {
         self.row_cuts.len() - 1
     }
 

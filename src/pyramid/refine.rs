@@ -14,7 +14,7 @@ const MAX_ROUNDS: usize = 200;
 
 /// `share` (increasing grid indices in `tile`, its corners included) with the inner points
 /// that bring the tile's mesh within `bound`, and that mesh.
-pub fn refine_share(
+pub(crate) fn refine_share(
     hf: &Heightfield,
     tile: &Tile,
     share: &[u32],

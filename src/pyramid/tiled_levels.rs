@@ -22,7 +22,7 @@ pub struct TiledLevel {
 
 /// The tile parts of fewest triangles whose every tile meets `bound` (E_max ≤ `bound`), with
 /// their triangle count, or `None` when no border level lets every tile meet it.
-pub fn parts_within(front: &TiledFront, bound: f64) -> Option<(Vec<TilePart>, u64)> {
+pub(super) fn parts_within(front: &TiledFront, bound: f64) -> Option<(Vec<TilePart>, u64)> {
     let levels: Vec<u8> = {
         let mut l: Vec<u8> = front
             .tiles
@@ -71,7 +71,7 @@ pub fn parts_within(front: &TiledFront, bound: f64) -> Option<(Vec<TilePart>, u6
 
 /// The least bound any choice of a tiled front meets: at each border level, the largest over
 /// tiles of the tile's least E_max, the smallest of these over levels.
-pub fn least_bound(front: &TiledFront) -> f64 {
+pub(super) fn least_bound(front: &TiledFront) -> f64 {
     let mut levels: Vec<u8> = front
         .tiles
         .iter()
@@ -99,7 +99,7 @@ pub fn least_bound(front: &TiledFront) -> f64 {
 
 /// The whole-grid mesh of fewest triangles from `front` on `hf` whose every run tile meets
 /// `bound`; `None` when none does.
-pub fn level_within(
+pub(crate) fn level_within(
     front: &TiledFront,
     hf: &Heightfield,
     bound: f64,

@@ -205,7 +205,7 @@ fn terrain_tile(
 /// Levels of availability a tile's metadata gives at every [`METADATA_LEVELS`]-th zoom
 /// (layer.json's `metadataAvailability`, the way CesiumJS learns availability from tiles);
 /// other tiles name their children only.
-pub const METADATA_LEVELS: u32 = 10;
+pub(super) const METADATA_LEVELS: u32 = 10;
 
 /// The metadata extension's JSON for `id`: for each zoom below it (up to [`METADATA_LEVELS`]
 /// of them at a zoom that is a multiple of it, else one), the range of its descendants the
@@ -355,7 +355,7 @@ fn gzip(bytes: &[u8]) -> Vec<u8> {
 }
 
 /// The path of a tile's file.
-pub fn tile_path(id: TileId) -> String {
+pub(crate) fn tile_path(id: TileId) -> String {
     format!("{}/{}/{}.terrain", id.zoom, id.x, id.y)
 }
 

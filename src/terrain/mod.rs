@@ -22,7 +22,7 @@ mod tiles3d;
 
 pub use build::{
     DEFAULT_FINEST, TerrainLevel, TerrainOptions, TerrainTileset, build_3dtiles_terrain,
-    build_terrain, tile_path,
+    build_terrain,
 };
 pub use raster::{GeoError, RasterOptions, SchemeRaster, reproject};
 pub use scheme::{Scheme, TileId};

@@ -82,21 +82,21 @@ impl SchemeRaster {
     }
 
     /// Scheme coordinates of grid point (`col`, `row`).
-    pub fn scheme_xy(&self, col: usize, row: usize) -> (f64, f64) {
+    pub(crate) fn scheme_xy(&self, col: usize, row: usize) -> (f64, f64) {
         let [w, _, _, n] = self.scheme.block_rectangle(self.block);
         let step = self.scheme.tile_size(self.block.zoom) / self.cells_per_root as f64;
         (w + col as f64 * step, n - row as f64 * step)
     }
 
     /// Longitude and latitude (degrees) of grid point (`col`, `row`).
-    pub fn lon_lat(&self, col: usize, row: usize) -> (f64, f64) {
+    pub(crate) fn lon_lat(&self, col: usize, row: usize) -> (f64, f64) {
         let (x, y) = self.scheme_xy(col, row);
         self.scheme.to_lon_lat(x, y)
     }
 }
 
 /// The proj4rs system of `hf`'s GeoTIFF, with the specific error when it has none.
-pub fn dem_projection(hf: &Heightfield) -> Result<(Proj, u16), GeoError> {
+pub(super) fn dem_projection(hf: &Heightfield) -> Result<(Proj, u16), GeoError> {
     let geo = hf.georeference().ok_or(GeoError::NotGeoreferenced {
         missing: format!("{} is not a GeoTIFF", hf.source()),
     })?;

@@ -45,7 +45,7 @@ impl Scheme {
     }
 
     /// Tiles along x and y at `zoom`.
-    pub fn tiles_at(self, zoom: u32) -> (u64, u64) {
+    pub(crate) fn tiles_at(self, zoom: u32) -> (u64, u64) {
         match self {
             Self::Geographic => (2 << zoom, 1 << zoom),
             Self::Mercator => (1 << zoom, 1 << zoom),
@@ -72,7 +72,7 @@ impl Scheme {
 
     /// The tile at `zoom` holding scheme point (`x`, `y`) (a point on a tile line goes east and
     /// north; the scheme's far edges stay in its last tiles).
-    pub fn tile_at(self, zoom: u32, x: f64, y: f64) -> TileId {
+    pub(crate) fn tile_at(self, zoom: u32, x: f64, y: f64) -> TileId {
         let [w, s, _, _] = self.bounds();
         let size = self.tile_size(zoom);
         let (nx, ny) = self.tiles_at(zoom);
@@ -86,7 +86,8 @@ impl Scheme {
 
     /// The deepest tile (zoom at most `max_zoom`) holding the whole box (west, south, east,
     /// north).
-    pub fn covering_tile(self, bbox: [f64; 4], max_zoom: u32) -> TileId {
+    #[cfg(test)]
+    pub(crate) fn covering_tile(self, bbox: [f64; 4], max_zoom: u32) -> TileId {
         let mut best = self.tile_at(0, bbox[0], bbox[1]);
         for zoom in 0..=max_zoom {
             let a = self.tile_at(zoom, bbox[0], bbox[1]);
@@ -100,7 +101,7 @@ impl Scheme {
     }
 
     /// The tiles at `zoom` that a box (west, south, east, north) touches.
-    pub fn block_at(self, zoom: u32, bbox: [f64; 4]) -> Block {
+    pub(crate) fn block_at(self, zoom: u32, bbox: [f64; 4]) -> Block {
         let a = self.tile_at(zoom, bbox[0], bbox[1]);
         let b = self.tile_at(zoom, bbox[2], bbox[3]);
         Block {
@@ -115,7 +116,7 @@ impl Scheme {
     /// The deepest block (zoom at most `max_zoom`) of at most 2 × 2 tiles that holds the box
     /// (west, south, east, north): the quadtree roots of a DEM's tiles. A box on a tile line
     /// takes tiles on both sides of it, not a tile four times as large.
-    pub fn covering_block(self, bbox: [f64; 4], max_zoom: u32) -> Block {
+    pub(crate) fn covering_block(self, bbox: [f64; 4], max_zoom: u32) -> Block {
         let mut best = self.block_at(0, bbox);
         for zoom in 1..=max_zoom {
             let b = self.block_at(zoom, bbox);
@@ -128,7 +129,7 @@ impl Scheme {
     }
 
     /// A block's rectangle (west, south, east, north) in scheme units.
-    pub fn block_rectangle(self, block: Block) -> [f64; 4] {
+    pub(crate) fn block_rectangle(self, block: Block) -> [f64; 4] {
         let sw = self.rectangle(TileId {
             zoom: block.zoom,
             x: block.x0,

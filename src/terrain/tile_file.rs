@@ -62,7 +62,7 @@ fn put_f64(out: &mut Vec<u8>, v: f64) {
 
 impl TerrainTile {
     /// The tile's bytes (before gzip).
-    pub fn encode(&self) -> Vec<u8> {
+    pub(super) fn encode(&self) -> Vec<u8> {
         let n = self.u.len();
         assert!(self.v.len() == n && self.height.len() == n);
         let mut out = Vec::with_capacity(88 + n * 8 + self.triangles.len() * 6);
@@ -135,7 +135,7 @@ impl TerrainTile {
     }
 
     /// Reads a tile's bytes (before gzip); the error says where the data ends too soon.
-    pub fn decode(bytes: &[u8]) -> Result<Self, String> {
+    pub(super) fn decode(bytes: &[u8]) -> Result<Self, String> {
         let mut r = Reader { bytes, at: 0 };
         let center = [r.f64("header")?, r.f64("header")?, r.f64("header")?];
         let min_height = f32::from_le_bytes(r.array("header")?);

@@ -10,11 +10,11 @@ use serde_json::{Value, json};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Levels per subtree file.
-pub const SUBTREE_LEVELS: u32 = 6;
+pub(super) const SUBTREE_LEVELS: u32 = 6;
 
 /// What a tile's subtree row says about it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TileInfo {
+pub(super) struct TileInfo {
     /// The lowest and highest heights over the ellipsoid in the tile.
     pub min_height: f64,
     pub max_height: f64,
@@ -27,7 +27,7 @@ pub struct TileInfo {
 /// A tile's place in its hemisphere's implicit tileset: root (0 west, 1 east), level, x and y
 /// (y from the south, as the TMS rows).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Implicit {
+pub(super) struct Implicit {
     pub root: u64,
     pub level: u32,
     pub x: u64,
@@ -36,7 +36,7 @@ pub struct Implicit {
 
 impl Implicit {
     /// The implicit coordinates of geographic TMS tile `id`.
-    pub fn of(id: TileId) -> Self {
+    pub(super) fn of(id: TileId) -> Self {
         let across = 1u64 << id.zoom;
         Implicit {
             root: id.x / across,
@@ -48,18 +48,18 @@ impl Implicit {
 }
 
 /// The path of a tile's glb, as the content URI template names it.
-pub fn glb_path(id: TileId) -> String {
+pub(super) fn glb_path(id: TileId) -> String {
     let t = Implicit::of(id);
     format!("{}/{}/{}/{}.glb", t.root, t.level, t.x, t.y)
 }
 
 /// The path of the subtree file whose root is `t`.
-pub fn subtree_path(t: Implicit) -> String {
+pub(super) fn subtree_path(t: Implicit) -> String {
     format!("{}/subtrees/{}/{}/{}.subtree", t.root, t.level, t.x, t.y)
 }
 
 /// Interleaves `x` (even bits) and `y` (odd bits): the quadtree's Morton index.
-pub fn morton(x: u64, y: u64) -> u64 {
+pub(super) fn morton(x: u64, y: u64) -> u64 {
     let mut m = 0;
     for b in 0..32 {
         m |= ((x >> b) & 1) << (2 * b) | ((y >> b) & 1) << (2 * b + 1);
@@ -101,7 +101,7 @@ fn bits(set: &[usize], count: usize) -> Vec<u8> {
 /// The subtree file rooted at `top`: availability of its `levels` levels from `info` (every
 /// available tile has content), its tiles' metadata rows in availability order, and which
 /// child subtrees (roots at `top.level + levels`) are in `info`.
-pub fn subtree(top: Implicit, levels: u32, info: &BTreeMap<Implicit, TileInfo>) -> Vec<u8> {
+pub(super) fn subtree(top: Implicit, levels: u32, info: &BTreeMap<Implicit, TileInfo>) -> Vec<u8> {
     let mut available: Vec<(usize, TileInfo)> = Vec::new();
     for l in 0..levels {
         let offset = ((1usize << (2 * l)) - 1) / 3;
@@ -187,7 +187,7 @@ pub fn subtree(top: Implicit, levels: u32, info: &BTreeMap<Implicit, TileInfo>) 
 }
 
 /// The metadata schema whose semantics the terrain provider reads.
-pub fn schema() -> Value {
+pub(super) fn schema() -> Value {
     let scalar = |semantic: &str| json!({"type": "SCALAR", "componentType": "FLOAT64", "semantic": semantic});
     json!({
         "id": "paretomesh_terrain",
@@ -202,7 +202,7 @@ pub fn schema() -> Value {
 
 /// Every file besides the glbs: tileset.json (with `extras` under its `paretomesh` key) and the
 /// subtree files of both hemispheres, from every tile's row.
-pub fn tileset_files(
+pub(super) fn tileset_files(
     info: &BTreeMap<Implicit, TileInfo>,
     geometric_error: f64,
     extras: Value,
@@ -267,7 +267,7 @@ pub fn tileset_files(
 /// A tile's glb: `positions` (ECEF) placed by the node's matrix about `center` in glTF's y-up
 /// frame (CesiumJS turns it z-up), `triangles` counter-clockwise seen from above, and the
 /// west, south, east and north `edges` as `CESIUM_tile_edges` accessors.
-pub fn glb(
+pub(super) fn glb(
     center: [f64; 3],
     positions: &[[f64; 3]],
     triangles: &[[u32; 3]],

@@ -7,7 +7,7 @@ use crate::heightfield::Heightfield;
 use std::sync::Arc;
 
 /// The method every tile of `plan` runs, from the run's `config`: the catalogue's
-/// [`Config::tile_share`] for a grid of the plan's W·H points cut into its tiles (the memetic
+/// `Config::tile_share` for a grid of the plan's W·H points cut into its tiles (the memetic
 /// search's share of the whole grid's budget; other methods as given). Sharing a shared
 /// config changes nothing, so the recorded config and the tiles' agree.
 pub fn tile_config(plan: &TilePlan, config: &Config) -> Config {
@@ -45,7 +45,7 @@ pub(crate) fn build_tile(
 
 /// The seed of tile `index` in a run with `seed`: a SplitMix64 mix of both, so neighbouring
 /// tiles (and runs) get unrelated streams wherever the tile runs.
-pub fn tile_seed(seed: u64, index: usize) -> u64 {
+pub(crate) fn tile_seed(seed: u64, index: usize) -> u64 {
     let mix = |mut z: u64| {
         z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);

@@ -97,7 +97,7 @@ fn sums(options: &[Vec<TileOption>], choice: &[usize]) -> Allocation {
 /// front in (E_max, T) over these options, since an allocation's E_max is one of its options'
 /// and no allocation within a bound has fewer triangles than each tile's fewest within it.
 /// Every tile needs at least one option; an empty list of tiles has none.
-pub fn allocate_max(options: &[Vec<TileOption>]) -> Vec<Allocation> {
+pub(super) fn allocate_max(options: &[Vec<TileOption>]) -> Vec<Allocation> {
     if options.is_empty() || options.iter().any(|o| o.is_empty()) {
         return Vec::new();
     }

@@ -33,7 +33,7 @@ pub struct TiledMesh {
 /// One tile's share of a whole-grid member: what triangulating it needs besides the tile's
 /// heights.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct TilePart {
+pub(crate) struct TilePart {
     /// The tile's index in the plan.
     pub tile: usize,
     /// The member's border level.
@@ -83,7 +83,7 @@ impl TiledFront {
 
 /// The whole-grid mesh of `parts` (one per tile of `plan`, in tile order) on the grid `hf`.
 /// A pure function of its inputs: the same parts give the same bits on any thread.
-pub fn mesh_of_parts(
+pub(crate) fn mesh_of_parts(
     plan: &TilePlan,
     hf: &Heightfield,
     parts: &[TilePart],

@@ -65,17 +65,23 @@ mod tile_front;
 #[cfg(not(target_arch = "wasm32"))]
 mod within;
 
-pub use algorithm::{tile_config, tile_seed};
+pub use algorithm::tile_config;
 pub use assemble::{TiledFront, TiledMember, assemble};
 pub use file::TiledFrontFile;
 pub use grow::{TiledGrown, grow_tiled_member};
-pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
+pub(crate) use mesh::{TilePart, TiledMesh, mesh_of_parts};
 #[cfg(not(target_arch = "wasm32"))]
 pub use parallel::{run_tiled, run_tiled_with_progress};
-pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
-pub use tile_front::{TileCandidate, TileFront, run_tile, run_tile_keeping};
+pub use plan::{DEFAULT_TILE, Tile, TilePlan, check_tile};
+pub use tile_front::{TileCandidate, TileFront, run_tile};
 #[cfg(not(target_arch = "wasm32"))]
 pub use within::{TiledWithin, tiled_member_within, tiled_mesh_within};
+// The browser's tiled run (and its native tests) keep each tile's members.
+#[cfg(any(test, target_arch = "wasm32"))]
+pub(crate) use tile_front::run_tile_keeping;
+// The browser checks its tile size input against it.
+#[cfg(any(test, target_arch = "wasm32"))]
+pub(crate) use plan::MIN_TILE;
 
 pub(crate) use border::TileBorders;
 pub(crate) use tile_front::MEMBERS_PER_TILE;
@@ -83,7 +89,7 @@ pub(crate) use tile_front::MEMBERS_PER_TILE;
 /// Why a tiling step cannot go on.
 #[derive(Clone, Debug, PartialEq)]
 pub enum TilingError {
-    /// The tile size is under [`MIN_TILE`].
+    /// The tile size is under `MIN_TILE`.
     TileTooSmall {
         /// The size asked for.
         tile: usize,

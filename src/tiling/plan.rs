@@ -15,7 +15,7 @@ pub const DEFAULT_TILE: usize = 1025;
 /// The smallest tile size [`TilePlan::new`] accepts. A tile needs room inside its fixed border
 /// for the optimizer to choose anything: below 33 points a side the borders and corners are
 /// most of the tile, and the number of tiles (each with its own run) explodes.
-pub const MIN_TILE: usize = 33;
+pub(crate) const MIN_TILE: usize = 33;
 
 /// One tile: a rectangle of grid points. Neighbouring tiles share the row or column on their
 /// common side.
@@ -70,7 +70,7 @@ fn cuts(n: usize, tile: usize) -> Vec<usize> {
     at
 }
 
-/// Checks a tile size on its own, before a grid is read: under [`MIN_TILE`] is refused.
+/// Checks a tile size on its own, before a grid is read: under `MIN_TILE` is refused.
 pub fn check_tile(tile: usize) -> Result<(), TilingError> {
     if tile < MIN_TILE {
         return Err(TilingError::TileTooSmall {
@@ -83,7 +83,7 @@ pub fn check_tile(tile: usize) -> Result<(), TilingError> {
 
 impl TilePlan {
     /// The plan of a `width`×`height` grid in tiles of at most `tile` points a side (the grid
-    /// itself when it fits in one tile). Fails before any work on a tile under [`MIN_TILE`]
+    /// itself when it fits in one tile). Fails before any work on a tile under `MIN_TILE`
     /// or a grid under 2×2.
     ///
     /// ```
@@ -123,12 +123,12 @@ impl TilePlan {
     }
 
     /// W of the whole grid.
-    pub fn width(&self) -> usize {
+    pub(crate) fn width(&self) -> usize {
         self.width
     }
 
     /// H of the whole grid.
-    pub fn height(&self) -> usize {
+    pub(crate) fn height(&self) -> usize {
         self.height
     }
 
@@ -163,7 +163,7 @@ impl TilePlan {
     }
 
     /// Tile `index` (row by row), if there is one.
-    pub fn tile(&self, index: usize) -> Option<Tile> {
+    pub(crate) fn tile(&self, index: usize) -> Option<Tile> {
         let (c, r) = (index % self.columns(), index / self.columns());
         (r < self.rows()).then(|| Tile {
             index,
@@ -190,7 +190,7 @@ impl TilePlan {
     }
 
     /// Checks that `hf` is the grid this plan cuts.
-    pub fn check_grid(&self, hf: &Heightfield) -> Result<(), TilingError> {
+    pub(crate) fn check_grid(&self, hf: &Heightfield) -> Result<(), TilingError> {
         if (hf.width(), hf.height()) != (self.width, self.height) {
             return Err(TilingError::GridMismatch {
                 plan: (self.width, self.height),

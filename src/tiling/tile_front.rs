@@ -172,7 +172,7 @@ pub fn run_tile(
 /// [`run_tile`] keeping at most `keep` of the optimizer's members (at least 2) instead of
 /// `MEMBERS_PER_TILE`: scoring a member visits every point of the tile, so a quick look at a
 /// tile's front keeps fewer.
-pub fn run_tile_keeping(
+pub(crate) fn run_tile_keeping(
     tile_hf: &Heightfield,
     plan: &TilePlan,
     index: usize,

@@ -119,7 +119,7 @@ impl MeshState {
     }
 
     /// The triangles (grid-index triples, counter-clockwise), in slot order.
-    pub fn triangles(&self) -> Vec<[u32; 3]> {
+    pub(crate) fn triangles(&self) -> Vec<[u32; 3]> {
         self.mesh.triangles()
     }
 

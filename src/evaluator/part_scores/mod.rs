@@ -39,12 +39,13 @@ mod changes;
 mod shared;
 
 pub(crate) use changes::score_mutant;
+pub(crate) use shared::Changes;
+pub use shared::PartScores;
 pub(crate) use shared::RowScratch;
 use shared::{
     Candidate, Class, LABELLED, LEVEL_SET_PARTS, LevelSet, SPECIAL_SLOTS, UNKNOWN, bit_of,
     class_of, cross_twin, on_grid_border, score_from_scratch, score_of, special_slot,
 };
-pub use shared::{Changes, PartScores};
 
 impl PartScores {
     /// Was this made from the classification of `crossing`, for its parents as they are now?

@@ -16,7 +16,7 @@ use crate::heightfield::Heightfield;
 /// Changes to a crossover child's kept points: `removed` ones it keeps (not grid corners) and
 /// `inserted` ones it does not keep, each listed once.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Changes<'a> {
+pub(crate) struct Changes<'a> {
     /// Points the child keeps that the mutant does not.
     pub removed: &'a [u32],
     /// Points the mutant keeps that the child does not.
@@ -191,7 +191,7 @@ pub struct PartScores {
 
 /// Per-child scratch of [`PartScores::score`], kept by the evaluator between calls.
 #[derive(Clone, Debug, Default)]
-pub struct RowScratch {
+pub(crate) struct RowScratch {
     /// Per class: is it reused by the child?
     pub(super) taken: Vec<bool>,
     /// Per grid point: the stamp of the last child one of whose reused triangles has it.

@@ -21,7 +21,7 @@ pub(crate) const NO_POINT: u32 = u32::MAX;
 /// a triangle's worst point is found by rasterising it when asked for
 /// ([`worst_point`](Self::worst_point)).
 #[derive(Clone, Debug, Default)]
-pub struct Guide {
+pub(crate) struct Guide {
     /// The triangles (counter-clockwise grid-index triples).
     pub triangles: Vec<[u32; 3]>,
     /// Per triangle, Σ |z − z̃| over the grid points it owns.

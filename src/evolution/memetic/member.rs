@@ -33,7 +33,7 @@ impl LookupPool {
 
 /// A population member (or the subject of local search): kept points, score and mesh.
 #[derive(Clone, Debug)]
-pub struct Member {
+pub(crate) struct Member {
     /// Kept grid points, increasing, corners included.
     pub kept: Vec<u32>,
     /// Its score, bit for bit [`Evaluator::score`]'s.

@@ -50,6 +50,5 @@ pub(crate) mod seeding;
 mod tests;
 
 pub use optimizer::Memetic;
-pub use params::{
-    MemeticParams, MemeticParamsError, default_budget, search_budget, seeding_budget,
-};
+pub(crate) use params::search_budget;
+pub use params::{MemeticParams, MemeticParamsError, seeding_budget};

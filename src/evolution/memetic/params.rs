@@ -24,7 +24,7 @@ pub struct MemeticParams {
     /// [`seeding_budget`] plus [`search_evaluations`](Self::search_evaluations) of the grid.
     pub max_evaluations: Option<u64>,
     /// When [`max_evaluations`](Self::max_evaluations) is not set, the evaluations after
-    /// seeding (the evolution's and the local search's); `None` = [`search_budget`] of the
+    /// seeding (the evolution's and the local search's); `None` = `search_budget` of the
     /// grid. A tile of a tiled run gets its share of the whole grid's
     /// (the catalogue's `Config::tile_share`).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -81,7 +81,7 @@ impl Default for MemeticParams {
 /// `densest_seed`), the decimation (`DECIMATION_EVALUATIONS` per triangle of the mesh it
 /// starts from, `start_triangles`), then the search ([`search_budget`]).
 /// docs/performance.md gives what it costs on grids of several sizes.
-pub fn default_budget(hf: &Heightfield) -> u64 {
+pub(crate) fn default_budget(hf: &Heightfield) -> u64 {
     seeding_budget(hf) + search_budget(hf.len() as u64)
 }
 
@@ -91,11 +91,11 @@ pub fn default_budget(hf: &Heightfield) -> u64 {
 /// slowly than the grid beyond `SEARCH_GRID_CAP` points: there each evaluation costs more
 /// (its mesh is larger), so a search that grew with the grid would make the run grow faster
 /// than the sweeps do.
-pub fn search_budget(points: u64) -> u64 {
+pub(crate) fn search_budget(points: u64) -> u64 {
     SEARCH_EVALUATIONS + points.min(SEARCH_GRID_CAP)
 }
 
-/// The part of [`default_budget`] that the seeding sweeps and the decimation take (an
+/// The part of `default_budget` that the seeding sweeps and the decimation take (an
 /// estimate: the decimation's count depends on the surface).
 pub fn seeding_budget(hf: &Heightfield) -> u64 {
     hf.len() as u64

@@ -1,11 +1,11 @@
 //! The metrics module against hand-computed values, textbook tables, brute force and the
 //! published examples of other implementations.
 
-use paretomesh::evaluator::Evaluator;
-use paretomesh::front::{Front, Solution};
-use paretomesh::heightfield::Heightfield;
-use paretomesh::import;
-use paretomesh::metrics::{
+use crate::evaluator::Evaluator;
+use crate::evaluator::test_grids::shared_fixture;
+use crate::front::{Front, Solution};
+use crate::heightfield::Heightfield;
+use crate::metrics::{
     self, DEFAULT_REFERENCE_POINT, MetricsError, Normalization, Point, RankSumMethod,
     additive_epsilon, best_error_pick, coverage, dominance_probability, exact_u_cdf,
     fewest_triangles_pick, hypervolume, hypervolume_ratio, merge, multiplicative_epsilon,
@@ -14,7 +14,6 @@ use paretomesh::metrics::{
 };
 use rand::{RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
-use std::path::Path;
 use std::sync::Arc;
 
 fn assert_close(found: f64, expected: f64, tol: f64, what: &str) {
@@ -459,8 +458,7 @@ fn normalization_rejects_bad_scales() {
 fn normalised_meshes_of_a_real_dataset_lie_where_the_reference_point_assumes() {
     // DEFAULT_REFERENCE_POINT's justification: normalised T ≤ 1 for every mesh, and the
     // corner-only mesh sits at E = 1.
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/jacksboro_33x33.f32");
-    let hf = Arc::new(import::load(&path).unwrap());
+    let hf = shared_fixture("jacksboro_33x33");
     let mut evaluator = Evaluator::new(hf.clone());
     let n = Normalization::from_evaluator(&mut evaluator).unwrap();
     assert_eq!(n.t_scale(), 2048.0); // 2·32·32
