@@ -247,8 +247,12 @@ pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
 
 fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
     if is_front(&args.input) {
+        let format = match args.format {
+            FormatArg::ThreeDTilesTerrain => "3dtiles-terrain",
+            _ => "quantized-mesh",
+        };
         return Err(format!(
-            "{}: quantized-mesh tiles are cut on the tiling scheme's grid, which a front made on the DEM's own grid does not follow; give the DEM itself (paretomesh tiles DEM.tif --format quantized-mesh --out DIR)",
+            "{}: {format} tiles are cut on the tiling scheme's grid (the DEM reprojected onto the scheme's tiles), which a front made on the DEM's own grid does not follow, so its meshes cannot be cut into the scheme's tiles without new errors; give the DEM itself, which is run on the scheme's grid with the same method: paretomesh tiles DEM.tif --format {format} --algo ALGO --seed N --out DIR (or --format 3dtiles for a pyramid on the front's own grid)",
             args.input.display()
         ));
     }
