@@ -201,18 +201,12 @@ fn finest_bound(args: &TilesArgs, hf: &Heightfield) -> f64 {
     args.max_error.unwrap_or(DEFAULT_FINEST * (hi - lo))
 }
 
-/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`). Greedy
-/// insertion stops at the finest level's bound: no level takes a mesh finer than that, and
-/// inserting every point of a large grid would cost most of the time.
+/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`).
 fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String> {
     let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
         .map_err(|e| e.to_string())?;
     let name = args.algo.name();
-    let params = Params {
-        max_vertical_error: (args.algo == Algorithm::Greedy).then(|| finest_bound(args, hf)),
-        ..Params::default()
-    };
-    let config = tile_config(&plan, &args.algo.configure(&params)?);
+    let config = tile_config(&plan, &args.algo.configure(&Params::default())?);
     let threads = threads(args)?;
     eprintln!(
         "running {name} on the {}×{} grid in {} tiles on {threads} threads",
