@@ -10,7 +10,7 @@
 
 use super::budget::{Allocation, Rung, allocate, total};
 use super::quadtree::Level;
-use super::refine::refine_share;
+use super::refine::refine_share_best;
 use super::tile_mesh::TileMesh;
 use crate::heightfield::Heightfield;
 use crate::tiling::TiledFront;
@@ -143,7 +143,7 @@ fn level_meshes(
     map(tiles.len(), &|i| {
         let own = shares[rungs[i]].as_ref().expect("shared out above");
         let share = tile_share(hf, level, i, &own[i], |n| bound(i).min(bound(n)));
-        refine_share(hf, &tiles[i], &share, bound(i))
+        refine_share_best(hf, &tiles[i], &share, bound(i))
     })
 }
 

@@ -242,7 +242,7 @@ impl LevelWork<'_> {
             None => tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i]),
             Some(bound) => {
                 let (share, _) =
-                    refine::refine_share(self.hf, &self.tiles[i], &self.shares[i], bound)?;
+                    refine::refine_share_best(self.hf, &self.tiles[i], &self.shares[i], bound)?;
                 tile_content(self.hf, self.frame, &self.tiles[i], &share)
             }
         }

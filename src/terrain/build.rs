@@ -14,7 +14,7 @@ use super::tiles3d::{self, Implicit, TileInfo};
 use crate::pyramid::borders::with_border_points;
 use crate::pyramid::globe::ecef;
 use crate::pyramid::quadtree::{Level, Tile};
-use crate::pyramid::refine::refine_share;
+use crate::pyramid::refine::refine_share_best;
 use crate::pyramid::tile_mesh::TileMesh;
 use crate::pyramid::tiled_levels;
 use crate::tiling::TiledFront;
@@ -399,7 +399,7 @@ pub(crate) fn level_meshes(
     let meshes = tiles
         .par_iter()
         .zip(&shares)
-        .map(|(tile, share)| refine_share(&r.hf, tile, share, bound).map(|(_, mesh)| mesh))
+        .map(|(tile, share)| refine_share_best(&r.hf, tile, share, bound).map(|(_, mesh)| mesh))
         .collect::<Result<Vec<_>, String>>()?;
     Ok((tiles, meshes))
 }
