@@ -38,8 +38,11 @@ fn gunzip(bytes: &[u8]) -> Vec<u8> {
     out
 }
 
-/// The quantized-mesh tileset of the UTM DEM, decoded: layer.json and every tile by (z, x, y).
-fn tileset(scheme: Scheme) -> (Value, BTreeMap<(u32, u64, u64), DecodedTile>) {
+/// The quantized-mesh tileset of the UTM DEM (under a triangle budget, if given), decoded: layer.json and every tile by (z, x, y).
+fn tileset(
+    scheme: Scheme,
+    max_triangles: Option<u64>,
+) -> (Value, BTreeMap<(u32, u64, u64), DecodedTile>) {
     let dem = import::load(&data("jacksboro_65x65_utm16n.tif")).unwrap();
     let raster = reproject(
         &dem,
@@ -60,6 +63,7 @@ fn tileset(scheme: Scheme) -> (Value, BTreeMap<(u32, u64, u64), DecodedTile>) {
         TerrainOptions {
             water_mask: true,
             finest_error: None,
+            max_triangles,
         },
         &|_, _| {},
     )
@@ -102,8 +106,24 @@ fn edge(tile: &DecodedTile, side: usize) -> Vec<(u16, f64)> {
 
 #[test]
 fn adjacent_terrain_tiles_share_their_border_vertices_at_every_level() {
-    for scheme in [Scheme::Geographic, Scheme::Mercator] {
-        let (layer, tiles) = tileset(scheme);
+    // The halving bounds on both schemes, then a budget of 60 % of their triangles.
+    let (_, halving) = tileset(Scheme::Geographic, None);
+    let all: usize = halving.values().map(|t| t.triangles.len()).sum();
+    let budget = all as u64 * 6 / 10;
+    for (scheme, max_triangles) in [
+        (Scheme::Geographic, None),
+        (Scheme::Mercator, None),
+        (Scheme::Geographic, Some(budget)),
+    ] {
+        let (layer, tiles) = tileset(scheme, max_triangles);
+        if let Some(n) = max_triangles {
+            let spent: usize = tiles.values().map(|t| t.triangles.len()).sum();
+            assert!(spent as u64 <= n, "{spent} triangles > {n}");
+            assert!(
+                spent as u64 > n / 2,
+                "{spent} triangles of {n}: the budget is spent"
+            );
+        }
         let mut pairs = 0;
         for (&(z, x, y), tile) in &tiles {
             // Every edge list holds exactly the vertices on that edge.

@@ -84,6 +84,7 @@ fn three_d_tiles_terrain_tiles_share_border_vertices_and_subtrees_list_them() {
     let options = TerrainOptions {
         water_mask: false,
         finest_error: None,
+        max_triangles: None,
     };
     let built = build_3dtiles_terrain(&raster, &front, options, &|_, _| {}).unwrap();
     let mut tiles = BTreeMap::new();

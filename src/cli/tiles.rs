@@ -15,11 +15,12 @@ use paretomesh::catalogue::{Algorithm, Params};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::pyramid::{
-    DEFAULT_LEVELS, LevelWork, build_refined, build_with, default_levels, most_levels, plan,
-    tiled_levels,
+    DEFAULT_LEVELS, LevelWork, MapTiles, build_budget, build_refined, build_with, default_levels,
+    most_levels, plan, tiled_levels,
 };
 use paretomesh::terrain::{
-    RasterOptions, Scheme, TerrainOptions, build_3dtiles_terrain, build_terrain, reproject,
+    DEFAULT_FINEST, RasterOptions, Scheme, TerrainOptions, build_3dtiles_terrain, build_terrain,
+    reproject,
 };
 use paretomesh::tiling::{
     DEFAULT_TILE, TilePlan, TiledFront, run_tiled_with_progress, tile_config,
@@ -93,6 +94,11 @@ pub(super) struct TilesArgs {
     /// doubles it.
     #[arg(long, value_name = "E")]
     max_error: Option<f64>,
+    /// A triangle budget for the whole tileset (tiled fronts and DEMs): spent over every tile
+    /// of every level where the error falls most, each level's error still falling with
+    /// depth, down to the finest bound (--max-error), in place of the halving bounds.
+    #[arg(long, value_name = "N")]
+    max_triangles: Option<u64>,
     /// The grid a front was made on [default: the file named in front.json].
     #[arg(long)]
     grid: Option<PathBuf>,
@@ -189,6 +195,12 @@ fn threads(args: &TilesArgs) -> Result<usize, String> {
     }
 }
 
+/// The finest level's error bound on `hf`: `--max-error`, or [`DEFAULT_FINEST`] of its z range.
+fn finest_bound(args: &TilesArgs, hf: &Heightfield) -> f64 {
+    let (lo, hi) = hf.z_range();
+    args.max_error.unwrap_or(DEFAULT_FINEST * (hi - lo))
+}
+
 /// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`).
 fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String> {
     let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
@@ -229,8 +241,12 @@ pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
 
 fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
     if is_front(&args.input) {
+        let format = match args.format {
+            FormatArg::ThreeDTilesTerrain => "3dtiles-terrain",
+            _ => "quantized-mesh",
+        };
         return Err(format!(
-            "{}: quantized-mesh tiles are cut on the tiling scheme's grid, which a front made on the DEM's own grid does not follow; give the DEM itself (paretomesh tiles DEM.tif --format quantized-mesh --out DIR)",
+            "{}: {format} tiles are cut on the tiling scheme's grid (the DEM reprojected onto the scheme's tiles), which a front made on the DEM's own grid does not follow, so its meshes cannot be cut into the scheme's tiles without new errors; give the DEM itself, which is run on the scheme's grid with the same method: paretomesh tiles DEM.tif --format {format} --algo ALGO --seed N --out DIR (or --format 3dtiles for a pyramid on the front's own grid)",
             args.input.display()
         ));
     }
@@ -280,6 +296,7 @@ fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
         TerrainOptions {
             water_mask: args.water_mask,
             finest_error: args.max_error,
+            max_triangles: args.max_triangles,
         },
         &|done, total| progress.report(done, total),
     )?;
@@ -313,6 +330,9 @@ fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
 }
 
 fn three_d_tiles(args: &TilesArgs) -> Result<(), String> {
+    if let Some(budget) = args.max_triangles {
+        return three_d_tiles_budget(args, budget);
+    }
     let start = Instant::now();
     // Each level's member: its score and kept set, from an untiled front's members or chosen
     // from a tiled front's tiles.
@@ -418,6 +438,66 @@ fn three_d_tiles(args: &TilesArgs) -> Result<(), String> {
         args.out.display(),
         built.elapsed().as_secs_f64(),
         loaded.as_secs_f64()
+    );
+    Ok(())
+}
+
+/// A 3D Tiles pyramid from a tiled front or a DEM under a triangle budget.
+fn three_d_tiles_budget(args: &TilesArgs, budget: u64) -> Result<(), String> {
+    let start = Instant::now();
+    let (hf, front) = if is_front(&args.input) {
+        match front_reader::read(&args.input)? {
+            AnyFront::Untiled(_) => {
+                return Err(format!(
+                    "{}: --max-triangles spends a budget over the tiles of a tiled front or a DEM; an untiled front's levels are its members (drop --max-triangles, or give the DEM)",
+                    args.input.display()
+                ));
+            }
+            AnyFront::Tiled(file) => {
+                let (w, h) = (file.header.grid.width, file.header.grid.height);
+                levels_for(args, w, h)?;
+                let hf = load_grid(args, &file.header.grid.source, w, h)?;
+                (hf, file.tiled)
+            }
+        }
+    } else {
+        let hf = Arc::new(
+            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?,
+        );
+        levels_for(args, hf.width(), hf.height())?;
+        let front = run_dem(args, &hf)?;
+        (Arc::try_unwrap(hf).unwrap_or_else(|a| (*a).clone()), front)
+    };
+    let levels = levels_for(args, hf.width(), hf.height())?;
+    let finest = finest_bound(args, &hf);
+    let map: MapTiles = &|n, f| (0..n).into_par_iter().map(f).collect();
+    let contents = |work: &LevelWork| {
+        (0..work.tiles.len())
+            .into_par_iter()
+            .map(|i| work.content(i))
+            .collect()
+    };
+    let pyramid = build_budget(&hf, &front, levels, finest, budget, map, contents)?;
+    let summary: Vec<(usize, usize, f64)> = pyramid
+        .levels
+        .iter()
+        .map(|level| {
+            let triangles = level.iter().map(|c| c.triangles).sum();
+            let worst = level.iter().map(|c| c.e_max).fold(0.0, f64::max);
+            (level.len(), triangles, worst)
+        })
+        .collect();
+    let files = pyramid.into_files();
+    let bytes = write_folder(&args.out, files)?;
+    for (depth, &(tiles, triangles, worst)) in summary.iter().enumerate() {
+        eprintln!("level {depth}: {tiles} tiles, {triangles} triangles, tile E_max up to {worst}");
+    }
+    eprintln!(
+        "wrote {levels} levels ({} triangles of the budget's {budget}, {:.1} MB) to {} in {:.2} s",
+        summary.iter().map(|l| l.1).sum::<usize>(),
+        bytes as f64 / 1e6,
+        args.out.display(),
+        start.elapsed().as_secs_f64()
     );
     Ok(())
 }

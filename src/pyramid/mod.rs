@@ -11,6 +11,8 @@
 //! re-exported here.
 
 pub(crate) mod borders;
+pub(crate) mod budget;
+pub(crate) mod budget_levels;
 pub(crate) mod globe;
 pub(crate) mod quadtree;
 pub(crate) mod refine;
@@ -18,6 +20,8 @@ pub(crate) mod tile_mesh;
 mod tiled_levels;
 mod tileset;
 
+pub use budget_levels::MapTiles;
+pub(crate) use budget_levels::{budget_levels, ladder_of};
 pub use globe::{Frame, MapSystem};
 pub(crate) use quadtree::Tile;
 // Terrain tiles (native only) pick their levels by it.
@@ -241,7 +245,7 @@ impl LevelWork<'_> {
             None => tile_content(self.hf, self.frame, &self.tiles[i], &self.shares[i]),
             Some(bound) => {
                 let (share, _) =
-                    refine::refine_share(self.hf, &self.tiles[i], &self.shares[i], bound)?;
+                    refine::refine_share_best(self.hf, &self.tiles[i], &self.shares[i], bound)?;
                 tile_content(self.hf, self.frame, &self.tiles[i], &share)
             }
         }
@@ -314,6 +318,59 @@ fn build_levels(
     })
 }
 
+/// The pyramid of `levels` levels from a tiled `front` on `hf` that spends at most `budget`
+/// triangles over all its tiles where the error falls most (`budget`), down to the bound
+/// `finest`; `map` makes the tiles' meshes (in one thread or over cores) and `contents` turns
+/// each level's tiles into contents, as in [`build_with`].
+pub fn build_budget(
+    hf: &Heightfield,
+    front: &crate::tiling::TiledFront,
+    levels: usize,
+    finest: f64,
+    budget: u64,
+    map: MapTiles,
+    contents: impl Fn(&LevelWork) -> Result<Vec<TileContent>, String>,
+) -> Result<Pyramid, String> {
+    let (frame, why_local) = Frame::of(hf);
+    let cuts: Vec<quadtree::Level> = (0..levels as u32)
+        .map(|d| quadtree::Level::new(hf.width(), hf.height(), d))
+        .collect();
+    let ladder = ladder_of(front, hf, levels, finest)?;
+    let meshes = budget_levels(hf, &cuts, &ladder, budget, map)?;
+    let mut out = Vec::with_capacity(levels);
+    let mut notes = Vec::with_capacity(levels);
+    for (depth, (level, list)) in cuts.iter().zip(meshes).enumerate() {
+        notes.push(LevelNote {
+            member: depth,
+            t: list.iter().map(|m| m.1.triangles.len()).sum(),
+            e_sum: None,
+            e_max: list.iter().map(|m| m.1.e_max).fold(0.0, f64::max),
+        });
+        // Each tile's kept set triangulates to the mesh the budget chose.
+        let work = LevelWork {
+            hf,
+            frame: &frame,
+            tiles: level.tiles(),
+            shares: list.into_iter().map(|m| m.0).collect(),
+            bound: None,
+        };
+        out.push(contents(&work)?);
+    }
+    let tileset = tileset_json(
+        &out,
+        &notes,
+        &frame,
+        &frame_note(&frame, why_local.as_deref()),
+        hf.z_range(),
+    );
+    Ok(Pyramid {
+        levels: out,
+        picks: (0..levels).collect(),
+        why_local,
+        tileset,
+    })
+}
+
 /// Builds the pyramid of `levels` levels of `hf`'s front, given as each member's score and
 /// kept set, in one thread.
 pub(crate) fn build(
@@ -346,7 +403,7 @@ pub(crate) fn notes(scores: &[Score], picks: &[usize]) -> Vec<LevelNote> {
         .map(|&member| LevelNote {
             member,
             t: scores[member].t,
-            e_sum: scores[member].e_sum,
+            e_sum: Some(scores[member].e_sum),
             e_max: scores[member].e_max,
         })
         .collect()

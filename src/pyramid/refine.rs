@@ -49,6 +49,37 @@ pub(crate) fn refine_share(
     Ok((kept, mesh))
 }
 
+/// The fewer-triangle of two meshes of `tile` that both meet `bound` where they can: `share`
+/// refined ([`refine_share`]), and `share`'s points on the tile's shared border lines alone
+/// (with its corners) refined from scratch, a per-tile greedy insertion. Both keep the same
+/// border points, so the tile still meets its neighbours without cracks; the second wins where
+/// the whole-grid kept set is denser in the tile than its bound needs.
+pub fn refine_share_best(
+    hf: &Heightfield,
+    tile: &Tile,
+    share: &[u32],
+    bound: f64,
+) -> Result<(Vec<u32>, TileMesh), String> {
+    let cut = refine_share(hf, tile, share, bound)?;
+    let w = hf.width();
+    let (x0, x1) = tile.columns;
+    let (y0, y1) = tile.rows;
+    let shared = |g: &u32| {
+        let (x, y) = (*g as usize % w, *g as usize / w);
+        (x == x0 && x0 > 0)
+            || (x == x1 && x1 < w - 1)
+            || (y == y0 && y0 > 0)
+            || (y == y1 && y1 < hf.height() - 1)
+            || ((x == x0 || x == x1) && (y == y0 || y == y1))
+    };
+    let border: Vec<u32> = share.iter().copied().filter(shared).collect();
+    let fresh = refine_share(hf, tile, &border, bound)?;
+    let better = |a: &TileMesh, b: &TileMesh| {
+        (a.e_max <= bound || a.e_max <= b.e_max) && a.triangles.len() < b.triangles.len()
+    };
+    Ok(if better(&fresh.1, &cut.1) { fresh } else { cut })
+}
+
 /// The grid index of the point of triangle `p` (grid x, y and z of its corners) furthest from
 /// its plane, off the tile's shared border lines, when that is further than `bound`.
 fn worst_inner_point(
@@ -111,6 +142,15 @@ mod tests {
             let shares = level.share_out(&with_border_points(&hf, &level, &[], bound));
             for (tile, share) in level.tiles().iter().zip(&shares) {
                 let (kept, mesh) = refine_share(&hf, tile, share, bound).unwrap();
+                let (best_kept, best) = refine_share_best(&hf, tile, share, bound).unwrap();
+                assert!(best.e_max <= bound && best.triangles.len() <= mesh.triangles.len());
+                let border_of = |list: &[u32]| {
+                    list.iter()
+                        .copied()
+                        .filter(|&g| (g as usize % w) == 32 || (g as usize / w) == 32)
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(border_of(&best_kept), border_of(share));
                 assert!(mesh.e_max <= bound, "{} > {bound}", mesh.e_max);
                 // The lines shared with the other tiles of the level.
                 let on_border = |g: u32| (g as usize % w) == 32 || (g as usize / w) == 32;

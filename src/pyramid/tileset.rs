@@ -113,8 +113,8 @@ pub(crate) struct LevelNote {
     pub member: usize,
     /// Its triangles over the whole grid.
     pub t: usize,
-    /// Its E_sum over the whole grid.
-    pub e_sum: f64,
+    /// Its E_sum over the whole grid (none for a level whose tiles were chosen one by one).
+    pub e_sum: Option<f64>,
     /// Its E_max over the whole grid.
     pub e_max: f64,
 }

@@ -14,7 +14,7 @@ use super::tiles3d::{self, Implicit, TileInfo};
 use crate::pyramid::borders::with_border_points;
 use crate::pyramid::globe::ecef;
 use crate::pyramid::quadtree::{Level, Tile};
-use crate::pyramid::refine::refine_share;
+use crate::pyramid::refine::refine_share_best;
 use crate::pyramid::tile_mesh::TileMesh;
 use crate::pyramid::tiled_levels;
 use crate::tiling::TiledFront;
@@ -33,6 +33,10 @@ pub struct TerrainOptions {
     /// The finest level's error bound [default: [`DEFAULT_FINEST`] of the z range, or the
     /// least the front allows when that is larger].
     pub finest_error: Option<f64>,
+    /// A triangle budget for the whole tileset, spent over every tile of every level where the
+    /// error falls most, down to the finest bound (`pyramid::budget`), in place of the
+    /// levels' halving bounds.
+    pub max_triangles: Option<u64>,
 }
 
 /// One zoom level of the tileset, as layer.json records it.
@@ -112,6 +116,13 @@ fn ellipsoid_normal(lon: f64, lat: f64) -> [f64; 3] {
     [cp * cl, cp * sl, sp]
 }
 
+/// A tile's vertices in ECEF, in the tile's vertex order: positions and unit normals (the glb
+/// writes them as floats; the `.terrain` file oct-encodes the normals).
+pub(crate) struct Placed {
+    pub positions: Vec<[f64; 3]>,
+    pub normals: Vec<[f64; 3]>,
+}
+
 /// A terrain tile of `vertices` and `triangles` (counter-clockwise in u, v): vertices renumbered
 /// in first-use order, heights quantized over the tile's range, the header's bounds computed.
 fn terrain_tile(
@@ -121,7 +132,7 @@ fn terrain_tile(
     triangles: &[[u32; 3]],
     water: Option<WaterMask>,
     metadata: Option<String>,
-) -> (TerrainTile, Vec<[f64; 3]>) {
+) -> (TerrainTile, Placed) {
     let mut order = vec![u32::MAX; vertices.len()];
     let mut first_use = Vec::with_capacity(vertices.len());
     let renumbered: Vec<[u32; 3]> = triangles
@@ -199,7 +210,8 @@ fn terrain_tile(
         water,
         metadata,
     };
-    (tile, positions)
+    let normals = used.iter().map(|v| v.normal).collect();
+    (tile, Placed { positions, normals })
 }
 
 /// Levels of availability a tile's metadata gives at every [`METADATA_LEVELS`]-th zoom
@@ -268,7 +280,7 @@ fn dem_tile(
     mesh: &TileMesh,
     metadata: Option<String>,
     options: TerrainOptions,
-) -> (TerrainTile, Vec<[f64; 3]>) {
+) -> (TerrainTile, Placed) {
     let n = r.side();
     let (tw, th) = tile.size();
     let vertices: Vec<Vertex> = mesh
@@ -308,7 +320,7 @@ fn flat_tile(
     id: TileId,
     metadata: Option<String>,
     water: bool,
-) -> (TerrainTile, Vec<[f64; 3]>) {
+) -> (TerrainTile, Placed) {
     let k = 9usize;
     let [w, s, e, n] = scheme.rectangle(id);
     let vertices: Vec<Vertex> = (0..k * k)
@@ -359,6 +371,19 @@ pub(crate) fn tile_path(id: TileId) -> String {
     format!("{}/{}/{}.terrain", id.zoom, id.x, id.y)
 }
 
+/// The DEM's quadtree level `depth`, cut on the scheme's tile lines.
+fn scheme_level(r: &SchemeRaster, depth: u32) -> Level {
+    // A level-`depth` tile spans this many grid cells.
+    let cells = r.cells_per_root >> depth;
+    let cuts = |tiles: u64| (0..=(tiles << depth) as usize).map(|i| i * cells).collect();
+    Level::from_cuts(
+        depth,
+        r.hf.width(),
+        cuts(r.block.columns),
+        cuts(r.block.rows),
+    )
+}
+
 /// One DEM level's meshes: every quadtree tile of `depth` and its mesh over the kept points
 /// with border points at `bound`.
 pub(crate) fn level_meshes(
@@ -367,22 +392,14 @@ pub(crate) fn level_meshes(
     kept: &[u32],
     bound: f64,
 ) -> Result<(Vec<Tile>, Vec<TileMesh>), String> {
-    // A level-`depth` tile spans this many grid cells.
-    let cells = r.cells_per_root >> depth;
-    let cuts = |tiles: u64| (0..=(tiles << depth) as usize).map(|i| i * cells).collect();
-    let level = Level::from_cuts(
-        depth,
-        r.hf.width(),
-        cuts(r.block.columns),
-        cuts(r.block.rows),
-    );
+    let level = scheme_level(r, depth);
     let with_borders = with_border_points(&r.hf, &level, kept, bound);
     let shares = level.share_out(&with_borders);
     let tiles = level.tiles();
     let meshes = tiles
         .par_iter()
         .zip(&shares)
-        .map(|(tile, share)| refine_share(&r.hf, tile, share, bound).map(|(_, mesh)| mesh))
+        .map(|(tile, share)| refine_share_best(&r.hf, tile, share, bound).map(|(_, mesh)| mesh))
         .collect::<Result<Vec<_>, String>>()?;
     Ok((tiles, meshes))
 }
@@ -399,7 +416,7 @@ pub fn build_terrain(
 }
 
 /// The same pyramid as [`build_terrain`] as 3D Tiles terrain (`tiles3d`):
-/// tileset.json, subtree files and glb tiles (the water mask is not written). Geographic
+/// tileset.json, subtree files and glb tiles with the same normals and water mask. Geographic
 /// scheme only, as `Cesium3DTilesTerrainProvider` reads.
 pub fn build_3dtiles_terrain(
     r: &SchemeRaster,
@@ -422,16 +439,11 @@ fn build(
     progress: &(dyn Fn(usize, usize) + Sync),
     format: Format,
 ) -> Result<TerrainTileset, String> {
-    let options = TerrainOptions {
-        water_mask: options.water_mask && format == Format::QuantizedMesh,
-        ..options
-    };
     let mut rows: Vec<(TileId, Header)> = Vec::new();
     let scheme = r.scheme;
     let depth_count = r.levels as usize;
     let (lo, hi) = r.hf.z_range();
     let finest = options.finest_error.unwrap_or(DEFAULT_FINEST * (hi - lo));
-    let chosen = tiled_levels(front, &r.hf, depth_count, Some(finest))?;
     // Above the DEM's roots, the tiles that the DEM's box touches at each zoom (and both
     // geographic roots) are flat placeholders.
     let [w, s, e, n] = r.scheme.block_rectangle(r.block);
@@ -504,9 +516,9 @@ fn build(
     }
     for ids in &placeholders {
         for id in ids {
-            let (tile, positions) =
+            let (tile, placed) =
                 flat_tile(scheme, *id, metadata(*id, &available), options.water_mask);
-            let (path, bytes) = encode(format, *id, &tile, &positions);
+            let (path, bytes) = encode(format, *id, &tile, &placed);
             rows.push((*id, tile.header));
             files.push((path, bytes));
             tick(1);
@@ -521,35 +533,37 @@ fn build(
             });
         }
     }
-    let mut previous_error = f64::INFINITY;
-    for (depth, level) in chosen.iter().enumerate() {
-        let depth = depth as u32;
-        // The level's meshes, with a tighter bound while they do not beat the level above.
-        let mut bound = level.bound;
-        let mut kept = level.kept.clone();
-        let (mut tiles, mut meshes) = level_meshes(r, depth, &kept, bound)?;
-        let mut error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
-        for _ in 0..6 {
-            if error < previous_error || depth == 0 {
-                break;
-            }
-            bound /= 2.0;
-            match crate::pyramid::level_within(front, &r.hf, bound)? {
-                Some(tighter) => kept = tighter.kept,
-                None => break,
-            }
-            (tiles, meshes) = level_meshes(r, depth, &kept, bound)?;
-            error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
+    let sets = match options.max_triangles {
+        None => {
+            let chosen = tiled_levels(front, &r.hf, depth_count, Some(finest))?;
+            let chosen = chosen.into_iter().map(|l| (l.bound, l.kept)).collect();
+            halving_levels(r, front, chosen)?
         }
-        previous_error = error;
+        Some(budget) => {
+            let flat: u64 = levels.iter().map(|l| l.triangles as u64).sum::<u64>()
+                + 128
+                    * placeholders
+                        .iter()
+                        .flatten()
+                        .filter(|id| id.zoom >= r.block.zoom)
+                        .count() as u64;
+            let room = budget.checked_sub(flat).ok_or_else(|| {
+                format!("--max-triangles {budget} is too few: the flat tiles above the DEM take {flat} triangles")
+            })?;
+            budget_sets(r, front, finest, room)?
+        }
+    };
+    for (depth, (tiles, meshes, bound)) in sets.into_iter().enumerate() {
+        let depth = depth as u32;
+        let error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
         let encoded: Vec<(File, (TileId, Header))> = tiles
             .par_iter()
             .zip(&meshes)
             .map(|(tile, mesh)| {
                 let id = tile_id(r.block, tile);
                 let meta = metadata(id, &available);
-                let (tile, positions) = dem_tile(r, tile, mesh, meta, options);
-                let file = encode(format, id, &tile, &positions);
+                let (tile, placed) = dem_tile(r, tile, mesh, meta, options);
+                let file = encode(format, id, &tile, &placed);
                 tick(1);
                 (file, (id, tile.header))
             })
@@ -610,6 +624,64 @@ fn build(
     Ok(TerrainTileset { files, levels })
 }
 
+/// Each DEM level's tiles, meshes and bound when each level meets its halving bound (`chosen`:
+/// each level's bound and whole-grid kept set from `front`), with a tighter bound while it does not beat the level
+/// above.
+fn halving_levels(
+    r: &SchemeRaster,
+    front: &TiledFront,
+    chosen: Vec<(f64, Vec<u32>)>,
+) -> Result<Vec<LevelSet>, String> {
+    let mut out = Vec::with_capacity(chosen.len());
+    let mut previous_error = f64::INFINITY;
+    for (depth, (mut bound, mut kept)) in chosen.into_iter().enumerate() {
+        let depth = depth as u32;
+        let (mut tiles, mut meshes) = level_meshes(r, depth, &kept, bound)?;
+        let mut error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
+        for _ in 0..6 {
+            if error < previous_error || depth == 0 {
+                break;
+            }
+            bound /= 2.0;
+            match crate::pyramid::level_within(front, &r.hf, bound)? {
+                Some(tighter) => kept = tighter.kept,
+                None => break,
+            }
+            (tiles, meshes) = level_meshes(r, depth, &kept, bound)?;
+            error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
+        }
+        previous_error = error;
+        out.push((tiles, meshes, bound));
+    }
+    Ok(out)
+}
+
+/// Each DEM level's tiles, meshes and geometric error under a budget of `room` triangles, on
+/// a ladder of bounds from twice the root's halving bound down to `finest` (`ladder_of`).
+fn budget_sets(
+    r: &SchemeRaster,
+    front: &TiledFront,
+    finest: f64,
+    room: u64,
+) -> Result<Vec<LevelSet>, String> {
+    let levels: Vec<Level> = (0..r.levels).map(|depth| scheme_level(r, depth)).collect();
+    let ladder = crate::pyramid::ladder_of(front, &r.hf, r.levels as usize, finest)?;
+    let map: crate::pyramid::MapTiles = &|n, f| (0..n).into_par_iter().map(f).collect();
+    let meshes = crate::pyramid::budget_levels(&r.hf, &levels, &ladder, room, map)?;
+    Ok(levels
+        .iter()
+        .zip(meshes)
+        .map(|(level, list)| {
+            let meshes: Vec<TileMesh> = list.into_iter().map(|(_, m)| m).collect();
+            let error = meshes.iter().map(|m| m.e_max).fold(0.0, f64::max);
+            (level.tiles(), meshes, error)
+        })
+        .collect())
+}
+
+/// A DEM level's tiles, their meshes, and its bound.
+type LevelSet = (Vec<Tile>, Vec<TileMesh>, f64);
+
 /// A file of the tileset: its path in the folder and its bytes.
 type File = (String, Vec<u8>);
 
@@ -620,22 +692,22 @@ enum Format {
     Tiles3d,
 }
 
-/// A tile's file: a gzip `.terrain`, or a glb about its bounding sphere's centre.
-fn encode(
-    format: Format,
-    id: TileId,
-    tile: &TerrainTile,
-    positions: &[[f64; 3]],
-) -> (String, Vec<u8>) {
+/// A tile's file: a gzip `.terrain`, or a glb about its bounding sphere's centre with the same
+/// normals (as floats) and water mask (as a PNG property texture).
+fn encode(format: Format, id: TileId, tile: &TerrainTile, placed: &Placed) -> (String, Vec<u8>) {
     match format {
         Format::QuantizedMesh => (tile_path(id), gzip(&tile.encode())),
         Format::Tiles3d => (
             tiles3d::glb_path(id),
             tiles3d::glb(
                 tile.header.sphere_center,
-                positions,
-                &tile.triangles,
-                &tile.edges,
+                &tiles3d::GlbMesh {
+                    positions: &placed.positions,
+                    normals: &placed.normals,
+                    triangles: &tile.triangles,
+                    edges: &tile.edges,
+                    water: tile.water.as_ref(),
+                },
             ),
         ),
     }

@@ -54,8 +54,8 @@ impl std::fmt::Display for GeoError {
 
 impl std::error::Error for GeoError {}
 
-/// The largest scheme grid side.
-pub(crate) const MAX_SIDE: usize = 16_385;
+/// The largest scheme grid side (the exact predicates' limit per side).
+pub(crate) const MAX_SIDE: usize = 16_384;
 
 /// A DEM on the grid of a block of scheme tiles.
 pub struct SchemeRaster {
@@ -290,9 +290,14 @@ pub fn reproject(dem: &Heightfield, options: RasterOptions) -> Result<SchemeRast
     let tile_side = scheme.tile_size(block.zoom);
     let dem_step = ((x1 - x0) / (w - 1) as f64).min((y1 - y0) / (h - 1) as f64);
     let cells = options.cells_per_tile;
+    let across = block.columns.max(block.rows) as usize;
     let levels = options.levels.unwrap_or_else(|| {
+        // The default stops where the grid would pass the largest side, rather than refuse.
         let mut levels = 1;
-        while tile_side / ((cells << (levels - 1)) as f64) > dem_step && levels < 12 {
+        while tile_side / ((cells << (levels - 1)) as f64) > dem_step
+            && levels < 12
+            && (cells << levels) * across < MAX_SIDE
+        {
             levels += 1;
         }
         levels

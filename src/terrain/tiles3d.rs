@@ -3,9 +3,11 @@
 //! hemisphere), binary subtree files with tile and content availability and a tile metadata
 //! table (minimum and maximum height, bounding sphere, horizon occlusion point, by their 3D
 //! Tiles semantics), and one `.glb` per tile: positions in a y-up frame placed by the node's
-//! matrix, and the `CESIUM_tile_edges` lists of west, south, east and north edge vertices.
+//! matrix, normals computed across tile borders, the `CESIUM_tile_edges` lists of west, south,
+//! east and north edge vertices and, when asked, the water mask as a property texture.
 
 use super::scheme::TileId;
+use super::tile_file::WaterMask;
 use serde_json::{Value, json};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -264,17 +266,62 @@ pub(super) fn tileset_files(
     files
 }
 
-/// A tile's glb: `positions` (ECEF) placed by the node's matrix about `center` in glTF's y-up
-/// frame (CesiumJS turns it z-up), `triangles` counter-clockwise seen from above, and the
-/// west, south, east and north `edges` as `CESIUM_tile_edges` accessors.
-pub(super) fn glb(
-    center: [f64; 3],
-    positions: &[[f64; 3]],
-    triangles: &[[u32; 3]],
-    edges: &[Vec<u32>; 4],
-) -> Vec<u8> {
+/// What a tile's glb holds, in ECEF and the tile's vertex order.
+pub(super) struct GlbMesh<'a> {
+    /// Vertex positions.
+    pub(super) positions: &'a [[f64; 3]],
+    /// Unit vertex normals (one per position).
+    pub(super) normals: &'a [[f64; 3]],
+    /// Triangles, counter-clockwise seen from above.
+    pub(super) triangles: &'a [[u32; 3]],
+    /// West, south, east and north edge vertices.
+    pub(super) edges: &'a [Vec<u32>; 4],
+    /// The water mask (rows from the north, as the `.terrain` extension has them), if any.
+    pub(super) water: Option<&'a WaterMask>,
+}
+
+/// The water mask as a grey 8-bit PNG: 256 × 256, or 1 × 1 when uniform. Its rows are the
+/// `.terrain` mask's rows in the same order, so CesiumJS uploads the same texture from both.
+fn water_png(water: &WaterMask) -> Vec<u8> {
+    let (side, bytes): (u32, &[u8]) = match water {
+        WaterMask::Uniform(b) => (1, std::slice::from_ref(b)),
+        WaterMask::Grid(g) => (256, g),
+    };
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, side, side);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().expect("writing to memory");
+    writer.write_image_data(bytes).expect("writing to memory");
+    writer.finish().expect("writing to memory");
+    out
+}
+
+/// The metadata schema and property texture by which `Cesium3DTilesTerrainProvider` finds a
+/// glb's water mask: a class property of semantic `WATERMASK` read from texture 0.
+fn water_metadata() -> Value {
+    json!({
+        "schema": {
+            "id": "paretomesh_terrain_tile",
+            "classes": {"terrain": {"properties": {
+                "waterMask": {"type": "SCALAR", "componentType": "UINT8", "semantic": "WATERMASK"},
+            }}},
+        },
+        "propertyTextures": [{
+            "class": "terrain",
+            "properties": {"waterMask": {"index": 0, "texCoord": 0, "channels": [0]}},
+        }],
+    })
+}
+
+/// A tile's glb: `mesh`'s positions placed by the node's matrix about `center` in glTF's y-up
+/// frame (CesiumJS turns it z-up), its normals turned the same way, its edges as
+/// `CESIUM_tile_edges` accessors and its water mask, if any, as an `EXT_structural_metadata`
+/// property texture.
+pub(super) fn glb(center: [f64; 3], mesh: &GlbMesh) -> Vec<u8> {
     // y-up about the centre: (x, y, z) ECEF is (x, -z, y) of the node's frame.
-    let local: Vec<[f32; 3]> = positions
+    let local: Vec<[f32; 3]> = mesh
+        .positions
         .iter()
         .map(|p| {
             [
@@ -282,6 +329,15 @@ pub(super) fn glb(
                 (p[2] - center[2]) as f32,
                 (center[1] - p[1]) as f32,
             ]
+        })
+        .collect();
+    let normals: Vec<[f32; 3]> = mesh
+        .normals
+        .iter()
+        .map(|n| {
+            let m = [n[0] as f32, n[2] as f32, -n[1] as f32];
+            let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+            m.map(|c| c / l)
         })
         .collect();
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
@@ -295,26 +351,32 @@ pub(super) fn glb(
     let u32s = |list: &mut dyn Iterator<Item = u32>| -> Vec<u8> {
         list.flat_map(u32::to_le_bytes).collect()
     };
-    let position_bytes: Vec<u8> = local
-        .iter()
-        .flatten()
-        .flat_map(|c| c.to_le_bytes())
-        .collect();
-    let pos_view = v.add(&position_bytes);
-    let index_view = v.add(&u32s(&mut triangles.iter().flatten().copied()));
-    let edge_views: Vec<usize> = edges
+    let f32s = |list: &[[f32; 3]]| -> Vec<u8> {
+        list.iter()
+            .flatten()
+            .flat_map(|c| c.to_le_bytes())
+            .collect()
+    };
+    let pos_view = v.add(&f32s(&local));
+    let normal_view = v.add(&f32s(&normals));
+    let index_view = v.add(&u32s(&mut mesh.triangles.iter().flatten().copied()));
+    let edge_views: Vec<usize> = mesh
+        .edges
         .iter()
         .map(|e| v.add(&u32s(&mut e.iter().copied())))
         .collect();
+    let image_view = mesh.water.map(|w| v.add(&water_png(w)));
     pad_to_8(&mut v.bin, 0);
     let mut views = v.views.clone();
     views[pos_view]["target"] = json!(34962);
+    views[normal_view]["target"] = json!(34962);
     views[index_view]["target"] = json!(34963);
     let mut accessors = vec![
         json!({"bufferView": pos_view, "componentType": 5126, "count": local.len(), "type": "VEC3", "min": lo, "max": hi}),
-        json!({"bufferView": index_view, "componentType": 5125, "count": triangles.len() * 3, "type": "SCALAR"}),
+        json!({"bufferView": normal_view, "componentType": 5126, "count": normals.len(), "type": "VEC3"}),
+        json!({"bufferView": index_view, "componentType": 5125, "count": mesh.triangles.len() * 3, "type": "SCALAR"}),
     ];
-    for (view, e) in edge_views.iter().zip(edges) {
+    for (view, e) in edge_views.iter().zip(mesh.edges) {
         accessors.push(
             json!({"bufferView": view, "componentType": 5125, "count": e.len(), "type": "SCALAR"}),
         );
@@ -323,22 +385,30 @@ pub(super) fn glb(
         1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, center[0], center[2],
         -center[1], 1.0,
     ];
-    let doc = json!({
+    let mut doc = json!({
         "asset": {"version": "2.0", "generator": "ParetoMesh"},
         "extensionsUsed": ["CESIUM_tile_edges"],
         "scene": 0,
         "scenes": [{"nodes": [0]}],
         "nodes": [{"mesh": 0, "matrix": matrix}],
         "meshes": [{"primitives": [{
-            "attributes": {"POSITION": 0},
-            "indices": 1,
+            "attributes": {"POSITION": 0, "NORMAL": 1},
+            "indices": 2,
             "mode": 4,
-            "extensions": {"CESIUM_tile_edges": {"left": 2, "bottom": 3, "right": 4, "top": 5}},
+            "extensions": {"CESIUM_tile_edges": {"left": 3, "bottom": 4, "right": 5, "top": 6}},
         }]}],
         "accessors": accessors,
         "bufferViews": views,
         "buffers": [{"byteLength": v.bin.len()}],
     });
+    if let Some(view) = image_view {
+        doc["extensionsUsed"] = json!(["CESIUM_tile_edges", "EXT_structural_metadata"]);
+        doc["images"] = json!([{"bufferView": view, "mimeType": "image/png"}]);
+        // Nearest: the mask is 0 or 255 per cell, as CesiumJS samples the .terrain one.
+        doc["samplers"] = json!([{"magFilter": 9728, "minFilter": 9728}]);
+        doc["textures"] = json!([{"source": 0, "sampler": 0}]);
+        doc["extensions"] = json!({"EXT_structural_metadata": water_metadata()});
+    }
     let mut text = serde_json::to_vec(&doc).expect("JSON serialises");
     while !text.len().is_multiple_of(4) {
         text.push(b' ');
@@ -511,11 +581,8 @@ mod tests {
         assert_eq!(t["root"]["boundingVolume"]["region"][5], 5.5);
     }
 
-    #[test]
-    fn a_glb_places_its_positions_by_the_node_matrix_in_y_up() {
-        let positions = [[6.4e6, 1.0, 2.0], [6.4e6, 11.0, 2.0], [6.4e6, 1.0, 12.0]];
-        let edges = [vec![0, 2], vec![0, 1], vec![1, 2], vec![2]];
-        let bytes = glb([6.4e6, 0.0, 0.0], &positions, &[[0, 1, 2]], &edges);
+    /// A glb's JSON chunk and binary chunk.
+    fn glb_chunks(bytes: &[u8]) -> (Value, &[u8]) {
         assert_eq!(&bytes[..4], b"glTF");
         assert_eq!(
             u32::from_le_bytes(bytes[8..12].try_into().unwrap()) as usize,
@@ -523,24 +590,102 @@ mod tests {
         );
         let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
         let doc: Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+        (doc, &bytes[28 + json_len..])
+    }
+
+    fn f32s_of(doc: &Value, bin: &[u8], accessor: usize) -> Vec<f32> {
+        let view = &doc["bufferViews"]
+            [doc["accessors"][accessor]["bufferView"].as_u64().unwrap() as usize];
+        let off = view["byteOffset"].as_u64().unwrap() as usize;
+        bin[off..off + view["byteLength"].as_u64().unwrap() as usize]
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect()
+    }
+
+    #[test]
+    fn a_glb_places_its_positions_and_normals_by_the_node_matrix_in_y_up() {
+        let positions = [[6.4e6, 1.0, 2.0], [6.4e6, 11.0, 2.0], [6.4e6, 1.0, 12.0]];
+        let s = 0.5f64.sqrt();
+        let normals = [[1.0, 0.0, 0.0], [s, s, 0.0], [s, 0.0, -s]];
+        let edges = [vec![0, 2], vec![0, 1], vec![1, 2], vec![2]];
+        let mesh = GlbMesh {
+            positions: &positions,
+            normals: &normals,
+            triangles: &[[0, 1, 2]],
+            edges: &edges,
+            water: None,
+        };
+        let bytes = glb([6.4e6, 0.0, 0.0], &mesh);
+        let (doc, bin) = glb_chunks(&bytes);
         let m: Vec<f64> = doc["nodes"][0]["matrix"]
             .as_array()
             .unwrap()
             .iter()
             .map(|v| v.as_f64().unwrap())
             .collect();
-        let bin = &bytes[28 + json_len..];
-        let pos: Vec<f32> = bin[..36]
-            .chunks(4)
-            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
-            .collect();
-        for (k, p) in positions.iter().enumerate() {
-            // Node frame, then y-up to z-up: (x, y, z) → (x, −z, y).
-            let q = [0, 1, 2].map(|a| f64::from(pos[3 * k + a]) + m[12 + a]);
-            assert_eq!([q[0], -q[2], q[1]], *p);
-        }
         let prim = &doc["meshes"][0]["primitives"][0];
-        assert_eq!(prim["extensions"]["CESIUM_tile_edges"]["top"], 5);
-        assert_eq!(doc["accessors"][5]["count"], 1);
+        let at = |name: &str| prim["attributes"][name].as_u64().unwrap() as usize;
+        let pos = f32s_of(&doc, bin, at("POSITION"));
+        let nor = f32s_of(&doc, bin, at("NORMAL"));
+        for k in 0..3 {
+            // Node frame, then y-up to z-up: (x, y, z) → (x, −z, y); normals turn alike.
+            let q = [0, 1, 2].map(|a| f64::from(pos[3 * k + a]) + m[12 + a]);
+            assert_eq!([q[0], -q[2], q[1]], positions[k]);
+            let n = [0, 1, 2].map(|a| f64::from(nor[3 * k + a]));
+            for (a, b) in [n[0], -n[2], n[1]].iter().zip(normals[k]) {
+                assert!((a - b).abs() < 1e-6, "{n:?} is not {:?}", normals[k]);
+            }
+        }
+        assert_eq!(prim["extensions"]["CESIUM_tile_edges"]["top"], 6);
+        assert_eq!(doc["accessors"][6]["count"], 1);
+        assert!(doc.get("extensions").is_none(), "no water mask asked for");
+    }
+
+    #[test]
+    fn a_water_mask_is_a_png_property_texture_of_semantic_watermask() {
+        let positions = [[6.4e6, 1.0, 2.0], [6.4e6, 11.0, 2.0], [6.4e6, 1.0, 12.0]];
+        let normals = [[1.0, 0.0, 0.0]; 3];
+        let edges = [vec![0, 2], vec![0, 1], vec![1, 2], vec![2]];
+        let grid: Vec<u8> = (0..65536)
+            .map(|i| if i % 7 == 0 { 255 } else { 0 })
+            .collect();
+        for (water, side) in [
+            (WaterMask::Grid(grid.clone()), 256),
+            (WaterMask::Uniform(255), 1),
+        ] {
+            let mesh = GlbMesh {
+                positions: &positions,
+                normals: &normals,
+                triangles: &[[0, 1, 2]],
+                edges: &edges,
+                water: Some(&water),
+            };
+            let bytes = glb([6.4e6, 0.0, 0.0], &mesh);
+            let (doc, bin) = glb_chunks(&bytes);
+            let meta = &doc["extensions"]["EXT_structural_metadata"];
+            let class = meta["propertyTextures"][0]["class"].as_str().unwrap();
+            let props = &meta["schema"]["classes"][class]["properties"];
+            assert_eq!(props["waterMask"]["semantic"], "WATERMASK");
+            let texture = meta["propertyTextures"][0]["properties"]["waterMask"]["index"]
+                .as_u64()
+                .unwrap() as usize;
+            let image = doc["textures"][texture]["source"].as_u64().unwrap() as usize;
+            assert_eq!(doc["images"][image]["mimeType"], "image/png");
+            let view =
+                &doc["bufferViews"][doc["images"][image]["bufferView"].as_u64().unwrap() as usize];
+            let off = view["byteOffset"].as_u64().unwrap() as usize;
+            let png_bytes = &bin[off..off + view["byteLength"].as_u64().unwrap() as usize];
+            let mut reader = png::Decoder::new(std::io::Cursor::new(png_bytes))
+                .read_info()
+                .unwrap();
+            let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+            let info = reader.next_frame(&mut pixels).unwrap();
+            assert_eq!((info.width, info.height), (side, side));
+            match &water {
+                WaterMask::Grid(g) => assert_eq!(&pixels[..info.buffer_size()], &g[..]),
+                WaterMask::Uniform(b) => assert_eq!(pixels[0], *b),
+            }
+        }
     }
 }

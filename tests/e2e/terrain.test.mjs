@@ -28,7 +28,7 @@ mkdirSync(path.dirname(out), { recursive: true });
 // 1. The tilesets, straight from the DEM.
 const dem = path.join(root, 'tests/data/jacksboro_65x65_wgs84.tif');
 execFileSync(cli, ['tiles', dem, '--format', 'quantized-mesh', '--algo', 'greedy', '--water-mask', '--out', out], { stdio: 'inherit' });
-execFileSync(cli, ['tiles', dem, '--format', '3dtiles-terrain', '--algo', 'greedy', '--out', out3d], { stdio: 'inherit' });
+execFileSync(cli, ['tiles', dem, '--format', '3dtiles-terrain', '--algo', 'greedy', '--water-mask', '--out', out3d], { stdio: 'inherit' });
 const layer = JSON.parse(readFileSync(path.join(out, 'layer.json'), 'utf8'));
 const tileset = JSON.parse(readFileSync(path.join(out3d, 'tileset.json'), 'utf8'));
 const formats = [
