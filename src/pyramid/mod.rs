@@ -24,8 +24,7 @@ pub use budget_levels::MapTiles;
 pub(crate) use budget_levels::{budget_levels, ladder_of};
 pub use globe::{Frame, MapSystem};
 pub(crate) use quadtree::Tile;
-// Terrain tiles (native only) pick their levels by it.
-#[cfg(not(target_arch = "wasm32"))]
+// Terrain tiles and the budgeted levels pick their levels by it.
 pub(crate) use tiled_levels::level_within;
 pub use tiled_levels::tiled_levels;
 pub(crate) use tileset::TileContent;
