@@ -16,11 +16,12 @@ use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
 use paretomesh::front_file::{GridInfo, ImportRecord, RunHeader};
 use paretomesh::heightfield::Heightfield;
+use paretomesh::import::GridWindows;
 use paretomesh::measure::ErrorMeasure;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFrontFile, TilingError, check_tile, run_tiled_with_progress,
-    tile_config,
+    DEFAULT_TILE, TilePlan, TileSource, TiledFrontFile, TilingError, check_tile,
+    run_tiled_with_progress, tile_config,
 };
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -230,11 +231,20 @@ pub(super) fn run(args: &RunArgs) -> Result<(), String> {
     if args.threads == Some(0) {
         return Err("--threads must be at least 1".to_string());
     }
+    let tile = args.tile.unwrap_or(DEFAULT_TILE);
+    // A tiled run of a file read by windows holds only the tiles in flight.
+    if let Some(windows) = args.input.windows()? {
+        let plan =
+            TilePlan::new(windows.width(), windows.height(), tile).map_err(|e| e.to_string())?;
+        if !plan.is_single() {
+            let windows = windows.scan().map_err(|e| e.to_string())?;
+            return run_tiled_grid(args, &windows, &plan);
+        }
+    }
     let hf = Arc::new(args.input.load()?);
-    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
-        .map_err(|e| e.to_string())?;
+    let plan = TilePlan::new(hf.width(), hf.height(), tile).map_err(|e| e.to_string())?;
     if !plan.is_single() {
-        return run_tiled_grid(args, &hf, &plan);
+        return run_tiled_grid(args, &*hf, &plan);
     }
     let config = config(args)?;
     let Built {
@@ -331,14 +341,20 @@ pub(super) fn run(args: &RunArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// A tiled run: every tile on the thread pool, then the whole-grid front, written as a
-/// [`TiledFrontFile`].
-fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Result<(), String> {
+/// A tiled run: every tile on the thread pool, each cut from `hf` as it starts, then the
+/// whole-grid front, written as a [`TiledFrontFile`]. `hf` is the grid in memory or its
+/// file's windows; the front has the same bits.
+fn run_tiled_grid<S: TileSource + Described>(
+    args: &RunArgs,
+    hf: &S,
+    plan: &TilePlan,
+) -> Result<(), String> {
+    let (width, height) = hf.size();
     if args.triangles {
         return Err(format!(
             "--triangles lists triangles of untiled runs only: this {}×{} grid is cut into {} tiles of at most {} points a side (export rebuilds any member's mesh, or give a larger --tile)",
-            hf.width(),
-            hf.height(),
+            width,
+            height,
             plan.len(),
             plan.tile_size()
         ));
@@ -349,9 +365,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     eprintln!(
-        "{}×{} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
-        hf.width(),
-        hf.height(),
+        "{width}×{height} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
         plan.len(),
         plan.columns(),
         plan.rows(),
@@ -372,7 +386,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         },
     )?;
     let millis = started.elapsed().as_millis() as u64;
-    let full = hf.full_triangles() as u64;
+    let full = 2 * (width as u64 - 1) * (height as u64 - 1);
     let mut line = format!(
         "done: {} evaluations in {millis} ms, whole-grid front of {} members",
         tiled.evaluations(),
@@ -392,9 +406,9 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     eprintln!("{line}");
     let writing = Instant::now();
     let grid = GridInfo {
-        width: hf.width(),
-        height: hf.height(),
-        source: hf.source().to_string(),
+        width,
+        height,
+        source: hf.note().to_string(),
         import: Some(ImportRecord::of(&args.input.import.options())),
     };
     let file = TiledFrontFile {
@@ -420,6 +434,23 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         writing.elapsed().as_millis()
     );
     Ok(())
+}
+
+/// A grid's source note, from the grid in memory or its windows.
+trait Described {
+    fn note(&self) -> &str;
+}
+
+impl Described for Heightfield {
+    fn note(&self) -> &str {
+        self.source()
+    }
+}
+
+impl Described for GridWindows {
+    fn note(&self) -> &str {
+        self.source()
+    }
 }
 
 /// Writes a file through a buffer, with the path in the error message. The buffer is large

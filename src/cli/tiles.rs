@@ -208,7 +208,7 @@ fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String
         let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         progress.report(n, plan.len());
     };
-    run_tiled_with_progress(hf, &plan, &config, args.seed, threads, &report)
+    run_tiled_with_progress(&**hf, &plan, &config, args.seed, threads, &report)
         .map_err(|e| e.to_string())
 }
 

@@ -21,6 +21,8 @@
 //! - `assemble`: [`assemble()`], the whole-grid front, [`TiledFront`];
 //! - `mesh`: a whole-grid member's tile parts, kept points and triangles;
 //! - `file`: front.json of a tiled run;
+//! - `source`: [`TileSource`], where each tile's grid comes from: a whole grid in memory or
+//!   windows of the grid file ([`GridWindows`](crate::import::GridWindows));
 //! - `parallel` (native): [`run_tiled`] on a pool of threads.
 //!
 //! The files are private; what callers need is re-exported here.
@@ -54,6 +56,7 @@ mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
 mod parallel;
 mod plan;
+mod source;
 #[cfg(test)]
 mod tests;
 mod tile_front;
@@ -65,6 +68,7 @@ pub use mesh::{TilePart, TiledMesh, mesh_of_parts};
 #[cfg(not(target_arch = "wasm32"))]
 pub use parallel::{run_tiled, run_tiled_with_progress};
 pub use plan::{DEFAULT_TILE, MIN_TILE, Tile, TilePlan, check_tile};
+pub use source::TileSource;
 pub use tile_front::{TileCandidate, TileFront, run_tile, run_tile_keeping};
 
 pub(crate) use border::TileBorders;
