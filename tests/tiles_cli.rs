@@ -193,3 +193,66 @@ fn eval_scores_given_triangles_as_it_scores_their_kept_set() {
         assert_eq!(by_kept[field], by_triangles[field], "{field}");
     }
 }
+
+/// Every file under `dir`, by its path relative to `dir`.
+fn files(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(folder) = stack.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let name = path.strip_prefix(dir).unwrap().display().to_string();
+                out.insert(name, std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn tiles_from_a_nodata_dem_read_by_windows_equal_tiles_from_its_front() {
+    // `tiles DEM` runs the tiles from the GeoTIFF's windows (nodata filled window by window)
+    // before reading the grid for the pyramid; `run` then `tiles front.json` takes the same
+    // front, so every file of the two pyramids is the same.
+    let dir = scratch("tiles-windows");
+    let dem = data("volcano_87x61_int16_lzw_nodata.tif");
+    let front = dir.join("front.json");
+    let common = ["--algo", "greedy", "--tile", "33", "--threads", "2"];
+    let mut run = vec![
+        "run",
+        dem.to_str().unwrap(),
+        "--out",
+        front.to_str().unwrap(),
+    ];
+    run.extend(common);
+    let out = paretomesh(&run);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&front).unwrap()).unwrap();
+    let note = json["grid"]["source"]
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    assert!(note.contains("14 nodata cells"), "{json}");
+    let (a, b) = (dir.join("from-front"), dir.join("from-dem"));
+    for (input, out_dir) in [(&front, &a), (&dem, &b)] {
+        let mut args = vec![
+            "tiles",
+            input.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--levels",
+            "3",
+        ];
+        if input == &dem {
+            args.extend(common);
+        }
+        let out = paretomesh(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+    let (fa, fb) = (files(&a), files(&b));
+    assert!(fa.len() >= 21, "{}", fa.len());
+    assert_eq!(fa, fb);
+}

@@ -14,6 +14,7 @@ use clap::{Args, ValueEnum};
 use paretomesh::catalogue::{Algorithm, Params};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
+use paretomesh::import::GridWindows;
 use paretomesh::pyramid::{
     DEFAULT_LEVELS, LevelWork, build_refined, build_with, default_levels, most_levels, plan,
     tiled_levels,
@@ -22,11 +23,10 @@ use paretomesh::terrain::{
     RasterOptions, Scheme, TerrainOptions, build_3dtiles_terrain, build_terrain, reproject,
 };
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFront, run_tiled_with_progress, tile_config,
+    DEFAULT_TILE, TilePlan, TileSource, TiledFront, run_tiled_with_progress, tile_config,
 };
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 /// The tileset's format.
@@ -189,17 +189,17 @@ fn threads(args: &TilesArgs) -> Result<usize, String> {
     }
 }
 
-/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`).
-fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String> {
-    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
+/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`), a grid in
+/// memory or its file's windows.
+fn run_dem(args: &TilesArgs, hf: &dyn TileSource) -> Result<TiledFront, String> {
+    let (width, height) = hf.size();
+    let plan = TilePlan::new(width, height, args.tile.unwrap_or(DEFAULT_TILE))
         .map_err(|e| e.to_string())?;
     let name = args.algo.name();
     let config = tile_config(&plan, &args.algo.configure(&Params::default())?);
     let threads = threads(args)?;
     eprintln!(
-        "running {name} on the {}×{} grid in {} tiles on {threads} threads",
-        hf.width(),
-        hf.height(),
+        "running {name} on the {width}×{height} grid in {} tiles on {threads} threads",
         plan.len()
     );
     let progress = Progress::new("tiles run");
@@ -208,8 +208,27 @@ fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String
         let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
         progress.report(n, plan.len());
     };
-    run_tiled_with_progress(&**hf, &plan, &config, args.seed, threads, &report)
+    run_tiled_with_progress(hf, &plan, &config, args.seed, threads, &report)
         .map_err(|e| e.to_string())
+}
+
+/// A DEM's tiled front made from its file's windows, before the grid is read whole: the run
+/// and the pyramid then never hold the grid and the tiles' work at once. `None` for a file
+/// read whole or a grid of one tile.
+fn run_dem_by_windows(args: &TilesArgs) -> Result<Option<TiledFront>, String> {
+    let Some(windows) =
+        GridWindows::open(&args.input, &args.import.options()).map_err(|e| e.to_string())?
+    else {
+        return Ok(None);
+    };
+    let (w, h) = (windows.width(), windows.height());
+    let plan = TilePlan::new(w, h, args.tile.unwrap_or(DEFAULT_TILE)).map_err(|e| e.to_string())?;
+    if plan.is_single() {
+        return Ok(None);
+    }
+    levels_for(args, w, h)?;
+    let windows = windows.scan().map_err(|e| e.to_string())?;
+    run_dem(args, &windows).map(Some)
 }
 
 pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
@@ -266,8 +285,7 @@ fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
         b.zoom,
         b.zoom + raster.levels - 1
     );
-    let hf = Arc::new(raster.hf.clone());
-    let front = run_dem(args, &hf)?;
+    let front = run_dem(args, &raster.hf)?;
     let progress = Progress::new("tiles written");
     let build = if args.format == FormatArg::ThreeDTilesTerrain {
         build_3dtiles_terrain
@@ -358,13 +376,15 @@ fn three_d_tiles(args: &TilesArgs) -> Result<(), String> {
             }
         }
     } else {
-        let hf = Arc::new(
-            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?,
-        );
+        let by_windows = run_dem_by_windows(args)?;
+        let hf =
+            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?;
         let levels = levels_for(args, hf.width(), hf.height())?;
-        let front = run_dem(args, &hf)?;
+        let front = match by_windows {
+            Some(front) => front,
+            None => run_dem(args, &hf)?,
+        };
         let (scores, kept, bounds) = from_tiled(&front, &hf, levels, args.max_error)?;
-        let hf = Arc::try_unwrap(hf).unwrap_or_else(|a| (*a).clone());
         (hf, scores, kept, (0..levels).collect(), Some(bounds), "DEM")
     };
     let loaded = start.elapsed();
