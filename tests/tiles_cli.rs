@@ -256,3 +256,56 @@ fn tiles_from_a_nodata_dem_read_by_windows_equal_tiles_from_its_front() {
     assert!(fa.len() >= 21, "{}", fa.len());
     assert_eq!(fa, fb);
 }
+
+#[test]
+fn tiles_of_a_dem_take_a_greedy_max_error_fraction_and_refuse_it_elsewhere() {
+    let dir = scratch("tiles-fraction");
+    let dem = data("volcano_87x61_int16_lzw_nodata.tif");
+    let out = dir.join("memetic");
+    let refused = paretomesh(&[
+        "tiles",
+        dem.to_str().unwrap(),
+        "--tile",
+        "33",
+        "--max-error-fraction",
+        "0.01",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!refused.status.success());
+    let message = text(&refused.stderr);
+    assert!(
+        message.contains("--max-error-fraction does not apply to --algo memetic"),
+        "{message}"
+    );
+    assert!(!out.exists());
+    // A greedy run stopped at 5 % of the z range keeps fewer triangles than one of every point.
+    let triangles = |fraction: Option<&str>| {
+        let out = dir.join(format!("greedy-{}", fraction.unwrap_or("all")));
+        let mut args = vec![
+            "tiles",
+            dem.to_str().unwrap(),
+            "--algo",
+            "greedy",
+            "--tile",
+            "33",
+            "--levels",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if let Some(f) = fraction {
+            args.extend(["--max-error-fraction", f]);
+        }
+        let run = paretomesh(&args);
+        let log = text(&run.stderr);
+        assert!(run.status.success(), "{log}");
+        log.lines()
+            .filter(|l| l.starts_with("level "))
+            .map(|l| l.to_string())
+            .collect::<Vec<_>>()
+    };
+    let (stopped, all) = (triangles(Some("0.05")), triangles(None));
+    assert_eq!(stopped.len(), 2);
+    assert_ne!(stopped, all);
+}

@@ -11,7 +11,7 @@ use super::front_reader::{self, AnyFront, find_grid};
 use super::input::ImportArgs;
 use super::progress::Progress;
 use clap::{Args, ValueEnum};
-use paretomesh::catalogue::{Algorithm, Params};
+use paretomesh::catalogue::{Algorithm, Param, Params};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::import::GridWindows;
@@ -99,6 +99,10 @@ pub(super) struct TilesArgs {
     /// For a DEM: the method run on each tile.
     #[arg(long, value_enum, default_value = "memetic")]
     algo: Algorithm,
+    /// For a DEM run with greedy insertion: stop once E_max ≤ this fraction of the z range, as
+    /// `run --max-error-fraction` does (e.g. 0.01) [default: insert every point].
+    #[arg(long)]
+    max_error_fraction: Option<f64>,
     /// For a DEM: the run's seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -196,7 +200,18 @@ fn run_dem(args: &TilesArgs, hf: &dyn TileSource) -> Result<TiledFront, String> 
     let plan = TilePlan::new(width, height, args.tile.unwrap_or(DEFAULT_TILE))
         .map_err(|e| e.to_string())?;
     let name = args.algo.name();
-    let config = tile_config(&plan, &args.algo.configure(&Params::default())?);
+    if args.max_error_fraction.is_some()
+        && let Some(why) = args.algo.refusal(Param::MaxErrorFraction)
+    {
+        return Err(format!(
+            "--max-error-fraction does not apply to --algo {name}: {why}"
+        ));
+    }
+    let params = Params {
+        max_error_fraction: args.max_error_fraction,
+        ..Params::default()
+    };
+    let config = tile_config(&plan, &args.algo.configure(&params)?);
     let threads = threads(args)?;
     eprintln!(
         "running {name} on the {width}×{height} grid in {} tiles on {threads} threads",
