@@ -309,3 +309,37 @@ fn tiles_of_a_dem_take_a_greedy_max_error_fraction_and_refuse_it_elsewhere() {
     assert_eq!(stopped.len(), 2);
     assert_ne!(stopped, all);
 }
+
+#[test]
+fn a_dem_over_the_importers_limits_is_refused_before_its_tiles_run() {
+    // `tiles DEM` reads the grid whole for the pyramid after running the tiles from windows:
+    // a grid it could not read is refused first, with the importer's message.
+    use tiff::encoder::{TiffEncoder, colortype};
+    let dir = scratch("tiles-too-wide");
+    let (w, h) = (16_385u32, 3u32);
+    let z: Vec<f32> = (0..w * h).map(|i| (i % 97) as f32).collect();
+    let dem = dir.join("wide.tif");
+    let mut file = std::fs::File::create(&dem).unwrap();
+    TiffEncoder::new(&mut file)
+        .unwrap()
+        .write_image::<colortype::Gray32Float>(w, h, &z)
+        .unwrap();
+    let out_dir = dir.join("out");
+    let out = paretomesh(&[
+        "tiles",
+        dem.to_str().unwrap(),
+        "--algo",
+        "greedy",
+        "--tile",
+        "33",
+        "--levels",
+        "1",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    let log = text(&out.stderr);
+    assert!(!out.status.success());
+    assert!(log.contains("16384 per side"), "{log}");
+    assert!(!log.contains("tiles run"), "{log}");
+    assert!(!out_dir.exists());
+}

@@ -242,6 +242,10 @@ fn run_dem_by_windows(args: &TilesArgs) -> Result<Option<TiledFront>, String> {
         return Ok(None);
     }
     levels_for(args, w, h)?;
+    // The pyramid reads the grid whole after the run: a grid over the importer's limits is
+    // refused before the run, with the importer's message.
+    paretomesh::heightfield::check_size(w, h)
+        .map_err(|e| import::ImportError::from(e).to_string())?;
     let windows = windows.scan().map_err(|e| e.to_string())?;
     run_dem(args, &windows).map(Some)
 }
