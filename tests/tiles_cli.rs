@@ -193,3 +193,153 @@ fn eval_scores_given_triangles_as_it_scores_their_kept_set() {
         assert_eq!(by_kept[field], by_triangles[field], "{field}");
     }
 }
+
+/// Every file under `dir`, by its path relative to `dir`.
+fn files(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(folder) = stack.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let name = path.strip_prefix(dir).unwrap().display().to_string();
+                out.insert(name, std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn tiles_from_a_nodata_dem_read_by_windows_equal_tiles_from_its_front() {
+    // `tiles DEM` runs the tiles from the GeoTIFF's windows (nodata filled window by window)
+    // before reading the grid for the pyramid; `run` then `tiles front.json` takes the same
+    // front, so every file of the two pyramids is the same.
+    let dir = scratch("tiles-windows");
+    let dem = data("volcano_87x61_int16_lzw_nodata.tif");
+    let front = dir.join("front.json");
+    let common = ["--algo", "greedy", "--tile", "33", "--threads", "2"];
+    let mut run = vec![
+        "run",
+        dem.to_str().unwrap(),
+        "--out",
+        front.to_str().unwrap(),
+    ];
+    run.extend(common);
+    let out = paretomesh(&run);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(&front).unwrap()).unwrap();
+    let note = json["grid"]["source"]
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    assert!(note.contains("14 nodata cells"), "{json}");
+    let (a, b) = (dir.join("from-front"), dir.join("from-dem"));
+    for (input, out_dir) in [(&front, &a), (&dem, &b)] {
+        let mut args = vec![
+            "tiles",
+            input.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--levels",
+            "3",
+        ];
+        if input == &dem {
+            args.extend(common);
+        }
+        let out = paretomesh(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    }
+    let (fa, fb) = (files(&a), files(&b));
+    assert!(fa.len() >= 21, "{}", fa.len());
+    assert_eq!(fa, fb);
+}
+
+#[test]
+fn tiles_of_a_dem_take_a_greedy_max_error_fraction_and_refuse_it_elsewhere() {
+    let dir = scratch("tiles-fraction");
+    let dem = data("volcano_87x61_int16_lzw_nodata.tif");
+    let out = dir.join("memetic");
+    let refused = paretomesh(&[
+        "tiles",
+        dem.to_str().unwrap(),
+        "--tile",
+        "33",
+        "--max-error-fraction",
+        "0.01",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!refused.status.success());
+    let message = text(&refused.stderr);
+    assert!(
+        message.contains("--max-error-fraction does not apply to --algo memetic"),
+        "{message}"
+    );
+    assert!(!out.exists());
+    // A greedy run stopped at 5 % of the z range keeps fewer triangles than one of every point.
+    let triangles = |fraction: Option<&str>| {
+        let out = dir.join(format!("greedy-{}", fraction.unwrap_or("all")));
+        let mut args = vec![
+            "tiles",
+            dem.to_str().unwrap(),
+            "--algo",
+            "greedy",
+            "--tile",
+            "33",
+            "--levels",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if let Some(f) = fraction {
+            args.extend(["--max-error-fraction", f]);
+        }
+        let run = paretomesh(&args);
+        let log = text(&run.stderr);
+        assert!(run.status.success(), "{log}");
+        log.lines()
+            .filter(|l| l.starts_with("level "))
+            .map(|l| l.to_string())
+            .collect::<Vec<_>>()
+    };
+    let (stopped, all) = (triangles(Some("0.05")), triangles(None));
+    assert_eq!(stopped.len(), 2);
+    assert_ne!(stopped, all);
+}
+
+#[test]
+fn a_dem_over_the_importers_limits_is_refused_before_its_tiles_run() {
+    // `tiles DEM` reads the grid whole for the pyramid after running the tiles from windows:
+    // a grid it could not read is refused first, with the importer's message.
+    use tiff::encoder::{TiffEncoder, colortype};
+    let dir = scratch("tiles-too-wide");
+    let (w, h) = (16_385u32, 3u32);
+    let z: Vec<f32> = (0..w * h).map(|i| (i % 97) as f32).collect();
+    let dem = dir.join("wide.tif");
+    let mut file = std::fs::File::create(&dem).unwrap();
+    TiffEncoder::new(&mut file)
+        .unwrap()
+        .write_image::<colortype::Gray32Float>(w, h, &z)
+        .unwrap();
+    let out_dir = dir.join("out");
+    let out = paretomesh(&[
+        "tiles",
+        dem.to_str().unwrap(),
+        "--algo",
+        "greedy",
+        "--tile",
+        "33",
+        "--levels",
+        "1",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    let log = text(&out.stderr);
+    assert!(!out.status.success());
+    assert!(log.contains("16384 per side"), "{log}");
+    assert!(!log.contains("tiles run"), "{log}");
+    assert!(!out_dir.exists());
+}

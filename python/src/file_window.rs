@@ -1,11 +1,12 @@
-//! Windows of a grid file for Dask tasks. A GeoTIFF's are read by the core's windowed reader
-//! ([`paretomesh::import::open_file`]), decoding only the strips or tiles a window meets. When a
-//! window cannot give the importer's values alone (a missing cell, whose fill depends on cells
-//! outside it; a grid the importer resamples; another format), the file is read whole once per
-//! process and the window cut from it.
+//! Windows of a grid file for Dask tasks. A GeoTIFF's or a raw grid's are read by the core's
+//! window source ([`paretomesh::import::GridWindows`], the one the CLI's tiled runs use),
+//! decoding only the strips or tiles a window meets and filling missing cells as the importer
+//! does. When the file is not read by windows (a grid the importer resamples; another format)
+//! or a window fails, the file is read whole once per process and the window cut from it, so
+//! that an error is the importer's own.
 
 use paretomesh::heightfield::Heightfield;
-use paretomesh::import::open_file;
+use paretomesh::import::{GridWindows, ImportOptions};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -28,7 +29,7 @@ fn whole(path: &Path) -> Result<Arc<Heightfield>, String> {
 /// The grid's (width, height) as the importer makes it, from the header when the file is a
 /// GeoTIFF read at its own size.
 pub fn grid_size(path: &Path) -> Result<(usize, usize), String> {
-    if let Ok(Some(windows)) = open_file(path) {
+    if let Ok(Some(windows)) = GridWindows::open(path, &ImportOptions::default()) {
         return Ok((windows.width(), windows.height()));
     }
     let hf = whole(path)?;
@@ -38,11 +39,8 @@ pub fn grid_size(path: &Path) -> Result<(usize, usize), String> {
 /// Rows `y0 .. y0 + h`, columns `x0 .. x0 + w` of the grid of `path` (grid row 0 first, as the
 /// importer orders them), row-major.
 pub fn read(path: &Path, x0: usize, y0: usize, w: usize, h: usize) -> Result<Vec<f64>, String> {
-    // A file the windowed reader refuses is read whole below, so that the error is the
-    // importer's own.
-    if let Ok(Some(mut windows)) = open_file(path)
+    if let Ok(Some(windows)) = GridWindows::open(path, &ImportOptions::default())
         && let Ok(z) = windows.read(x0, y0, w, h)
-        && z.iter().all(|v| !v.is_nan())
     {
         return Ok(z);
     }

@@ -143,6 +143,12 @@ impl ImportOverrides {
 }
 
 impl InputArgs {
+    /// The grid file's windows when it is read by windows at its own size (a GeoTIFF or a raw
+    /// grid), not yet scanned; `None` for a file that is read whole.
+    pub(super) fn windows(&self) -> Result<Option<import::GridWindows>, String> {
+        import::GridWindows::open(&self.grid, &self.import.options()).map_err(|e| e.to_string())
+    }
+
     /// Loads the grid; the error is a message for the user.
     pub(super) fn load(&self) -> Result<Heightfield, String> {
         import::load_with(&self.grid, &self.import.options()).map_err(|e| e.to_string())

@@ -16,10 +16,11 @@ use paretomesh::front::Front;
 use paretomesh::front_file::FrontFile;
 use paretomesh::front_file::{GridInfo, ImportRecord, RunHeader};
 use paretomesh::heightfield::Heightfield;
+use paretomesh::import::GridWindows;
 use paretomesh::measure::ErrorMeasure;
 use paretomesh::optimizer::Progress;
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFront, TiledFrontFile, TilingError, check_tile,
+    DEFAULT_TILE, TilePlan, TileSource, TiledFront, TiledFrontFile, TilingError, check_tile,
     run_tiled_with_progress, tile_config,
 };
 use std::io::{IsTerminal, Write};
@@ -113,8 +114,7 @@ pub(super) struct RunArgs {
     triangles: bool,
     /// Tile size in grid points a side: a larger grid is cut into tiles that share their
     /// borders, each optimised on its own (--evals then counts per tile), and one whole-grid
-    /// front is assembled [default: 1025; 257 for --algo greedy with --max-vertical-error or
-    /// --max-error-fraction, which makes one mesh within the bound over the tiles].
+    /// front is assembled [default: 1025].
     #[arg(long, value_name = "N")]
     tile: Option<usize>,
     /// Threads the tiles run on (the front does not depend on it) [default: every core].
@@ -231,13 +231,29 @@ pub(super) fn run(args: &RunArgs) -> Result<(), String> {
     if args.threads == Some(0) {
         return Err("--threads must be at least 1".to_string());
     }
-    let hf = Arc::new(args.input.load()?);
-    let tile = args.tile.unwrap_or_else(|| {
-        config(args).map_or(DEFAULT_TILE, |c| super::run_within::default_tile(&c))
+    let within = config(args).is_ok_and(|c| super::run_within::makes_one_mesh(&c));
+    let tile = args.tile.unwrap_or(if within {
+        super::run_within::WITHIN_TILE
+    } else {
+        DEFAULT_TILE
     });
+    // A tiled run of a file read by windows holds only the tiles in flight (one mesh within a
+    // max error is made from the grid whole: its border lines cross every tile).
+    if let Some(windows) = if within { None } else { args.input.windows()? } {
+        let plan =
+            TilePlan::new(windows.width(), windows.height(), tile).map_err(|e| e.to_string())?;
+        if !plan.is_single() {
+            let windows = windows.scan().map_err(|e| e.to_string())?;
+            return run_tiled_grid(args, &windows, &plan);
+        }
+    }
+    let hf = Arc::new(args.input.load()?);
     let plan = TilePlan::new(hf.width(), hf.height(), tile).map_err(|e| e.to_string())?;
     if !plan.is_single() {
-        return run_tiled_grid(args, &hf, &plan);
+        if within {
+            return run_within_grid(args, &hf, &plan);
+        }
+        return run_tiled_grid(args, &*hf, &plan);
     }
     let config = config(args)?;
     let Built {
@@ -334,14 +350,20 @@ pub(super) fn run(args: &RunArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// A tiled run: every tile on the thread pool, then the whole-grid front, written as a
-/// [`TiledFrontFile`].
-fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Result<(), String> {
+/// A tiled run: every tile on the thread pool, each cut from `hf` as it starts, then the
+/// whole-grid front, written as a [`TiledFrontFile`]. `hf` is the grid in memory or its
+/// file's windows; the front has the same bits.
+fn run_tiled_grid<S: TileSource + Described>(
+    args: &RunArgs,
+    hf: &S,
+    plan: &TilePlan,
+) -> Result<(), String> {
+    let (width, height) = hf.size();
     if args.triangles {
         return Err(format!(
             "--triangles lists triangles of untiled runs only: this {}×{} grid is cut into {} tiles of at most {} points a side (export rebuilds any member's mesh, or give a larger --tile)",
-            hf.width(),
-            hf.height(),
+            width,
+            height,
             plan.len(),
             plan.tile_size()
         ));
@@ -351,15 +373,8 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    if let Some(x) = super::run_within::bound_of(&config, hf) {
-        let started = Instant::now();
-        let tiled = super::run_within::make(hf, plan, x, threads)?;
-        return write_tiled(args, hf, &config, threads, tiled, started);
-    }
     eprintln!(
-        "{}×{} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
-        hf.width(),
-        hf.height(),
+        "{width}×{height} grid in {} tiles ({}×{}) of at most {} points a side, on {threads} threads",
         plan.len(),
         plan.columns(),
         plan.rows(),
@@ -380,7 +395,7 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         },
     )?;
     let millis = started.elapsed().as_millis() as u64;
-    let full = hf.full_triangles() as u64;
+    let full = 2 * (width as u64 - 1) * (height as u64 - 1);
     let mut line = format!(
         "done: {} evaluations in {millis} ms, whole-grid front of {} members",
         tiled.evaluations(),
@@ -398,24 +413,39 @@ fn run_tiled_grid(args: &RunArgs, hf: &Arc<Heightfield>, plan: &TilePlan) -> Res
         }
     }
     eprintln!("{line}");
-    write_tiled(args, hf, &config, threads, tiled, started)
+    write_tiled(args, hf, &config, threads, tiled, millis)
 }
 
-/// Writes a tiled run's front (and CSV), begun at `started`.
-fn write_tiled(
+/// One mesh within a max error over `plan`'s tiles (see `run_within`), written as a tiled
+/// front of that one member.
+fn run_within_grid(args: &RunArgs, hf: &Heightfield, plan: &TilePlan) -> Result<(), String> {
+    let config = tile_config(plan, &config(args)?);
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let x = super::run_within::bound_of(&config, hf)
+        .ok_or_else(|| "a run within a max error needs a max-error stop".to_string())?;
+    let started = Instant::now();
+    let tiled = super::run_within::make(hf, plan, x, threads)?;
+    let millis = started.elapsed().as_millis() as u64;
+    write_tiled(args, hf, &config, threads, tiled, millis)
+}
+
+/// Writes a tiled run's front (and CSV); the run took `millis`.
+fn write_tiled<S: TileSource + Described>(
     args: &RunArgs,
-    hf: &Heightfield,
+    hf: &S,
     config: &Config,
     threads: usize,
     tiled: TiledFront,
-    started: Instant,
+    millis: u64,
 ) -> Result<(), String> {
-    let millis = started.elapsed().as_millis() as u64;
+    let (width, height) = hf.size();
     let writing = Instant::now();
     let grid = GridInfo {
-        width: hf.width(),
-        height: hf.height(),
-        source: hf.source().to_string(),
+        width,
+        height,
+        source: hf.note().to_string(),
         import: Some(ImportRecord::of(&args.input.import.options())),
     };
     let file = TiledFrontFile {
@@ -441,6 +471,23 @@ fn write_tiled(
         writing.elapsed().as_millis()
     );
     Ok(())
+}
+
+/// A grid's source note, from the grid in memory or its windows.
+trait Described {
+    fn note(&self) -> &str;
+}
+
+impl Described for Heightfield {
+    fn note(&self) -> &str {
+        self.source()
+    }
+}
+
+impl Described for GridWindows {
+    fn note(&self) -> &str {
+        self.source()
+    }
 }
 
 /// Writes a file through a buffer, with the path in the error message. The buffer is large

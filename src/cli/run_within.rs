@@ -5,7 +5,7 @@
 use paretomesh::baselines::{GreedyStop, InsertionRule};
 use paretomesh::catalogue::Config;
 use paretomesh::heightfield::Heightfield;
-use paretomesh::tiling::{DEFAULT_TILE, TilePlan, TiledFront, tiled_mesh_within};
+use paretomesh::tiling::{TilePlan, TiledFront, tiled_mesh_within};
 use std::time::Instant;
 
 /// The tile size of a mesh within a max error when `--tile` is not given. Why smaller than a
@@ -15,13 +15,10 @@ use std::time::Instant;
 /// urban grid).
 pub(super) const WITHIN_TILE: usize = 257;
 
-/// The tile size a run of `config` takes when `--tile` is not given.
-pub(super) fn default_tile(config: &Config) -> usize {
-    if stop_of(config).is_some() {
-        WITHIN_TILE
-    } else {
-        DEFAULT_TILE
-    }
+/// Whether a run of `config` makes one mesh within a max error (see [`stop_of`]); it takes
+/// tiles of [`WITHIN_TILE`] when `--tile` is not given.
+pub(super) fn makes_one_mesh(config: &Config) -> bool {
+    stop_of(config).is_some()
 }
 
 /// The error stop of greedy insertion of the worst point with bounded-error decimation: the

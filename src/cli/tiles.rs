@@ -11,9 +11,10 @@ use super::front_reader::{self, AnyFront, find_grid};
 use super::input::ImportArgs;
 use super::progress::Progress;
 use clap::{Args, ValueEnum};
-use paretomesh::catalogue::{Algorithm, Params};
+use paretomesh::catalogue::{Algorithm, Param, Params};
 use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
+use paretomesh::import::GridWindows;
 use paretomesh::pyramid::{
     DEFAULT_LEVELS, LevelWork, MapTiles, build_budget, build_refined, build_with, default_levels,
     most_levels, plan, tiled_levels,
@@ -23,11 +24,10 @@ use paretomesh::terrain::{
     reproject,
 };
 use paretomesh::tiling::{
-    DEFAULT_TILE, TilePlan, TiledFront, run_tiled_with_progress, tile_config,
+    DEFAULT_TILE, TilePlan, TileSource, TiledFront, run_tiled_with_progress, tile_config,
 };
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Instant;
 
 /// The tileset's format.
@@ -105,6 +105,10 @@ pub(super) struct TilesArgs {
     /// For a DEM: the method run on each tile.
     #[arg(long, value_enum, default_value = "memetic")]
     algo: Algorithm,
+    /// For a DEM run with greedy insertion: stop once E_max ≤ this fraction of the z range, as
+    /// `run --max-error-fraction` does (e.g. 0.01) [default: insert every point].
+    #[arg(long)]
+    max_error_fraction: Option<f64>,
     /// For a DEM: the run's seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -201,17 +205,28 @@ fn finest_bound(args: &TilesArgs, hf: &Heightfield) -> f64 {
     args.max_error.unwrap_or(DEFAULT_FINEST * (hi - lo))
 }
 
-/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`).
-fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String> {
-    let plan = TilePlan::new(hf.width(), hf.height(), args.tile.unwrap_or(DEFAULT_TILE))
+/// Runs `args.algo` tile by tile on `hf` (the default method of `paretomesh run`), a grid in
+/// memory or its file's windows.
+fn run_dem(args: &TilesArgs, hf: &dyn TileSource) -> Result<TiledFront, String> {
+    let (width, height) = hf.size();
+    let plan = TilePlan::new(width, height, args.tile.unwrap_or(DEFAULT_TILE))
         .map_err(|e| e.to_string())?;
     let name = args.algo.name();
-    let config = tile_config(&plan, &args.algo.configure(&Params::default())?);
+    if args.max_error_fraction.is_some()
+        && let Some(why) = args.algo.refusal(Param::MaxErrorFraction)
+    {
+        return Err(format!(
+            "--max-error-fraction does not apply to --algo {name}: {why}"
+        ));
+    }
+    let params = Params {
+        max_error_fraction: args.max_error_fraction,
+        ..Params::default()
+    };
+    let config = tile_config(&plan, &args.algo.configure(&params)?);
     let threads = threads(args)?;
     eprintln!(
-        "running {name} on the {}×{} grid in {} tiles on {threads} threads",
-        hf.width(),
-        hf.height(),
+        "running {name} on the {width}×{height} grid in {} tiles on {threads} threads",
         plan.len()
     );
     let progress = Progress::new("tiles run");
@@ -222,6 +237,29 @@ fn run_dem(args: &TilesArgs, hf: &Arc<Heightfield>) -> Result<TiledFront, String
     };
     run_tiled_with_progress(hf, &plan, &config, args.seed, threads, &report)
         .map_err(|e| e.to_string())
+}
+
+/// A DEM's tiled front made from its file's windows, before the grid is read whole: the run
+/// and the pyramid then never hold the grid and the tiles' work at once. `None` for a file
+/// read whole or a grid of one tile.
+fn run_dem_by_windows(args: &TilesArgs) -> Result<Option<TiledFront>, String> {
+    let Some(windows) =
+        GridWindows::open(&args.input, &args.import.options()).map_err(|e| e.to_string())?
+    else {
+        return Ok(None);
+    };
+    let (w, h) = (windows.width(), windows.height());
+    let plan = TilePlan::new(w, h, args.tile.unwrap_or(DEFAULT_TILE)).map_err(|e| e.to_string())?;
+    if plan.is_single() {
+        return Ok(None);
+    }
+    levels_for(args, w, h)?;
+    // The pyramid reads the grid whole after the run: a grid over the importer's limits is
+    // refused before the run, with the importer's message.
+    paretomesh::heightfield::check_size(w, h)
+        .map_err(|e| import::ImportError::from(e).to_string())?;
+    let windows = windows.scan().map_err(|e| e.to_string())?;
+    run_dem(args, &windows).map(Some)
 }
 
 pub(super) fn run(args: &TilesArgs) -> Result<(), String> {
@@ -282,8 +320,7 @@ fn quantized_mesh(args: &TilesArgs) -> Result<(), String> {
         b.zoom,
         b.zoom + raster.levels - 1
     );
-    let hf = Arc::new(raster.hf.clone());
-    let front = run_dem(args, &hf)?;
+    let front = run_dem(args, &raster.hf)?;
     let progress = Progress::new("tiles written");
     let build = if args.format == FormatArg::ThreeDTilesTerrain {
         build_3dtiles_terrain
@@ -378,13 +415,15 @@ fn three_d_tiles(args: &TilesArgs) -> Result<(), String> {
             }
         }
     } else {
-        let hf = Arc::new(
-            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?,
-        );
+        let by_windows = run_dem_by_windows(args)?;
+        let hf =
+            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?;
         let levels = levels_for(args, hf.width(), hf.height())?;
-        let front = run_dem(args, &hf)?;
+        let front = match by_windows {
+            Some(front) => front,
+            None => run_dem(args, &hf)?,
+        };
         let (scores, kept, bounds) = from_tiled(&front, &hf, levels, args.max_error)?;
-        let hf = Arc::try_unwrap(hf).unwrap_or_else(|a| (*a).clone());
         (hf, scores, kept, (0..levels).collect(), Some(bounds), "DEM")
     };
     let loaded = start.elapsed();
@@ -461,12 +500,15 @@ fn three_d_tiles_budget(args: &TilesArgs, budget: u64) -> Result<(), String> {
             }
         }
     } else {
-        let hf = Arc::new(
-            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?,
-        );
+        let by_windows = run_dem_by_windows(args)?;
+        let hf =
+            import::load_with(&args.input, &args.import.options()).map_err(|e| e.to_string())?;
         levels_for(args, hf.width(), hf.height())?;
-        let front = run_dem(args, &hf)?;
-        (Arc::try_unwrap(hf).unwrap_or_else(|a| (*a).clone()), front)
+        let front = match by_windows {
+            Some(front) => front,
+            None => run_dem(args, &hf)?,
+        };
+        (hf, front)
     };
     let levels = levels_for(args, hf.width(), hf.height())?;
     let finest = finest_bound(args, &hf);

@@ -368,6 +368,13 @@ pub(super) struct Chunks {
     across: usize,
 }
 
+impl Chunks {
+    /// Rows per strip or tile.
+    pub(super) fn rows(&self) -> usize {
+        self.size.1
+    }
+}
+
 /// The strips or tiles of the image, checked against the file's length so that a truncated
 /// file is refused before anything is decoded.
 pub(super) fn chunk_layout<R: Read + Seek>(
@@ -558,7 +565,7 @@ pub(super) fn open<R: Read + Seek>(reader: R) -> Result<(Decoder<R>, usize, usiz
 }
 
 /// The source note: the file, its filled cells and how its rows map to the grid.
-fn source_note(
+pub(super) fn source_note(
     name: &str,
     width: usize,
     height: usize,

@@ -9,7 +9,9 @@
 //! [`from_bytes`] read every format, with the types re-exported here.
 
 mod error;
+mod fill;
 mod geotiff;
+mod grid_windows;
 mod heightmap_png;
 mod mesh;
 pub(crate) mod obj;
@@ -22,6 +24,7 @@ mod triangle_mesh;
 mod window;
 
 pub use error::ImportError;
+pub use grid_windows::GridWindows;
 pub use options::{ImportOptions, Projection, Surface};
 pub use resample::fill_nearest;
 pub use triangle_mesh::TriangleMesh;

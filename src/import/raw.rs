@@ -26,36 +26,18 @@ fn malformed(message: impl Into<String>) -> ImportError {
     }
 }
 
-/// Parses `data` (the .f32 bytes) with its sidecar `json`; `name` goes into the source note.
-pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, ImportError> {
+/// What the sidecar of a raw grid says: its size, its source note and its spacing.
+pub(super) struct RawHeader {
+    pub width: usize,
+    pub height: usize,
+    pub note: String,
+    pub spacing: Option<[f64; 2]>,
+}
+
+/// Reads the sidecar `json` of the raw grid `name`. The size is not checked here.
+pub(super) fn header(json: &[u8], name: &str) -> Result<RawHeader, ImportError> {
     let meta: Sidecar =
         serde_json::from_slice(json).map_err(|e| malformed(format!("sidecar JSON: {e}")))?;
-    crate::heightfield::check_size(meta.width, meta.height)?;
-    // check_size bounds width·height by MAX_POINTS, so this cannot overflow.
-    let expected = meta.width * meta.height * 4;
-    let grid = format!(
-        "a {}×{} grid needs {expected} bytes",
-        meta.width, meta.height
-    );
-    if data.len() < expected {
-        return Err(ImportError::Truncated {
-            format: "raw f32 grid",
-            message: format!("{grid}, the file has {}", data.len()),
-        });
-    }
-    if data.len() > expected {
-        return Err(ImportError::WrongCount {
-            format: "raw f32 grid",
-            message: format!(
-                "{grid}, the file has {}; do the sidecar's width and height match the file?",
-                data.len()
-            ),
-        });
-    }
-    let z: Vec<f64> = data
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
-        .collect();
     let mut note = format!("raw f32 grid {name}");
     for part in [
         &meta.source,
@@ -68,7 +50,47 @@ pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, Import
         note.push_str("; ");
         note.push_str(part);
     }
-    let hf = Heightfield::new(meta.width, meta.height, z)?.with_source(note);
+    Ok(RawHeader {
+        width: meta.width,
+        height: meta.height,
+        note,
+        spacing: meta.spacing,
+    })
+}
+
+/// Checks that a raw grid of `width`×`height` has exactly `len` bytes.
+pub(super) fn check_length(width: usize, height: usize, len: u64) -> Result<(), ImportError> {
+    let expected = (width as u64)
+        .saturating_mul(height as u64)
+        .saturating_mul(4);
+    let grid = format!("a {width}×{height} grid needs {expected} bytes");
+    if len < expected {
+        return Err(ImportError::Truncated {
+            format: "raw f32 grid",
+            message: format!("{grid}, the file has {len}"),
+        });
+    }
+    if len > expected {
+        return Err(ImportError::WrongCount {
+            format: "raw f32 grid",
+            message: format!(
+                "{grid}, the file has {len}; do the sidecar's width and height match the file?"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Parses `data` (the .f32 bytes) with its sidecar `json`; `name` goes into the source note.
+pub fn parse(data: &[u8], json: &[u8], name: &str) -> Result<Heightfield, ImportError> {
+    let meta = header(json, name)?;
+    crate::heightfield::check_size(meta.width, meta.height)?;
+    check_length(meta.width, meta.height, data.len() as u64)?;
+    let z: Vec<f64> = data
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
+        .collect();
+    let hf = Heightfield::new(meta.width, meta.height, z)?.with_source(meta.note);
     Ok(match meta.spacing {
         Some(s) => hf.with_geometry([0.0, 0.0], s)?,
         None => hf,

@@ -25,6 +25,10 @@ pub struct GeoTiffWindows<R: Read + Seek> {
     /// Grid row 0 is the file's last row (georeferenced files), as in the whole-image reader.
     flip: bool,
     geo: Georeference,
+    /// The file is a BigTIFF (the source note says so).
+    bigtiff: bool,
+    /// Rows per strip or tile.
+    chunk_rows: usize,
 }
 
 impl<R: Read + Seek> GeoTiffWindows<R> {
@@ -37,10 +41,14 @@ impl<R: Read + Seek> GeoTiffWindows<R> {
             message: e.to_string(),
         };
         let file_len = reader.seek(SeekFrom::End(0)).map_err(io)?;
+        let mut magic = [0u8; 4];
+        reader.seek(SeekFrom::Start(0)).map_err(io)?;
+        let bigtiff = reader.read_exact(&mut magic).is_ok() && (magic[2] == 43 || magic[3] == 43);
         reader.seek(SeekFrom::Start(0)).map_err(io)?;
         let (mut decoder, width, height) = open(reader)?;
         let geo = georeference(&mut decoder)?;
         let chunks = chunk_layout(&mut decoder, width, height, file_len)?;
+        let chunk_rows = chunks.rows();
         let nodata = nodata_value(&geo)?;
         let flip = map_geometry(&geo, height).is_some();
         Ok(GeoTiffWindows {
@@ -51,7 +59,32 @@ impl<R: Read + Seek> GeoTiffWindows<R> {
             nodata,
             flip,
             geo,
+            bigtiff,
+            chunk_rows,
         })
+    }
+
+    /// True for a BigTIFF.
+    pub(super) fn bigtiff(&self) -> bool {
+        self.bigtiff
+    }
+
+    /// Grid rows `(y0, h)` of bands that each decode whole rows of strips or tiles once, top
+    /// to bottom of the file: a pass over them reads the file once.
+    pub(super) fn row_bands(&self, rows_per_band: usize) -> Vec<(usize, usize)> {
+        let step = rows_per_band.div_ceil(self.chunk_rows).max(1) * self.chunk_rows;
+        (0..self.height)
+            .step_by(step)
+            .map(|f0| {
+                let h = step.min(self.height - f0);
+                // File rows f0 .. f0 + h are grid rows H − f0 − h .. H − f0 when turned over.
+                if self.flip {
+                    (self.height - f0 - h, h)
+                } else {
+                    (f0, h)
+                }
+            })
+            .collect()
     }
 
     /// The image's width in samples.

@@ -322,9 +322,14 @@ pub fn reproject(dem: &Heightfield, options: RasterOptions) -> Result<SchemeRast
         water: Vec::new(),
         dem_box,
     };
-    let rows: Vec<Result<Vec<(f64, bool)>, GeoError>> = (0..height)
-        .into_par_iter()
-        .map(|row| {
+    // Each row is written in place: the scheme grid's heights and water flags are the only
+    // whole-grid arrays (9 bytes a point) beside the DEM.
+    let mut z = vec![0.0; width * height];
+    let mut water = vec![false; width * height];
+    z.par_chunks_mut(width)
+        .zip(water.par_chunks_mut(width))
+        .enumerate()
+        .try_for_each(|(row, (z_row, water_row))| {
             let mut points: Vec<(f64, f64, f64)> = (0..width)
                 .map(|col| {
                     let (lon, lat) = raster.lon_lat(col, row);
@@ -333,48 +338,39 @@ pub fn reproject(dem: &Heightfield, options: RasterOptions) -> Result<SchemeRast
                 .collect();
             let lon_lat = points.clone();
             lon_lat_to_dem(&proj, &mut points)?;
-            Ok(points
-                .iter()
-                .zip(&lon_lat)
-                .map(|(p, ll)| {
-                    let fx = (p.0 - ox) / sx;
-                    let fy = (p.1 - oy) / sy;
-                    let inside = fx.is_finite()
-                        && fy.is_finite()
-                        && fx >= -1e-9
-                        && fy >= -1e-9
-                        && fx <= (w - 1) as f64 + 1e-9
-                        && fy <= (h - 1) as f64 + 1e-9;
-                    if !inside {
-                        return (f64::NAN, true);
-                    }
-                    let (fx, fy) = (fx.clamp(0.0, (w - 1) as f64), fy.clamp(0.0, (h - 1) as f64));
-                    let z = bilinear(dem.z(), w, h, fx, fy);
-                    let (cx, cy) = (
-                        (fx.floor() as usize).min(w - 2),
-                        (fy.floor() as usize).min(h - 2),
-                    );
-                    let corners = [
-                        dem.z_at(cx, cy),
-                        dem.z_at(cx + 1, cy),
-                        dem.z_at(cx, cy + 1),
-                        dem.z_at(cx + 1, cy + 1),
-                    ];
-                    let flat = corners.iter().all(|&c| c == corners[0]);
-                    let lift = geoid.as_ref().map_or(0.0, |g| g.at(ll.0, ll.1));
-                    (z + lift, flat)
-                })
-                .collect())
-        })
-        .collect();
-    let mut z = Vec::with_capacity(width * height);
-    let mut water = Vec::with_capacity(width * height);
-    for row in rows {
-        for (height, wet) in row? {
-            z.push(height);
-            water.push(wet);
-        }
-    }
+            let sample = |p: &(f64, f64, f64), ll: &(f64, f64, f64)| {
+                let fx = (p.0 - ox) / sx;
+                let fy = (p.1 - oy) / sy;
+                let inside = fx.is_finite()
+                    && fy.is_finite()
+                    && fx >= -1e-9
+                    && fy >= -1e-9
+                    && fx <= (w - 1) as f64 + 1e-9
+                    && fy <= (h - 1) as f64 + 1e-9;
+                if !inside {
+                    return (f64::NAN, true);
+                }
+                let (fx, fy) = (fx.clamp(0.0, (w - 1) as f64), fy.clamp(0.0, (h - 1) as f64));
+                let z = bilinear(dem.z(), w, h, fx, fy);
+                let (cx, cy) = (
+                    (fx.floor() as usize).min(w - 2),
+                    (fy.floor() as usize).min(h - 2),
+                );
+                let corners = [
+                    dem.z_at(cx, cy),
+                    dem.z_at(cx + 1, cy),
+                    dem.z_at(cx, cy + 1),
+                    dem.z_at(cx + 1, cy + 1),
+                ];
+                let flat = corners.iter().all(|&c| c == corners[0]);
+                let lift = geoid.as_ref().map_or(0.0, |g| g.at(ll.0, ll.1));
+                (z + lift, flat)
+            };
+            for (i, (p, ll)) in points.iter().zip(&lon_lat).enumerate() {
+                (z_row[i], water_row[i]) = sample(p, ll);
+            }
+            Ok::<(), GeoError>(())
+        })?;
     if z.iter().all(|v| v.is_nan()) {
         return Err(GeoError::Projection(
             "no grid point of the scheme's tiles falls inside the DEM".into(),

@@ -22,6 +22,8 @@
 //! - `mesh`: a whole-grid member's tile parts, kept points and triangles;
 //! - `file`: front.json of a tiled run;
 //! - `grow`: [`grow_tiled_member`], a member grown to a triangle budget by exact steps;
+//! - `source`: [`TileSource`], where each tile's grid comes from: a whole grid in memory or
+//!   windows of the grid file ([`GridWindows`](crate::import::GridWindows));
 //! - `parallel` (native): [`run_tiled`] on a pool of threads;
 //! - `within` (native): [`tiled_mesh_within`], one mesh within a max error, tiles in parallel.
 //!
@@ -57,6 +59,7 @@ mod mesh;
 #[cfg(not(target_arch = "wasm32"))]
 mod parallel;
 mod plan;
+mod source;
 #[cfg(test)]
 mod test_fixtures;
 #[cfg(test)]
@@ -73,6 +76,7 @@ pub(crate) use mesh::{TilePart, TiledMesh, mesh_of_parts};
 #[cfg(not(target_arch = "wasm32"))]
 pub use parallel::{run_tiled, run_tiled_with_progress};
 pub use plan::{DEFAULT_TILE, Tile, TilePlan, check_tile};
+pub use source::TileSource;
 pub use tile_front::{TileCandidate, TileFront, run_tile};
 #[cfg(not(target_arch = "wasm32"))]
 pub use within::{TiledWithin, tiled_member_within, tiled_mesh_within};

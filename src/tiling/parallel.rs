@@ -3,7 +3,7 @@
 use super::algorithm::build_tile;
 use super::assemble::{TiledFront, assemble};
 use super::tile_front::{MEMBERS_PER_TILE, TileFront, run_built_tile};
-use super::{TilePlan, TilingError};
+use super::{TilePlan, TileSource, TilingError};
 use crate::catalogue::Config;
 use crate::heightfield::Heightfield;
 use rayon::prelude::*;
@@ -23,20 +23,22 @@ pub fn run_tiled(
     run_tiled_with_progress(hf, plan, config, seed, threads, &|_| {})
 }
 
-/// [`run_tiled`], calling `done(tile index)` as each tile finishes (from the thread that ran
-/// it, in any order).
+/// [`run_tiled`] on any [`TileSource`], calling `done(tile index)` as each tile finishes
+/// (from the thread that ran it, in any order). Each tile's grid is made when the tile starts
+/// and dropped when its front is made, so a source that reads windows (a grid file's) holds
+/// only the tiles in flight; the front is the same for every source of the same grid.
 pub fn run_tiled_with_progress(
-    hf: &Heightfield,
+    hf: &dyn TileSource,
     plan: &TilePlan,
     config: &Config,
     seed: u64,
     threads: usize,
     done: &(dyn Fn(usize) + Sync),
 ) -> Result<TiledFront, TilingError> {
-    plan.check_grid(hf)?;
+    plan.check_size(hf.size())?;
     // Tile 0's optimizer is built first, so that parameters its method refuses fail the run
     // before any tile's long run; it is then the one tile 0 runs.
-    let first = Arc::new(plan.cut(hf, 0)?);
+    let first = Arc::new(hf.cut(plan, 0)?);
     let built = build_tile(first.clone(), plan, 0, config, seed)?;
     let first = Mutex::new(Some((first, built)));
     let pool = rayon::ThreadPoolBuilder::new()
@@ -55,7 +57,7 @@ pub fn run_tiled_with_progress(
                 let (tile_hf, optimizer) = match taken {
                     Some(started) => started,
                     None => {
-                        let tile_hf = Arc::new(plan.cut(hf, index)?);
+                        let tile_hf = Arc::new(hf.cut(plan, index)?);
                         let optimizer = build_tile(tile_hf.clone(), plan, index, config, seed)?;
                         (tile_hf, optimizer)
                     }

@@ -191,10 +191,15 @@ impl TilePlan {
 
     /// Checks that `hf` is the grid this plan cuts.
     pub(crate) fn check_grid(&self, hf: &Heightfield) -> Result<(), TilingError> {
-        if (hf.width(), hf.height()) != (self.width, self.height) {
+        self.check_size((hf.width(), hf.height()))
+    }
+
+    /// Checks that a grid of `(W, H)` is the grid this plan cuts.
+    pub(crate) fn check_size(&self, grid: (usize, usize)) -> Result<(), TilingError> {
+        if grid != (self.width, self.height) {
             return Err(TilingError::GridMismatch {
                 plan: (self.width, self.height),
-                grid: (hf.width(), hf.height()),
+                grid,
             });
         }
         Ok(())
@@ -213,11 +218,22 @@ impl TilePlan {
             let row = y * self.width + t.x0;
             z.extend_from_slice(&hf.z()[row..row + t.w]);
         }
-        let [ox, oy] = hf.origin();
-        let [dx, dy] = hf.spacing();
+        self.tile_grid(t, z, hf.origin(), hf.spacing(), hf.source())
+    }
+
+    /// The height field of tile `t` with heights `z`, of a whole grid with `origin`, `spacing`
+    /// and `source` note: what [`TilePlan::cut`] makes, wherever `z` came from.
+    pub(crate) fn tile_grid(
+        &self,
+        t: Tile,
+        z: Vec<f64>,
+        [ox, oy]: [f64; 2],
+        [dx, dy]: [f64; 2],
+        source: &str,
+    ) -> Result<Heightfield, TilingError> {
         let tile = Heightfield::new(t.w, t.h, z)
             .and_then(|h| h.with_geometry([ox + t.x0 as f64 * dx, oy + t.y0 as f64 * dy], [dx, dy]))
             .map_err(|e| TilingError::Grid(e.to_string()))?;
-        Ok(tile.with_source(format!("tile {index} of {}", hf.source())))
+        Ok(tile.with_source(format!("tile {} of {source}", t.index)))
     }
 }
