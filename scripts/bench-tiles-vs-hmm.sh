@@ -10,15 +10,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ $# -ge 1 ] || { sed -n '2,9p' "$0"; exit 2; }
-venv=${HMM_VENV:-/work/scratch/hmm-venv}
-if [ ! -x "$venv/bin/python" ]; then
-  python3 -m venv "$venv"
-fi
-if ! "$venv/bin/python" -c 'import pydelatin, numpy' 2>/dev/null; then
-  "$venv/bin/pip" install --quiet pydelatin numpy
-fi
-cargo build --release --bin paretomesh --quiet
-bin=${CARGO_TARGET_DIR:-target}/release/paretomesh
+source scripts/hmm-venv.sh
 grid=$1
 shift
 exec "$venv/bin/python" scripts/bench_tiles_vs_hmm.py --bin "$bin" --grid "$grid" -- "$@"

@@ -16,8 +16,8 @@ use paretomesh::heightfield::Heightfield;
 use paretomesh::import;
 use paretomesh::import::GridWindows;
 use paretomesh::pyramid::{
-    DEFAULT_LEVELS, LevelWork, MapTiles, build_budget, build_refined, build_with, default_levels,
-    most_levels, plan, tiled_levels,
+    DEFAULT_LEVELS, LevelWork, MapTiles, Pyramid, build_budget, build_refined, build_with,
+    default_levels, most_levels, plan, tiled_levels,
 };
 use paretomesh::terrain::{
     DEFAULT_FINEST, RasterOptions, Scheme, TerrainOptions, build_3dtiles_terrain, build_terrain,
@@ -450,15 +450,7 @@ fn three_d_tiles(args: &TilesArgs) -> Result<(), String> {
     if let Some(why) = &pyramid.why_local {
         eprintln!("the pyramid stays in the input's own coordinates: {why}");
     }
-    let summary: Vec<(usize, usize, f64)> = pyramid
-        .levels
-        .iter()
-        .map(|level| {
-            let triangles = level.iter().map(|c| c.triangles).sum();
-            let worst = level.iter().map(|c| c.e_max).fold(0.0, f64::max);
-            (level.len(), triangles, worst)
-        })
-        .collect();
+    let summary = level_summary(&pyramid);
     let files = pyramid.into_files();
     let json_bytes = files[0].1.len();
     let bytes = write_folder(&args.out, files)? - json_bytes;
@@ -520,15 +512,7 @@ fn three_d_tiles_budget(args: &TilesArgs, budget: u64) -> Result<(), String> {
             .collect()
     };
     let pyramid = build_budget(&hf, &front, levels, finest, budget, map, contents)?;
-    let summary: Vec<(usize, usize, f64)> = pyramid
-        .levels
-        .iter()
-        .map(|level| {
-            let triangles = level.iter().map(|c| c.triangles).sum();
-            let worst = level.iter().map(|c| c.e_max).fold(0.0, f64::max);
-            (level.len(), triangles, worst)
-        })
-        .collect();
+    let summary = level_summary(&pyramid);
     let files = pyramid.into_files();
     let bytes = write_folder(&args.out, files)?;
     for (depth, &(tiles, triangles, worst)) in summary.iter().enumerate() {
@@ -591,4 +575,17 @@ fn load_grid(args: &TilesArgs, source: &str, w: usize, h: usize) -> Result<Heigh
         ));
     }
     Ok(hf)
+}
+
+/// Each level's tiles, triangles and largest tile E_max, for the lines printed after writing.
+fn level_summary(pyramid: &Pyramid) -> Vec<(usize, usize, f64)> {
+    pyramid
+        .levels
+        .iter()
+        .map(|level| {
+            let triangles = level.iter().map(|c| c.triangles).sum();
+            let worst = level.iter().map(|c| c.e_max).fold(0.0, f64::max);
+            (level.len(), triangles, worst)
+        })
+        .collect()
 }

@@ -28,6 +28,19 @@ pub(super) fn fill_with_depth(z: &mut [f64], width: usize, height: usize) -> Vec
         .iter()
         .map(|v| if v.is_nan() { u32::MAX } else { 0 })
         .collect();
+    spread_nearest(z, width, height, |to, from| depth[to] = depth[from] + 1);
+    depth
+}
+
+/// The breadth-first search of [`fill_nearest`](super::resample::fill_nearest): every NaN
+/// point takes the value of the point it is reached from, and `copied(to, from)` is told of
+/// each copy in the search's order.
+pub(super) fn spread_nearest(
+    z: &mut [f64],
+    width: usize,
+    height: usize,
+    mut copied: impl FnMut(usize, usize),
+) {
     let neighbours = |i: usize| {
         let (x, y) = (i % width, i / width);
         [
@@ -37,6 +50,9 @@ pub(super) fn fill_with_depth(z: &mut [f64], width: usize, height: usize) -> Vec
             (y + 1 < height).then(|| i + width),
         ]
     };
+    // Breadth-first from every valid point in index order; a valid point with no missing
+    // neighbour would fill nothing, so only the border of the missing regions is queued (the
+    // same order and result, with memory for the border instead of the whole grid).
     let mut queue: VecDeque<usize> = (0..z.len())
         .filter(|&i| !z[i].is_nan() && neighbours(i).into_iter().flatten().any(|j| z[j].is_nan()))
         .collect();
@@ -44,12 +60,11 @@ pub(super) fn fill_with_depth(z: &mut [f64], width: usize, height: usize) -> Vec
         for j in neighbours(i).into_iter().flatten() {
             if z[j].is_nan() {
                 z[j] = z[i];
-                depth[j] = depth[i] + 1;
+                copied(j, i);
                 queue.push_back(j);
             }
         }
     }
-    depth
 }
 
 /// A rectangle of a grid: columns `x0 .. x0 + w`, rows `y0 .. y0 + h`.

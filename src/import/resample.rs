@@ -32,7 +32,6 @@ use super::error::ImportError;
 use super::options::{MAX_OVERLAP, Projection, Surface};
 use super::triangle_mesh::{DEFAULT_MAX_SIDE, TriangleMesh};
 use crate::heightfield::Placement;
-use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
 
 /// A mesh resampled onto a grid.
@@ -606,31 +605,8 @@ fn draw_triangle(
 /// point must be non-NaN.
 pub fn fill_nearest(z: &mut [f64], width: usize, height: usize) -> usize {
     let filled = z.iter().filter(|v| v.is_nan()).count();
-    if filled == 0 {
-        return 0;
-    }
-    let neighbours = |i: usize| {
-        let (x, y) = (i % width, i / width);
-        [
-            (y > 0).then(|| i - width),
-            (x > 0).then(|| i - 1),
-            (x + 1 < width).then(|| i + 1),
-            (y + 1 < height).then(|| i + width),
-        ]
-    };
-    // Breadth-first from every valid point in index order; a valid point with no missing
-    // neighbour would fill nothing, so only the border of the missing regions is queued (the
-    // same order and result, with memory for the border instead of the whole grid).
-    let mut queue: VecDeque<usize> = (0..z.len())
-        .filter(|&i| !z[i].is_nan() && neighbours(i).into_iter().flatten().any(|j| z[j].is_nan()))
-        .collect();
-    while let Some(i) = queue.pop_front() {
-        for j in neighbours(i).into_iter().flatten() {
-            if z[j].is_nan() {
-                z[j] = z[i];
-                queue.push_back(j);
-            }
-        }
+    if filled > 0 {
+        super::fill::spread_nearest(z, width, height, |_, _| {});
     }
     filled
 }

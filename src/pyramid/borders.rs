@@ -53,7 +53,7 @@ pub fn with_border_points(
 /// The positions to add on a line of `length` grid points, heights `z`, whose kept positions
 /// are `kept` (the two ends always count as kept): the worst point of an interval goes in while
 /// it is further than `tolerance` from the interval's chord.
-fn refine_line(
+pub(super) fn refine_line(
     kept: &[usize],
     length: usize,
     tolerance: f64,

@@ -41,24 +41,8 @@ pub type LevelMeshes = Vec<(Vec<u32>, TileMesh)>;
 /// always kept) so that no point is further than `tolerance` from the polyline: Douglas–Peucker
 /// splitting at the furthest point. Increasing.
 fn edge_points(length: usize, tolerance: f64, z: impl Fn(usize) -> f64) -> Vec<usize> {
-    let mut out = vec![0, length - 1];
-    let mut stack = vec![(0, length - 1)];
-    while let Some((a, b)) = stack.pop() {
-        let (za, zb) = (z(a), z(b));
-        let mut worst = (tolerance, None);
-        for p in a + 1..b {
-            let chord = za + (zb - za) * (p - a) as f64 / (b - a) as f64;
-            let gap = (z(p) - chord).abs();
-            if gap > worst.0 {
-                worst = (gap, Some(p));
-            }
-        }
-        if let Some(p) = worst.1 {
-            out.push(p);
-            stack.push((a, p));
-            stack.push((p, b));
-        }
-    }
+    let mut out = super::borders::refine_line(&[], length, tolerance, z);
+    out.extend([0, length - 1]);
     out.sort_unstable();
     out.dedup();
     out
@@ -258,7 +242,6 @@ pub(crate) fn ladder_of(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tiling::{TilePlan, assemble, run_tile};
 
     fn serial(
         n: usize,
@@ -270,20 +253,7 @@ mod tests {
     #[test]
     fn a_budget_is_kept_errors_fall_with_depth_and_edges_meet() {
         let (w, h) = (65, 65);
-        let z = (0..w * h)
-            .map(|i| ((i % w) as f64 * 0.31).sin() * 5.0 + ((i / w) as f64 * 0.17).cos() * 3.0)
-            .collect();
-        let hf = Heightfield::new(w, h, z).unwrap();
-        let plan = TilePlan::new(w, h, 33).unwrap();
-        let config = crate::catalogue::Config::from_json(
-            crate::catalogue::Algorithm::Greedy,
-            &serde_json::json!({"records": 64}),
-        )
-        .unwrap();
-        let fronts = (0..plan.len())
-            .map(|i| run_tile(&plan.cut(&hf, i).unwrap(), &plan, i, &config, 1).unwrap())
-            .collect();
-        let front = assemble(&plan, fronts).unwrap();
+        let (hf, front) = super::super::tiled_levels::tests::front(w, h);
         let ladder = ladder_of(&front, &hf, 3, 0.5).unwrap();
         assert!(ladder.len() > 6);
         let levels: Vec<Level> = (0..3).map(|d| Level::new(w, h, d)).collect();

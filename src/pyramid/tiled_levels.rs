@@ -138,11 +138,12 @@ pub fn tiled_levels(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::tiling::{TilePlan, assemble, run_tile};
 
-    fn front(w: usize, h: usize) -> (Heightfield, TiledFront) {
+    /// A wavy `w`×`h` grid and its greedy front over tiles of 33 (64 records a tile).
+    pub(in crate::pyramid) fn front(w: usize, h: usize) -> (Heightfield, TiledFront) {
         let z = (0..w * h)
             .map(|i| ((i % w) as f64 * 0.31).sin() * 5.0 + ((i / w) as f64 * 0.17).cos() * 3.0)
             .collect();
